@@ -1,0 +1,29 @@
+//! Geometry core of sheetform: Bézier and B-spline curves in 2D and 3D with exact
+//! derivatives, arc length and arc-length reparametrisation, Frenet and Darboux frames,
+//! and 2D polygons with holes.
+//!
+//! Everything is `f64`. Lengths are in the model's units (the scene file says which;
+//! millimetres by default). Kernels do no I/O.
+
+mod arc_length;
+mod bezier;
+mod bspline;
+mod curve;
+mod error;
+mod frame;
+mod polygon;
+mod rigid;
+
+pub use arc_length::{gauss_legendre_length, ArcLengthTable, ArcLengthOptions};
+pub use bezier::{Bezier, Bezier2, Bezier3};
+pub use bspline::{BSpline, BSpline2, BSpline3};
+pub use curve::{Curve3, ParametricCurve};
+pub use error::GeometryError;
+pub use frame::{curve_frame, CurveFrame, CurveFrameDerivatives};
+pub use polygon::{segment_intersection, Polygon, PolygonEdge, RayHit};
+pub use rigid::{rotation_about_axis, RigidMotion};
+
+/// A 2D vector or point (flat-sheet coordinates).
+pub type Vec2 = nalgebra::Vector2<f64>;
+/// A 3D vector or point (bent-sheet coordinates).
+pub type Vec3 = nalgebra::Vector3<f64>;

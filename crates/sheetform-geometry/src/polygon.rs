@@ -1,0 +1,403 @@
+use crate::{GeometryError, Vec2};
+
+/// A polygon with holes in the plane: one outer ring and any number of hole rings.
+///
+/// After [`Polygon::new`] the outer ring is counter-clockwise and every hole clockwise,
+/// no two edges cross or touch (apart from consecutive edges at their shared vertex),
+/// every hole lies inside the outline and outside every other hole.
+/// Rings are stored without repeating the first vertex.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Polygon {
+    outer: Vec<Vec2>,
+    holes: Vec<Vec<Vec2>>,
+}
+
+/// One edge of a [`Polygon`]: ring 0 is the outline, ring `k ≥ 1` is hole `k − 1`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PolygonEdge {
+    /// Ring index (0 = outline, k = hole k−1).
+    pub ring: usize,
+    /// Edge index within the ring (edge i goes from vertex i to vertex i+1).
+    pub index: usize,
+    /// Start point.
+    pub start: Vec2,
+    /// End point.
+    pub end: Vec2,
+}
+
+/// Where a line `origin + t · direction` meets a polygon edge.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RayHit {
+    /// Line parameter of the hit (distance if `direction` is unit).
+    pub t: f64,
+    /// Ring of the edge hit.
+    pub ring: usize,
+    /// Edge index within the ring.
+    pub edge: usize,
+    /// Position along the edge, 0 at its start, 1 at its end.
+    pub edge_parameter: f64,
+}
+
+fn signed_area(ring: &[Vec2]) -> f64 {
+    let n = ring.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (ring[i], ring[(i + 1) % n]);
+            a.x * b.y - b.x * a.y
+        })
+        .sum::<f64>()
+        * 0.5
+}
+
+fn cross(a: Vec2, b: Vec2) -> f64 {
+    a.x * b.y - a.y * b.x
+}
+
+/// Intersection of segments `[a, b]` and `[c, d]`: the parameters `(s, t)` with
+/// `a + s(b−a) = c + t(d−c)`, both in `[0, 1]`, or `None` (also for parallel segments).
+pub fn segment_intersection(a: Vec2, b: Vec2, c: Vec2, d: Vec2) -> Option<(f64, f64)> {
+    let r = b - a;
+    let q = d - c;
+    let den = cross(r, q);
+    if den == 0.0 {
+        return None;
+    }
+    let s = cross(c - a, q) / den;
+    let t = cross(c - a, r) / den;
+    ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t)).then_some((s, t))
+}
+
+fn ring_name(ring: usize) -> String {
+    if ring == 0 {
+        "outline".into()
+    } else {
+        format!("hole {}", ring - 1)
+    }
+}
+
+fn check_ring(ring: &[Vec2], index: usize) -> Result<Vec<Vec2>, GeometryError> {
+    let what = if index == 0 { "outline vertex".to_string() } else { format!("hole {} vertex", index - 1) };
+    for (i, p) in ring.iter().enumerate() {
+        if !(p.x.is_finite() && p.y.is_finite()) {
+            return Err(GeometryError::NonFinite { what, index: i });
+        }
+    }
+    // Drop a repeated closing vertex and consecutive duplicates.
+    let mut out: Vec<Vec2> = Vec::with_capacity(ring.len());
+    for p in ring {
+        if out.last().is_none_or(|q| (q - p).norm() > 0.0) {
+            out.push(*p);
+        }
+    }
+    if out.len() > 1 && out.first() == out.last() {
+        out.pop();
+    }
+    if out.len() < 3 {
+        return Err(GeometryError::DegeneratePolygon {
+            ring: ring_name(index),
+            reason: format!("needs at least 3 distinct vertices, has {}", out.len()),
+        });
+    }
+    Ok(out)
+}
+
+impl Polygon {
+    /// Validates and normalises a polygon (see the type's invariants).
+    ///
+    /// # Errors
+    /// Non-finite coordinates, rings with fewer than three distinct vertices or zero
+    /// area, crossing or touching edges ([`GeometryError::SelfIntersection`] names both
+    /// edges and the place), holes outside the outline or inside another hole.
+    pub fn new(outer: Vec<Vec2>, holes: Vec<Vec<Vec2>>) -> Result<Self, GeometryError> {
+        let mut outer = check_ring(&outer, 0)?;
+        if signed_area(&outer) < 0.0 {
+            outer.reverse();
+        }
+        let mut rings = Vec::with_capacity(holes.len());
+        for (k, h) in holes.iter().enumerate() {
+            let mut h = check_ring(h, k + 1)?;
+            if signed_area(&h) > 0.0 {
+                h.reverse();
+            }
+            rings.push(h);
+        }
+        let polygon = Self { outer, holes: rings };
+        polygon.check_crossings()?;
+        for r in 0..polygon.ring_count() {
+            let ring = polygon.ring(r);
+            let scale = ring.iter().map(|p| p.norm()).fold(0.0, f64::max).max(1e-300);
+            if signed_area(ring).abs() <= 1e-14 * scale * scale {
+                return Err(GeometryError::DegeneratePolygon {
+                    ring: ring_name(r),
+                    reason: "has zero area".into(),
+                });
+            }
+        }
+        for (k, h) in polygon.holes.iter().enumerate() {
+            if !ring_contains(&polygon.outer, h[0]) {
+                return Err(GeometryError::HoleOutside { hole: k });
+            }
+            for (j, other) in polygon.holes.iter().enumerate() {
+                if j != k && ring_contains(other, h[0]) {
+                    return Err(GeometryError::HoleOutside { hole: k });
+                }
+            }
+        }
+        Ok(polygon)
+    }
+
+    /// Every pair of non-adjacent edges must be disjoint; adjacent edges must not fold
+    /// back onto each other. Uses a sort along x to skip far-apart pairs.
+    fn check_crossings(&self) -> Result<(), GeometryError> {
+        let edges: Vec<PolygonEdge> = self.edges().collect();
+        let mut order: Vec<usize> = (0..edges.len()).collect();
+        let min_x = |e: &PolygonEdge| e.start.x.min(e.end.x);
+        let max_x = |e: &PolygonEdge| e.start.x.max(e.end.x);
+        order.sort_by(|&a, &b| min_x(&edges[a]).total_cmp(&min_x(&edges[b])));
+        for (oi, &i) in order.iter().enumerate() {
+            let ei = edges[i];
+            for &j in &order[oi + 1..] {
+                let ej = edges[j];
+                if min_x(&ej) > max_x(&ei) {
+                    break;
+                }
+                let ring_len = self.ring(ei.ring).len();
+                let adjacent = ei.ring == ej.ring
+                    && ((ei.index + 1) % ring_len == ej.index || (ej.index + 1) % ring_len == ei.index);
+                let hit = if adjacent {
+                    // Consecutive edges share one vertex; they are invalid only if they
+                    // overlap (the ring doubles back on itself).
+                    let (shared, a, b) = if (ei.index + 1) % ring_len == ej.index {
+                        (ei.end, ei.start, ej.end)
+                    } else {
+                        (ej.end, ej.start, ei.end)
+                    };
+                    let (u, v) = (a - shared, b - shared);
+                    let collinear = cross(u, v).abs() <= 1e-14 * u.norm() * v.norm();
+                    (collinear && u.dot(&v) > 0.0).then_some(shared)
+                } else {
+                    touch_point(ei.start, ei.end, ej.start, ej.end)
+                };
+                if let Some(p) = hit {
+                    let (a, b) = if (ei.ring, ei.index) <= (ej.ring, ej.index) { (ei, ej) } else { (ej, ei) };
+                    return Err(GeometryError::SelfIntersection {
+                        ring_a: ring_name(a.ring),
+                        edge_a: a.index,
+                        ring_b: ring_name(b.ring),
+                        edge_b: b.index,
+                        x: p.x,
+                        y: p.y,
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The outline (counter-clockwise).
+    pub fn outer(&self) -> &[Vec2] {
+        &self.outer
+    }
+
+    /// The holes (each clockwise).
+    pub fn holes(&self) -> &[Vec<Vec2>] {
+        &self.holes
+    }
+
+    /// Ring `k`: 0 = outline, k ≥ 1 = hole k−1.
+    pub fn ring(&self, k: usize) -> &[Vec2] {
+        if k == 0 {
+            &self.outer
+        } else {
+            &self.holes[k - 1]
+        }
+    }
+
+    /// Number of rings (outline + holes).
+    pub fn ring_count(&self) -> usize {
+        1 + self.holes.len()
+    }
+
+    /// Every edge of every ring.
+    pub fn edges(&self) -> impl Iterator<Item = PolygonEdge> + '_ {
+        (0..self.ring_count()).flat_map(move |r| {
+            let ring = self.ring(r);
+            (0..ring.len()).map(move |i| PolygonEdge {
+                ring: r,
+                index: i,
+                start: ring[i],
+                end: ring[(i + 1) % ring.len()],
+            })
+        })
+    }
+
+    /// Area (outline minus holes).
+    pub fn area(&self) -> f64 {
+        signed_area(&self.outer) + self.holes.iter().map(|h| signed_area(h)).sum::<f64>()
+    }
+
+    /// Axis-aligned bounding box `(min, max)` of the outline.
+    pub fn bounding_box(&self) -> (Vec2, Vec2) {
+        let mut lo = Vec2::repeat(f64::INFINITY);
+        let mut hi = Vec2::repeat(f64::NEG_INFINITY);
+        for p in &self.outer {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        (lo, hi)
+    }
+
+    /// Length of the bounding-box diagonal: the model's length scale for tolerances.
+    pub fn scale(&self) -> f64 {
+        let (lo, hi) = self.bounding_box();
+        (hi - lo).norm()
+    }
+
+    /// Whether `p` is inside the polygon (inside the outline, outside every hole).
+    /// Points exactly on the boundary may go either way.
+    pub fn contains(&self, p: Vec2) -> bool {
+        ring_contains(&self.outer, p) && !self.holes.iter().any(|h| ring_contains(h, p))
+    }
+
+    /// Whether `p` is inside the outline, ignoring holes.
+    pub fn outline_contains(&self, p: Vec2) -> bool {
+        ring_contains(&self.outer, p)
+    }
+
+    /// All points where the line `origin + t · direction` meets edges of the rings
+    /// selected by `rings` (a predicate on the ring index), sorted by `t`.
+    pub fn line_hits(&self, origin: Vec2, direction: Vec2, rings: impl Fn(usize) -> bool) -> Vec<RayHit> {
+        let mut hits = Vec::new();
+        for r in 0..self.ring_count() {
+            if !rings(r) {
+                continue;
+            }
+            let ring = self.ring(r);
+            let n = ring.len();
+            for i in 0..n {
+                let (a, b) = (ring[i], ring[(i + 1) % n]);
+                let e = b - a;
+                let den = cross(direction, e);
+                if den == 0.0 {
+                    continue;
+                }
+                let w = a - origin;
+                let u = cross(w, direction) / den;
+                if !(0.0..=1.0).contains(&u) {
+                    continue;
+                }
+                let t = cross(w, e) / den;
+                hits.push(RayHit { t, ring: r, edge: i, edge_parameter: u });
+            }
+        }
+        hits.sort_by(|a, b| a.t.total_cmp(&b.t));
+        hits
+    }
+}
+
+/// Even–odd point-in-ring test (crossing number).
+fn ring_contains(ring: &[Vec2], p: Vec2) -> bool {
+    let n = ring.len();
+    let mut inside = false;
+    let mut j = n - 1;
+    for i in 0..n {
+        let (a, b) = (ring[i], ring[j]);
+        if (a.y > p.y) != (b.y > p.y) {
+            let x = a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y);
+            if p.x < x {
+                inside = !inside;
+            }
+        }
+        j = i;
+    }
+    inside
+}
+
+/// A point shared by closed segments `[a,b]` and `[c,d]`, if any (including touching and
+/// collinear overlap).
+fn touch_point(a: Vec2, b: Vec2, c: Vec2, d: Vec2) -> Option<Vec2> {
+    let o1 = cross(b - a, c - a);
+    let o2 = cross(b - a, d - a);
+    let o3 = cross(d - c, a - c);
+    let o4 = cross(d - c, b - c);
+    let scale = (b - a).norm().max((d - c).norm());
+    let eps = 1e-14 * scale * scale;
+    let sgn = |x: f64| if x > eps { 1 } else if x < -eps { -1 } else { 0 };
+    let (s1, s2, s3, s4) = (sgn(o1), sgn(o2), sgn(o3), sgn(o4));
+    if s1 * s2 < 0 && s3 * s4 < 0 {
+        let t = o3 / (o3 - o4);
+        return Some(a + (b - a) * t);
+    }
+    let on = |p: Vec2, q: Vec2, r: Vec2| {
+        r.x >= p.x.min(q.x) - 1e-14 * scale
+            && r.x <= p.x.max(q.x) + 1e-14 * scale
+            && r.y >= p.y.min(q.y) - 1e-14 * scale
+            && r.y <= p.y.max(q.y) + 1e-14 * scale
+    };
+    if s1 == 0 && on(a, b, c) {
+        return Some(c);
+    }
+    if s2 == 0 && on(a, b, d) {
+        return Some(d);
+    }
+    if s3 == 0 && on(c, d, a) {
+        return Some(a);
+    }
+    if s4 == 0 && on(c, d, b) {
+        return Some(b);
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn v(x: f64, y: f64) -> Vec2 {
+        Vec2::new(x, y)
+    }
+
+    #[test]
+    fn orientation_area_and_containment() {
+        let sq = vec![v(0.0, 0.0), v(0.0, 4.0), v(4.0, 4.0), v(4.0, 0.0)]; // clockwise
+        let hole = vec![v(1.0, 1.0), v(2.0, 1.0), v(2.0, 2.0), v(1.0, 2.0)]; // ccw
+        let p = Polygon::new(sq, vec![hole]).unwrap();
+        assert!(signed_area(p.outer()) > 0.0);
+        assert!(signed_area(&p.holes()[0]) < 0.0);
+        assert!((p.area() - 15.0).abs() < 1e-12);
+        assert!(p.contains(v(3.0, 3.0)));
+        assert!(!p.contains(v(1.5, 1.5)));
+        assert!(!p.contains(v(5.0, 1.0)));
+    }
+
+    #[test]
+    fn bow_tie_is_rejected_with_place() {
+        let err = Polygon::new(vec![v(0.0, 0.0), v(2.0, 2.0), v(2.0, 0.0), v(0.0, 2.0)], vec![]).unwrap_err();
+        match err {
+            GeometryError::SelfIntersection { x, y, .. } => assert!((x - 1.0).abs() < 1e-12 && (y - 1.0).abs() < 1e-12),
+            e => panic!("unexpected {e}"),
+        }
+    }
+
+    #[test]
+    fn hole_outside_is_rejected() {
+        let sq = vec![v(0.0, 0.0), v(1.0, 0.0), v(1.0, 1.0), v(0.0, 1.0)];
+        let hole = vec![v(2.0, 2.0), v(3.0, 2.0), v(3.0, 3.0)];
+        assert!(matches!(Polygon::new(sq, vec![hole]), Err(GeometryError::HoleOutside { hole: 0 })));
+    }
+
+    #[test]
+    fn line_hits_sorted() {
+        let p = Polygon::new(vec![v(0.0, 0.0), v(4.0, 0.0), v(4.0, 4.0), v(0.0, 4.0)], vec![]).unwrap();
+        let h = p.line_hits(v(2.0, 2.0), v(1.0, 0.0), |_| true);
+        assert_eq!(h.len(), 2);
+        assert!((h[0].t + 2.0).abs() < 1e-12 && (h[1].t - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn segment_intersection_basic() {
+        let (s, t) = segment_intersection(v(0.0, 0.0), v(2.0, 0.0), v(1.0, -1.0), v(1.0, 1.0)).unwrap();
+        assert!((s - 0.5).abs() < 1e-15 && (t - 0.5).abs() < 1e-15);
+        assert!(segment_intersection(v(0.0, 0.0), v(1.0, 0.0), v(0.0, 1.0), v(1.0, 1.0)).is_none());
+    }
+}
