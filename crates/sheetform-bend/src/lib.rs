@@ -1,1 +1,33 @@
-//! placeholder
+//! System A of sheetform: a sheet bent by 3D control curves that are geodesics on it
+//! (P. Bo and W. Wang, "Geodesic-Controlled Developable Surfaces for Modeling Paper
+//! Bending", Computer Graphics Forum 26(3), 2007).
+//!
+//! Data flow: [`BendScene`] (JSON) → [`BendModel`] (validated) → per region
+//! [`sample_rulings`] (rectifying developable, Eq. 1; curve of regression, Eq. 4–5) →
+//! [`ruling_extent`] (boundary, §3.3) → [`check_region`] (admissibility, Eq. 6) →
+//! [`flat_layout`] (cut the flat sheet along the rulings) → [`FoldedStrip`] + [`place`]
+//! (composite placement, §3.4 / §4.2) → [`sheetform_mesh::SheetMesh`].
+
+mod admissibility;
+mod bend;
+mod control_curve;
+mod curve_of_regression;
+mod error;
+mod flat_layout;
+mod folded_strip;
+mod model;
+mod rectifying_developable;
+mod ruling_extent;
+mod scene;
+
+pub use admissibility::{check_region, RegionAdmissibility};
+pub use bend::{bend, place, region_geometries, region_geometry, BentSheet, Placement, RegionGeometry, RegionSummary};
+pub use control_curve::{AnalyticCurve, ControlCurve, CurveShape};
+pub use curve_of_regression::regression_distance;
+pub use error::{BendError, InadmissibleDetail};
+pub use flat_layout::{flat_layout, Cell, EdgeKind, FlatLayout};
+pub use folded_strip::{lift, FoldedStrip};
+pub use model::{curve_shape, BendModel, CurvedRegion};
+pub use rectifying_developable::{sample_rulings, RulingSample};
+pub use ruling_extent::{ruling_extent, BoundaryPoint, RulingExtent};
+pub use scene::{BendScene, CurveSpec, CurvedRegionSpec, TessellationOptions};

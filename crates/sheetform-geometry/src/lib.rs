@@ -11,6 +11,7 @@ mod bspline;
 mod curve;
 mod error;
 mod frame;
+mod helix;
 mod polygon;
 mod rigid;
 
@@ -19,6 +20,7 @@ pub use bezier::{Bezier, Bezier2, Bezier3};
 pub use bspline::{BSpline, BSpline2, BSpline3};
 pub use curve::{Curve3, ParametricCurve};
 pub use error::GeometryError;
+pub use helix::Helix;
 pub use frame::{curve_frame, CurveFrame, CurveFrameDerivatives};
 pub use polygon::{segment_intersection, Polygon, PolygonEdge, RayHit};
 pub use rigid::{rotation_about_axis, RigidMotion};

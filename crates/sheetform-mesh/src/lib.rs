@@ -1,1 +1,14 @@
-//! placeholder
+//! The output type every sheetform method returns: [`SheetMesh`], a triangle mesh of the
+//! bent sheet in which every vertex carries its 3D position *and* its exact position on
+//! the flat sheet (same length unit), plus the rulings and a piece label per face.
+//! Also the metrics computed on it (isometry error, developability along rulings).
+
+mod error;
+mod metrics;
+mod sheet_mesh;
+mod unit;
+
+pub use error::MeshError;
+pub use metrics::{developability_error, isometry_error, IsometryError, RulingNormalError};
+pub use sheet_mesh::{Piece, PieceKind, Ruling, SheetMesh};
+pub use unit::LengthUnit;

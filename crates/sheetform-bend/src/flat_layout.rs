@@ -1,0 +1,627 @@
+//! The flat sheet cut along the rulings: a constrained Delaunay triangulation whose
+//! constraint edges are the outline, the holes, every sampled ruling and the flat
+//! geodesics, and the cells (connected groups of faces between rulings) that each move
+//! rigidly.
+
+use crate::{ruling_extent::BoundaryPoint, BendError, BendModel, InadmissibleDetail, RegionGeometry};
+use sheetform_geometry::Vec2;
+use sheetform_mesh::{Piece, PieceKind, Ruling};
+use spade::{ConstrainedDelaunayTriangulation, HasPosition, Point2, Triangulation};
+use sheetform_geometry::segment_intersection;
+use std::collections::HashMap;
+
+/// What a constraint edge of the layout is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum EdgeKind {
+    /// Part of the outline or of a hole.
+    Boundary,
+    /// Part of ruling `ruling` of region `region`.
+    Ruling {
+        /// Region index.
+        region: usize,
+        /// Ruling index within the region.
+        ruling: usize,
+    },
+    /// Part of the flat geodesic of a region (inside a strip; not a cut).
+    Geodesic,
+}
+
+/// A set of faces that moves rigidly. `labels` lists every `(region, part)` the cell was
+/// found to belong to, `part` indexing [`crate::FoldedStrip::motions`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cell {
+    /// `(region, part)` pairs seen on the cell's ruling edges.
+    pub labels: Vec<(usize, usize)>,
+    /// Vertices of the cell's faces.
+    pub vertices: Vec<u32>,
+    /// A point inside the cell (flat).
+    pub sample_point: Vec2,
+}
+
+/// The flat sheet, triangulated and cut into rigid cells.
+#[derive(Debug, Clone)]
+pub struct FlatLayout {
+    /// Flat vertex positions.
+    pub flat: Vec<Vec2>,
+    /// Triangles (counter-clockwise in the flat sheet).
+    pub triangles: Vec<[u32; 3]>,
+    /// Cell of each triangle.
+    pub face_cells: Vec<usize>,
+    /// The cells.
+    pub cells: Vec<Cell>,
+    /// Piece of each triangle and the pieces.
+    pub face_pieces: Vec<u32>,
+    /// Curved pieces (one per region, in region order) then planar pieces.
+    pub pieces: Vec<Piece>,
+    /// Rulings as vertex chains.
+    pub rulings: Vec<Ruling>,
+    /// Per region, per ruling: the vertex of the geodesic point.
+    pub geodesic_vertices: Vec<Vec<u32>>,
+}
+
+#[derive(Clone, Copy)]
+struct LayoutVertex {
+    position: Point2<f64>,
+    index: usize,
+}
+
+impl HasPosition for LayoutVertex {
+    type Scalar = f64;
+    fn position(&self) -> Point2<f64> {
+        self.position
+    }
+}
+
+/// A boundary point awaiting a vertex index.
+struct PendingBoundary {
+    key: (usize, usize),
+    parameter: f64,
+    point: Vec2,
+    slot: usize,
+}
+
+/// Builds the layout. `geometries[k]` holds region `k`'s sampled rulings and extents.
+///
+/// # Errors
+/// [`BendError::Inadmissible`] when rulings of different regions (or of one region)
+/// cross on the sheet (§4.3); [`BendError::Composite`] when part of the sheet is not
+/// reached by any ruling.
+pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<FlatLayout, BendError> {
+    let sheet = &model.sheet;
+    let scale = sheet.scale();
+    let eps = 1e-10 * scale;
+    let mut points: Vec<Vec2> = Vec::new();
+    let mut ring_vertex: Vec<Vec<usize>> = Vec::new();
+    for r in 0..sheet.ring_count() {
+        ring_vertex.push(sheet.ring(r).iter().map(|p| {
+            points.push(*p);
+            points.len() - 1
+        }).collect());
+    }
+    // Slots: vertex ids resolved after boundary points are merged.
+    let mut slots: Vec<usize> = Vec::new();
+    let mut pending: Vec<PendingBoundary> = Vec::new();
+    let mut add_boundary = |bp: BoundaryPoint, p: Vec2, slots: &mut Vec<usize>| -> usize {
+        slots.push(usize::MAX);
+        pending.push(PendingBoundary { key: (bp.ring, bp.edge), parameter: bp.edge_parameter, point: p, slot: slots.len() - 1 });
+        slots.len() - 1
+    };
+    // Ruling pieces as chains of slot-or-vertex references.
+    #[derive(Clone, Copy)]
+    enum Ref {
+        Slot(usize),
+        Vertex(usize),
+    }
+    struct Chain {
+        region: usize,
+        ruling: usize,
+        refs: Vec<Ref>,
+    }
+    let mut chains: Vec<Chain> = Vec::new();
+    let mut geodesic_refs: Vec<Vec<Ref>> = Vec::new();
+    for (k, g) in geometries.iter().enumerate() {
+        let mut geo = Vec::with_capacity(g.samples.len());
+        for (j, (s, e)) in g.samples.iter().zip(&g.extents).enumerate() {
+            let at = |l: f64| s.flat_point + s.flat_ruling * l;
+            // Pieces of [l1, l0] outside the holes.
+            let mut bounds: Vec<(f64, BoundaryPoint)> = vec![(e.negative_end, e.ends[0])];
+            for (gap, ends) in &e.gaps {
+                bounds.push((gap[0], ends[0]));
+                bounds.push((gap[1], ends[1]));
+            }
+            bounds.push((e.positive_end, e.ends[1]));
+            let mut geo_ref = None;
+            for piece in bounds.chunks(2) {
+                let (a, b) = (piece[0], piece[1]);
+                if b.0 - a.0 <= eps {
+                    continue;
+                }
+                let ra = Ref::Slot(add_boundary(a.1, at(a.0), &mut slots));
+                let rb = Ref::Slot(add_boundary(b.1, at(b.0), &mut slots));
+                let mut refs = vec![ra];
+                if a.0 < -eps && b.0 > eps {
+                    points.push(s.flat_point);
+                    let v = Ref::Vertex(points.len() - 1);
+                    refs.push(v);
+                    geo_ref = Some(v);
+                } else if a.0.abs() <= eps {
+                    geo_ref = Some(ra);
+                } else if b.0.abs() <= eps {
+                    geo_ref = Some(rb);
+                }
+                refs.push(rb);
+                chains.push(Chain { region: k, ruling: j, refs });
+            }
+            let geo_ref = match geo_ref {
+                Some(r) => r,
+                None => {
+                    // Degenerate extent (a ruling of zero length on the sheet): the
+                    // geodesic point is on the boundary.
+                    let (_, bp) = crate::ruling_extent::locate_on_boundary(sheet, s.flat_point, 0..sheet.ring_count());
+                    Ref::Slot(add_boundary(bp, s.flat_point, &mut slots))
+                }
+            };
+            geo.push(geo_ref);
+        }
+        geodesic_refs.push(geo);
+    }
+    // Merge boundary points per edge; snap to ring vertices.
+    pending.sort_by(|a, b| a.key.cmp(&b.key).then(a.parameter.total_cmp(&b.parameter)));
+    let mut edge_points: HashMap<(usize, usize), Vec<usize>> = HashMap::new();
+    let mut last: Option<((usize, usize), Vec2, usize)> = None;
+    for p in &pending {
+        let ring = sheet.ring(p.key.0);
+        let n = ring.len();
+        let (a, b) = (ring[p.key.1], ring[(p.key.1 + 1) % n]);
+        let vertex = if (p.point - a).norm() <= eps {
+            ring_vertex[p.key.0][p.key.1]
+        } else if (p.point - b).norm() <= eps {
+            ring_vertex[p.key.0][(p.key.1 + 1) % n]
+        } else if let Some((key, q, v)) = last.filter(|(key, q, _)| *key == p.key && (q - p.point).norm() <= eps) {
+            let _ = (key, q);
+            v
+        } else {
+            points.push(p.point);
+            let v = points.len() - 1;
+            edge_points.entry(p.key).or_default().push(v);
+            v
+        };
+        slots[p.slot] = vertex;
+        last = Some((p.key, p.point, vertex));
+    }
+    let resolve = |r: Ref| match r {
+        Ref::Slot(s) => slots[s],
+        Ref::Vertex(v) => v,
+    };
+    // Constraint edges.
+    let mut edges: Vec<[usize; 2]> = Vec::new();
+    let mut kinds: HashMap<[usize; 2], EdgeKind> = HashMap::new();
+    let mut push_edge = |a: usize, b: usize, kind: EdgeKind, edges: &mut Vec<[usize; 2]>| {
+        if a == b {
+            return;
+        }
+        let key = if a < b { [a, b] } else { [b, a] };
+        match kinds.get(&key) {
+            Some(EdgeKind::Boundary) | Some(EdgeKind::Ruling { .. }) => {}
+            _ => {
+                if kinds.insert(key, kind).is_none() {
+                    edges.push(key);
+                }
+            }
+        }
+    };
+    for r in 0..sheet.ring_count() {
+        let n = sheet.ring(r).len();
+        for i in 0..n {
+            let mut along = vec![ring_vertex[r][i]];
+            if let Some(list) = edge_points.get(&(r, i)) {
+                along.extend(list.iter().copied());
+            }
+            along.push(ring_vertex[r][(i + 1) % n]);
+            for w in along.windows(2) {
+                push_edge(w[0], w[1], EdgeKind::Boundary, &mut edges);
+            }
+        }
+    }
+    let mut rulings = Vec::with_capacity(chains.len());
+    for c in &chains {
+        let verts: Vec<usize> = c.refs.iter().map(|r| resolve(*r)).collect();
+        let mut dedup: Vec<usize> = Vec::with_capacity(verts.len());
+        for v in verts {
+            if dedup.last() != Some(&v) {
+                dedup.push(v);
+            }
+        }
+        for w in dedup.windows(2) {
+            push_edge(w[0], w[1], EdgeKind::Ruling { region: c.region, ruling: c.ruling }, &mut edges);
+        }
+        if dedup.len() >= 2 {
+            rulings.push(Ruling {
+                vertices: dedup.iter().map(|&v| v as u32).collect(),
+                piece: c.region as u32,
+                arc_length: geometries[c.region].samples[c.ruling].arc_length,
+            });
+        }
+    }
+    let geodesic_vertices: Vec<Vec<u32>> = geodesic_refs
+        .iter()
+        .map(|g| g.iter().map(|r| resolve(*r) as u32).collect())
+        .collect();
+    for g in &geodesic_vertices {
+        for w in g.windows(2) {
+            push_edge(w[0] as usize, w[1] as usize, EdgeKind::Geodesic, &mut edges);
+        }
+    }
+
+    // §4.3: rulings of different regions must not cross on the sheet (end rulings and
+    // flat geodesics against every ruling of the other regions).
+    check_region_crossings(model, geometries, scale)?;
+
+    // Faces of the planar graph (half-edge walk), each to the left of its edges.
+    let faces = graph_faces(&points, &edges);
+    let mut forward_boundary: std::collections::HashSet<[usize; 2]> = std::collections::HashSet::new();
+    for r in 0..sheet.ring_count() {
+        let n = sheet.ring(r).len();
+        for i in 0..n {
+            let mut along = vec![ring_vertex[r][i]];
+            if let Some(list) = edge_points.get(&(r, i)) {
+                along.extend(list.iter().copied());
+            }
+            along.push(ring_vertex[r][(i + 1) % n]);
+            for w in along.windows(2) {
+                forward_boundary.insert([w[0], w[1]]);
+            }
+        }
+    }
+    let kind_of = |a: usize, b: usize| kinds.get(&if a < b { [a, b] } else { [b, a] }).copied();
+    let mut outer_cycles: Vec<Vec<usize>> = Vec::new();
+    let mut inner_cycles: Vec<Vec<usize>> = Vec::new();
+    for cycle in faces {
+        let n = cycle.len();
+        let outside = (0..n).any(|i| {
+            let (a, b) = (cycle[i], cycle[(i + 1) % n]);
+            kind_of(a, b) == Some(EdgeKind::Boundary) && !forward_boundary.contains(&[a, b])
+        });
+        if outside {
+            continue;
+        }
+        if cycle_area(&points, &cycle) > 0.0 {
+            outer_cycles.push(cycle);
+        } else {
+            inner_cycles.push(cycle);
+        }
+    }
+    // Islands (holes no ruling touches) belong to the smallest face around them.
+    let mut face_holes: Vec<Vec<usize>> = vec![Vec::new(); outer_cycles.len()];
+    for (h, cycle) in inner_cycles.iter().enumerate() {
+        let p = points[cycle[0]];
+        let owner = outer_cycles
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| cycle_contains(&points, c, p))
+            .min_by(|a, b| cycle_area(&points, a.1).total_cmp(&cycle_area(&points, b.1)))
+            .map(|(i, _)| i)
+            .ok_or_else(|| BendError::Composite { message: "a hole boundary is not inside any piece of the sheet".into() })?;
+        face_holes[owner].push(h);
+    }
+    let mut triangles: Vec<[u32; 3]> = Vec::new();
+    let mut triangle_face: Vec<usize> = Vec::new();
+    for (f, cycle) in outer_cycles.iter().enumerate() {
+        let holes: Vec<&Vec<usize>> = face_holes[f].iter().map(|&h| &inner_cycles[h]).collect();
+        let before = triangles.len();
+        triangulate_face(&points, cycle, &holes, &mut triangles)?;
+        triangle_face.extend(std::iter::repeat_n(f, triangles.len() - before));
+    }
+    let triangle_area: f64 = triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| points[i as usize]);
+            0.5 * ((b - a).x * (c - a).y - (b - a).y * (c - a).x).abs()
+        })
+        .sum();
+    if (triangle_area - sheet.area()).abs() > 1e-9 * sheet.area() {
+        return Err(BendError::Inadmissible(Box::new(InadmissibleDetail {
+            message: format!(
+                "rulings cross inside the sheet: the pieces between them cover {:.6} {u}² instead of the sheet's {:.6} {u}²",
+                triangle_area,
+                sheet.area(),
+                u = model.unit.symbol()
+            ),
+            region: 0,
+            arc_length_range: [0.0, 0.0],
+            flat_point: [f64::NAN, f64::NAN],
+            point: None,
+        })));
+    }
+    // Labels from ruling edges; cells join faces across geodesic edges.
+    let mut face_of_half: HashMap<[usize; 2], usize> = HashMap::new();
+    for (f, cycle) in outer_cycles.iter().enumerate() {
+        for i in 0..cycle.len() {
+            face_of_half.insert([cycle[i], cycle[(i + 1) % cycle.len()]], f);
+        }
+    }
+    let mut parent: Vec<usize> = (0..outer_cycles.len()).collect();
+    fn find(parent: &mut [usize], mut x: usize) -> usize {
+        while parent[x] != x {
+            parent[x] = parent[parent[x]];
+            x = parent[x];
+        }
+        x
+    }
+    let mut face_labels: Vec<Vec<(usize, usize)>> = vec![Vec::new(); outer_cycles.len()];
+    for (f, cycle) in outer_cycles.iter().enumerate() {
+        for i in 0..cycle.len() {
+            let (a, b) = (cycle[i], cycle[(i + 1) % cycle.len()]);
+            match kind_of(a, b) {
+                Some(EdgeKind::Ruling { region, ruling }) => {
+                    let s = &geometries[region].samples[ruling];
+                    let m = Vec2::new(s.flat_ruling.y, -s.flat_ruling.x);
+                    let m = if m.dot(&model.regions[region].flat_direction) >= 0.0 { m } else { -m };
+                    let d = points[b] - points[a];
+                    let left = Vec2::new(-d.y, d.x);
+                    let part = if left.dot(&m) > 0.0 { ruling + 1 } else { ruling };
+                    if !face_labels[f].contains(&(region, part)) {
+                        face_labels[f].push((region, part));
+                    }
+                }
+                Some(EdgeKind::Geodesic) => {
+                    if let Some(&g) = face_of_half.get(&[b, a]) {
+                        let (ra, rb) = (find(&mut parent, f), find(&mut parent, g));
+                        parent[ra] = rb;
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    let mut cell_of_root: HashMap<usize, usize> = HashMap::new();
+    let mut cells: Vec<Cell> = Vec::new();
+    let mut face_cell = vec![0usize; outer_cycles.len()];
+    for f in 0..outer_cycles.len() {
+        let root = find(&mut parent, f);
+        let c = *cell_of_root.entry(root).or_insert_with(|| {
+            let cyc = &outer_cycles[f];
+            cells.push(Cell { labels: Vec::new(), vertices: Vec::new(), sample_point: cycle_interior_point(&points, cyc) });
+            cells.len() - 1
+        });
+        face_cell[f] = c;
+        for l in &face_labels[f] {
+            if !cells[c].labels.contains(l) {
+                cells[c].labels.push(*l);
+            }
+        }
+        cells[c].vertices.extend(outer_cycles[f].iter().map(|&v| v as u32));
+        for &h in &face_holes[f] {
+            cells[c].vertices.extend(inner_cycles[h].iter().map(|&v| v as u32));
+        }
+    }
+    let face_cells: Vec<usize> = triangle_face.iter().map(|&f| face_cell[f]).collect();
+    for c in &mut cells {
+        c.vertices.sort_unstable();
+        c.vertices.dedup();
+        if c.labels.is_empty() {
+            return Err(BendError::Composite {
+                message: format!(
+                    "the part of the sheet around flat ({:.6}, {:.6}) is not reached by any ruling",
+                    c.sample_point.x, c.sample_point.y
+                ),
+            });
+        }
+    }
+    // Pieces: one curved piece per region, one planar piece per cell with only end labels.
+    let mut pieces: Vec<Piece> = model
+        .regions
+        .iter()
+        .map(|r| Piece { name: r.name.clone(), kind: PieceKind::Curved })
+        .collect();
+    let mut cell_piece = vec![0u32; cells.len()];
+    for (ci, c) in cells.iter().enumerate() {
+        let curved = c.labels.iter().find(|(k, part)| *part >= 1 && *part < geometries[*k].samples.len());
+        cell_piece[ci] = match curved {
+            Some((k, _)) => *k as u32,
+            None => {
+                pieces.push(Piece { name: format!("planar-{}", pieces.len() - model.regions.len()), kind: PieceKind::Planar });
+                (pieces.len() - 1) as u32
+            }
+        };
+    }
+    let face_pieces = face_cells.iter().map(|&c| cell_piece[c]).collect();
+    Ok(FlatLayout { flat: points, triangles, face_cells, cells, face_pieces, pieces, rulings, geodesic_vertices })
+}
+
+fn cycle_area(points: &[Vec2], cycle: &[usize]) -> f64 {
+    let n = cycle.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (points[cycle[i]], points[cycle[(i + 1) % n]]);
+            a.x * b.y - b.x * a.y
+        })
+        .sum::<f64>()
+        * 0.5
+}
+
+fn cycle_contains(points: &[Vec2], cycle: &[usize], p: Vec2) -> bool {
+    let n = cycle.len();
+    let mut inside = false;
+    let mut j = n - 1;
+    for i in 0..n {
+        let (a, b) = (points[cycle[i]], points[cycle[j]]);
+        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
+            inside = !inside;
+        }
+        j = i;
+    }
+    inside
+}
+
+/// A point inside a face: the centroid of its first ear-like triangle, or the vertex mean.
+fn cycle_interior_point(points: &[Vec2], cycle: &[usize]) -> Vec2 {
+    let n = cycle.len();
+    for i in 0..n {
+        let (a, b, c) = (points[cycle[i]], points[cycle[(i + 1) % n]], points[cycle[(i + 2) % n]]);
+        let m = (a + b + c) / 3.0;
+        if ((b - a).x * (c - a).y - (b - a).y * (c - a).x) > 0.0 && cycle_contains(points, cycle, m) {
+            return m;
+        }
+    }
+    cycle.iter().map(|&v| points[v]).sum::<Vec2>() / n as f64
+}
+
+/// The faces of a planar straight-line graph as vertex cycles, each face to the left of
+/// its directed edges: at each vertex the walk takes the next outgoing edge clockwise
+/// from the one it came in on. Linear in the number of edges (after sorting the edges
+/// around each vertex by angle).
+fn graph_faces(points: &[Vec2], edges: &[[usize; 2]]) -> Vec<Vec<usize>> {
+    let mut out: Vec<Vec<usize>> = vec![Vec::new(); points.len()];
+    for &[a, b] in edges {
+        out[a].push(b);
+        out[b].push(a);
+    }
+    for (v, list) in out.iter_mut().enumerate() {
+        let p = points[v];
+        list.sort_by(|&x, &y| {
+            let (dx, dy) = (points[x] - p, points[y] - p);
+            dx.y.atan2(dx.x).total_cmp(&dy.y.atan2(dy.x))
+        });
+    }
+    // position of w in out[v]
+    let mut position: HashMap<[usize; 2], usize> = HashMap::with_capacity(edges.len() * 2);
+    for (v, list) in out.iter().enumerate() {
+        for (i, &w) in list.iter().enumerate() {
+            position.insert([v, w], i);
+        }
+    }
+    let mut used: std::collections::HashSet<[usize; 2]> = std::collections::HashSet::with_capacity(edges.len() * 2);
+    let mut faces = Vec::new();
+    for &[a, b] in edges {
+        for start in [[a, b], [b, a]] {
+            if used.contains(&start) {
+                continue;
+            }
+            let mut cycle = Vec::new();
+            let mut half = start;
+            loop {
+                used.insert(half);
+                cycle.push(half[0]);
+                let [u, v] = half;
+                let list = &out[v];
+                let i = position[&[v, u]];
+                let next = list[(i + list.len() - 1) % list.len()];
+                half = [v, next];
+                if half == start || cycle.len() > edges.len() * 2 {
+                    break;
+                }
+            }
+            faces.push(cycle);
+        }
+    }
+    faces
+}
+
+/// Triangulates one face (a counter-clockwise cycle, with clockwise island cycles): a fan
+/// for convex faces without islands, otherwise a constrained Delaunay triangulation of
+/// the face alone (spade) keeping the triangles inside.
+fn triangulate_face(points: &[Vec2], cycle: &[usize], holes: &[&Vec<usize>], out: &mut Vec<[u32; 3]>) -> Result<(), BendError> {
+    let n = cycle.len();
+    let convex = holes.is_empty()
+        && (0..n).all(|i| {
+            let (a, b, c) = (points[cycle[i]], points[cycle[(i + 1) % n]], points[cycle[(i + 2) % n]]);
+            (b - a).x * (c - b).y - (b - a).y * (c - b).x >= 0.0
+        });
+    if convex {
+        // Fan from the vertex that gives the best smallest angle is overkill here; fan from
+        // a vertex that is not collinear with its neighbours.
+        let apex = (0..n)
+            .find(|&i| {
+                let (a, b, c) = (points[cycle[(i + n - 1) % n]], points[cycle[i]], points[cycle[(i + 1) % n]]);
+                (b - a).x * (c - b).y - (b - a).y * (c - b).x > 0.0
+            })
+            .unwrap_or(0);
+        for k in 1..n - 1 {
+            let (i, j) = ((apex + k) % n, (apex + k + 1) % n);
+            let t = [cycle[apex], cycle[i], cycle[j]];
+            let [a, b, c] = t.map(|v| points[v]);
+            if ((b - a).x * (c - a).y - (b - a).y * (c - a).x) > 0.0 {
+                out.push(t.map(|v| v as u32));
+            }
+        }
+        return Ok(());
+    }
+    let mut local: Vec<usize> = cycle.to_vec();
+    for h in holes {
+        local.extend(h.iter().copied());
+    }
+    let index_of: HashMap<usize, usize> = local.iter().enumerate().map(|(i, &v)| (v, i)).collect();
+    let vertices: Vec<LayoutVertex> = local.iter().map(|&v| LayoutVertex { position: Point2::new(points[v].x, points[v].y), index: v }).collect();
+    let mut cons: Vec<[usize; 2]> = Vec::new();
+    let mut directed: std::collections::HashSet<[usize; 2]> = std::collections::HashSet::new();
+    for ring in std::iter::once(&cycle.to_vec()).chain(holes.iter().copied()) {
+        for i in 0..ring.len() {
+            let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
+            cons.push([index_of[&a], index_of[&b]]);
+            directed.insert([a, b]);
+        }
+    }
+    let mut conflict = false;
+    let cdt = ConstrainedDelaunayTriangulation::<LayoutVertex>::try_bulk_load_cdt(vertices, cons, |_| conflict = true)
+        .map_err(|e| BendError::Composite { message: format!("triangulating a piece of the sheet failed: {e}") })?;
+    if conflict || cdt.num_vertices() != local.len() {
+        return Err(BendError::Inadmissible(Box::new(InadmissibleDetail {
+            message: "rulings cross or touch inside the sheet (a piece between them is not a simple polygon)".into(),
+            region: 0,
+            arc_length_range: [0.0, 0.0],
+            flat_point: [points[cycle[0]].x, points[cycle[0]].y],
+            point: None,
+        })));
+    }
+    for face in cdt.inner_faces() {
+        let vs = face.vertices().map(|v| v.data().index);
+        let c = (points[vs[0]] + points[vs[1]] + points[vs[2]]) / 3.0;
+        // Inside the face and outside its islands.
+        if cycle_contains(points, cycle, c) && !holes.iter().any(|h| cycle_contains(points, h, c)) {
+            out.push(vs.map(|v| v as u32));
+        }
+    }
+    Ok(())
+}
+
+/// §4.3: the end rulings and the flat geodesic of each region must not cross any ruling
+/// of another region on the sheet.
+fn check_region_crossings(model: &BendModel, geometries: &[RegionGeometry], scale: f64) -> Result<(), BendError> {
+    let eps = 1e-9 * scale;
+    let segment = |g: &RegionGeometry, j: usize| {
+        let (s, e) = (&g.samples[j], &g.extents[j]);
+        (s.flat_point + s.flat_ruling * e.negative_end, s.flat_point + s.flat_ruling * e.positive_end)
+    };
+    for (a, ga) in geometries.iter().enumerate() {
+        let n = ga.samples.len();
+        let mut tests = vec![segment(ga, 0), segment(ga, n - 1)];
+        tests.push((ga.samples[0].flat_point, ga.samples[n - 1].flat_point));
+        for (b, gb) in geometries.iter().enumerate() {
+            if a == b {
+                continue;
+            }
+            for j in 0..gb.samples.len() {
+                let (q0, q1) = segment(gb, j);
+                for &(p0, p1) in &tests {
+                    if let Some((t, _)) = segment_intersection(p0, p1, q0, q1) {
+                        let p = p0 + (p1 - p0) * t;
+                        if [p0, p1, q0, q1].iter().all(|x| (x - p).norm() > eps) {
+                            return Err(BendError::Inadmissible(Box::new(InadmissibleDetail {
+                                message: format!(
+                                    "rulings of region {a} (`{}`) and region {b} (`{}`) cross on the sheet at flat ({:.6}, {:.6}) (§4.3)",
+                                    model.regions[a].name, model.regions[b].name, p.x, p.y
+                                ),
+                                region: b,
+                                arc_length_range: [gb.samples[j].arc_length, gb.samples[j].arc_length],
+                                flat_point: [p.x, p.y],
+                                point: None,
+                            })));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}

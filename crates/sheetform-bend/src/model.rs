@@ -1,0 +1,307 @@
+//! A validated bend model, built from a [`BendScene`].
+
+use crate::{
+    control_curve::{ControlCurve, CurveShape},
+    scene::{BendScene, CurveSpec, CurvedRegionSpec},
+    BendError, TessellationOptions,
+};
+use sheetform_geometry::{BSpline3, Bezier3, ParametricCurve, Polygon, Vec2, Vec3};
+use sheetform_mesh::LengthUnit;
+
+/// One curved region, validated.
+#[derive(Debug, Clone)]
+pub struct CurvedRegion {
+    /// Name (from the scene or `curved-K`).
+    pub name: String,
+    /// The 3D control curve (a geodesic of the bent sheet).
+    pub curve: ControlCurve,
+    /// Start of the flat geodesic segment.
+    pub flat_start: Vec2,
+    /// Unit direction of the flat geodesic segment.
+    pub flat_direction: Vec2,
+    /// Preferred direction of the sheet's top normal at the start of the curve.
+    pub up: Vec3,
+    /// Closed strip: the two end rulings are glued.
+    pub closed: bool,
+}
+
+impl CurvedRegion {
+    /// End of the flat geodesic segment.
+    pub fn flat_end(&self) -> Vec2 {
+        self.flat_start + self.flat_direction * self.curve.length()
+    }
+}
+
+/// A validated model of a bent sheet: the flat outline with holes and its curved regions.
+#[derive(Debug, Clone)]
+pub struct BendModel {
+    /// Optional name.
+    pub name: Option<String>,
+    /// Length unit.
+    pub unit: LengthUnit,
+    /// The flat sheet.
+    pub sheet: Polygon,
+    /// Curved regions; region 0 is placed in world coordinates.
+    pub regions: Vec<CurvedRegion>,
+    /// Tessellation knobs.
+    pub tessellation: TessellationOptions,
+}
+
+fn field(field: impl Into<String>, message: impl Into<String>) -> BendError {
+    BendError::Field { field: field.into(), message: message.into() }
+}
+
+fn finite2(p: [f64; 2], name: &str) -> Result<Vec2, BendError> {
+    if p.iter().all(|c| c.is_finite()) {
+        Ok(Vec2::new(p[0], p[1]))
+    } else {
+        Err(field(name, "has a non-finite coordinate (NaN or infinity)"))
+    }
+}
+
+fn points3(points: &[[f64; 3]], name: &str) -> Result<Vec<Vec3>, BendError> {
+    points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            if p.iter().all(|c| c.is_finite()) {
+                Ok(Vec3::new(p[0], p[1], p[2]))
+            } else {
+                Err(field(format!("{name}[{i}]"), "has a non-finite coordinate (NaN or infinity)"))
+            }
+        })
+        .collect()
+}
+
+/// Builds the polynomial curve of a [`CurveSpec`].
+///
+/// # Errors
+/// Degree below 2 (a degree-1 curve is a straight polyline and bends nothing), bad knots,
+/// non-finite points.
+pub fn curve_shape(spec: &CurveSpec, name: &str) -> Result<CurveShape, BendError> {
+    let geometry = |source| BendError::Geometry { field: name.to_string(), source };
+    match spec {
+        CurveSpec::Bezier { control_points } => {
+            let pts = points3(control_points, &format!("{name}.control_points"))?;
+            if pts.len() < 3 {
+                return Err(field(
+                    format!("{name}.control_points"),
+                    format!(
+                        "a Bézier control curve needs at least 3 control points (degree ≥ 2), got {}: a degree-1 curve is a straight line and does not determine a developable",
+                        pts.len()
+                    ),
+                ));
+            }
+            Ok(CurveShape::Bezier(Bezier3::new(pts).map_err(geometry)?))
+        }
+        CurveSpec::Bspline { degree, control_points, knots, periodic } => {
+            let mut pts = points3(control_points, &format!("{name}.control_points"))?;
+            if *degree < 2 {
+                return Err(field(
+                    format!("{name}.degree"),
+                    format!("B-spline control curves need degree ≥ 2 (degree {degree} has no curvature)"),
+                ));
+            }
+            if *periodic {
+                if knots.is_some() {
+                    return Err(field(format!("{name}.knots"), "give either `knots` or `periodic`, not both"));
+                }
+                if pts.len() < *degree + 1 {
+                    return Err(field(
+                        format!("{name}.control_points"),
+                        format!("a periodic B-spline of degree {degree} needs at least {} control points", degree + 1),
+                    ));
+                }
+                let wrap: Vec<Vec3> = pts[..*degree].to_vec();
+                pts.extend(wrap);
+                let count = pts.len() + degree + 1;
+                let knots: Vec<f64> = (0..count).map(|i| i as f64).collect();
+                return Ok(CurveShape::BSpline(BSpline3::new(*degree, pts, knots).map_err(geometry)?));
+            }
+            let spline = match knots {
+                Some(k) => BSpline3::new(*degree, pts, k.clone()),
+                None => BSpline3::clamped_uniform(*degree, pts),
+            }
+            .map_err(geometry)?;
+            Ok(CurveShape::BSpline(spline))
+        }
+        CurveSpec::Helix { radius, rise_per_radian, start_angle, end_angle, center } => {
+            let c = points3(&[*center], &format!("{name}.center"))?[0];
+            let helix = sheetform_geometry::Helix::new(*radius, *rise_per_radian, *start_angle, *end_angle).map_err(geometry)?;
+            if c == Vec3::zeros() {
+                Ok(CurveShape::Helix(helix))
+            } else {
+                Ok(CurveShape::Analytic(std::sync::Arc::new(Offset { curve: helix, offset: c })))
+            }
+        }
+    }
+}
+
+impl BendModel {
+    /// Validates a scene.
+    ///
+    /// # Errors
+    /// Every problem named by field: non-finite numbers, an outline that crosses itself,
+    /// holes outside the sheet, degree-1 or zero-length curves, a curve whose length
+    /// differs from its flat segment's, a flat geodesic that leaves the sheet, a closed
+    /// region whose curve is not closed, nonsensical tessellation settings.
+    pub fn from_scene(scene: &BendScene) -> Result<Self, BendError> {
+        let outer = scene
+            .outline
+            .iter()
+            .enumerate()
+            .map(|(i, p)| finite2(*p, &format!("outline[{i}]")))
+            .collect::<Result<Vec<_>, _>>()?;
+        let holes = scene
+            .holes
+            .iter()
+            .enumerate()
+            .map(|(h, ring)| {
+                ring.iter()
+                    .enumerate()
+                    .map(|(i, p)| finite2(*p, &format!("holes[{h}][{i}]")))
+                    .collect::<Result<Vec<_>, _>>()
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let sheet = Polygon::new(outer, holes).map_err(|source| BendError::Geometry {
+            field: "outline/holes".into(),
+            source,
+        })?;
+        let t = scene.tessellation;
+        if !(t.max_fold_angle_degrees.is_finite() && t.max_fold_angle_degrees > 0.0 && t.max_fold_angle_degrees <= 45.0) {
+            return Err(field("tessellation.max_fold_angle_degrees", "must be in (0, 45]"));
+        }
+        if t.min_rulings < 2 || t.max_rulings < t.min_rulings {
+            return Err(field("tessellation", "need 2 ≤ min_rulings ≤ max_rulings"));
+        }
+        if t.rulings.is_some_and(|n| n < 2) {
+            return Err(field("tessellation.rulings", "need at least 2 rulings"));
+        }
+        if !(t.length_tolerance.is_finite() && t.length_tolerance > 0.0) {
+            return Err(field("tessellation.length_tolerance", "must be a positive number"));
+        }
+        if scene.regions.is_empty() {
+            return Err(field("regions", "needs at least one curved region"));
+        }
+        let mut regions = Vec::with_capacity(scene.regions.len());
+        for (k, spec) in scene.regions.iter().enumerate() {
+            regions.push(Self::region(k, spec, &sheet, &t)?);
+        }
+        Ok(Self { name: scene.name.clone(), unit: scene.units, sheet, regions, tessellation: t })
+    }
+
+    fn region(k: usize, spec: &CurvedRegionSpec, sheet: &Polygon, t: &TessellationOptions) -> Result<CurvedRegion, BendError> {
+        let path = format!("regions[{k}]");
+        let name = spec.name.clone().unwrap_or_else(|| format!("curved-{k}"));
+        let shape = curve_shape(&spec.curve, &format!("{path}.curve"))?;
+        let curve = ControlCurve::new(shape).map_err(|source| BendError::DegenerateCurve {
+            region: k,
+            name: name.clone(),
+            reason: format!("{source} (a zero-length curve cannot bend a sheet)"),
+        })?;
+        let flat_start = finite2(spec.flat_start, &format!("{path}.flat_start"))?;
+        let length = curve.length();
+        let flat_direction = match (spec.flat_end, spec.flat_direction) {
+            (Some(_), Some(_)) => return Err(field(&path, "give either `flat_end` or `flat_direction`, not both")),
+            (None, None) => return Err(field(&path, "needs `flat_end` or `flat_direction`")),
+            (Some(end), None) => {
+                let end = finite2(end, &format!("{path}.flat_end"))?;
+                let flat_length = (end - flat_start).norm();
+                if flat_length == 0.0 {
+                    return Err(field(format!("{path}.flat_end"), "equals `flat_start`: the flat geodesic has zero length"));
+                }
+                let relative = (flat_length - length).abs() / length;
+                if relative > t.length_tolerance {
+                    return Err(BendError::LengthMismatch {
+                        region: k,
+                        name,
+                        curve_length: length,
+                        flat_length,
+                        relative,
+                        tolerance: t.length_tolerance,
+                    });
+                }
+                (end - flat_start) / flat_length
+            }
+            (None, Some(d)) => {
+                let d = finite2(d, &format!("{path}.flat_direction"))?;
+                if d.norm() == 0.0 {
+                    return Err(field(format!("{path}.flat_direction"), "is the zero vector"));
+                }
+                d.normalize()
+            }
+        };
+        let up = match spec.up {
+            None => Vec3::z(),
+            Some(u) => {
+                let u = Vec3::new(u[0], u[1], u[2]);
+                if !u.iter().all(|c| c.is_finite()) || u.norm() == 0.0 {
+                    return Err(field(format!("{path}.up"), "must be a finite non-zero vector"));
+                }
+                u.normalize()
+            }
+        };
+        let region = CurvedRegion { name: name.clone(), curve, flat_start, flat_direction, up, closed: spec.closed };
+        // The flat geodesic must stay on the sheet.
+        let (a, b) = (region.flat_start, region.flat_end());
+        let eps = 1e-9 * sheet.scale();
+        let leaves = |p: Vec2| BendError::GeodesicLeavesSheet { region: k, name: name.clone(), x: p.x, y: p.y };
+        for edge in sheet.edges() {
+            if let Some((s, _)) = sheetform_geometry::segment_intersection(a, b, edge.start, edge.end) {
+                let p = a + (b - a) * s;
+                if (p - a).norm() > eps && (p - b).norm() > eps {
+                    // Touching the boundary at an interior point is only fine if the
+                    // segment does not cross it: probe on both sides.
+                    let d = (b - a).normalize() * (10.0 * eps);
+                    if !sheet.contains(p + d) || !sheet.contains(p - d) {
+                        return Err(leaves(p));
+                    }
+                }
+            }
+        }
+        for i in 1..16 {
+            let p = a + (b - a) * (i as f64 / 16.0);
+            if !sheet.contains(p) {
+                let (d, _) = crate::ruling_extent::locate_on_boundary(sheet, p, 0..sheet.ring_count());
+                if d > eps {
+                    return Err(leaves(p));
+                }
+            }
+        }
+        if spec.closed {
+            let (u0, u1) = region.curve.domain();
+            let (d0, d1) = (region.curve.derivatives4(u0), region.curve.derivatives4(u1));
+            let gap = (d0[0] - d1[0]).norm();
+            let turn = d0[1].normalize().dot(&d1[1].normalize());
+            if gap > 1e-6 * length || turn < 1.0 - 1e-9 {
+                return Err(field(
+                    format!("{path}.closed"),
+                    format!(
+                        "the curve is not closed: its ends are {gap:.3e} apart and its end tangents {:.3e} degrees apart (use a periodic B-spline)",
+                        turn.clamp(-1.0, 1.0).acos().to_degrees()
+                    ),
+                ));
+            }
+        }
+        let _ = region.curve.shape().point(0.0);
+        Ok(region)
+    }
+}
+
+/// A curve moved by a constant offset.
+struct Offset<C> {
+    curve: C,
+    offset: Vec3,
+}
+
+impl<C: ParametricCurve<3>> ParametricCurve<3> for Offset<C> {
+    fn domain(&self) -> (f64, f64) {
+        self.curve.domain()
+    }
+    fn derivatives_into(&self, u: f64, out: &mut [nalgebra::SVector<f64, 3>]) {
+        self.curve.derivatives_into(u, out);
+        if let Some(p) = out.first_mut() {
+            *p += self.offset;
+        }
+    }
+}
