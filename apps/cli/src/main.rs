@@ -1,1 +1,131 @@
-fn main(){}
+//! `sheetform`: the command-line front end. Thin: it parses arguments, calls the library
+//! pipeline, shows progress and maps errors to exit codes.
+//!
+//! Exit codes: 0 success, 1 invalid input or I/O error, 2 usage error (from clap),
+//! 3 shape not admissible (only `report.json` is written, saying where).
+
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use sheetform::pipeline::{inadmissible_report, run_bend, write_outputs, BendRunOptions, PipelineError};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "sheetform", version, about = "Design with developable surfaces: bend a virtual sheet, get the 3D model and the flat pattern to cut")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+    /// No progress bar.
+    #[arg(long, short, global = true)]
+    quiet: bool,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Bend a sheet with 3D control curves (Bo & Wang): writes model.obj (vt = flat
+    /// pattern at 1:1), model.glb, model.stl, pattern.svg and report.json.
+    Bend {
+        /// Scene file (JSON; schema: `sheetform schema bend`).
+        scene: PathBuf,
+        /// Output directory (created if missing).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Also write N frames of the isometric deformation from flat to bent
+        /// (frames/frame-0000.obj …).
+        #[arg(long, value_name = "N", default_value_t = 0)]
+        animate: usize,
+    },
+    /// Print the JSON Schema of a scene format.
+    Schema {
+        /// Which format.
+        #[arg(value_enum)]
+        format: SchemaFormat,
+    },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum SchemaFormat {
+    /// The bend scene.
+    Bend,
+}
+
+fn progress_bar(quiet: bool) -> Option<ProgressBar> {
+    if quiet || !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let bar = ProgressBar::new(1000);
+    bar.set_style(ProgressStyle::with_template("{spinner} {msg:<16} [{bar:30}] {percent:>3}%").expect("valid template").progress_chars("=> "));
+    Some(bar)
+}
+
+fn bend_command(scene: PathBuf, output: PathBuf, animate: usize, quiet: bool) -> Result<ExitCode, PipelineError> {
+    let text = std::fs::read_to_string(&scene).map_err(|source| PipelineError::Read { path: scene.display().to_string(), source })?;
+    let bar = progress_bar(quiet);
+    let options = BendRunOptions { animate_frames: animate, input: Some(scene.display().to_string()) };
+    let result = run_bend(&text, &options, &mut |stage, fraction| {
+        if let Some(b) = &bar {
+            b.set_message(stage.to_string());
+            b.set_position((fraction * 1000.0) as u64);
+        }
+    });
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    match result {
+        Ok(run) => {
+            write_outputs(&output, &run.files, &run.report)?;
+            if !quiet {
+                let r = &run.report;
+                eprintln!(
+                    "bent `{}`: {} rulings, {} faces, isometry error {:.1e}, admissible; wrote {} files to {}",
+                    scene.display(),
+                    r.ruling_count,
+                    r.face_count,
+                    r.isometry_error_max_relative,
+                    r.outputs.len(),
+                    output.display()
+                );
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Err(PipelineError::Bend(e)) => {
+            let unit = serde_json::from_str::<serde_json::Value>(&text)
+                .ok()
+                .and_then(|v| v.get("units").and_then(|u| u.as_str()).map(str::to_owned))
+                .map(|u| match u.as_str() {
+                    "cm" => 10.0,
+                    "m" => 1000.0,
+                    "in" => 25.4,
+                    _ => 1.0,
+                })
+                .unwrap_or(1.0);
+            if let Some(report) = inadmissible_report(&e, unit, Some(scene.display().to_string())) {
+                write_outputs(&output, &[], &report)?;
+                eprintln!("sheetform: {}: {e}", scene.display());
+                eprintln!("sheetform: no mesh written; {} says where", output.join("report.json").display());
+                return Ok(ExitCode::from(3));
+            }
+            Err(PipelineError::Bend(e))
+        }
+        Err(e) => Err(e),
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Bend { scene, output, animate } => bend_command(scene, output, animate, cli.quiet),
+        Command::Schema { format: SchemaFormat::Bend } => {
+            println!("{}", serde_json::to_string_pretty(&sheetform::bend::BendScene::json_schema()).expect("schema serialises"));
+            Ok(ExitCode::SUCCESS)
+        }
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("sheetform: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -31,8 +31,39 @@ pub fn region_geometry(model: &BendModel, k: usize) -> Result<RegionGeometry, Be
     let samples = sample_rulings(k, &r.name, &r.curve, r.flat_start, r.flat_direction, r.up, &model.tessellation)?;
     let scale = model.sheet.scale();
     let extents: Vec<RulingExtent> = samples.iter().map(|s| ruling_extent(&model.sheet, s.flat_point, s.flat_ruling, scale)).collect();
-    let admissibility = check_region(k, &samples, &extents, 1e-9 * scale);
+    let mut admissibility = check_region(k, &samples, &extents, 1e-9 * scale);
+    explain_knot_jump(r, &samples, &mut admissibility);
     Ok(RegionGeometry { samples, extents, admissibility })
+}
+
+/// A B-spline of degree ≤ 3 is only C² at its knots, so its torsion (which needs the
+/// third derivative) and with it the ruling direction can jump there: the rulings then
+/// overlap on one side of the geodesic. Say so when that is what made the shape
+/// inadmissible.
+fn explain_knot_jump(region: &crate::CurvedRegion, samples: &[RulingSample], admissibility: &mut RegionAdmissibility) {
+    let crate::CurveShape::BSpline(spline) = region.curve.shape() else { return };
+    if spline.degree() > 3 {
+        return;
+    }
+    let Some(failure) = admissibility.failure.as_mut() else { return };
+    let [s0, s1] = failure.arc_length_range;
+    let near = |s: f64| samples.iter().min_by(|a, b| (a.arc_length - s).abs().total_cmp(&(b.arc_length - s).abs())).expect("samples");
+    let (a, b) = (near(s0), near(s1));
+    let pad = (b.arc_length - a.arc_length).max(1e-9 * region.curve.length());
+    let (u0, u1) = (region.curve.parameter_at(a.arc_length - pad), region.curve.parameter_at(b.arc_length + pad));
+    if let Some(knot) = spline.breakpoints().into_iter().find(|&u| u > u0 && u < u1) {
+        let s = region.curve.length_at(knot);
+        let before = samples.iter().rev().find(|x| x.arc_length < s).map(|x| x.angle);
+        let after = samples.iter().find(|x| x.arc_length > s).map(|x| x.angle);
+        let jump = match (before, after) {
+            (Some(x), Some(y)) => format!(" by about {:.1} degrees", (y - x).abs().to_degrees()),
+            _ => String::new(),
+        };
+        failure.message.push_str(&format!(
+            ". Cause: the degree-{} B-spline control curve is only C² at its knot u = {knot:.6} (s = {s:.6}); its torsion jumps there and the ruling direction jumps{jump}, so rulings overlap on one side of the geodesic. Use a B-spline of degree 4 or more (C³), or a Bézier curve",
+            spline.degree()
+        ));
+    }
 }
 
 /// Where every region and every cell goes.
@@ -239,13 +270,13 @@ fn summaries(
             let closure_gap = model.regions[k].closed.then(|| {
                 let n = g.samples.len();
                 let (s0, s1) = (&g.samples[0], &g.samples[n - 1]);
-                let (e0, e1) = (&g.extents[0], &g.extents[n - 1]);
+                let e0 = &g.extents[0];
                 let (m0, m1) = (&strips[k].motions[1], &strips[k].motions[n - 1]);
-                [(e0.negative_end, e1.negative_end), (0.0, 0.0), (e0.positive_end, e1.positive_end)]
+                [e0.negative_end, 0.0, e0.positive_end]
                     .iter()
-                    .map(|&(a, b)| {
-                        let p = m0.apply(&lift(s0.flat_point + s0.flat_ruling * a));
-                        let q = m1.apply(&lift(s1.flat_point + s1.flat_ruling * b));
+                    .map(|&t| {
+                        let p = m0.apply(&lift(s0.flat_point + s0.flat_ruling * t));
+                        let q = m1.apply(&lift(s1.flat_point + s1.flat_ruling * t));
                         (p - q).norm()
                     })
                     .fold(0.0, f64::max)

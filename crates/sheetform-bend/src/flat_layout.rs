@@ -139,12 +139,31 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
                 let ra = Ref::Slot(add_boundary(a.1, at(a.0), &mut slots));
                 let rb = Ref::Slot(add_boundary(b.1, at(b.0), &mut slots));
                 let mut refs = vec![ra];
-                if a.0 < -eps && b.0 > eps {
-                    points.push(s.flat_point);
-                    let v = Ref::Vertex(points.len() - 1);
-                    refs.push(v);
-                    geo_ref = Some(v);
-                } else if a.0.abs() <= eps {
+                let mut inner: Vec<(f64, Option<BoundaryPoint>)> = e
+                    .touches
+                    .iter()
+                    .filter(|(t, _)| *t > a.0 + eps && *t < b.0 - eps)
+                    .map(|(t, bp)| (*t, Some(*bp)))
+                    .collect();
+                let geo_on_touch = inner.iter().any(|(t, _)| t.abs() <= eps);
+                if a.0 < -eps && b.0 > eps && !geo_on_touch {
+                    inner.push((0.0, None));
+                }
+                inner.sort_by(|x, y| x.0.total_cmp(&y.0));
+                for (t, bp) in inner {
+                    let r = match bp {
+                        Some(bp) => Ref::Slot(add_boundary(bp, at(t), &mut slots)),
+                        None => {
+                            points.push(s.flat_point);
+                            Ref::Vertex(points.len() - 1)
+                        }
+                    };
+                    if t.abs() <= eps {
+                        geo_ref = Some(r);
+                    }
+                    refs.push(r);
+                }
+                if a.0.abs() <= eps {
                     geo_ref = Some(ra);
                 } else if b.0.abs() <= eps {
                     geo_ref = Some(rb);

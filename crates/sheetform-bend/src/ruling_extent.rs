@@ -37,6 +37,10 @@ pub struct RulingExtent {
     /// Intervals `[a, b]` (signed distances, increasing) that lie inside holes, with the
     /// boundary points at both ends.
     pub gaps: Vec<([f64; 2], [BoundaryPoint; 2])>,
+    /// Boundary points strictly inside the extent and outside the gaps, where the ruling
+    /// touches the boundary (a reflex vertex, or a stretch along an edge): they must be
+    /// vertices of the ruling in the mesh.
+    pub touches: Vec<(f64, BoundaryPoint)>,
 }
 
 /// Distance from `p` to the boundary of ring `ring`, with the closest edge.
@@ -136,7 +140,20 @@ pub fn ruling_extent(polygon: &Polygon, origin: Vec2, direction: Vec2, scale: f6
             }
         }
     }
-    RulingExtent { negative_end, positive_end, ends, gaps }
+    let mut touches: Vec<(f64, BoundaryPoint)> = Vec::new();
+    for h in polygon.line_hits(origin, direction, |_| true) {
+        if h.t <= negative_end + eps || h.t >= positive_end - eps {
+            continue;
+        }
+        if gaps.iter().any(|(g, _)| h.t >= g[0] - eps && h.t <= g[1] + eps) {
+            continue;
+        }
+        if touches.last().is_some_and(|(t, _)| (h.t - t).abs() <= eps) {
+            continue;
+        }
+        touches.push((h.t, BoundaryPoint { ring: h.ring, edge: h.edge, edge_parameter: h.edge_parameter }));
+    }
+    RulingExtent { negative_end, positive_end, ends, gaps, touches }
 }
 
 #[cfg(test)]

@@ -1,1 +1,29 @@
-//! placeholder
+//! sheetform: design with developable surfaces, shapes made by bending sheet material
+//! without stretching or tearing.
+//!
+//! This facade re-exports the parts and holds the pipelines that every front end (the
+//! `sheetform` command, the web editor, bindings) calls, so no app repeats a step:
+//!
+//! - [`geometry`]: curves, frames, polygons;
+//! - [`mesh`]: [`mesh::SheetMesh`], the mesh that carries its own flat pattern;
+//! - [`bend`]: system A, sheets bent by geodesic control curves (Bo & Wang 2007);
+//! - [`io`]: exports (OBJ, GLB, STL, SVG) and atomic writing;
+//! - [`pipeline`]: scene file → model → mesh + pattern → files + `report.json`.
+//!
+//! ```
+//! use sheetform::pipeline::{run_bend, BendRunOptions};
+//! let scene = include_str!("../../../examples/bent-rectangle.json");
+//! let run = run_bend(scene, &BendRunOptions::default(), &mut |_, _| {}).unwrap();
+//! assert!(run.report.admissible);
+//! assert!(run.report.isometry_error_max_relative < 1e-9);
+//! ```
+
+#![warn(missing_docs)]
+
+pub mod pipeline;
+pub mod report;
+
+pub use sheetform_bend as bend;
+pub use sheetform_geometry as geometry;
+pub use sheetform_io as io;
+pub use sheetform_mesh as mesh;
