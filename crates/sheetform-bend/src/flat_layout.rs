@@ -154,8 +154,18 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
                     let r = match bp {
                         Some(bp) => Ref::Slot(add_boundary(bp, at(t), &mut slots)),
                         None => {
-                            points.push(s.flat_point);
-                            Ref::Vertex(points.len() - 1)
+                            // A geodesic point on the boundary (to rounding: outlines are
+                            // often typed with the curve length to a few decimals) must
+                            // split that boundary edge, not float next to it.
+                            let (d, bp) = crate::ruling_extent::locate_on_boundary(sheet, s.flat_point, 0..sheet.ring_count());
+                            if d <= eps {
+                                let ring = sheet.ring(bp.ring);
+                                let (ea, eb) = (ring[bp.edge], ring[(bp.edge + 1) % ring.len()]);
+                                Ref::Slot(add_boundary(bp, ea + (eb - ea) * bp.edge_parameter, &mut slots))
+                            } else {
+                                points.push(s.flat_point);
+                                Ref::Vertex(points.len() - 1)
+                            }
                         }
                     };
                     if t.abs() <= eps {
@@ -266,9 +276,24 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
         .iter()
         .map(|g| g.iter().map(|r| resolve(*r) as u32).collect())
         .collect();
-    for g in &geodesic_vertices {
-        for w in g.windows(2) {
-            push_edge(w[0] as usize, w[1] as usize, EdgeKind::Geodesic, &mut edges);
+    for (k, g) in geodesic_vertices.iter().enumerate() {
+        // Outline or hole vertices that the flat geodesic passes through (a hole tangent
+        // to it, say) must be vertices of its chain too.
+        let region = &model.regions[k];
+        let (start, dir, length) = (region.flat_start, region.flat_direction, region.curve.length());
+        let mut chain: Vec<(f64, usize)> = g.iter().zip(&geometries[k].samples).map(|(&v, s)| (s.arc_length, v as usize)).collect();
+        for r in 0..sheet.ring_count() {
+            for (i, p) in sheet.ring(r).iter().enumerate() {
+                let d = p - start;
+                let t = d.dot(&dir);
+                if t > eps && t < length - eps && (d.x * dir.y - d.y * dir.x).abs() <= eps {
+                    chain.push((t, ring_vertex[r][i]));
+                }
+            }
+        }
+        chain.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for w in chain.windows(2) {
+            push_edge(w[0].1, w[1].1, EdgeKind::Geodesic, &mut edges);
         }
     }
 
@@ -545,7 +570,10 @@ fn triangulate_face(points: &[Vec2], cycle: &[usize], holes: &[&Vec<usize>], out
     let convex = holes.is_empty()
         && (0..n).all(|i| {
             let (a, b, c) = (points[cycle[i]], points[cycle[(i + 1) % n]], points[cycle[(i + 2) % n]]);
-            (b - a).x * (c - b).y - (b - a).y * (c - b).x >= 0.0
+            // Strictly convex: collinear runs (touch points, hole gaps) go to the CDT,
+            // so a fan never makes a zero-area triangle.
+            let turn = (b - a).x * (c - b).y - (b - a).y * (c - b).x;
+            turn > 1e-12 * (b - a).norm() * (c - b).norm()
         });
     if convex {
         // Fan from the vertex that gives the best smallest angle is overkill here; fan from
@@ -593,12 +621,38 @@ fn triangulate_face(points: &[Vec2], cycle: &[usize], holes: &[&Vec<usize>], out
             point: None,
         })));
     }
+    // Inside = odd number of constraint edges crossed from the outer face (robust for
+    // slivers whose centroid lies on the boundary).
+    let is_constraint = |e: spade::handles::DirectedEdgeHandle<LayoutVertex, (), spade::CdtEdge<()>, ()>| {
+        let [a, b] = e.vertices().map(|v| v.data().index);
+        cdt.is_constraint_edge(e.as_undirected().fix()) && (directed.contains(&[a, b]) || directed.contains(&[b, a]))
+    };
+    let mut inside: HashMap<usize, bool> = HashMap::new();
+    let mut queue = std::collections::VecDeque::new();
+    for edge in cdt.directed_edges() {
+        if edge.face().fix() == cdt.outer_face().fix() {
+            if let Some(f) = edge.rev().face().as_inner() {
+                if let std::collections::hash_map::Entry::Vacant(slot) = inside.entry(f.fix().index()) {
+                    slot.insert(is_constraint(edge));
+                    queue.push_back(f.fix());
+                }
+            }
+        }
+    }
+    while let Some(h) = queue.pop_front() {
+        let state = inside[&h.index()];
+        for edge in cdt.face(h).adjacent_edges() {
+            if let Some(next) = edge.rev().face().as_inner() {
+                if let std::collections::hash_map::Entry::Vacant(slot) = inside.entry(next.fix().index()) {
+                    slot.insert(state ^ is_constraint(edge));
+                    queue.push_back(next.fix());
+                }
+            }
+        }
+    }
     for face in cdt.inner_faces() {
-        let vs = face.vertices().map(|v| v.data().index);
-        let c = (points[vs[0]] + points[vs[1]] + points[vs[2]]) / 3.0;
-        // Inside the face and outside its islands.
-        if cycle_contains(points, cycle, c) && !holes.iter().any(|h| cycle_contains(points, h, c)) {
-            out.push(vs.map(|v| v as u32));
+        if inside.get(&face.fix().index()).copied().unwrap_or(false) {
+            out.push(face.vertices().map(|v| v.data().index as u32));
         }
     }
     Ok(())

@@ -265,7 +265,9 @@ impl Polygon {
     }
 
     /// All points where the line `origin + t · direction` meets edges of the rings
-    /// selected by `rings` (a predicate on the ring index), sorted by `t`.
+    /// selected by `rings` (a predicate on the ring index), sorted by `t`. A line through
+    /// a vertex reports it once per edge there; edges parallel to the line (to 1e-12) are
+    /// not reported, their end points are (through the neighbouring edges).
     pub fn line_hits(&self, origin: Vec2, direction: Vec2, rings: impl Fn(usize) -> bool) -> Vec<RayHit> {
         let mut hits = Vec::new();
         for r in 0..self.ring_count() {
@@ -278,14 +280,18 @@ impl Polygon {
                 let (a, b) = (ring[i], ring[(i + 1) % n]);
                 let e = b - a;
                 let den = cross(direction, e);
-                if den == 0.0 {
+                // Nearly parallel edges (sin of the angle below 1e-12) count as parallel:
+                // their end points are found through the neighbouring edges.
+                if den.abs() <= 1e-12 * direction.norm() * e.norm() {
                     continue;
                 }
                 let w = a - origin;
                 let u = cross(w, direction) / den;
-                if !(0.0..=1.0).contains(&u) {
+                // A line through a vertex must hit the edges there despite rounding.
+                if !(-1e-12..=1.0 + 1e-12).contains(&u) {
                     continue;
                 }
+                let u = u.clamp(0.0, 1.0);
                 let t = cross(w, e) / den;
                 hits.push(RayHit { t, ring: r, edge: i, edge_parameter: u });
             }
