@@ -12,7 +12,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "sheetform", version, about = "Design with developable surfaces: bend a virtual sheet, get the 3D model and the flat pattern to cut")]
+#[command(
+    name = "sheetform",
+    version,
+    about = "Design with developable surfaces: bend a virtual sheet, get the 3D model and the flat pattern to cut"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -55,14 +59,24 @@ fn progress_bar(quiet: bool) -> Option<ProgressBar> {
         return None;
     }
     let bar = ProgressBar::new(1000);
-    bar.set_style(ProgressStyle::with_template("{spinner} {msg:<16} [{bar:30}] {percent:>3}%").expect("valid template").progress_chars("=> "));
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {msg:<16} [{bar:30}] {percent:>3}%")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
     Some(bar)
 }
 
 fn bend_command(scene: PathBuf, output: PathBuf, animate: usize, quiet: bool) -> Result<ExitCode, PipelineError> {
-    let text = std::fs::read_to_string(&scene).map_err(|source| PipelineError::Read { path: scene.display().to_string(), source })?;
+    let text = std::fs::read_to_string(&scene).map_err(|source| PipelineError::Read {
+        path: scene.display().to_string(),
+        source,
+    })?;
     let bar = progress_bar(quiet);
-    let options = BendRunOptions { animate_frames: animate, input: Some(scene.display().to_string()) };
+    let options = BendRunOptions {
+        animate_frames: animate,
+        input: Some(scene.display().to_string()),
+    };
     let result = run_bend(&text, &options, &mut |stage, fraction| {
         if let Some(b) = &bar {
             b.set_message(stage.to_string());
@@ -103,7 +117,10 @@ fn bend_command(scene: PathBuf, output: PathBuf, animate: usize, quiet: bool) ->
             if let Some(report) = inadmissible_report(&e, unit, Some(scene.display().to_string())) {
                 write_outputs(&output, &[], &report)?;
                 eprintln!("sheetform: {}: {e}", scene.display());
-                eprintln!("sheetform: no mesh written; {} says where", output.join("report.json").display());
+                eprintln!(
+                    "sheetform: no mesh written; {} says where",
+                    output.join("report.json").display()
+                );
                 return Ok(ExitCode::from(3));
             }
             Err(PipelineError::Bend(e))
@@ -116,8 +133,13 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Bend { scene, output, animate } => bend_command(scene, output, animate, cli.quiet),
-        Command::Schema { format: SchemaFormat::Bend } => {
-            println!("{}", serde_json::to_string_pretty(&sheetform::bend::BendScene::json_schema()).expect("schema serialises"));
+        Command::Schema {
+            format: SchemaFormat::Bend,
+        } => {
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&sheetform::bend::BendScene::json_schema()).expect("schema serialises")
+            );
             Ok(ExitCode::SUCCESS)
         }
     };

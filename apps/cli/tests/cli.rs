@@ -5,11 +5,17 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().unwrap()
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .canonicalize()
+        .unwrap()
 }
 
 fn sheetform(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sheetform")).args(args).output().expect("the binary runs")
+    Command::new(env!("CARGO_BIN_EXE_sheetform"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
 }
 
 fn report(dir: &Path) -> serde_json::Value {
@@ -25,11 +31,18 @@ struct Obj {
 }
 
 fn read_obj(path: &Path) -> Obj {
-    let mut o = Obj { v: vec![], vt: vec![], faces: vec![], groups: vec![] };
+    let mut o = Obj {
+        v: vec![],
+        vt: vec![],
+        faces: vec![],
+        groups: vec![],
+    };
     for line in std::fs::read_to_string(path).unwrap().lines() {
         let p: Vec<&str> = line.split_whitespace().collect();
         match p.first().copied() {
-            Some("v") => o.v.push([p[1].parse().unwrap(), p[2].parse().unwrap(), p[3].parse().unwrap()]),
+            Some("v") => {
+                o.v.push([p[1].parse().unwrap(), p[2].parse().unwrap(), p[3].parse().unwrap()])
+            }
             Some("vt") => o.vt.push([p[1].parse().unwrap(), p[2].parse().unwrap()]),
             Some("g") => o.groups.push(p[1..].join(" ")),
             Some("f") => {
@@ -54,7 +67,10 @@ fn obj_isometry_error(o: &Obj) -> f64 {
         for k in 0..3 {
             let (a, b) = (f[k], f[(k + 1) % 3]);
             let d3 = (0..3).map(|i| (o.v[a.0][i] - o.v[b.0][i]).powi(2)).sum::<f64>().sqrt();
-            let d2 = (0..2).map(|i| (o.vt[a.1][i] - o.vt[b.1][i]).powi(2)).sum::<f64>().sqrt();
+            let d2 = (0..2)
+                .map(|i| (o.vt[a.1][i] - o.vt[b.1][i]).powi(2))
+                .sum::<f64>()
+                .sqrt();
             if d2 > 0.0 {
                 worst = worst.max((d3 - d2).abs() / d2);
             }
@@ -82,11 +98,20 @@ fn every_example_bends_into_an_exact_isometry_with_all_outputs() {
     for scene in &examples {
         let out = tmp.path().join(scene.file_stem().unwrap());
         let o = sheetform(&["bend", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "--quiet"]);
-        assert!(o.status.success(), "{}: {}", scene.display(), String::from_utf8_lossy(&o.stderr));
+        assert!(
+            o.status.success(),
+            "{}: {}",
+            scene.display(),
+            String::from_utf8_lossy(&o.stderr)
+        );
         let r = report(&out);
         assert_eq!(r["status"], "ok");
         assert_eq!(r["admissible"], true);
-        assert!(r["isometry_error_max_relative"].as_f64().unwrap() <= 1e-9, "{}: {r}", scene.display());
+        assert!(
+            r["isometry_error_max_relative"].as_f64().unwrap() <= 1e-9,
+            "{}: {r}",
+            scene.display()
+        );
         assert!(r["developability_error_max_rad"].as_f64().unwrap() <= 1e-9);
         assert!(r["ruling_count"].as_u64().unwrap() > 10);
         assert!(r["timings"]["total_ms"].as_f64().unwrap() > 0.0);
@@ -94,7 +119,12 @@ fn every_example_bends_into_an_exact_isometry_with_all_outputs() {
         let obj = read_obj(&out.join("model.obj"));
         assert_eq!(obj.v.len(), obj.vt.len());
         assert_eq!(obj.faces.len() as u64, r["face_count"].as_u64().unwrap());
-        assert!(obj_isometry_error(&obj) <= 1e-9, "{}: OBJ isometry {}", scene.display(), obj_isometry_error(&obj));
+        assert!(
+            obj_isometry_error(&obj) <= 1e-9,
+            "{}: OBJ isometry {}",
+            scene.display(),
+            obj_isometry_error(&obj)
+        );
         assert_eq!(obj.groups.len() as u64, r["piece_count"].as_u64().unwrap());
         // Areas agree (flat vs 3D) to the isometry tolerance.
         let (a, b) = (r["flat_area_mm2"].as_f64().unwrap(), r["area_mm2"].as_f64().unwrap());
@@ -111,9 +141,24 @@ fn every_example_bends_into_an_exact_isometry_with_all_outputs() {
         glbs.push(out.join("model.glb"));
         // SVG at true size: width = flat extent + 2 × 10 mm margin.
         let svg = std::fs::read_to_string(out.join("pattern.svg")).unwrap();
-        let (minx, maxx) = obj.vt.iter().fold((f64::MAX, f64::MIN), |(lo, hi), t| (lo.min(t[0]), hi.max(t[0])));
-        let width: f64 = svg.split("width=\"").nth(1).unwrap().split("mm").next().unwrap().parse().unwrap();
-        assert!((width - (maxx - minx) - 20.0).abs() < 1e-3, "{}: svg width {width}", scene.display());
+        let (minx, maxx) = obj
+            .vt
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(lo, hi), t| (lo.min(t[0]), hi.max(t[0])));
+        let width: f64 = svg
+            .split("width=\"")
+            .nth(1)
+            .unwrap()
+            .split("mm")
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert!(
+            (width - (maxx - minx) - 20.0).abs() < 1e-3,
+            "{}: svg width {width}",
+            scene.display()
+        );
         for layer in ["id=\"cut\"", "id=\"rulings\"", "id=\"labels\""] {
             assert!(svg.contains(layer));
         }
@@ -128,8 +173,16 @@ fn validate_glb(files: &[PathBuf]) {
         tool.join("node_modules/gltf-validator").exists(),
         "the glTF validator is not installed: run `npm ci --prefix tools/gltf-validate` (scripts/test.sh does)"
     );
-    let o = Command::new("node").arg(tool.join("validate.js")).args(files).output().expect("node runs");
-    assert!(o.status.success(), "glTF validator found errors:\n{}", String::from_utf8_lossy(&o.stdout));
+    let o = Command::new("node")
+        .arg(tool.join("validate.js"))
+        .args(files)
+        .output()
+        .expect("node runs");
+    assert!(
+        o.status.success(),
+        "glTF validator found errors:\n{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
     for line in String::from_utf8_lossy(&o.stdout).lines() {
         let v: serde_json::Value = serde_json::from_str(line).unwrap();
         assert_eq!(v["errors"], 0, "{line}");
@@ -141,7 +194,15 @@ fn validate_glb(files: &[PathBuf]) {
 fn animation_frames_are_isometric_and_start_flat() {
     let tmp = tempfile::tempdir().unwrap();
     let scene = repo().join("examples/two-piece-composite.json");
-    let o = sheetform(&["bend", scene.to_str().unwrap(), "-o", tmp.path().to_str().unwrap(), "--animate", "5", "-q"]);
+    let o = sheetform(&[
+        "bend",
+        scene.to_str().unwrap(),
+        "-o",
+        tmp.path().to_str().unwrap(),
+        "--animate",
+        "5",
+        "-q",
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     for i in 0..5 {
         let obj = read_obj(&tmp.path().join(format!("frames/frame-{i:04}.obj")));
@@ -150,13 +211,22 @@ fn animation_frames_are_isometric_and_start_flat() {
             // Frame 0 is the flat sheet: every vertex in one plane.
             let p = |k: usize| nalgebra::Vector3::from(obj.v[k]);
             let n = (p(1) - p(0)).cross(&(p(2) - p(0))).normalize();
-            let off = obj.v.iter().map(|v| (nalgebra::Vector3::from(*v) - p(0)).dot(&n).abs()).fold(0.0, f64::max);
+            let off = obj
+                .v
+                .iter()
+                .map(|v| (nalgebra::Vector3::from(*v) - p(0)).dot(&n).abs())
+                .fold(0.0, f64::max);
             assert!(off < 1e-9, "frame 0 not flat: {off}");
         }
     }
     let last = read_obj(&tmp.path().join("frames/frame-0004.obj"));
     let model = read_obj(&tmp.path().join("model.obj"));
-    let gap = last.v.iter().zip(&model.v).map(|(a, b)| (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt()).fold(0.0, f64::max);
+    let gap = last
+        .v
+        .iter()
+        .zip(&model.v)
+        .map(|(a, b)| (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt())
+        .fold(0.0, f64::max);
     assert!(gap < 1e-9, "last frame differs from the model by {gap}");
 }
 
@@ -180,23 +250,111 @@ fn bad_input_gets_a_clear_error_and_no_output() {
     let scene = |outline: &str, region: &str| format!(r#"{{"outline":{outline},"regions":[{region}]}}"#);
     let region = |extra: &str, curve: &str| format!(r#"{{"flat_start":[0,0],{extra},"curve":{curve}}}"#);
     bad_input("malformed", "{\"outline\": [[0,0],", "line 1");
-    bad_input("unknown field", &format!(r#"{{"outline":{rect},"regions":[],"colour":1}}"#), "unknown field `colour`");
-    bad_input("nan", &scene(rect, &region(r#""flat_direction":[1,0]"#, r#"{"type":"bezier","control_points":[[0,0,0],[NaN,0,0],[1,1,0]]}"#)), "line 1");
-    bad_input("infinite", &scene(rect, &region(r#""flat_direction":[1,0]"#, r#"{"type":"bezier","control_points":[[0,0,0],[1e999,0,0],[1,1,0]]}"#)), "line 1");
-    bad_input("self-crossing outline", &scene("[[0,0],[100,40],[100,0],[0,40]]", &region(r#""flat_direction":[1,0]"#, CURVE)), "crosses");
-    bad_input("length mismatch", &scene(rect, &region(r#""flat_end":[90,0]"#, CURVE)), "bending cannot stretch the sheet");
-    bad_input("geodesic leaves sheet", &scene("[[0,-20],[60,-20],[60,20],[0,20]]", &region(r#""flat_direction":[1,0]"#, CURVE)), "leaves the sheet");
-    bad_input("degree one", &scene(rect, &region(r#""flat_direction":[1,0]"#, r#"{"type":"bezier","control_points":[[0,0,0],[80,0,0]]}"#)), "degree-1");
-    bad_input("zero length", &scene(rect, &region(r#""flat_direction":[1,0]"#, r#"{"type":"bezier","control_points":[[5,5,5],[5,5,5],[5,5,5]]}"#)), "zero-length");
-    bad_input("straight", &scene(rect, &region(r#""flat_direction":[1,0]"#, r#"{"type":"bezier","control_points":[[0,0,0],[40,0,0],[80,0,0]]}"#)), "straight everywhere");
-    bad_input("no regions", &format!(r#"{{"outline":{rect},"regions":[]}}"#), "at least one curved region");
-    bad_input("hole outside", &format!(r#"{{"outline":{rect},"holes":[[[200,0],[210,0],[210,5]]],"regions":[{}]}}"#, region(r#""flat_direction":[1,0]"#, CURVE)), "hole 0");
+    bad_input(
+        "unknown field",
+        &format!(r#"{{"outline":{rect},"regions":[],"colour":1}}"#),
+        "unknown field `colour`",
+    );
+    bad_input(
+        "nan",
+        &scene(
+            rect,
+            &region(
+                r#""flat_direction":[1,0]"#,
+                r#"{"type":"bezier","control_points":[[0,0,0],[NaN,0,0],[1,1,0]]}"#,
+            ),
+        ),
+        "line 1",
+    );
+    bad_input(
+        "infinite",
+        &scene(
+            rect,
+            &region(
+                r#""flat_direction":[1,0]"#,
+                r#"{"type":"bezier","control_points":[[0,0,0],[1e999,0,0],[1,1,0]]}"#,
+            ),
+        ),
+        "line 1",
+    );
+    bad_input(
+        "self-crossing outline",
+        &scene(
+            "[[0,0],[100,40],[100,0],[0,40]]",
+            &region(r#""flat_direction":[1,0]"#, CURVE),
+        ),
+        "crosses",
+    );
+    bad_input(
+        "length mismatch",
+        &scene(rect, &region(r#""flat_end":[90,0]"#, CURVE)),
+        "bending cannot stretch the sheet",
+    );
+    bad_input(
+        "geodesic leaves sheet",
+        &scene(
+            "[[0,-20],[60,-20],[60,20],[0,20]]",
+            &region(r#""flat_direction":[1,0]"#, CURVE),
+        ),
+        "leaves the sheet",
+    );
+    bad_input(
+        "degree one",
+        &scene(
+            rect,
+            &region(
+                r#""flat_direction":[1,0]"#,
+                r#"{"type":"bezier","control_points":[[0,0,0],[80,0,0]]}"#,
+            ),
+        ),
+        "degree-1",
+    );
+    bad_input(
+        "zero length",
+        &scene(
+            rect,
+            &region(
+                r#""flat_direction":[1,0]"#,
+                r#"{"type":"bezier","control_points":[[5,5,5],[5,5,5],[5,5,5]]}"#,
+            ),
+        ),
+        "zero-length",
+    );
+    bad_input(
+        "straight",
+        &scene(
+            rect,
+            &region(
+                r#""flat_direction":[1,0]"#,
+                r#"{"type":"bezier","control_points":[[0,0,0],[40,0,0],[80,0,0]]}"#,
+            ),
+        ),
+        "straight everywhere",
+    );
+    bad_input(
+        "no regions",
+        &format!(r#"{{"outline":{rect},"regions":[]}}"#),
+        "at least one curved region",
+    );
+    bad_input(
+        "hole outside",
+        &format!(
+            r#"{{"outline":{rect},"holes":[[[200,0],[210,0],[210,5]]],"regions":[{}]}}"#,
+            region(r#""flat_direction":[1,0]"#, CURVE)
+        ),
+        "hole 0",
+    );
 }
 
 #[test]
 fn missing_scene_file_is_an_error() {
     let tmp = tempfile::tempdir().unwrap();
-    let o = sheetform(&["bend", tmp.path().join("nope.json").to_str().unwrap(), "-o", tmp.path().join("out").to_str().unwrap()]);
+    let o = sheetform(&[
+        "bend",
+        tmp.path().join("nope.json").to_str().unwrap(),
+        "-o",
+        tmp.path().join("out").to_str().unwrap(),
+    ]);
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("cannot read"));
 }
@@ -215,14 +373,23 @@ fn inadmissible_shape_writes_only_the_report_saying_where() {
     let out = tmp.path().join("out");
     let o = sheetform(&["bend", path.to_str().unwrap(), "-o", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stderr));
-    let files: Vec<_> = std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name()).collect();
+    let files: Vec<_> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
     assert_eq!(files, vec![std::ffi::OsString::from("report.json")]);
     let r = report(&out);
     assert_eq!(r["admissible"], false);
     let entry = &r["regression_entry"];
     assert!(entry["message"].as_str().unwrap().contains("Eq. 6"));
-    let [x, y] = [entry["flat_point_mm"][0].as_f64().unwrap(), entry["flat_point_mm"][1].as_f64().unwrap()];
-    assert!((-1e-6..=240.0).contains(&x) && (-60.0..=60.0).contains(&y), "entry point must be on the sheet: {x}, {y}");
+    let [x, y] = [
+        entry["flat_point_mm"][0].as_f64().unwrap(),
+        entry["flat_point_mm"][1].as_f64().unwrap(),
+    ];
+    assert!(
+        (-1e-6..=240.0).contains(&x) && (-60.0..=60.0).contains(&y),
+        "entry point must be on the sheet: {x}, {y}"
+    );
 }
 
 #[test]
@@ -231,6 +398,10 @@ fn schema_is_printed_and_matches_the_docs() {
     assert!(o.status.success());
     let printed: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let documented: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(repo().join("docs/schema/bend-scene.schema.json")).unwrap()).unwrap();
-    assert_eq!(printed, documented, "docs/schema/bend-scene.schema.json is stale: regenerate with `sheetform schema bend`");
+        serde_json::from_str(&std::fs::read_to_string(repo().join("docs/schema/bend-scene.schema.json")).unwrap())
+            .unwrap();
+    assert_eq!(
+        printed, documented,
+        "docs/schema/bend-scene.schema.json is stale: regenerate with `sheetform schema bend`"
+    );
 }

@@ -21,7 +21,12 @@ pub struct RegionAdmissibility {
 /// neighbouring sampled rulings cross on the sheet (the discrete form of the same
 /// condition, which also catches crossings near straight spans). A regression point on
 /// the boundary itself is allowed (`tolerance` in model units).
-pub fn check_region(region: usize, samples: &[RulingSample], extents: &[RulingExtent], tolerance: f64) -> RegionAdmissibility {
+pub fn check_region(
+    region: usize,
+    samples: &[RulingSample],
+    extents: &[RulingExtent],
+    tolerance: f64,
+) -> RegionAdmissibility {
     let mut margin: Option<f64> = None;
     let mut bad: Option<(usize, usize)> = None;
     for (j, (s, e)) in samples.iter().zip(extents).enumerate() {
@@ -29,7 +34,11 @@ pub fn check_region(region: usize, samples: &[RulingSample], extents: &[RulingEx
         if !l.is_finite() {
             continue;
         }
-        let m = if l >= e.positive_end { l - e.positive_end } else if l <= e.negative_end { e.negative_end - l } else {
+        let m = if l >= e.positive_end {
+            l - e.positive_end
+        } else if l <= e.negative_end {
+            e.negative_end - l
+        } else {
             -(l - e.negative_end).min(e.positive_end - l)
         };
         margin = Some(margin.map_or(m, |x: f64| x.min(m)));
@@ -63,7 +72,10 @@ pub fn check_region(region: usize, samples: &[RulingSample], extents: &[RulingEx
     for j in 0..samples.len().saturating_sub(1) {
         let seg = |k: usize| {
             let (s, e) = (&samples[k], &extents[k]);
-            (s.flat_point + s.flat_ruling * e.negative_end, s.flat_point + s.flat_ruling * e.positive_end)
+            (
+                s.flat_point + s.flat_ruling * e.negative_end,
+                s.flat_point + s.flat_ruling * e.positive_end,
+            )
         };
         let (a0, a1) = seg(j);
         let (b0, b1) = seg(j + 1);
@@ -88,5 +100,9 @@ pub fn check_region(region: usize, samples: &[RulingSample], extents: &[RulingEx
             }
         }
     }
-    RegionAdmissibility { admissible: true, regression_margin: margin, failure: None }
+    RegionAdmissibility {
+        admissible: true,
+        regression_margin: margin,
+        failure: None,
+    }
 }

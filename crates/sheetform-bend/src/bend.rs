@@ -28,12 +28,27 @@ pub struct RegionGeometry {
 /// Degenerate curves (see [`sample_rulings`]).
 pub fn region_geometry(model: &BendModel, k: usize) -> Result<RegionGeometry, BendError> {
     let r = &model.regions[k];
-    let samples = sample_rulings(k, &r.name, &r.curve, r.flat_start, r.flat_direction, r.up, &model.tessellation)?;
+    let samples = sample_rulings(
+        k,
+        &r.name,
+        &r.curve,
+        r.flat_start,
+        r.flat_direction,
+        r.up,
+        &model.tessellation,
+    )?;
     let scale = model.sheet.scale();
-    let extents: Vec<RulingExtent> = samples.iter().map(|s| ruling_extent(&model.sheet, s.flat_point, s.flat_ruling, scale)).collect();
+    let extents: Vec<RulingExtent> = samples
+        .iter()
+        .map(|s| ruling_extent(&model.sheet, s.flat_point, s.flat_ruling, scale))
+        .collect();
     let mut admissibility = check_region(k, &samples, &extents, 1e-9 * scale);
     explain_knot_jump(r, &samples, &mut admissibility);
-    Ok(RegionGeometry { samples, extents, admissibility })
+    Ok(RegionGeometry {
+        samples,
+        extents,
+        admissibility,
+    })
 }
 
 /// A B-spline of degree ≤ 3 is only C² at its knots, so its torsion (which needs the
@@ -41,16 +56,28 @@ pub fn region_geometry(model: &BendModel, k: usize) -> Result<RegionGeometry, Be
 /// overlap on one side of the geodesic. Say so when that is what made the shape
 /// inadmissible.
 fn explain_knot_jump(region: &crate::CurvedRegion, samples: &[RulingSample], admissibility: &mut RegionAdmissibility) {
-    let crate::CurveShape::BSpline(spline) = region.curve.shape() else { return };
+    let crate::CurveShape::BSpline(spline) = region.curve.shape() else {
+        return;
+    };
     if spline.degree() > 3 {
         return;
     }
-    let Some(failure) = admissibility.failure.as_mut() else { return };
+    let Some(failure) = admissibility.failure.as_mut() else {
+        return;
+    };
     let [s0, s1] = failure.arc_length_range;
-    let near = |s: f64| samples.iter().min_by(|a, b| (a.arc_length - s).abs().total_cmp(&(b.arc_length - s).abs())).expect("samples");
+    let near = |s: f64| {
+        samples
+            .iter()
+            .min_by(|a, b| (a.arc_length - s).abs().total_cmp(&(b.arc_length - s).abs()))
+            .expect("samples")
+    };
     let (a, b) = (near(s0), near(s1));
     let pad = (b.arc_length - a.arc_length).max(1e-9 * region.curve.length());
-    let (u0, u1) = (region.curve.parameter_at(a.arc_length - pad), region.curve.parameter_at(b.arc_length + pad));
+    let (u0, u1) = (
+        region.curve.parameter_at(a.arc_length - pad),
+        region.curve.parameter_at(b.arc_length + pad),
+    );
     if let Some(knot) = spline.breakpoints().into_iter().find(|&u| u > u0 && u < u1) {
         let s = region.curve.length_at(knot);
         let before = samples.iter().rev().find(|x| x.arc_length < s).map(|x| x.angle);
@@ -143,7 +170,10 @@ pub fn place(model: &BendModel, layout: &FlatLayout, strips: &[FoldedStrip]) -> 
         }
         cell_motions.push(m);
     }
-    Ok(Placement { region_motions: region.into_iter().map(|m| m.expect("every region placed")).collect(), cell_motions })
+    Ok(Placement {
+        region_motions: region.into_iter().map(|m| m.expect("every region placed")).collect(),
+        cell_motions,
+    })
 }
 
 /// Summary of one curved region of a bent sheet.
@@ -218,11 +248,23 @@ pub fn bend(model: &BendModel) -> Result<BentSheet, BendError> {
     assemble(model, geometries, strips, layout)
 }
 
-fn assemble(model: &BendModel, geometries: Vec<RegionGeometry>, strips: Vec<FoldedStrip>, layout: FlatLayout) -> Result<BentSheet, BendError> {
+fn assemble(
+    model: &BendModel,
+    geometries: Vec<RegionGeometry>,
+    strips: Vec<FoldedStrip>,
+    layout: FlatLayout,
+) -> Result<BentSheet, BendError> {
     let placement = place(model, &layout, &strips)?;
     let mesh = mesh_from(model, &layout, &placement);
     let regions = summaries(model, &geometries, &strips, &layout, &placement, &mesh);
-    Ok(BentSheet { mesh, regions, geometries, strips, layout, placement })
+    Ok(BentSheet {
+        mesh,
+        regions,
+        geometries,
+        strips,
+        layout,
+        placement,
+    })
 }
 
 fn mesh_from(model: &BendModel, layout: &FlatLayout, placement: &Placement) -> SheetMesh {

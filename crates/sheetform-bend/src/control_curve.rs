@@ -1,5 +1,7 @@
 use nalgebra::SVector;
-use sheetform_geometry::{ArcLengthOptions, ArcLengthTable, BSpline3, Bezier3, GeometryError, Helix, ParametricCurve, Vec3};
+use sheetform_geometry::{
+    ArcLengthOptions, ArcLengthTable, BSpline3, Bezier3, GeometryError, Helix, ParametricCurve, Vec3,
+};
 use std::sync::Arc;
 
 /// The 3D control curve of a curved region: a Bézier curve of any degree or a B-spline,
@@ -75,7 +77,9 @@ impl CurveShape {
             CurveShape::Bezier(_) => CurveShape::Bezier(Bezier3::new(points)?),
             CurveShape::BSpline(c) => CurveShape::BSpline(c.with_control_points(points)?),
             CurveShape::Helix(_) | CurveShape::Analytic(_) => {
-                return Err(GeometryError::DegenerateCurve { reason: "an analytic curve has no control points to edit".into() })
+                return Err(GeometryError::DegenerateCurve {
+                    reason: "an analytic curve has no control points to edit".into(),
+                })
             }
         })
     }

@@ -4,11 +4,11 @@
 //! rigidly.
 
 use crate::{ruling_extent::BoundaryPoint, BendError, BendModel, InadmissibleDetail, RegionGeometry};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
+use sheetform_geometry::segment_intersection;
 use sheetform_geometry::Vec2;
 use sheetform_mesh::{Piece, PieceKind, Ruling};
 use spade::{ConstrainedDelaunayTriangulation, HasPosition, Point2, Triangulation};
-use sheetform_geometry::segment_intersection;
-use std::collections::HashMap;
 
 /// What a constraint edge of the layout is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -93,17 +93,28 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
     let mut points: Vec<Vec2> = Vec::new();
     let mut ring_vertex: Vec<Vec<usize>> = Vec::new();
     for r in 0..sheet.ring_count() {
-        ring_vertex.push(sheet.ring(r).iter().map(|p| {
-            points.push(*p);
-            points.len() - 1
-        }).collect());
+        ring_vertex.push(
+            sheet
+                .ring(r)
+                .iter()
+                .map(|p| {
+                    points.push(*p);
+                    points.len() - 1
+                })
+                .collect(),
+        );
     }
     // Slots: vertex ids resolved after boundary points are merged.
     let mut slots: Vec<usize> = Vec::new();
     let mut pending: Vec<PendingBoundary> = Vec::new();
     let mut add_boundary = |bp: BoundaryPoint, p: Vec2, slots: &mut Vec<usize>| -> usize {
         slots.push(usize::MAX);
-        pending.push(PendingBoundary { key: (bp.ring, bp.edge), parameter: bp.edge_parameter, point: p, slot: slots.len() - 1 });
+        pending.push(PendingBoundary {
+            key: (bp.ring, bp.edge),
+            parameter: bp.edge_parameter,
+            point: p,
+            slot: slots.len() - 1,
+        });
         slots.len() - 1
     };
     // Ruling pieces as chains of slot-or-vertex references.
@@ -157,7 +168,8 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
                             // A geodesic point on the boundary (to rounding: outlines are
                             // often typed with the curve length to a few decimals) must
                             // split that boundary edge, not float next to it.
-                            let (d, bp) = crate::ruling_extent::locate_on_boundary(sheet, s.flat_point, 0..sheet.ring_count());
+                            let (d, bp) =
+                                crate::ruling_extent::locate_on_boundary(sheet, s.flat_point, 0..sheet.ring_count());
                             if d <= eps {
                                 let ring = sheet.ring(bp.ring);
                                 let (ea, eb) = (ring[bp.edge], ring[(bp.edge + 1) % ring.len()]);
@@ -179,7 +191,11 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
                     geo_ref = Some(rb);
                 }
                 refs.push(rb);
-                chains.push(Chain { region: k, ruling: j, refs });
+                chains.push(Chain {
+                    region: k,
+                    ruling: j,
+                    refs,
+                });
             }
             let geo_ref = match geo_ref {
                 Some(r) => r,
@@ -196,7 +212,7 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
     }
     // Merge boundary points per edge; snap to ring vertices.
     pending.sort_by(|a, b| a.key.cmp(&b.key).then(a.parameter.total_cmp(&b.parameter)));
-    let mut edge_points: HashMap<(usize, usize), Vec<usize>> = HashMap::new();
+    let mut edge_points: HashMap<(usize, usize), Vec<usize>> = HashMap::default();
     let mut last: Option<((usize, usize), Vec2, usize)> = None;
     for p in &pending {
         let ring = sheet.ring(p.key.0);
@@ -224,7 +240,7 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
     };
     // Constraint edges.
     let mut edges: Vec<[usize; 2]> = Vec::new();
-    let mut kinds: HashMap<[usize; 2], EdgeKind> = HashMap::new();
+    let mut kinds: HashMap<[usize; 2], EdgeKind> = HashMap::default();
     let mut push_edge = |a: usize, b: usize, kind: EdgeKind, edges: &mut Vec<[usize; 2]>| {
         if a == b {
             return;
@@ -239,18 +255,21 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
             }
         }
     };
-    for r in 0..sheet.ring_count() {
-        let n = sheet.ring(r).len();
+    // Boundary sub-edges in ring order (the sheet on their left).
+    let mut forward_boundary: Vec<[usize; 2]> = Vec::new();
+    for (r, verts) in ring_vertex.iter().enumerate() {
+        let n = verts.len();
         for i in 0..n {
-            let mut along = vec![ring_vertex[r][i]];
+            let mut along = vec![verts[i]];
             if let Some(list) = edge_points.get(&(r, i)) {
                 along.extend(list.iter().copied());
             }
-            along.push(ring_vertex[r][(i + 1) % n]);
-            for w in along.windows(2) {
-                push_edge(w[0], w[1], EdgeKind::Boundary, &mut edges);
-            }
+            along.push(verts[(i + 1) % n]);
+            forward_boundary.extend(along.windows(2).map(|w| [w[0], w[1]]));
         }
+    }
+    for &[a, b] in &forward_boundary {
+        push_edge(a, b, EdgeKind::Boundary, &mut edges);
     }
     let mut rulings = Vec::with_capacity(chains.len());
     for c in &chains {
@@ -262,7 +281,15 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
             }
         }
         for w in dedup.windows(2) {
-            push_edge(w[0], w[1], EdgeKind::Ruling { region: c.region, ruling: c.ruling }, &mut edges);
+            push_edge(
+                w[0],
+                w[1],
+                EdgeKind::Ruling {
+                    region: c.region,
+                    ruling: c.ruling,
+                },
+                &mut edges,
+            );
         }
         if dedup.len() >= 2 {
             rulings.push(Ruling {
@@ -281,13 +308,17 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
         // to it, say) must be vertices of its chain too.
         let region = &model.regions[k];
         let (start, dir, length) = (region.flat_start, region.flat_direction, region.curve.length());
-        let mut chain: Vec<(f64, usize)> = g.iter().zip(&geometries[k].samples).map(|(&v, s)| (s.arc_length, v as usize)).collect();
-        for r in 0..sheet.ring_count() {
-            for (i, p) in sheet.ring(r).iter().enumerate() {
+        let mut chain: Vec<(f64, usize)> = g
+            .iter()
+            .zip(&geometries[k].samples)
+            .map(|(&v, s)| (s.arc_length, v as usize))
+            .collect();
+        for (r, verts) in ring_vertex.iter().enumerate() {
+            for (p, &v) in sheet.ring(r).iter().zip(verts) {
                 let d = p - start;
                 let t = d.dot(&dir);
                 if t > eps && t < length - eps && (d.x * dir.y - d.y * dir.x).abs() <= eps {
-                    chain.push((t, ring_vertex[r][i]));
+                    chain.push((t, v));
                 }
             }
         }
@@ -303,20 +334,7 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
 
     // Faces of the planar graph (half-edge walk), each to the left of its edges.
     let faces = graph_faces(&points, &edges);
-    let mut forward_boundary: std::collections::HashSet<[usize; 2]> = std::collections::HashSet::new();
-    for r in 0..sheet.ring_count() {
-        let n = sheet.ring(r).len();
-        for i in 0..n {
-            let mut along = vec![ring_vertex[r][i]];
-            if let Some(list) = edge_points.get(&(r, i)) {
-                along.extend(list.iter().copied());
-            }
-            along.push(ring_vertex[r][(i + 1) % n]);
-            for w in along.windows(2) {
-                forward_boundary.insert([w[0], w[1]]);
-            }
-        }
-    }
+    let forward_boundary: HashSet<[usize; 2]> = forward_boundary.into_iter().collect();
     let kind_of = |a: usize, b: usize| kinds.get(&if a < b { [a, b] } else { [b, a] }).copied();
     let mut outer_cycles: Vec<Vec<usize>> = Vec::new();
     let mut inner_cycles: Vec<Vec<usize>> = Vec::new();
@@ -345,7 +363,9 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
             .filter(|(_, c)| cycle_contains(&points, c, p))
             .min_by(|a, b| cycle_area(&points, a.1).total_cmp(&cycle_area(&points, b.1)))
             .map(|(i, _)| i)
-            .ok_or_else(|| BendError::Composite { message: "a hole boundary is not inside any piece of the sheet".into() })?;
+            .ok_or_else(|| BendError::Composite {
+                message: "a hole boundary is not inside any piece of the sheet".into(),
+            })?;
         face_holes[owner].push(h);
     }
     let mut triangles: Vec<[u32; 3]> = Vec::new();
@@ -378,7 +398,7 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
         })));
     }
     // Labels from ruling edges; cells join faces across geodesic edges.
-    let mut face_of_half: HashMap<[usize; 2], usize> = HashMap::new();
+    let mut face_of_half: HashMap<[usize; 2], usize> = HashMap::default();
     for (f, cycle) in outer_cycles.iter().enumerate() {
         for i in 0..cycle.len() {
             face_of_half.insert([cycle[i], cycle[(i + 1) % cycle.len()]], f);
@@ -400,7 +420,11 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
                 Some(EdgeKind::Ruling { region, ruling }) => {
                     let s = &geometries[region].samples[ruling];
                     let m = Vec2::new(s.flat_ruling.y, -s.flat_ruling.x);
-                    let m = if m.dot(&model.regions[region].flat_direction) >= 0.0 { m } else { -m };
+                    let m = if m.dot(&model.regions[region].flat_direction) >= 0.0 {
+                        m
+                    } else {
+                        -m
+                    };
                     let d = points[b] - points[a];
                     let left = Vec2::new(-d.y, d.x);
                     let part = if left.dot(&m) > 0.0 { ruling + 1 } else { ruling };
@@ -418,14 +442,18 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
             }
         }
     }
-    let mut cell_of_root: HashMap<usize, usize> = HashMap::new();
+    let mut cell_of_root: HashMap<usize, usize> = HashMap::default();
     let mut cells: Vec<Cell> = Vec::new();
     let mut face_cell = vec![0usize; outer_cycles.len()];
     for f in 0..outer_cycles.len() {
         let root = find(&mut parent, f);
         let c = *cell_of_root.entry(root).or_insert_with(|| {
             let cyc = &outer_cycles[f];
-            cells.push(Cell { labels: Vec::new(), vertices: Vec::new(), sample_point: cycle_interior_point(&points, cyc) });
+            cells.push(Cell {
+                labels: Vec::new(),
+                vertices: Vec::new(),
+                sample_point: cycle_interior_point(&points, cyc),
+            });
             cells.len() - 1
         });
         face_cell[f] = c;
@@ -456,21 +484,39 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
     let mut pieces: Vec<Piece> = model
         .regions
         .iter()
-        .map(|r| Piece { name: r.name.clone(), kind: PieceKind::Curved })
+        .map(|r| Piece {
+            name: r.name.clone(),
+            kind: PieceKind::Curved,
+        })
         .collect();
     let mut cell_piece = vec![0u32; cells.len()];
     for (ci, c) in cells.iter().enumerate() {
-        let curved = c.labels.iter().find(|(k, part)| *part >= 1 && *part < geometries[*k].samples.len());
+        let curved = c
+            .labels
+            .iter()
+            .find(|(k, part)| *part >= 1 && *part < geometries[*k].samples.len());
         cell_piece[ci] = match curved {
             Some((k, _)) => *k as u32,
             None => {
-                pieces.push(Piece { name: format!("planar-{}", pieces.len() - model.regions.len()), kind: PieceKind::Planar });
+                pieces.push(Piece {
+                    name: format!("planar-{}", pieces.len() - model.regions.len()),
+                    kind: PieceKind::Planar,
+                });
                 (pieces.len() - 1) as u32
             }
         };
     }
     let face_pieces = face_cells.iter().map(|&c| cell_piece[c]).collect();
-    Ok(FlatLayout { flat: points, triangles, face_cells, cells, face_pieces, pieces, rulings, geodesic_vertices })
+    Ok(FlatLayout {
+        flat: points,
+        triangles,
+        face_cells,
+        cells,
+        face_pieces,
+        pieces,
+        rulings,
+        geodesic_vertices,
+    })
 }
 
 fn cycle_area(points: &[Vec2], cycle: &[usize]) -> f64 {
@@ -513,51 +559,69 @@ fn cycle_interior_point(points: &[Vec2], cycle: &[usize]) -> Vec2 {
 
 /// The faces of a planar straight-line graph as vertex cycles, each face to the left of
 /// its directed edges: at each vertex the walk takes the next outgoing edge clockwise
-/// from the one it came in on. Linear in the number of edges (after sorting the edges
-/// around each vertex by angle).
+/// from the one it came in on. Half-edges live in arrays (adjacency sorted by angle per
+/// vertex), so the walk is linear after the per-vertex sorts.
 fn graph_faces(points: &[Vec2], edges: &[[usize; 2]]) -> Vec<Vec<usize>> {
-    let mut out: Vec<Vec<usize>> = vec![Vec::new(); points.len()];
+    let nv = points.len();
+    let mut degree = vec![0usize; nv + 1];
     for &[a, b] in edges {
-        out[a].push(b);
-        out[b].push(a);
+        degree[a] += 1;
+        degree[b] += 1;
     }
-    for (v, list) in out.iter_mut().enumerate() {
+    let mut start = vec![0usize; nv + 1];
+    for v in 0..nv {
+        start[v + 1] = start[v] + degree[v];
+    }
+    let mut target = vec![0usize; start[nv]];
+    let mut fill = start.clone();
+    for &[a, b] in edges {
+        target[fill[a]] = b;
+        fill[a] += 1;
+        target[fill[b]] = a;
+        fill[b] += 1;
+    }
+    for v in 0..nv {
         let p = points[v];
-        list.sort_by(|&x, &y| {
+        target[start[v]..start[v + 1]].sort_by(|&x, &y| {
             let (dx, dy) = (points[x] - p, points[y] - p);
             dx.y.atan2(dx.x).total_cmp(&dy.y.atan2(dy.x))
         });
     }
-    // position of w in out[v]
-    let mut position: HashMap<[usize; 2], usize> = HashMap::with_capacity(edges.len() * 2);
-    for (v, list) in out.iter().enumerate() {
-        for (i, &w) in list.iter().enumerate() {
-            position.insert([v, w], i);
+    // twin[h]: the half-edge w→v for h = v→w.
+    let mut twin = vec![0usize; target.len()];
+    for v in 0..nv {
+        for h in start[v]..start[v + 1] {
+            let w = target[h];
+            twin[h] = (start[w]..start[w + 1])
+                .find(|&g| target[g] == v)
+                .expect("edges are symmetric");
         }
     }
-    let mut used: std::collections::HashSet<[usize; 2]> = std::collections::HashSet::with_capacity(edges.len() * 2);
+    let mut origin = vec![0usize; target.len()];
+    for v in 0..nv {
+        origin[start[v]..start[v + 1]].fill(v);
+    }
+    let mut used = vec![false; target.len()];
     let mut faces = Vec::new();
-    for &[a, b] in edges {
-        for start in [[a, b], [b, a]] {
-            if used.contains(&start) {
-                continue;
-            }
-            let mut cycle = Vec::new();
-            let mut half = start;
-            loop {
-                used.insert(half);
-                cycle.push(half[0]);
-                let [u, v] = half;
-                let list = &out[v];
-                let i = position[&[v, u]];
-                let next = list[(i + list.len() - 1) % list.len()];
-                half = [v, next];
-                if half == start || cycle.len() > edges.len() * 2 {
-                    break;
-                }
-            }
-            faces.push(cycle);
+    for h0 in 0..target.len() {
+        if used[h0] {
+            continue;
         }
+        let mut cycle = Vec::new();
+        let mut h = h0;
+        loop {
+            used[h] = true;
+            cycle.push(origin[h]);
+            // At v = target[h], the reverse half-edge is twin[h]; take the next one clockwise.
+            let v = target[h];
+            let (s, e) = (start[v], start[v + 1]);
+            let i = twin[h];
+            h = if i == s { e - 1 } else { i - 1 };
+            if h == h0 || used[h] {
+                break;
+            }
+        }
+        faces.push(cycle);
     }
     faces
 }
@@ -565,7 +629,12 @@ fn graph_faces(points: &[Vec2], edges: &[[usize; 2]]) -> Vec<Vec<usize>> {
 /// Triangulates one face (a counter-clockwise cycle, with clockwise island cycles): a fan
 /// for convex faces without islands, otherwise a constrained Delaunay triangulation of
 /// the face alone (spade) keeping the triangles inside.
-fn triangulate_face(points: &[Vec2], cycle: &[usize], holes: &[&Vec<usize>], out: &mut Vec<[u32; 3]>) -> Result<(), BendError> {
+fn triangulate_face(
+    points: &[Vec2],
+    cycle: &[usize],
+    holes: &[&Vec<usize>],
+    out: &mut Vec<[u32; 3]>,
+) -> Result<(), BendError> {
     let n = cycle.len();
     let convex = holes.is_empty()
         && (0..n).all(|i| {
@@ -580,7 +649,11 @@ fn triangulate_face(points: &[Vec2], cycle: &[usize], holes: &[&Vec<usize>], out
         // a vertex that is not collinear with its neighbours.
         let apex = (0..n)
             .find(|&i| {
-                let (a, b, c) = (points[cycle[(i + n - 1) % n]], points[cycle[i]], points[cycle[(i + 1) % n]]);
+                let (a, b, c) = (
+                    points[cycle[(i + n - 1) % n]],
+                    points[cycle[i]],
+                    points[cycle[(i + 1) % n]],
+                );
                 (b - a).x * (c - b).y - (b - a).y * (c - b).x > 0.0
             })
             .unwrap_or(0);
@@ -599,9 +672,15 @@ fn triangulate_face(points: &[Vec2], cycle: &[usize], holes: &[&Vec<usize>], out
         local.extend(h.iter().copied());
     }
     let index_of: HashMap<usize, usize> = local.iter().enumerate().map(|(i, &v)| (v, i)).collect();
-    let vertices: Vec<LayoutVertex> = local.iter().map(|&v| LayoutVertex { position: Point2::new(points[v].x, points[v].y), index: v }).collect();
+    let vertices: Vec<LayoutVertex> = local
+        .iter()
+        .map(|&v| LayoutVertex {
+            position: Point2::new(points[v].x, points[v].y),
+            index: v,
+        })
+        .collect();
     let mut cons: Vec<[usize; 2]> = Vec::new();
-    let mut directed: std::collections::HashSet<[usize; 2]> = std::collections::HashSet::new();
+    let mut directed: HashSet<[usize; 2]> = HashSet::default();
     for ring in std::iter::once(&cycle.to_vec()).chain(holes.iter().copied()) {
         for i in 0..ring.len() {
             let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
@@ -611,7 +690,9 @@ fn triangulate_face(points: &[Vec2], cycle: &[usize], holes: &[&Vec<usize>], out
     }
     let mut conflict = false;
     let cdt = ConstrainedDelaunayTriangulation::<LayoutVertex>::try_bulk_load_cdt(vertices, cons, |_| conflict = true)
-        .map_err(|e| BendError::Composite { message: format!("triangulating a piece of the sheet failed: {e}") })?;
+        .map_err(|e| BendError::Composite {
+            message: format!("triangulating a piece of the sheet failed: {e}"),
+        })?;
     if conflict || cdt.num_vertices() != local.len() {
         return Err(BendError::Inadmissible(Box::new(InadmissibleDetail {
             message: "rulings cross or touch inside the sheet (a piece between them is not a simple polygon)".into(),
@@ -627,7 +708,7 @@ fn triangulate_face(points: &[Vec2], cycle: &[usize], holes: &[&Vec<usize>], out
         let [a, b] = e.vertices().map(|v| v.data().index);
         cdt.is_constraint_edge(e.as_undirected().fix()) && (directed.contains(&[a, b]) || directed.contains(&[b, a]))
     };
-    let mut inside: HashMap<usize, bool> = HashMap::new();
+    let mut inside: HashMap<usize, bool> = HashMap::default();
     let mut queue = std::collections::VecDeque::new();
     for edge in cdt.directed_edges() {
         if edge.face().fix() == cdt.outer_face().fix() {
@@ -664,7 +745,10 @@ fn check_region_crossings(model: &BendModel, geometries: &[RegionGeometry], scal
     let eps = 1e-9 * scale;
     let segment = |g: &RegionGeometry, j: usize| {
         let (s, e) = (&g.samples[j], &g.extents[j]);
-        (s.flat_point + s.flat_ruling * e.negative_end, s.flat_point + s.flat_ruling * e.positive_end)
+        (
+            s.flat_point + s.flat_ruling * e.negative_end,
+            s.flat_point + s.flat_ruling * e.positive_end,
+        )
     };
     for (a, ga) in geometries.iter().enumerate() {
         let n = ga.samples.len();

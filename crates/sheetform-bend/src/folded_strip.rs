@@ -50,14 +50,26 @@ impl FoldedStrip {
         let start = RigidMotion::new(rotation, first.point - rotation * lift(first.flat_point));
         let mut fold_angles = Vec::with_capacity(n);
         for j in 0..n {
-            let before = if j > 0 { samples[j - 1].arc_length } else { samples[j].arc_length };
-            let after = if j + 1 < n { samples[j + 1].arc_length } else { samples[j].arc_length };
+            let before = if j > 0 {
+                samples[j - 1].arc_length
+            } else {
+                samples[j].arc_length
+            };
+            let after = if j + 1 < n {
+                samples[j + 1].arc_length
+            } else {
+                samples[j].arc_length
+            };
             fold_angles.push(samples[j].fold_rate * 0.5 * (after - before));
         }
         let mut motions = Vec::with_capacity(n + 1);
         motions.push(start);
         for j in 0..n {
-            let fold = rotation_about_axis(&lift(samples[j].flat_point), &lift(samples[j].flat_ruling), fold_angles[j]);
+            let fold = rotation_about_axis(
+                &lift(samples[j].flat_point),
+                &lift(samples[j].flat_ruling),
+                fold_angles[j],
+            );
             let next = motions[j].compose(&fold);
             motions.push(next);
         }

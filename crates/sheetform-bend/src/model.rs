@@ -48,7 +48,10 @@ pub struct BendModel {
 }
 
 fn field(field: impl Into<String>, message: impl Into<String>) -> BendError {
-    BendError::Field { field: field.into(), message: message.into() }
+    BendError::Field {
+        field: field.into(),
+        message: message.into(),
+    }
 }
 
 fn finite2(p: [f64; 2], name: &str) -> Result<Vec2, BendError> {
@@ -67,7 +70,10 @@ fn points3(points: &[[f64; 3]], name: &str) -> Result<Vec<Vec3>, BendError> {
             if p.iter().all(|c| c.is_finite()) {
                 Ok(Vec3::new(p[0], p[1], p[2]))
             } else {
-                Err(field(format!("{name}[{i}]"), "has a non-finite coordinate (NaN or infinity)"))
+                Err(field(
+                    format!("{name}[{i}]"),
+                    "has a non-finite coordinate (NaN or infinity)",
+                ))
             }
         })
         .collect()
@@ -79,7 +85,10 @@ fn points3(points: &[[f64; 3]], name: &str) -> Result<Vec<Vec3>, BendError> {
 /// Degree below 2 (a degree-1 curve is a straight polyline and bends nothing), bad knots,
 /// non-finite points.
 pub fn curve_shape(spec: &CurveSpec, name: &str) -> Result<CurveShape, BendError> {
-    let geometry = |source| BendError::Geometry { field: name.to_string(), source };
+    let geometry = |source| BendError::Geometry {
+        field: name.to_string(),
+        source,
+    };
     match spec {
         CurveSpec::Bezier { control_points } => {
             let pts = points3(control_points, &format!("{name}.control_points"))?;
@@ -94,7 +103,12 @@ pub fn curve_shape(spec: &CurveSpec, name: &str) -> Result<CurveShape, BendError
             }
             Ok(CurveShape::Bezier(Bezier3::new(pts).map_err(geometry)?))
         }
-        CurveSpec::Bspline { degree, control_points, knots, periodic } => {
+        CurveSpec::Bspline {
+            degree,
+            control_points,
+            knots,
+            periodic,
+        } => {
             let mut pts = points3(control_points, &format!("{name}.control_points"))?;
             if *degree < 2 {
                 return Err(field(
@@ -104,19 +118,27 @@ pub fn curve_shape(spec: &CurveSpec, name: &str) -> Result<CurveShape, BendError
             }
             if *periodic {
                 if knots.is_some() {
-                    return Err(field(format!("{name}.knots"), "give either `knots` or `periodic`, not both"));
+                    return Err(field(
+                        format!("{name}.knots"),
+                        "give either `knots` or `periodic`, not both",
+                    ));
                 }
                 if pts.len() < *degree + 1 {
                     return Err(field(
                         format!("{name}.control_points"),
-                        format!("a periodic B-spline of degree {degree} needs at least {} control points", degree + 1),
+                        format!(
+                            "a periodic B-spline of degree {degree} needs at least {} control points",
+                            degree + 1
+                        ),
                     ));
                 }
                 let wrap: Vec<Vec3> = pts[..*degree].to_vec();
                 pts.extend(wrap);
                 let count = pts.len() + degree + 1;
                 let knots: Vec<f64> = (0..count).map(|i| i as f64).collect();
-                return Ok(CurveShape::BSpline(BSpline3::new(*degree, pts, knots).map_err(geometry)?));
+                return Ok(CurveShape::BSpline(
+                    BSpline3::new(*degree, pts, knots).map_err(geometry)?,
+                ));
             }
             let spline = match knots {
                 Some(k) => BSpline3::new(*degree, pts, k.clone()),
@@ -125,13 +147,23 @@ pub fn curve_shape(spec: &CurveSpec, name: &str) -> Result<CurveShape, BendError
             .map_err(geometry)?;
             Ok(CurveShape::BSpline(spline))
         }
-        CurveSpec::Helix { radius, rise_per_radian, start_angle, end_angle, center } => {
+        CurveSpec::Helix {
+            radius,
+            rise_per_radian,
+            start_angle,
+            end_angle,
+            center,
+        } => {
             let c = points3(&[*center], &format!("{name}.center"))?[0];
-            let helix = sheetform_geometry::Helix::new(*radius, *rise_per_radian, *start_angle, *end_angle).map_err(geometry)?;
+            let helix = sheetform_geometry::Helix::new(*radius, *rise_per_radian, *start_angle, *end_angle)
+                .map_err(geometry)?;
             if c == Vec3::zeros() {
                 Ok(CurveShape::Helix(helix))
             } else {
-                Ok(CurveShape::Analytic(std::sync::Arc::new(Offset { curve: helix, offset: c })))
+                Ok(CurveShape::Analytic(std::sync::Arc::new(Offset {
+                    curve: helix,
+                    offset: c,
+                })))
             }
         }
     }
@@ -168,7 +200,8 @@ impl BendModel {
             source,
         })?;
         let t = scene.tessellation;
-        if !(t.max_fold_angle_degrees.is_finite() && t.max_fold_angle_degrees > 0.0 && t.max_fold_angle_degrees <= 45.0) {
+        if !(t.max_fold_angle_degrees.is_finite() && t.max_fold_angle_degrees > 0.0 && t.max_fold_angle_degrees <= 45.0)
+        {
             return Err(field("tessellation.max_fold_angle_degrees", "must be in (0, 45]"));
         }
         if t.min_rulings < 2 || t.max_rulings < t.min_rulings {
@@ -187,10 +220,21 @@ impl BendModel {
         for (k, spec) in scene.regions.iter().enumerate() {
             regions.push(Self::region(k, spec, &sheet, &t)?);
         }
-        Ok(Self { name: scene.name.clone(), unit: scene.units, sheet, regions, tessellation: t })
+        Ok(Self {
+            name: scene.name.clone(),
+            unit: scene.units,
+            sheet,
+            regions,
+            tessellation: t,
+        })
     }
 
-    fn region(k: usize, spec: &CurvedRegionSpec, sheet: &Polygon, t: &TessellationOptions) -> Result<CurvedRegion, BendError> {
+    fn region(
+        k: usize,
+        spec: &CurvedRegionSpec,
+        sheet: &Polygon,
+        t: &TessellationOptions,
+    ) -> Result<CurvedRegion, BendError> {
         let path = format!("regions[{k}]");
         let name = spec.name.clone().unwrap_or_else(|| format!("curved-{k}"));
         let shape = curve_shape(&spec.curve, &format!("{path}.curve"))?;
@@ -208,7 +252,10 @@ impl BendModel {
                 let end = finite2(end, &format!("{path}.flat_end"))?;
                 let flat_length = (end - flat_start).norm();
                 if flat_length == 0.0 {
-                    return Err(field(format!("{path}.flat_end"), "equals `flat_start`: the flat geodesic has zero length"));
+                    return Err(field(
+                        format!("{path}.flat_end"),
+                        "equals `flat_start`: the flat geodesic has zero length",
+                    ));
                 }
                 let relative = (flat_length - length).abs() / length;
                 if relative > t.length_tolerance {
@@ -241,11 +288,23 @@ impl BendModel {
                 u.normalize()
             }
         };
-        let region = CurvedRegion { name: name.clone(), curve, flat_start, flat_direction, up, closed: spec.closed };
+        let region = CurvedRegion {
+            name: name.clone(),
+            curve,
+            flat_start,
+            flat_direction,
+            up,
+            closed: spec.closed,
+        };
         // The flat geodesic must stay on the sheet.
         let (a, b) = (region.flat_start, region.flat_end());
         let eps = 1e-9 * sheet.scale();
-        let leaves = |p: Vec2| BendError::GeodesicLeavesSheet { region: k, name: name.clone(), x: p.x, y: p.y };
+        let leaves = |p: Vec2| BendError::GeodesicLeavesSheet {
+            region: k,
+            name: name.clone(),
+            x: p.x,
+            y: p.y,
+        };
         for edge in sheet.edges() {
             if let Some((s, _)) = sheetform_geometry::segment_intersection(a, b, edge.start, edge.end) {
                 let p = a + (b - a) * s;

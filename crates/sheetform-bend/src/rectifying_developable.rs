@@ -77,25 +77,38 @@ pub fn sample_rulings(
 ) -> Result<Vec<RulingSample>, BendError> {
     let length = curve.length();
     let (u0, u1) = curve.domain();
-    let degenerate = |reason: String| BendError::DegenerateCurve { region, name: name.to_string(), reason };
+    let degenerate = |reason: String| BendError::DegenerateCurve {
+        region,
+        name: name.to_string(),
+        reason,
+    };
 
-    // 1. Pre-grid: total turning and a monitor for the ruling spacing.
-    let grid = 512usize.max(4 * options.min_rulings).min(20_000);
+    // 1. Pre-grid: total turning and a monitor for the ruling spacing. The monitor only
+    //    sets the spacing (arc lengths of the rulings are integrated exactly below), so a
+    //    coarse grid with trapezoid speeds suffices: 16 points per polynomial span, at
+    //    least 64.
+    let spans = curve.shape().breakpoints().len().max(2) - 1;
+    let grid = (16 * spans).max(64);
     let mut grid_u = Vec::with_capacity(grid + 1);
     let mut grid_s = Vec::with_capacity(grid + 1);
     let mut grid_w = Vec::with_capacity(grid + 1);
-    let mut s_acc = 0.0;
+    let mut grid_speed = Vec::with_capacity(grid + 1);
     for i in 0..=grid {
         let u = u0 + (u1 - u0) * i as f64 / grid as f64;
-        if i > 0 {
-            s_acc += sheetform_geometry::gauss_legendre_length(curve.shape(), grid_u[i - 1], u);
-        }
         let d = curve.derivatives4(u);
-        let f = curve_frame(&d).ok_or_else(|| degenerate(format!("the curve has zero speed (a cusp) at parameter {u:.6}")))?;
+        let f = curve_frame(&d)
+            .ok_or_else(|| degenerate(format!("the curve has zero speed (a cusp) at parameter {u:.6}")))?;
+        let s = if i == 0 {
+            0.0
+        } else {
+            grid_s[i - 1] + 0.5 * (f.speed + grid_speed[i - 1]) * (u - grid_u[i - 1])
+        };
         grid_u.push(u);
-        grid_s.push(s_acc);
+        grid_s.push(s);
+        grid_speed.push(f.speed);
         grid_w.push(f.darboux().norm());
     }
+    let length_estimate = grid_s[grid];
     let mut turning = vec![0.0; grid + 1];
     for i in 1..=grid {
         turning[i] = turning[i - 1] + 0.5 * (grid_w[i] + grid_w[i - 1]) * (grid_s[i] - grid_s[i - 1]);
@@ -106,12 +119,20 @@ pub fn sample_rulings(
         Some(n) => n.max(2),
         None => {
             let needed = (2.0 * total_turning / max_fold).ceil();
-            let needed = if needed.is_finite() { needed as usize } else { options.max_rulings };
+            let needed = if needed.is_finite() {
+                needed as usize
+            } else {
+                options.max_rulings
+            };
             needed.max(options.min_rulings).min(options.max_rulings).max(2)
         }
     };
     let intervals = count - 1;
-    let uniform_weight = if total_turning > 0.0 { total_turning / length } else { 1.0 };
+    let uniform_weight = if total_turning > 0.0 {
+        total_turning / length_estimate
+    } else {
+        1.0
+    };
     let monitor: Vec<f64> = (0..=grid).map(|i| turning[i] + uniform_weight * grid_s[i]).collect();
     let monitor_total = monitor[grid];
 
@@ -157,7 +178,8 @@ pub fn sample_rulings(
     for j in 0..count {
         let u = params[j];
         let d = curve.derivatives4(u);
-        let f = curve_frame(&d).ok_or_else(|| degenerate(format!("the curve has zero speed (a cusp) at s = {:.6}", lengths[j])))?;
+        let f = curve_frame(&d)
+            .ok_or_else(|| degenerate(format!("the curve has zero speed (a cusp) at s = {:.6}", lengths[j])))?;
         let straight = f.curvature <= straight_limit || f.normal.is_none();
         let (normal, sigma) = if straight {
             match prev_normal {
@@ -210,7 +232,7 @@ pub fn sample_rulings(
         }
         let k = sigma * f.curvature;
         let tau = if straight { 0.0 } else { f.torsion };
-        samples.push((f, normal, k, tau, sigma, straight));
+        samples.push((f, normal, k, tau, sigma, straight, d[0]));
     }
     let first_curved = samples
         .iter()
@@ -227,20 +249,26 @@ pub fn sample_rulings(
 
     // 4. Angles, fold rates, regression distances; α carried over on straight spans.
     let mut out: Vec<RulingSample> = Vec::with_capacity(count);
-    for (j, (f, normal, k, tau, sigma, straight)) in samples.iter().copied().enumerate() {
+    for (j, (f, normal, k, tau, sigma, straight, point)) in samples.iter().copied().enumerate() {
         let side = normal.cross(&f.tangent);
         let (angle, fold_rate, regression) = if straight {
             (f64::NAN, 0.0, f64::INFINITY)
         } else {
             let angle = k.abs().atan2(-k.signum() * tau);
             let rate = tau * angle.cos() - k * angle.sin();
-            let l = regression_distance(k, tau, sigma * f.derivatives.curvature, f.derivatives.torsion, angle.sin());
+            let l = regression_distance(
+                k,
+                tau,
+                sigma * f.derivatives.curvature,
+                f.derivatives.torsion,
+                angle.sin(),
+            );
             (angle, rate, l)
         };
         out.push(RulingSample {
             arc_length: lengths[j],
             parameter: params[j],
-            point: curve.derivatives4(params[j])[0],
+            point,
             tangent: f.tangent,
             side,
             normal,
@@ -261,7 +289,11 @@ pub fn sample_rulings(
         if out[j].straight {
             let nearest = curved
                 .iter()
-                .min_by(|&&a, &&b| (out[a].arc_length - out[j].arc_length).abs().total_cmp(&(out[b].arc_length - out[j].arc_length).abs()))
+                .min_by(|&&a, &&b| {
+                    (out[a].arc_length - out[j].arc_length)
+                        .abs()
+                        .total_cmp(&(out[b].arc_length - out[j].arc_length).abs())
+                })
                 .copied()
                 .expect("at least one curved sample");
             out[j].angle = out[nearest].angle;

@@ -47,15 +47,33 @@ pub struct RulingExtent {
 fn nearest_on_ring(polygon: &Polygon, ring: usize, p: Vec2) -> (f64, BoundaryPoint) {
     let pts = polygon.ring(ring);
     let n = pts.len();
-    let mut best = (f64::INFINITY, BoundaryPoint { ring, edge: 0, edge_parameter: 0.0 });
+    let mut best = (
+        f64::INFINITY,
+        BoundaryPoint {
+            ring,
+            edge: 0,
+            edge_parameter: 0.0,
+        },
+    );
     for i in 0..n {
         let (a, b) = (pts[i], pts[(i + 1) % n]);
         let e = b - a;
         let len2 = e.norm_squared();
-        let t = if len2 > 0.0 { ((p - a).dot(&e) / len2).clamp(0.0, 1.0) } else { 0.0 };
+        let t = if len2 > 0.0 {
+            ((p - a).dot(&e) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         let d = (a + e * t - p).norm();
         if d < best.0 {
-            best = (d, BoundaryPoint { ring, edge: i, edge_parameter: t });
+            best = (
+                d,
+                BoundaryPoint {
+                    ring,
+                    edge: i,
+                    edge_parameter: t,
+                },
+            );
         }
     }
     best
@@ -101,7 +119,11 @@ fn ring_contains(ring: &[Vec2], p: Vec2) -> bool {
 /// (see [`RulingExtent`]). `scale` is the model's length scale (for tolerances).
 pub fn ruling_extent(polygon: &Polygon, origin: Vec2, direction: Vec2, scale: f64) -> RulingExtent {
     let eps = 1e-11 * scale;
-    let mut ts: Vec<f64> = polygon.line_hits(origin, direction, |r| r == 0).into_iter().map(|h| h.t).collect();
+    let mut ts: Vec<f64> = polygon
+        .line_hits(origin, direction, |r| r == 0)
+        .into_iter()
+        .map(|h| h.t)
+        .collect();
     ts.dedup_by(|a, b| (*a - *b).abs() <= eps);
     let walk = |forward: bool| -> f64 {
         let sign = if forward { 1.0 } else { -1.0 };
@@ -151,9 +173,22 @@ pub fn ruling_extent(polygon: &Polygon, origin: Vec2, direction: Vec2, scale: f6
         if touches.last().is_some_and(|(t, _)| (h.t - t).abs() <= eps) {
             continue;
         }
-        touches.push((h.t, BoundaryPoint { ring: h.ring, edge: h.edge, edge_parameter: h.edge_parameter }));
+        touches.push((
+            h.t,
+            BoundaryPoint {
+                ring: h.ring,
+                edge: h.edge,
+                edge_parameter: h.edge_parameter,
+            },
+        ));
     }
-    RulingExtent { negative_end, positive_end, ends, gaps, touches }
+    RulingExtent {
+        negative_end,
+        positive_end,
+        ends,
+        gaps,
+        touches,
+    }
 }
 
 #[cfg(test)]
@@ -178,7 +213,16 @@ mod tests {
     fn concave_outline_keeps_the_piece_with_the_geodesic_point() {
         // A U shape: the vertical line x = 5 leaves through the bottom of the notch.
         let p = Polygon::new(
-            vec![v(0.0, 0.0), v(10.0, 0.0), v(10.0, 10.0), v(7.0, 10.0), v(7.0, 3.0), v(3.0, 3.0), v(3.0, 10.0), v(0.0, 10.0)],
+            vec![
+                v(0.0, 0.0),
+                v(10.0, 0.0),
+                v(10.0, 10.0),
+                v(7.0, 10.0),
+                v(7.0, 3.0),
+                v(3.0, 3.0),
+                v(3.0, 10.0),
+                v(0.0, 10.0),
+            ],
             vec![],
         )
         .unwrap();

@@ -9,7 +9,16 @@ use sheetform_mesh::{isometry_error, LengthUnit, PieceKind};
 use std::sync::Arc;
 
 fn rectangle(x0: f64, x1: f64, y0: f64, y1: f64) -> Polygon {
-    Polygon::new(vec![Vec2::new(x0, y0), Vec2::new(x1, y0), Vec2::new(x1, y1), Vec2::new(x0, y1)], vec![]).unwrap()
+    Polygon::new(
+        vec![
+            Vec2::new(x0, y0),
+            Vec2::new(x1, y0),
+            Vec2::new(x1, y1),
+            Vec2::new(x0, y1),
+        ],
+        vec![],
+    )
+    .unwrap()
 }
 
 fn model(sheet: Polygon, shape: CurveShape, tessellation: TessellationOptions) -> BendModel {
@@ -31,7 +40,11 @@ fn model(sheet: Polygon, shape: CurveShape, tessellation: TessellationOptions) -
 }
 
 fn fine(max_fold_angle_degrees: f64) -> TessellationOptions {
-    TessellationOptions { max_fold_angle_degrees, max_rulings: 1_000_000, ..Default::default() }
+    TessellationOptions {
+        max_fold_angle_degrees,
+        max_rulings: 1_000_000,
+        ..Default::default()
+    }
 }
 
 fn curved_vertices(mesh: &sheetform_mesh::SheetMesh) -> Vec<usize> {
@@ -53,7 +66,11 @@ fn helix_gives_its_own_cylinder() {
     let helix = Helix::new(r, c, 0.0, std::f64::consts::FRAC_PI_2).unwrap();
     let length = std::f64::consts::FRAC_PI_2 * (r * r + c * c).sqrt();
     // The flat rulings are oblique, so the sheet's corners stay planar.
-    let m = model(rectangle(0.0, length, -25.0, 25.0), CurveShape::Helix(helix), fine(0.005));
+    let m = model(
+        rectangle(0.0, length, -25.0, 25.0),
+        CurveShape::Helix(helix),
+        fine(0.005),
+    );
     let sheet = bend(&m).unwrap();
     let mesh = &sheet.mesh;
     let curved = curved_vertices(mesh);
@@ -67,7 +84,10 @@ fn helix_gives_its_own_cylinder() {
         let a = mesh.positions[ruling.vertices[0] as usize];
         let b = mesh.positions[*ruling.vertices.last().unwrap() as usize];
         let d = (b - a).normalize();
-        assert!(d.cross(&Vec3::z()).norm() <= 1e-9, "ruling not parallel to the axis: {d}");
+        assert!(
+            d.cross(&Vec3::z()).norm() <= 1e-9,
+            "ruling not parallel to the axis: {d}"
+        );
     }
     assert!(isometry_error(mesh).max_relative <= 1e-10);
     assert!(sheet.regions[0].admissibility.admissible);
@@ -86,14 +106,19 @@ fn helix_mesh_converges_quadratically() {
             .rulings
             .iter()
             .flat_map(|r| r.vertices.iter())
-            .map(|&v| ((mesh.positions[v as usize].x.powi(2) + mesh.positions[v as usize].y.powi(2)).sqrt() - 10.0).abs())
+            .map(|&v| {
+                ((mesh.positions[v as usize].x.powi(2) + mesh.positions[v as usize].y.powi(2)).sqrt() - 10.0).abs()
+            })
             .fold(0.0, f64::max);
         (on_rulings, sheet.regions[0].curve_deviation)
     };
     let ((r1, d1), (r2, d2)) = (error(2.0), error(1.0));
     for (a, b) in [(r1, r2), (d1, d2)] {
         let ratio = a / b;
-        assert!(ratio > 3.5 && ratio < 4.5, "halving the fold angle should quarter the error: {a} / {b} = {ratio}");
+        assert!(
+            ratio > 3.5 && ratio < 4.5,
+            "halving the fold angle should quarter the error: {a} / {b} = {ratio}"
+        );
     }
 }
 
@@ -122,7 +147,11 @@ fn planar_curve_gives_the_right_cylinder_over_it() {
         assert!((mesh.positions[v].y - mesh.flat[v].y).abs() <= 1e-9 * length);
     }
     // The 3D section stays on the curve to the discretisation tolerance.
-    assert!(sheet.regions[0].curve_deviation <= 1e-4 * length, "{}", sheet.regions[0].curve_deviation);
+    assert!(
+        sheet.regions[0].curve_deviation <= 1e-4 * length,
+        "{}",
+        sheet.regions[0].curve_deviation
+    );
     assert!(isometry_error(mesh).max_relative <= 1e-10);
 }
 
@@ -171,7 +200,13 @@ impl Jet {
     fn sqrt(self) -> Jet {
         let x = self.0[0];
         let s = x.sqrt();
-        self.compose([s, 0.5 / s, -0.25 / (s * x), 0.375 / (s * x * x), -0.9375 / (s * x * x * x)])
+        self.compose([
+            s,
+            0.5 / s,
+            -0.25 / (s * x),
+            0.375 / (s * x * x),
+            -0.9375 / (s * x * x * x),
+        ])
     }
     fn atan(self) -> Jet {
         let x = self.0[0];
@@ -230,7 +265,11 @@ impl ParametricCurve<3> for ConeGeodesic {
 fn cone_geodesic_gives_its_cone_with_regression_at_the_apex() {
     let (beta, d) = (0.5f64, 80.0);
     let (t0, t1) = (-60.0, 70.0);
-    let curve = ConeGeodesic { half_angle: beta, distance: d, range: (t0, t1) };
+    let curve = ConeGeodesic {
+        half_angle: beta,
+        distance: d,
+        range: (t0, t1),
+    };
     let shape = CurveShape::Analytic(Arc::new(curve));
     // The apex is at distance d from the flat geodesic: keep the sheet narrower than d.
     let m = model(rectangle(0.0, t1 - t0, -40.0, 40.0), shape, fine(0.004));
@@ -252,8 +291,16 @@ fn cone_geodesic_gives_its_cone_with_regression_at_the_apex() {
 
 #[test]
 fn cone_sheet_reaching_the_apex_is_inadmissible() {
-    let curve = ConeGeodesic { half_angle: 0.5, distance: 30.0, range: (-40.0, 40.0) };
-    let m = model(rectangle(0.0, 80.0, -50.0, 50.0), CurveShape::Analytic(Arc::new(curve)), TessellationOptions::default());
+    let curve = ConeGeodesic {
+        half_angle: 0.5,
+        distance: 30.0,
+        range: (-40.0, 40.0),
+    };
+    let m = model(
+        rectangle(0.0, 80.0, -50.0, 50.0),
+        CurveShape::Analytic(Arc::new(curve)),
+        TessellationOptions::default(),
+    );
     match bend(&m) {
         Err(sheetform_bend::BendError::Inadmissible(detail)) => {
             // It enters where the apex is: 30 from the geodesic on one side.

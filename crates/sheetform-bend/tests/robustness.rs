@@ -28,7 +28,10 @@ fn outline_typed_with_a_rounded_curve_length() {
         let scene = BendScene::from_json(&json).unwrap();
         if let Ok(model) = BendModel::from_scene(&scene) {
             let sheet = bend(&model).unwrap();
-            assert!((sheet.mesh.flat_area() - model.sheet.area()).abs() <= 1e-9 * model.sheet.area(), "length {l}");
+            assert!(
+                (sheet.mesh.flat_area() - model.sheet.area()).abs() <= 1e-9 * model.sheet.area(),
+                "length {l}"
+            );
         }
     }
 }
@@ -58,5 +61,9 @@ fn ruling_along_part_of_the_outline() {
     );
     let sheet = bend_json(&json);
     // The bar stays planar: one planar piece before the first ruling.
-    assert!(sheet.mesh.pieces.iter().any(|p| p.kind == sheetform_mesh::PieceKind::Planar));
+    assert!(sheet
+        .mesh
+        .pieces
+        .iter()
+        .any(|p| p.kind == sheetform_mesh::PieceKind::Planar));
 }

@@ -31,11 +31,7 @@ fn speed<const D: usize, C: ParametricCurve<D> + ?Sized>(curve: &C, u: f64) -> f
 
 /// Length of `curve` on `[a, b]` by one 8-point Gauss–Legendre rule:
 /// `∫_a^b |c'(u)| du ≈ (b−a)/2 · Σ w_i |c'((a+b)/2 + (b−a)/2 · x_i)|`.
-pub fn gauss_legendre_length<const D: usize, C: ParametricCurve<D> + ?Sized>(
-    curve: &C,
-    a: f64,
-    b: f64,
-) -> f64 {
+pub fn gauss_legendre_length<const D: usize, C: ParametricCurve<D> + ?Sized>(curve: &C, a: f64, b: f64) -> f64 {
     let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
     GL_NODES
         .iter()
@@ -210,7 +206,12 @@ mod tests {
 
     #[test]
     fn straight_line_length_and_inverse() {
-        let c = Bezier3::new(vec![Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0), Vector3::new(3.0, 0.0, 0.0)]).unwrap();
+        let c = Bezier3::new(vec![
+            Vector3::zeros(),
+            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(3.0, 0.0, 0.0),
+        ])
+        .unwrap();
         let t = ArcLengthTable::new(&c, &[], ArcLengthOptions::default()).unwrap();
         assert!((t.total_length() - 3.0).abs() < 1e-13);
         for &s in &[0.0, 0.4, 1.5, 2.9, 3.0] {

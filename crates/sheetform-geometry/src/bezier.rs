@@ -103,40 +103,48 @@ impl<const D: usize> Bezier<D> {
     }
 }
 
-/// de Casteljau evaluation of one control net at `t` (no allocation for degree ≤ 15).
-fn de_casteljau<const D: usize>(net: &[SVector<f64, D>], t: f64) -> SVector<f64, D> {
-    let mut buf = [SVector::<f64, D>::zeros(); 16];
-    if net.len() <= 16 {
-        buf[..net.len()].copy_from_slice(net);
-        for level in 1..net.len() {
-            for i in 0..net.len() - level {
-                buf[i] = buf[i] * (1.0 - t) + buf[i + 1] * t;
-            }
-        }
-        buf[0]
-    } else {
-        let mut work = net.to_vec();
-        for level in 1..work.len() {
-            for i in 0..work.len() - level {
-                work[i] = work[i] * (1.0 - t) + work[i + 1] * t;
-            }
-        }
-        work[0]
-    }
-}
-
 impl<const D: usize> ParametricCurve<D> for Bezier<D> {
     fn domain(&self) -> (f64, f64) {
         (0.0, 1.0)
     }
 
+    /// One pass of the Bernstein triangle `B_{i,m}(t)`, `m = 0 … n`: the k-th derivative is
+    /// `Σ_i Q^k_i B_{i,n−k}(t)` with `Q^k` the k-th hodograph net, so all requested
+    /// derivatives come from rows `n, n−1, …` of the same triangle (no allocation for
+    /// degree ≤ 15, the usual range; higher degrees allocate one row).
     fn derivatives_into(&self, u: f64, out: &mut [SVector<f64, D>]) {
         let t = u.clamp(0.0, 1.0);
-        for (k, slot) in out.iter_mut().enumerate() {
-            *slot = match self.nets.get(k) {
-                Some(net) if !net.is_empty() => de_casteljau(net, t),
-                _ => SVector::zeros(),
-            };
+        let n = self.degree();
+        for slot in out.iter_mut() {
+            *slot = SVector::zeros();
+        }
+        let mut stack = [0.0f64; 17];
+        let mut heap = Vec::new();
+        let row: &mut [f64] = if n < 17 {
+            &mut stack[..=n]
+        } else {
+            heap.resize(n + 1, 0.0);
+            &mut heap
+        };
+        row[0] = 1.0;
+        for m in 0..=n {
+            if m > 0 {
+                // B_{i,m} = (1−t) B_{i,m−1} + t B_{i−1,m−1}, updated in place from the end.
+                row[m] = t * row[m - 1];
+                for i in (1..m).rev() {
+                    row[i] = (1.0 - t) * row[i] + t * row[i - 1];
+                }
+                row[0] *= 1.0 - t;
+            }
+            let k = n - m;
+            if k < out.len() {
+                let net = &self.nets[k];
+                let mut acc = SVector::<f64, D>::zeros();
+                for (p, b) in net.iter().zip(row.iter()) {
+                    acc += p * *b;
+                }
+                out[k] = acc;
+            }
         }
     }
 }
@@ -165,7 +173,11 @@ mod tests {
             let d = c.derivatives4(t);
             for k in 0..4 {
                 let fd = (c.derivatives4(t + h)[k] - c.derivatives4(t - h)[k]) / (2.0 * h);
-                assert!((fd - d[k + 1]).norm() < 1e-5 * (1.0 + d[k + 1].norm()), "order {}", k + 1);
+                assert!(
+                    (fd - d[k + 1]).norm() < 1e-5 * (1.0 + d[k + 1].norm()),
+                    "order {}",
+                    k + 1
+                );
             }
         }
     }

@@ -31,11 +31,7 @@ impl<const D: usize> BSpline<D> {
     /// # Errors
     /// Degree 0 or above [`MAX_BSPLINE_DEGREE`], too few control points, wrong knot count,
     /// decreasing or non-finite knots, an empty parameter domain, non-finite points.
-    pub fn new(
-        degree: usize,
-        control_points: Vec<SVector<f64, D>>,
-        knots: Vec<f64>,
-    ) -> Result<Self, GeometryError> {
+    pub fn new(degree: usize, control_points: Vec<SVector<f64, D>>, knots: Vec<f64>) -> Result<Self, GeometryError> {
         if degree == 0 || degree > MAX_BSPLINE_DEGREE {
             return Err(GeometryError::BadDegree {
                 degree,
@@ -95,10 +91,7 @@ impl<const D: usize> BSpline<D> {
     ///
     /// # Errors
     /// As [`BSpline::new`].
-    pub fn clamped_uniform(
-        degree: usize,
-        control_points: Vec<SVector<f64, D>>,
-    ) -> Result<Self, GeometryError> {
+    pub fn clamped_uniform(degree: usize, control_points: Vec<SVector<f64, D>>) -> Result<Self, GeometryError> {
         let n = control_points.len();
         if n < degree + 1 {
             return Err(GeometryError::TooFewControlPoints {
@@ -190,6 +183,9 @@ impl<const D: usize> ParametricCurve<D> for BSpline<D> {
         (self.knots[self.degree], self.knots[self.control_points.len()])
     }
 
+    // The index loops mirror Piegl & Tiller's Algorithm A2.3 line by line, so that the
+    // kernel can be checked against the book.
+    #[allow(clippy::needless_range_loop)]
     fn derivatives_into(&self, u: f64, out: &mut [SVector<f64, D>]) {
         let (a, b) = self.domain();
         let u = u.clamp(a, b);
@@ -302,7 +298,11 @@ mod tests {
             let d = b.derivatives4(t);
             for k in 0..3 {
                 let fd = (b.derivatives4(t + h)[k] - b.derivatives4(t - h)[k]) / (2.0 * h);
-                assert!((fd - d[k + 1]).norm() < 1e-4 * (1.0 + d[k + 1].norm()), "order {}", k + 1);
+                assert!(
+                    (fd - d[k + 1]).norm() < 1e-4 * (1.0 + d[k + 1].norm()),
+                    "order {}",
+                    k + 1
+                );
             }
         }
     }

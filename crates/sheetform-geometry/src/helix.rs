@@ -26,14 +26,22 @@ impl Helix {
     /// Non-positive or non-finite radius, empty angle range.
     pub fn new(radius: f64, rise_per_radian: f64, start_angle: f64, end_angle: f64) -> Result<Self, GeometryError> {
         if !(radius.is_finite() && radius > 0.0) {
-            return Err(GeometryError::DegenerateCurve { reason: format!("helix radius must be positive, got {radius}") });
+            return Err(GeometryError::DegenerateCurve {
+                reason: format!("helix radius must be positive, got {radius}"),
+            });
         }
-        if !(rise_per_radian.is_finite() && start_angle.is_finite() && end_angle.is_finite() && end_angle > start_angle) {
+        if !(rise_per_radian.is_finite() && start_angle.is_finite() && end_angle.is_finite() && end_angle > start_angle)
+        {
             return Err(GeometryError::DegenerateCurve {
                 reason: "helix needs finite numbers and end_angle > start_angle".into(),
             });
         }
-        Ok(Self { radius, rise_per_radian, start_angle, end_angle })
+        Ok(Self {
+            radius,
+            rise_per_radian,
+            start_angle,
+            end_angle,
+        })
     }
 }
 

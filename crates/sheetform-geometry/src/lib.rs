@@ -15,13 +15,13 @@ mod helix;
 mod polygon;
 mod rigid;
 
-pub use arc_length::{gauss_legendre_length, ArcLengthTable, ArcLengthOptions};
+pub use arc_length::{gauss_legendre_length, ArcLengthOptions, ArcLengthTable};
 pub use bezier::{Bezier, Bezier2, Bezier3};
 pub use bspline::{BSpline, BSpline2, BSpline3};
 pub use curve::{Curve3, ParametricCurve};
 pub use error::GeometryError;
-pub use helix::Helix;
 pub use frame::{curve_frame, CurveFrame, CurveFrameDerivatives};
+pub use helix::Helix;
 pub use polygon::{segment_intersection, Polygon, PolygonEdge, RayHit};
 pub use rigid::{rotation_about_axis, RigidMotion};
 

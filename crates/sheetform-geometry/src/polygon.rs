@@ -76,7 +76,11 @@ fn ring_name(ring: usize) -> String {
 }
 
 fn check_ring(ring: &[Vec2], index: usize) -> Result<Vec<Vec2>, GeometryError> {
-    let what = if index == 0 { "outline vertex".to_string() } else { format!("hole {} vertex", index - 1) };
+    let what = if index == 0 {
+        "outline vertex".to_string()
+    } else {
+        format!("hole {} vertex", index - 1)
+    };
     for (i, p) in ring.iter().enumerate() {
         if !(p.x.is_finite() && p.y.is_finite()) {
             return Err(GeometryError::NonFinite { what, index: i });
@@ -179,7 +183,11 @@ impl Polygon {
                     touch_point(ei.start, ei.end, ej.start, ej.end)
                 };
                 if let Some(p) = hit {
-                    let (a, b) = if (ei.ring, ei.index) <= (ej.ring, ej.index) { (ei, ej) } else { (ej, ei) };
+                    let (a, b) = if (ei.ring, ei.index) <= (ej.ring, ej.index) {
+                        (ei, ej)
+                    } else {
+                        (ej, ei)
+                    };
                     return Err(GeometryError::SelfIntersection {
                         ring_a: ring_name(a.ring),
                         edge_a: a.index,
@@ -293,7 +301,12 @@ impl Polygon {
                 }
                 let u = u.clamp(0.0, 1.0);
                 let t = cross(w, e) / den;
-                hits.push(RayHit { t, ring: r, edge: i, edge_parameter: u });
+                hits.push(RayHit {
+                    t,
+                    ring: r,
+                    edge: i,
+                    edge_parameter: u,
+                });
             }
         }
         hits.sort_by(|a, b| a.t.total_cmp(&b.t));
@@ -328,7 +341,15 @@ fn touch_point(a: Vec2, b: Vec2, c: Vec2, d: Vec2) -> Option<Vec2> {
     let o4 = cross(d - c, b - c);
     let scale = (b - a).norm().max((d - c).norm());
     let eps = 1e-14 * scale * scale;
-    let sgn = |x: f64| if x > eps { 1 } else if x < -eps { -1 } else { 0 };
+    let sgn = |x: f64| {
+        if x > eps {
+            1
+        } else if x < -eps {
+            -1
+        } else {
+            0
+        }
+    };
     let (s1, s2, s3, s4) = (sgn(o1), sgn(o2), sgn(o3), sgn(o4));
     if s1 * s2 < 0 && s3 * s4 < 0 {
         let t = o3 / (o3 - o4);
@@ -389,7 +410,10 @@ mod tests {
     fn hole_outside_is_rejected() {
         let sq = vec![v(0.0, 0.0), v(1.0, 0.0), v(1.0, 1.0), v(0.0, 1.0)];
         let hole = vec![v(2.0, 2.0), v(3.0, 2.0), v(3.0, 3.0)];
-        assert!(matches!(Polygon::new(sq, vec![hole]), Err(GeometryError::HoleOutside { hole: 0 })));
+        assert!(matches!(
+            Polygon::new(sq, vec![hole]),
+            Err(GeometryError::HoleOutside { hole: 0 })
+        ));
     }
 
     #[test]

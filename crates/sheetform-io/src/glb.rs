@@ -26,10 +26,15 @@ pub fn glb_bytes(mesh: &SheetMesh, name: &str) -> Vec<u8> {
         bin.extend_from_slice(bytes);
         views.len() - 1
     };
-    let f32s = |values: &mut dyn Iterator<Item = f64>| -> Vec<u8> { values.flat_map(|v| (v as f32).to_le_bytes()).collect() };
+    let f32s =
+        |values: &mut dyn Iterator<Item = f64>| -> Vec<u8> { values.flat_map(|v| (v as f32).to_le_bytes()).collect() };
 
     // POSITION with exact f32 min/max.
-    let pos32: Vec<[f32; 3]> = mesh.positions.iter().map(|p| [(p.x * to_m) as f32, (p.y * to_m) as f32, (p.z * to_m) as f32]).collect();
+    let pos32: Vec<[f32; 3]> = mesh
+        .positions
+        .iter()
+        .map(|p| [(p.x * to_m) as f32, (p.y * to_m) as f32, (p.z * to_m) as f32])
+        .collect();
     let mut lo = [f32::INFINITY; 3];
     let mut hi = [f32::NEG_INFINITY; 3];
     for p in &pos32 {
@@ -38,12 +43,19 @@ pub fn glb_bytes(mesh: &SheetMesh, name: &str) -> Vec<u8> {
             hi[k] = hi[k].max(p[k]);
         }
     }
-    let bytes: Vec<u8> = pos32.iter().flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes())).collect();
+    let bytes: Vec<u8> = pos32
+        .iter()
+        .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()))
+        .collect();
     let v = push_view(&mut bin, &bytes, 34962);
     accessors.push(json!({"bufferView": v, "componentType": 5126, "count": n, "type": "VEC3", "min": lo, "max": hi}));
     let position = accessors.len() - 1;
 
-    let normals: Vec<_> = mesh.vertex_normals().into_iter().map(|v| if v.norm() > 0.5 { v } else { nalgebra::Vector3::z() }).collect();
+    let normals: Vec<_> = mesh
+        .vertex_normals()
+        .into_iter()
+        .map(|v| if v.norm() > 0.5 { v } else { nalgebra::Vector3::z() })
+        .collect();
     let bytes = f32s(&mut normals.iter().flat_map(|v| [v.x, v.y, v.z]));
     let v = push_view(&mut bin, &bytes, 34962);
     accessors.push(json!({"bufferView": v, "componentType": 5126, "count": n, "type": "VEC3"}));
@@ -51,7 +63,12 @@ pub fn glb_bytes(mesh: &SheetMesh, name: &str) -> Vec<u8> {
 
     let (flo, fhi) = mesh.flat_bounds();
     let size = (fhi - flo).max().max(f64::MIN_POSITIVE);
-    let bytes = f32s(&mut mesh.flat.iter().flat_map(|q| [(q.x - flo.x) / size, 1.0 - (q.y - flo.y) / size]));
+    let bytes = f32s(
+        &mut mesh
+            .flat
+            .iter()
+            .flat_map(|q| [(q.x - flo.x) / size, 1.0 - (q.y - flo.y) / size]),
+    );
     let v = push_view(&mut bin, &bytes, 34962);
     accessors.push(json!({"bufferView": v, "componentType": 5126, "count": n, "type": "VEC2"}));
     let texcoord = accessors.len() - 1;

@@ -12,7 +12,11 @@ use std::fmt::Write;
 pub fn obj_string(mesh: &SheetMesh, name: &str) -> String {
     let mut s = String::with_capacity(mesh.positions.len() * 96 + mesh.triangles.len() * 40);
     let _ = writeln!(s, "# sheetform bent sheet `{name}`");
-    let _ = writeln!(s, "# units: {} (3D and flat); vt = flat-sheet coordinates at 1:1 scale", mesh.unit.symbol());
+    let _ = writeln!(
+        s,
+        "# units: {} (3D and flat); vt = flat-sheet coordinates at 1:1 scale",
+        mesh.unit.symbol()
+    );
     let _ = writeln!(s, "o {}", sanitize(name));
     for p in &mesh.positions {
         let _ = writeln!(s, "v {} {} {}", p.x, p.y, p.z);

@@ -15,12 +15,19 @@ pub struct SvgOptions {
 
 impl Default for SvgOptions {
     fn default() -> Self {
-        Self { margin_mm: 10.0, max_rulings_per_piece: 60, title: "sheetform pattern".into() }
+        Self {
+            margin_mm: 10.0,
+            max_rulings_per_piece: 60,
+            title: "sheetform pattern".into(),
+        }
     }
 }
 
 fn escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
 /// The flat pattern as SVG at true size: the document is `W mm × H mm` and one user unit
@@ -46,8 +53,14 @@ pub fn svg_pattern(mesh: &SheetMesh, options: &SvgOptions) -> String {
         r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" width="{w:.4}mm" height="{h:.4}mm" viewBox="0 0 {w:.4} {h:.4}">"#
     );
     let _ = writeln!(s, "<title>{}</title>", escape(&options.title));
-    let _ = writeln!(s, r#"<desc>1 user unit = 1 mm. Layers: cut (outline and holes), rulings (bending guides), labels.</desc>"#);
-    let _ = writeln!(s, r##"<g id="cut" inkscape:groupmode="layer" inkscape:label="cut" fill="none" stroke="#e00000" stroke-width="0.1">"##);
+    let _ = writeln!(
+        s,
+        r#"<desc>1 user unit = 1 mm. Layers: cut (outline and holes), rulings (bending guides), labels.</desc>"#
+    );
+    let _ = writeln!(
+        s,
+        r##"<g id="cut" inkscape:groupmode="layer" inkscape:label="cut" fill="none" stroke="#e00000" stroke-width="0.1">"##
+    );
     for cycle in mesh.boundary_loops() {
         let mut d = String::new();
         for (i, &v) in cycle.iter().enumerate() {
@@ -74,7 +87,14 @@ pub fn svg_pattern(mesh: &SheetMesh, options: &SvgOptions) -> String {
             }
             let a = mesh.flat[r.vertices[0] as usize];
             let b = mesh.flat[*r.vertices.last().expect("ruling has vertices") as usize];
-            let _ = writeln!(s, r#"<line x1="{:.4}" y1="{:.4}" x2="{:.4}" y2="{:.4}"/>"#, px(a.x), py(a.y), px(b.x), py(b.y));
+            let _ = writeln!(
+                s,
+                r#"<line x1="{:.4}" y1="{:.4}" x2="{:.4}" y2="{:.4}"/>"#,
+                px(a.x),
+                py(a.y),
+                px(b.x),
+                py(b.y)
+            );
         }
     }
     let _ = writeln!(s, "</g>");
@@ -99,7 +119,13 @@ pub fn svg_pattern(mesh: &SheetMesh, options: &SvgOptions) -> String {
                 PieceKind::Curved => "curved",
                 PieceKind::Planar => "planar",
             };
-            let _ = writeln!(s, r#"<text x="{:.4}" y="{:.4}">{} ({kind})</text>"#, px(c.x), py(c.y), escape(&piece.name));
+            let _ = writeln!(
+                s,
+                r#"<text x="{:.4}" y="{:.4}">{} ({kind})</text>"#,
+                px(c.x),
+                py(c.y),
+                escape(&piece.name)
+            );
         }
     }
     let _ = writeln!(s, "</g>");

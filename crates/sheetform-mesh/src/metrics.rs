@@ -66,7 +66,10 @@ pub fn developability_error(mesh: &SheetMesh) -> RulingNormalError {
         // Which side of the directed ruling edge a→b the face's third vertex lies on,
         // in the flat pattern.
         let t = mesh.triangles[f as usize];
-        let c = *t.iter().find(|&&v| v != a && v != b).expect("triangle has a third vertex");
+        let c = *t
+            .iter()
+            .find(|&&v| v != a && v != b)
+            .expect("triangle has a third vertex");
         let (pa, pb, pc) = (mesh.flat[a as usize], mesh.flat[b as usize], mesh.flat[c as usize]);
         let (u, w) = (pb - pa, pc - pa);
         u.x * w.y - u.y * w.x
@@ -85,7 +88,8 @@ pub fn developability_error(mesh: &SheetMesh) -> RulingNormalError {
         for side in [1.0, -1.0] {
             let pick = |e: [u32; 2]| faces_of(e).into_iter().find(|&f| side_of(f, e[0], e[1]) * side > 0.0);
             if let (Some(f0), Some(f1)) = (pick(first), pick(last)) {
-                let (n0, n1): (Vector3<f64>, Vector3<f64>) = (mesh.face_normal(f0 as usize), mesh.face_normal(f1 as usize));
+                let (n0, n1): (Vector3<f64>, Vector3<f64>) =
+                    (mesh.face_normal(f0 as usize), mesh.face_normal(f1 as usize));
                 let angle = n0.cross(&n1).norm().atan2(n0.dot(&n1));
                 worst = Some(worst.map_or(angle, |w: f64| w.max(angle)));
             }

@@ -67,7 +67,11 @@ impl SheetMesh {
     pub fn validate(&self) -> Result<(), MeshError> {
         let n = self.positions.len();
         if self.flat.len() != n {
-            return Err(MeshError::LengthMismatch { what: "flat positions", expected: n, found: self.flat.len() });
+            return Err(MeshError::LengthMismatch {
+                what: "flat positions",
+                expected: n,
+                found: self.flat.len(),
+            });
         }
         if self.face_pieces.len() != self.triangles.len() {
             return Err(MeshError::LengthMismatch {
@@ -81,13 +85,20 @@ impl SheetMesh {
                 return Err(MeshError::NonFinite { vertex: i, which: "3D" });
             }
             if q.iter().any(|c| !c.is_finite()) {
-                return Err(MeshError::NonFinite { vertex: i, which: "flat" });
+                return Err(MeshError::NonFinite {
+                    vertex: i,
+                    which: "flat",
+                });
             }
         }
         for (f, t) in self.triangles.iter().enumerate() {
             for &v in t {
                 if v as usize >= n {
-                    return Err(MeshError::IndexOutOfRange { face: f, vertex: v, vertex_count: n });
+                    return Err(MeshError::IndexOutOfRange {
+                        face: f,
+                        vertex: v,
+                        vertex_count: n,
+                    });
                 }
             }
             if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
@@ -96,7 +107,11 @@ impl SheetMesh {
         }
         for (f, &p) in self.face_pieces.iter().enumerate() {
             if p as usize >= self.pieces.len() {
-                return Err(MeshError::PieceOutOfRange { face: f, piece: p, piece_count: self.pieces.len() });
+                return Err(MeshError::PieceOutOfRange {
+                    face: f,
+                    piece: p,
+                    piece_count: self.pieces.len(),
+                });
             }
         }
         Ok(())

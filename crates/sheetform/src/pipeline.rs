@@ -68,7 +68,11 @@ fn ms(d: std::time::Duration) -> f64 {
 /// # Errors
 /// [`PipelineError::Bend`] for invalid scenes and inadmissible shapes (the error carries
 /// where), nothing else.
-pub fn run_bend(scene_text: &str, options: &BendRunOptions, progress: &mut dyn FnMut(&str, f64)) -> Result<BendRun, PipelineError> {
+pub fn run_bend(
+    scene_text: &str,
+    options: &BendRunOptions,
+    progress: &mut dyn FnMut(&str, f64),
+) -> Result<BendRun, PipelineError> {
     let start = Instant::now();
     progress("reading scene", 0.0);
     let scene = BendScene::from_json(scene_text)?;
@@ -83,13 +87,30 @@ pub fn run_bend(scene_text: &str, options: &BendRunOptions, progress: &mut dyn F
         ("model.obj".into(), obj_string(&sheet.mesh, &name).into_bytes()),
         ("model.glb".into(), glb_bytes(&sheet.mesh, &name)),
         ("model.stl".into(), stl_bytes(&sheet.mesh)),
-        ("pattern.svg".into(), svg_pattern(&sheet.mesh, &SvgOptions { title: format!("{name}: flat pattern"), ..Default::default() }).into_bytes()),
+        (
+            "pattern.svg".into(),
+            svg_pattern(
+                &sheet.mesh,
+                &SvgOptions {
+                    title: format!("{name}: flat pattern"),
+                    ..Default::default()
+                },
+            )
+            .into_bytes(),
+        ),
     ];
     let frames = options.animate_frames;
     for i in 0..frames {
-        let t = if frames == 1 { 1.0 } else { i as f64 / (frames - 1) as f64 };
+        let t = if frames == 1 {
+            1.0
+        } else {
+            i as f64 / (frames - 1) as f64
+        };
         let frame = sheet.frame(&model, t)?;
-        files.push((format!("frames/frame-{i:04}.obj"), obj_string(&frame, &format!("{name} t={t:.4}")).into_bytes()));
+        files.push((
+            format!("frames/frame-{i:04}.obj"),
+            obj_string(&frame, &format!("{name} t={t:.4}")).into_bytes(),
+        ));
         progress("animating", 0.5 + 0.5 * (i + 1) as f64 / frames as f64);
     }
     let exported = Instant::now();
@@ -101,7 +122,12 @@ pub fn run_bend(scene_text: &str, options: &BendRunOptions, progress: &mut dyn F
         total_ms: ms(exported - start),
     };
     progress("done", 1.0);
-    Ok(BendRun { model, sheet, files, report })
+    Ok(BendRun {
+        model,
+        sheet,
+        files,
+        report,
+    })
 }
 
 /// Mesh measures shared by every command's report.
@@ -109,7 +135,13 @@ fn mesh_measures(mesh: &SheetMesh) -> (f64, f64, f64, f64, f64) {
     let iso = isometry_error(mesh);
     let dev = developability_error(mesh);
     let mm = mesh.unit.millimetres();
-    (iso.max_relative, iso.mean_relative, dev.max_radians, mesh.flat_area() * mm * mm, mesh.area() * mm * mm)
+    (
+        iso.max_relative,
+        iso.mean_relative,
+        dev.max_radians,
+        mesh.flat_area() * mm * mm,
+        mesh.area() * mm * mm,
+    )
 }
 
 fn bend_report(model: &BendModel, sheet: &BentSheet, input: Option<String>, files: &[(String, Vec<u8>)]) -> Report {
@@ -157,7 +189,9 @@ fn bend_report(model: &BendModel, sheet: &BentSheet, input: Option<String>, file
 
 /// The report of a shape refused as inadmissible (no mesh is made).
 pub fn inadmissible_report(error: &BendError, unit_mm: f64, input: Option<String>) -> Option<Report> {
-    let BendError::Inadmissible(detail) = error else { return None };
+    let BendError::Inadmissible(detail) = error else {
+        return None;
+    };
     Some(Report {
         format: REPORT_FORMAT,
         command: "bend".into(),
@@ -195,13 +229,22 @@ pub fn inadmissible_report(error: &BendError, unit_mm: f64, input: Option<String
 /// The directory cannot be created, or a write fails.
 pub fn write_outputs(dir: &Path, files: &[(String, Vec<u8>)], report: &Report) -> Result<(), PipelineError> {
     if dir.exists() && !dir.is_dir() {
-        return Err(PipelineError::OutputDirectory { path: dir.display().to_string(), message: "exists and is not a directory".into() });
+        return Err(PipelineError::OutputDirectory {
+            path: dir.display().to_string(),
+            message: "exists and is not a directory".into(),
+        });
     }
-    std::fs::create_dir_all(dir).map_err(|e| PipelineError::OutputDirectory { path: dir.display().to_string(), message: e.to_string() })?;
+    std::fs::create_dir_all(dir).map_err(|e| PipelineError::OutputDirectory {
+        path: dir.display().to_string(),
+        message: e.to_string(),
+    })?;
     for (name, bytes) in files {
         let path = dir.join(name);
         if let Some(parent) = path.parent() {
-            std::fs::create_dir_all(parent).map_err(|e| PipelineError::OutputDirectory { path: parent.display().to_string(), message: e.to_string() })?;
+            std::fs::create_dir_all(parent).map_err(|e| PipelineError::OutputDirectory {
+                path: parent.display().to_string(),
+                message: e.to_string(),
+            })?;
         }
         write_atomic(&path, bytes)?;
     }
