@@ -238,20 +238,29 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
         Ref::Slot(s) => slots[s],
         Ref::Vertex(v) => v,
     };
-    // Constraint edges.
-    let mut edges: Vec<[usize; 2]> = Vec::new();
-    let mut kinds: HashMap<[usize; 2], EdgeKind> = HashMap::default();
-    let mut push_edge = |a: usize, b: usize, kind: EdgeKind, edges: &mut Vec<[usize; 2]>| {
+    // Constraint edges, each stored once in the direction it was first given (boundary
+    // edges in ring order, the sheet on their left), with its kind.
+    let mut edges: Vec<[usize; 2]> = Vec::with_capacity(points.len() * 2);
+    let mut edge_kinds: Vec<EdgeKind> = Vec::with_capacity(points.len() * 2);
+    let mut edge_index: HashMap<[usize; 2], usize> =
+        HashMap::with_capacity_and_hasher(points.len() * 2, Default::default());
+    let mut push_edge = |a: usize, b: usize, kind: EdgeKind, edges: &mut Vec<[usize; 2]>, kinds: &mut Vec<EdgeKind>| {
         if a == b {
             return;
         }
         let key = if a < b { [a, b] } else { [b, a] };
-        match kinds.get(&key) {
-            Some(EdgeKind::Boundary) | Some(EdgeKind::Ruling { .. }) => {}
-            _ => {
-                if kinds.insert(key, kind).is_none() {
-                    edges.push(key);
+        match edge_index.get(&key) {
+            Some(&e) => {
+                // A geodesic edge that is also a ruling or boundary edge takes that kind.
+                if kinds[e] == EdgeKind::Geodesic && kind != EdgeKind::Geodesic {
+                    kinds[e] = kind;
+                    edges[e] = [a, b];
                 }
+            }
+            None => {
+                edge_index.insert(key, edges.len());
+                edges.push([a, b]);
+                kinds.push(kind);
             }
         }
     };
@@ -269,7 +278,7 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
         }
     }
     for &[a, b] in &forward_boundary {
-        push_edge(a, b, EdgeKind::Boundary, &mut edges);
+        push_edge(a, b, EdgeKind::Boundary, &mut edges, &mut edge_kinds);
     }
     let mut rulings = Vec::with_capacity(chains.len());
     for c in &chains {
@@ -289,6 +298,7 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
                     ruling: c.ruling,
                 },
                 &mut edges,
+                &mut edge_kinds,
             );
         }
         if dedup.len() >= 2 {
@@ -324,7 +334,7 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
         }
         chain.sort_by(|a, b| a.0.total_cmp(&b.0));
         for w in chain.windows(2) {
-            push_edge(w[0].1, w[1].1, EdgeKind::Geodesic, &mut edges);
+            push_edge(w[0].1, w[1].1, EdgeKind::Geodesic, &mut edges, &mut edge_kinds);
         }
     }
 
@@ -333,24 +343,26 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
     check_region_crossings(model, geometries, scale)?;
 
     // Faces of the planar graph (half-edge walk), each to the left of its edges.
-    let faces = graph_faces(&points, &edges);
-    let forward_boundary: HashSet<[usize; 2]> = forward_boundary.into_iter().collect();
-    let kind_of = |a: usize, b: usize| kinds.get(&if a < b { [a, b] } else { [b, a] }).copied();
+    let graph = graph_faces(&points, &edges);
+    let kind_of_half = |h: usize| edge_kinds[graph.edge[h]];
+    let vertex_cycle = |cycle: &[usize]| cycle.iter().map(|&h| graph.origin[h]).collect::<Vec<usize>>();
+    let mut outer_halves: Vec<Vec<usize>> = Vec::new();
     let mut outer_cycles: Vec<Vec<usize>> = Vec::new();
     let mut inner_cycles: Vec<Vec<usize>> = Vec::new();
-    for cycle in faces {
-        let n = cycle.len();
-        let outside = (0..n).any(|i| {
-            let (a, b) = (cycle[i], cycle[(i + 1) % n]);
-            kind_of(a, b) == Some(EdgeKind::Boundary) && !forward_boundary.contains(&[a, b])
-        });
+    for cycle in &graph.faces {
+        // Left of a boundary edge run backwards is outside the sheet (or in a hole).
+        let outside = cycle
+            .iter()
+            .any(|&h| kind_of_half(h) == EdgeKind::Boundary && graph.origin[h] != edges[graph.edge[h]][0]);
         if outside {
             continue;
         }
-        if cycle_area(&points, &cycle) > 0.0 {
-            outer_cycles.push(cycle);
+        let vertices = vertex_cycle(cycle);
+        if cycle_area(&points, &vertices) > 0.0 {
+            outer_cycles.push(vertices);
+            outer_halves.push(cycle.clone());
         } else {
-            inner_cycles.push(cycle);
+            inner_cycles.push(vertices);
         }
     }
     // Islands (holes no ruling touches) belong to the smallest face around them.
@@ -398,10 +410,10 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
         })));
     }
     // Labels from ruling edges; cells join faces across geodesic edges.
-    let mut face_of_half: HashMap<[usize; 2], usize> = HashMap::default();
-    for (f, cycle) in outer_cycles.iter().enumerate() {
-        for i in 0..cycle.len() {
-            face_of_half.insert([cycle[i], cycle[(i + 1) % cycle.len()]], f);
+    let mut face_of_half = vec![usize::MAX; graph.origin.len()];
+    for (f, cycle) in outer_halves.iter().enumerate() {
+        for &h in cycle {
+            face_of_half[h] = f;
         }
     }
     let mut parent: Vec<usize> = (0..outer_cycles.len()).collect();
@@ -413,11 +425,10 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
         x
     }
     let mut face_labels: Vec<Vec<(usize, usize)>> = vec![Vec::new(); outer_cycles.len()];
-    for (f, cycle) in outer_cycles.iter().enumerate() {
-        for i in 0..cycle.len() {
-            let (a, b) = (cycle[i], cycle[(i + 1) % cycle.len()]);
-            match kind_of(a, b) {
-                Some(EdgeKind::Ruling { region, ruling }) => {
+    for (f, cycle) in outer_halves.iter().enumerate() {
+        for &h in cycle {
+            match kind_of_half(h) {
+                EdgeKind::Ruling { region, ruling } => {
                     let s = &geometries[region].samples[ruling];
                     let m = Vec2::new(s.flat_ruling.y, -s.flat_ruling.x);
                     let m = if m.dot(&model.regions[region].flat_direction) >= 0.0 {
@@ -425,20 +436,21 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
                     } else {
                         -m
                     };
-                    let d = points[b] - points[a];
+                    let d = points[graph.target[h]] - points[graph.origin[h]];
                     let left = Vec2::new(-d.y, d.x);
                     let part = if left.dot(&m) > 0.0 { ruling + 1 } else { ruling };
                     if !face_labels[f].contains(&(region, part)) {
                         face_labels[f].push((region, part));
                     }
                 }
-                Some(EdgeKind::Geodesic) => {
-                    if let Some(&g) = face_of_half.get(&[b, a]) {
+                EdgeKind::Geodesic => {
+                    let g = face_of_half[graph.twin[h]];
+                    if g != usize::MAX {
                         let (ra, rb) = (find(&mut parent, f), find(&mut parent, g));
                         parent[ra] = rb;
                     }
                 }
-                _ => {}
+                EdgeKind::Boundary => {}
             }
         }
     }
@@ -557,53 +569,90 @@ fn cycle_interior_point(points: &[Vec2], cycle: &[usize]) -> Vec2 {
     cycle.iter().map(|&v| points[v]).sum::<Vec2>() / n as f64
 }
 
-/// The faces of a planar straight-line graph as vertex cycles, each face to the left of
-/// its directed edges: at each vertex the walk takes the next outgoing edge clockwise
-/// from the one it came in on. Half-edges live in arrays (adjacency sorted by angle per
-/// vertex), so the walk is linear after the per-vertex sorts.
-fn graph_faces(points: &[Vec2], edges: &[[usize; 2]]) -> Vec<Vec<usize>> {
+/// The half-edges of a planar straight-line graph and its faces.
+struct PlanarGraph {
+    /// Start vertex of each half-edge.
+    origin: Vec<usize>,
+    /// End vertex of each half-edge.
+    target: Vec<usize>,
+    /// The opposite half-edge.
+    twin: Vec<usize>,
+    /// The undirected edge (index into the input) of each half-edge.
+    edge: Vec<usize>,
+    /// Faces as cycles of half-edges, each face to the left of its half-edges.
+    faces: Vec<Vec<usize>>,
+}
+
+/// Monotone in the polar angle of `d` (the "diamond angle", in [0, 4)): sorts directions
+/// like `atan2` without trigonometry.
+fn pseudo_angle(d: Vec2) -> f64 {
+    let p = d.y / (d.x.abs() + d.y.abs());
+    if d.x < 0.0 {
+        2.0 - p
+    } else if d.y < 0.0 {
+        4.0 + p
+    } else {
+        p
+    }
+}
+
+/// The faces of a planar straight-line graph: at each vertex the walk takes the next
+/// outgoing edge clockwise from the one it came in on, so every face lies to the left of
+/// its half-edges. Half-edges live in arrays (adjacency sorted by angle per vertex), so
+/// the walk is linear after the per-vertex sorts.
+fn graph_faces(points: &[Vec2], edges: &[[usize; 2]]) -> PlanarGraph {
     let nv = points.len();
-    let mut degree = vec![0usize; nv + 1];
-    for &[a, b] in edges {
-        degree[a] += 1;
-        degree[b] += 1;
-    }
     let mut start = vec![0usize; nv + 1];
-    for v in 0..nv {
-        start[v + 1] = start[v] + degree[v];
-    }
-    let mut target = vec![0usize; start[nv]];
-    let mut fill = start.clone();
     for &[a, b] in edges {
+        start[a + 1] += 1;
+        start[b + 1] += 1;
+    }
+    for v in 0..nv {
+        start[v + 1] += start[v];
+    }
+    let halves = start[nv];
+    let mut target = vec![0usize; halves];
+    let mut edge = vec![0usize; halves];
+    let mut fill = start.clone();
+    for (e, &[a, b]) in edges.iter().enumerate() {
         target[fill[a]] = b;
+        edge[fill[a]] = e;
         fill[a] += 1;
         target[fill[b]] = a;
+        edge[fill[b]] = e;
         fill[b] += 1;
     }
+    let mut order: Vec<(f64, usize, usize)> = Vec::new();
     for v in 0..nv {
         let p = points[v];
-        target[start[v]..start[v + 1]].sort_by(|&x, &y| {
-            let (dx, dy) = (points[x] - p, points[y] - p);
-            dx.y.atan2(dx.x).total_cmp(&dy.y.atan2(dy.x))
-        });
-    }
-    // twin[h]: the half-edge w→v for h = v→w.
-    let mut twin = vec![0usize; target.len()];
-    for v in 0..nv {
-        for h in start[v]..start[v + 1] {
-            let w = target[h];
-            twin[h] = (start[w]..start[w + 1])
-                .find(|&g| target[g] == v)
-                .expect("edges are symmetric");
+        let range = start[v]..start[v + 1];
+        order.clear();
+        order.extend(
+            range
+                .clone()
+                .map(|h| (pseudo_angle(points[target[h]] - p), target[h], edge[h])),
+        );
+        order.sort_by(|x, y| x.0.total_cmp(&y.0));
+        for (h, &(_, t, e)) in range.zip(order.iter()) {
+            target[h] = t;
+            edge[h] = e;
         }
     }
-    let mut origin = vec![0usize; target.len()];
+    let mut origin = vec![0usize; halves];
     for v in 0..nv {
         origin[start[v]..start[v + 1]].fill(v);
     }
-    let mut used = vec![false; target.len()];
+    // twin[h]: the half-edge w→v for h = v→w.
+    let mut twin = vec![0usize; halves];
+    for h in 0..halves {
+        let (v, w) = (origin[h], target[h]);
+        twin[h] = (start[w]..start[w + 1])
+            .find(|&g| target[g] == v)
+            .expect("edges are symmetric");
+    }
+    let mut used = vec![false; halves];
     let mut faces = Vec::new();
-    for h0 in 0..target.len() {
+    for h0 in 0..halves {
         if used[h0] {
             continue;
         }
@@ -611,8 +660,8 @@ fn graph_faces(points: &[Vec2], edges: &[[usize; 2]]) -> Vec<Vec<usize>> {
         let mut h = h0;
         loop {
             used[h] = true;
-            cycle.push(origin[h]);
-            // At v = target[h], the reverse half-edge is twin[h]; take the next one clockwise.
+            cycle.push(h);
+            // At v = target[h] the reverse half-edge is twin[h]; take the next one clockwise.
             let v = target[h];
             let (s, e) = (start[v], start[v + 1]);
             let i = twin[h];
@@ -623,7 +672,13 @@ fn graph_faces(points: &[Vec2], edges: &[[usize; 2]]) -> Vec<Vec<usize>> {
         }
         faces.push(cycle);
     }
-    faces
+    PlanarGraph {
+        origin,
+        target,
+        twin,
+        edge,
+        faces,
+    }
 }
 
 /// Triangulates one face (a counter-clockwise cycle, with clockwise island cycles): a fan
