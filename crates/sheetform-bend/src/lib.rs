@@ -12,6 +12,7 @@ mod admissibility;
 mod bend;
 mod control_curve;
 mod curve_of_regression;
+mod edit;
 mod error;
 mod flat_layout;
 mod folded_strip;
@@ -24,6 +25,9 @@ pub use admissibility::{check_region, RegionAdmissibility};
 pub use bend::{bend, place, region_geometries, region_geometry, BentSheet, Placement, RegionGeometry, RegionSummary};
 pub use control_curve::{AnalyticCurve, ControlCurve, CurveShape};
 pub use curve_of_regression::regression_distance;
+pub use edit::{
+    solve_end_normals, trim_to_length, BendEditor, EditInfo, EndHandle, EndHandleOptions, LengthPreservation,
+};
 pub use error::{BendError, InadmissibleDetail};
 pub use flat_layout::{flat_layout, Cell, EdgeKind, FlatLayout};
 pub use folded_strip::{lift, FoldedStrip};

@@ -296,54 +296,27 @@ impl BendModel {
             up,
             closed: spec.closed,
         };
-        // The flat geodesic must stay on the sheet.
-        let (a, b) = (region.flat_start, region.flat_end());
-        let eps = 1e-9 * sheet.scale();
-        let leaves = |p: Vec2| BendError::GeodesicLeavesSheet {
-            region: k,
-            name: name.clone(),
-            x: p.x,
-            y: p.y,
-        };
-        for edge in sheet.edges() {
-            if let Some((s, _)) = sheetform_geometry::segment_intersection(a, b, edge.start, edge.end) {
-                let p = a + (b - a) * s;
-                if (p - a).norm() > eps && (p - b).norm() > eps {
-                    // Touching the boundary at an interior point is only fine if the
-                    // segment does not cross it: probe on both sides.
-                    let d = (b - a).normalize() * (10.0 * eps);
-                    if !sheet.contains(p + d) || !sheet.contains(p - d) {
-                        return Err(leaves(p));
-                    }
-                }
-            }
-        }
-        for i in 1..16 {
-            let p = a + (b - a) * (i as f64 / 16.0);
-            if !sheet.contains(p) {
-                let (d, _) = crate::ruling_extent::locate_on_boundary(sheet, p, 0..sheet.ring_count());
-                if d > eps {
-                    return Err(leaves(p));
-                }
-            }
-        }
-        if spec.closed {
-            let (u0, u1) = region.curve.domain();
-            let (d0, d1) = (region.curve.derivatives4(u0), region.curve.derivatives4(u1));
-            let gap = (d0[0] - d1[0]).norm();
-            let turn = d0[1].normalize().dot(&d1[1].normalize());
-            if gap > 1e-6 * length || turn < 1.0 - 1e-9 {
-                return Err(field(
-                    format!("{path}.closed"),
-                    format!(
-                        "the curve is not closed: its ends are {gap:.3e} apart and its end tangents {:.3e} degrees apart (use a periodic B-spline)",
-                        turn.clamp(-1.0, 1.0).acos().to_degrees()
-                    ),
-                ));
-            }
-        }
-        let _ = region.curve.shape().point(0.0);
+        check_region_on_sheet(k, &region, sheet)?;
         Ok(region)
+    }
+
+    /// The same model with region `k`'s control curve replaced (the flat geodesic keeps
+    /// its start and direction; its length follows the curve's), validated again.
+    ///
+    /// # Errors
+    /// A degenerate curve, a geodesic that leaves the sheet, a closed region no longer closed.
+    pub fn with_curve(&self, k: usize, shape: CurveShape) -> Result<Self, BendError> {
+        let old = &self.regions[k];
+        let curve = ControlCurve::new(shape).map_err(|source| BendError::DegenerateCurve {
+            region: k,
+            name: old.name.clone(),
+            reason: format!("{source}"),
+        })?;
+        let region = CurvedRegion { curve, ..old.clone() };
+        check_region_on_sheet(k, &region, &self.sheet)?;
+        let mut model = self.clone();
+        model.regions[k] = region;
+        Ok(model)
     }
 }
 
@@ -363,4 +336,59 @@ impl<C: ParametricCurve<3>> ParametricCurve<3> for Offset<C> {
             *p += self.offset;
         }
     }
+}
+
+/// The flat geodesic of a region must stay on the sheet, and a closed region's curve must
+/// be closed.
+fn check_region_on_sheet(k: usize, region: &CurvedRegion, sheet: &Polygon) -> Result<(), BendError> {
+    let name = region.name.clone();
+    let path = format!("regions[{k}]");
+    let length = region.curve.length();
+    // The flat geodesic must stay on the sheet.
+    let (a, b) = (region.flat_start, region.flat_end());
+    let eps = 1e-9 * sheet.scale();
+    let leaves = |p: Vec2| BendError::GeodesicLeavesSheet {
+        region: k,
+        name: name.clone(),
+        x: p.x,
+        y: p.y,
+    };
+    for edge in sheet.edges() {
+        if let Some((s, _)) = sheetform_geometry::segment_intersection(a, b, edge.start, edge.end) {
+            let p = a + (b - a) * s;
+            if (p - a).norm() > eps && (p - b).norm() > eps {
+                // Touching the boundary at an interior point is only fine if the
+                // segment does not cross it: probe on both sides.
+                let d = (b - a).normalize() * (10.0 * eps);
+                if !sheet.contains(p + d) || !sheet.contains(p - d) {
+                    return Err(leaves(p));
+                }
+            }
+        }
+    }
+    for i in 1..16 {
+        let p = a + (b - a) * (i as f64 / 16.0);
+        if !sheet.contains(p) {
+            let (d, _) = crate::ruling_extent::locate_on_boundary(sheet, p, 0..sheet.ring_count());
+            if d > eps {
+                return Err(leaves(p));
+            }
+        }
+    }
+    if region.closed {
+        let (u0, u1) = region.curve.domain();
+        let (d0, d1) = (region.curve.derivatives4(u0), region.curve.derivatives4(u1));
+        let gap = (d0[0] - d1[0]).norm();
+        let turn = d0[1].normalize().dot(&d1[1].normalize());
+        if gap > 1e-6 * length || turn < 1.0 - 1e-9 {
+            return Err(field(
+                    format!("{path}.closed"),
+                    format!(
+                        "the curve is not closed: its ends are {gap:.3e} apart and its end tangents {:.3e} degrees apart (use a periodic B-spline)",
+                        turn.clamp(-1.0, 1.0).acos().to_degrees()
+                    ),
+                ));
+        }
+    }
+    Ok(())
 }

@@ -96,6 +96,16 @@ impl<const D: usize> Bezier<D> {
         head
     }
 
+    /// The same curve with control point `index` moved to `point`.
+    ///
+    /// # Panics
+    /// `index` out of range.
+    pub fn with_point(&self, index: usize, point: SVector<f64, D>) -> Self {
+        let mut pts = self.control_points().to_vec();
+        pts[index] = point;
+        Self::new(pts).expect("a finite point keeps the curve valid")
+    }
+
     /// Moves every control point by `offset`.
     pub fn translated(&self, offset: SVector<f64, D>) -> Self {
         Self::new(self.control_points().iter().map(|p| p + offset).collect())

@@ -29,4 +29,41 @@ fn bench_bend(c: &mut Criterion) {
 }
 
 criterion_group!(benches, bench_bend);
-criterion_main!(benches);
+
+fn bench_edits(c: &mut Criterion) {
+    use sheetform::bend::{
+        solve_end_normals, trim_to_length, BendEditor, CurveShape, EndHandleOptions, LengthPreservation,
+    };
+    use sheetform::geometry::Vec3;
+    let m = model(1_000);
+    let CurveShape::Bezier(curve) = m.regions[0].curve.shape().clone() else {
+        panic!("example uses a Bézier")
+    };
+    let points = curve.control_points().to_vec();
+    let rot = nalgebra::Rotation3::from_axis_angle(&Vec3::x_axis(), 0.1);
+    let (n0, n1) = (rot * Vec3::new(0.0, 0.0, 1.0), rot * Vec3::new(-1.0, 0.0, 0.0));
+    let options = EndHandleOptions::default();
+    let mut group = c.benchmark_group("edit");
+    group.bench_function("end-handle solve", |b| {
+        b.iter(|| solve_end_normals(black_box(&points), Some(n0), Some(n1), &options))
+    });
+    let length = m.regions[0].curve.length();
+    let dragged = curve.with_point(2, points[2] + Vec3::new(10.0, 0.0, 5.0));
+    group.bench_function("length-preserving trim", |b| {
+        b.iter(|| trim_to_length(black_box(&dragged), length))
+    });
+    group.bench_function("length-preserving drag + rebend (1000 rulings)", |b| {
+        b.iter_batched(
+            || BendEditor::new(m.clone()).expect("admissible"),
+            |mut e| {
+                e.drag_preserving_length(0, 2, points[2] + Vec3::new(10.0, 0.0, 5.0), LengthPreservation::Trim)
+                    .expect("valid edit")
+            },
+            criterion::BatchSize::LargeInput,
+        )
+    });
+    group.finish();
+}
+
+criterion_group!(edits, bench_edits);
+criterion_main!(benches, edits);
