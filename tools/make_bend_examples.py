@@ -51,3 +51,39 @@ dump("closed-strip.json", {"name": "closed strip (Bo & Wang Fig. 12c)", "units":
   "outline": [[0,-15],[473.614139600604,-15],[473.614139600604,15],[0,15]],
   "regions": [{"name": "loop", "flat_start": [0,0], "flat_direction": [1,0], "closed": True,
     "curve": {"type": "bspline", "degree": 4, "periodic": True, "control_points": pts}}]})
+
+# Fig. 6: a textured sheet (the flat sheet is the texture domain). The texture is a
+# labelled grid written as a PNG with the standard library only.
+import struct, zlib
+def png(path, w, h, pixel):
+    raw = b"".join(b"\x00" + bytes(c for x in range(w) for c in pixel(x, y)) for y in range(h))
+    chunk = lambda t, d: struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xffffffff)
+    open(path, "wb").write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
+                            + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
+def grid(x, y):
+    # 480 x 240 px over a 240 x 120 mm sheet: 2 px per mm; lines every 10 mm, bold every 50.
+    bold = x % 100 < 2 or y % 100 < 2
+    thin = x % 20 == 0 or y % 20 == 0
+    checker = ((x // 40) + (y // 40)) % 2
+    base = (250, 244, 228) if checker else (236, 226, 200)
+    return (40, 70, 140) if bold else (150, 160, 190) if thin else base
+import os
+os.makedirs("textures", exist_ok=True)
+png("textures/grid-240x120mm.png", 480, 240, grid)
+dump("textured-sheet.json", {
+  "name": "textured sheet (Bo & Wang Fig. 6)", "units": "mm", "texture": "textures/grid-240x120mm.png",
+  "outline": [[0,-60],[240,-60],[240,60],[0,60]],
+  "regions": [{"name": "curl", "flat_start": [0,0], "flat_direction": [1,0],
+    "curve": {"type": "bezier", "control_points": [[0,0,0],[70,0,10],[140,8,60],[160,12,120]]}}]})
+
+# Fig. 13: a non-geodesic control curve: a band around a flat circular arc, bent along a
+# helix whose curvature exceeds the arc's (the bent curve keeps the arc's curvature as its
+# geodesic curvature).
+def arc(r, a0, a1, n=24):
+    return [[round(r*math.cos(math.radians(a0+(a1-a0)*i/n)),9), round(r*math.sin(math.radians(a0+(a1-a0)*i/n)),9)] for i in range(n+1)]
+dump("arc-band.json", {
+  "name": "band on a circular arc (Bo & Wang Fig. 13)", "units": "mm",
+  "outline": arc(75, -95, -20) + arc(45, -20, -95),
+  "regions": [{"name": "band", "flat_start": [0,-60], "flat_direction": [1,0],
+    "flat_curve": {"type": "arc", "radius": 60, "turn": "left"},
+    "curve": {"type": "helix", "radius": 40, "rise_per_radian": 10, "start_angle": -math.pi/2, "end_angle": 0.0}}]})

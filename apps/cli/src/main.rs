@@ -76,6 +76,7 @@ fn bend_command(scene: PathBuf, output: PathBuf, animate: usize, quiet: bool) ->
     let options = BendRunOptions {
         animate_frames: animate,
         input: Some(scene.display().to_string()),
+        base_dir: scene.parent().map(|p| p.to_path_buf()),
     };
     let result = run_bend(&text, &options, &mut |stage, fraction| {
         if let Some(b) = &bar {

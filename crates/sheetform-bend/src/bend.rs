@@ -28,15 +28,7 @@ pub struct RegionGeometry {
 /// Degenerate curves (see [`sample_rulings`]).
 pub fn region_geometry(model: &BendModel, k: usize) -> Result<RegionGeometry, BendError> {
     let r = &model.regions[k];
-    let samples = sample_rulings(
-        k,
-        &r.name,
-        &r.curve,
-        r.flat_start,
-        r.flat_direction,
-        r.up,
-        &model.tessellation,
-    )?;
+    let samples = sample_rulings(k, &r.name, &r.curve, &r.flat, r.up, &model.tessellation)?;
     let scale = model.sheet.scale();
     let extents: Vec<RulingExtent> = samples
         .iter()
@@ -239,11 +231,7 @@ pub fn region_geometries(model: &BendModel) -> Result<Vec<RegionGeometry>, BendE
 /// See [`region_geometries`], [`flat_layout`] and [`place`].
 pub fn bend(model: &BendModel) -> Result<BentSheet, BendError> {
     let geometries = region_geometries(model)?;
-    let strips: Vec<FoldedStrip> = geometries
-        .iter()
-        .zip(&model.regions)
-        .map(|(g, r)| FoldedStrip::new(&g.samples, r.flat_direction))
-        .collect();
+    let strips: Vec<FoldedStrip> = geometries.iter().map(|g| FoldedStrip::new(&g.samples)).collect();
     let layout = flat_layout(model, &geometries)?;
     assemble(model, geometries, strips, layout)
 }

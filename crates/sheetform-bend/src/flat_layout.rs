@@ -317,7 +317,12 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
         // Outline or hole vertices that the flat geodesic passes through (a hole tangent
         // to it, say) must be vertices of its chain too.
         let region = &model.regions[k];
-        let (start, dir, length) = (region.flat_start, region.flat_direction, region.curve.length());
+        let length = region.curve.length();
+        let (start, dir) = match region.flat {
+            crate::FlatPath::Straight { start, direction } => (start, direction),
+            // Curved flat paths: their chords rarely pass exactly through an outline vertex.
+            _ => (Vec2::zeros(), Vec2::zeros()),
+        };
         let mut chain: Vec<(f64, usize)> = g
             .iter()
             .zip(&geometries[k].samples)
@@ -431,11 +436,7 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
                 EdgeKind::Ruling { region, ruling } => {
                     let s = &geometries[region].samples[ruling];
                     let m = Vec2::new(s.flat_ruling.y, -s.flat_ruling.x);
-                    let m = if m.dot(&model.regions[region].flat_direction) >= 0.0 {
-                        m
-                    } else {
-                        -m
-                    };
+                    let m = if m.dot(&s.flat_tangent) >= 0.0 { m } else { -m };
                     let d = points[graph.target[h]] - points[graph.origin[h]];
                     let left = Vec2::new(-d.y, d.x);
                     let part = if left.dot(&m) > 0.0 { ruling + 1 } else { ruling };

@@ -37,11 +37,10 @@ pub struct FoldedStrip {
 }
 
 impl FoldedStrip {
-    /// Builds the motions from the ruling samples; `flat_direction` is the unit direction
-    /// of the flat geodesic.
-    pub fn new(samples: &[RulingSample], flat_direction: Vec2) -> Self {
+    /// Builds the motions from the ruling samples.
+    pub fn new(samples: &[RulingSample]) -> Self {
         let n = samples.len();
-        let e = flat_direction;
+        let e = samples[0].flat_tangent;
         let side = Vec2::new(-e.y, e.x);
         let flat_frame = Matrix3::new(e.x, side.x, 0.0, e.y, side.y, 0.0, 0.0, 0.0, 1.0);
         let first = &samples[0];

@@ -15,6 +15,7 @@ mod curve_of_regression;
 mod edit;
 mod error;
 mod flat_layout;
+mod flat_path;
 mod folded_strip;
 mod model;
 mod rectifying_developable;
@@ -30,8 +31,9 @@ pub use edit::{
 };
 pub use error::{BendError, InadmissibleDetail};
 pub use flat_layout::{flat_layout, Cell, EdgeKind, FlatLayout};
+pub use flat_path::{FlatCurve, FlatFrame, FlatPath};
 pub use folded_strip::{lift, FoldedStrip};
 pub use model::{curve_shape, BendModel, CurvedRegion};
 pub use rectifying_developable::{sample_rulings, RulingSample};
 pub use ruling_extent::{ruling_extent, BoundaryPoint, RulingExtent};
-pub use scene::{BendScene, CurveSpec, CurvedRegionSpec, TessellationOptions};
+pub use scene::{BendScene, CurveSpec, CurvedRegionSpec, FlatCurveSpec, TessellationOptions};

@@ -2,10 +2,11 @@
 
 use crate::{
     control_curve::{ControlCurve, CurveShape},
-    scene::{BendScene, CurveSpec, CurvedRegionSpec},
+    flat_path::{FlatCurve, FlatPath},
+    scene::{BendScene, CurveSpec, CurvedRegionSpec, FlatCurveSpec},
     BendError, TessellationOptions,
 };
-use sheetform_geometry::{BSpline3, Bezier3, ParametricCurve, Polygon, Vec2, Vec3};
+use sheetform_geometry::{BSpline2, BSpline3, Bezier2, Bezier3, ParametricCurve, Polygon, Vec2, Vec3};
 use sheetform_mesh::LengthUnit;
 
 /// One curved region, validated.
@@ -13,12 +14,10 @@ use sheetform_mesh::LengthUnit;
 pub struct CurvedRegion {
     /// Name (from the scene or `curved-K`).
     pub name: String,
-    /// The 3D control curve (a geodesic of the bent sheet).
+    /// The 3D control curve (a geodesic of the bent sheet when `flat` is straight).
     pub curve: ControlCurve,
-    /// Start of the flat geodesic segment.
-    pub flat_start: Vec2,
-    /// Unit direction of the flat geodesic segment.
-    pub flat_direction: Vec2,
+    /// Its image on the flat sheet.
+    pub flat: FlatPath,
     /// Preferred direction of the sheet's top normal at the start of the curve.
     pub up: Vec3,
     /// Closed strip: the two end rulings are glued.
@@ -26,9 +25,14 @@ pub struct CurvedRegion {
 }
 
 impl CurvedRegion {
-    /// End of the flat geodesic segment.
+    /// Start of the flat path.
+    pub fn flat_start(&self) -> Vec2 {
+        self.flat.frame(0.0).point
+    }
+
+    /// End of the flat path.
     pub fn flat_end(&self) -> Vec2 {
-        self.flat_start + self.flat_direction * self.curve.length()
+        self.flat.frame(self.curve.length()).point
     }
 }
 
@@ -45,6 +49,8 @@ pub struct BendModel {
     pub regions: Vec<CurvedRegion>,
     /// Tessellation knobs.
     pub tessellation: TessellationOptions,
+    /// Texture path as written in the scene (relative to the scene file).
+    pub texture: Option<String>,
 }
 
 fn field(field: impl Into<String>, message: impl Into<String>) -> BendError {
@@ -226,6 +232,7 @@ impl BendModel {
             sheet,
             regions,
             tessellation: t,
+            texture: scene.texture.clone(),
         })
     }
 
@@ -243,41 +250,8 @@ impl BendModel {
             name: name.clone(),
             reason: format!("{source} (a zero-length curve cannot bend a sheet)"),
         })?;
-        let flat_start = finite2(spec.flat_start, &format!("{path}.flat_start"))?;
         let length = curve.length();
-        let flat_direction = match (spec.flat_end, spec.flat_direction) {
-            (Some(_), Some(_)) => return Err(field(&path, "give either `flat_end` or `flat_direction`, not both")),
-            (None, None) => return Err(field(&path, "needs `flat_end` or `flat_direction`")),
-            (Some(end), None) => {
-                let end = finite2(end, &format!("{path}.flat_end"))?;
-                let flat_length = (end - flat_start).norm();
-                if flat_length == 0.0 {
-                    return Err(field(
-                        format!("{path}.flat_end"),
-                        "equals `flat_start`: the flat geodesic has zero length",
-                    ));
-                }
-                let relative = (flat_length - length).abs() / length;
-                if relative > t.length_tolerance {
-                    return Err(BendError::LengthMismatch {
-                        region: k,
-                        name,
-                        curve_length: length,
-                        flat_length,
-                        relative,
-                        tolerance: t.length_tolerance,
-                    });
-                }
-                (end - flat_start) / flat_length
-            }
-            (None, Some(d)) => {
-                let d = finite2(d, &format!("{path}.flat_direction"))?;
-                if d.norm() == 0.0 {
-                    return Err(field(format!("{path}.flat_direction"), "is the zero vector"));
-                }
-                d.normalize()
-            }
-        };
+        let flat = flat_path(k, spec, &name, length, t)?;
         let up = match spec.up {
             None => Vec3::z(),
             Some(u) => {
@@ -291,8 +265,7 @@ impl BendModel {
         let region = CurvedRegion {
             name: name.clone(),
             curve,
-            flat_start,
-            flat_direction,
+            flat,
             up,
             closed: spec.closed,
         };
@@ -344,8 +317,8 @@ fn check_region_on_sheet(k: usize, region: &CurvedRegion, sheet: &Polygon) -> Re
     let name = region.name.clone();
     let path = format!("regions[{k}]");
     let length = region.curve.length();
-    // The flat geodesic must stay on the sheet.
-    let (a, b) = (region.flat_start, region.flat_end());
+    // The flat path must stay on the sheet: every chord of a fine polyline along it (one
+    // chord for a straight path).
     let eps = 1e-9 * sheet.scale();
     let leaves = |p: Vec2| BendError::GeodesicLeavesSheet {
         region: k,
@@ -353,25 +326,32 @@ fn check_region_on_sheet(k: usize, region: &CurvedRegion, sheet: &Polygon) -> Re
         x: p.x,
         y: p.y,
     };
-    for edge in sheet.edges() {
-        if let Some((s, _)) = sheetform_geometry::segment_intersection(a, b, edge.start, edge.end) {
-            let p = a + (b - a) * s;
-            if (p - a).norm() > eps && (p - b).norm() > eps {
-                // Touching the boundary at an interior point is only fine if the
-                // segment does not cross it: probe on both sides.
-                let d = (b - a).normalize() * (10.0 * eps);
-                if !sheet.contains(p + d) || !sheet.contains(p - d) {
-                    return Err(leaves(p));
+    let pieces = if region.flat.is_straight() { 1 } else { 256 };
+    let points: Vec<Vec2> = (0..=pieces)
+        .map(|i| region.flat.frame(length * i as f64 / pieces as f64).point)
+        .collect();
+    for w in points.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        for edge in sheet.edges() {
+            if let Some((s, _)) = sheetform_geometry::segment_intersection(a, b, edge.start, edge.end) {
+                let p = a + (b - a) * s;
+                if (p - points[0]).norm() > eps && (p - points[pieces]).norm() > eps {
+                    // Touching the boundary at an interior point is only fine if the
+                    // path does not cross it: probe on both sides.
+                    let d = (b - a).normalize() * (10.0 * eps);
+                    if !sheet.contains(p + d) || !sheet.contains(p - d) {
+                        return Err(leaves(p));
+                    }
                 }
             }
         }
-    }
-    for i in 1..16 {
-        let p = a + (b - a) * (i as f64 / 16.0);
-        if !sheet.contains(p) {
-            let (d, _) = crate::ruling_extent::locate_on_boundary(sheet, p, 0..sheet.ring_count());
-            if d > eps {
-                return Err(leaves(p));
+        for i in 1..16 {
+            let p = a + (b - a) * (i as f64 / 16.0);
+            if !sheet.contains(p) {
+                let (d, _) = crate::ruling_extent::locate_on_boundary(sheet, p, 0..sheet.ring_count());
+                if d > eps {
+                    return Err(leaves(p));
+                }
             }
         }
     }
@@ -391,4 +371,140 @@ fn check_region_on_sheet(k: usize, region: &CurvedRegion, sheet: &Polygon) -> Re
         }
     }
     Ok(())
+}
+
+fn points2(points: &[[f64; 2]], name: &str) -> Result<Vec<Vec2>, BendError> {
+    points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| finite2(*p, &format!("{name}[{i}]")))
+        .collect()
+}
+
+/// The flat path of a region spec: a straight segment (`flat_start` + `flat_end` or
+/// `flat_direction`), an arc (`flat_start` + `flat_direction` + `flat_curve: arc`), or a
+/// planar Bézier/B-spline (`flat_curve`), whose length must match the control curve's.
+fn flat_path(
+    k: usize,
+    spec: &CurvedRegionSpec,
+    name: &str,
+    length: f64,
+    t: &TessellationOptions,
+) -> Result<FlatPath, BendError> {
+    let path = format!("regions[{k}]");
+    let start = spec
+        .flat_start
+        .map(|p| finite2(p, &format!("{path}.flat_start")))
+        .transpose()?;
+    let direction = spec
+        .flat_direction
+        .map(|d| {
+            let d = finite2(d, &format!("{path}.flat_direction"))?;
+            if d.norm() == 0.0 {
+                return Err(field(format!("{path}.flat_direction"), "is the zero vector"));
+            }
+            Ok(d.normalize())
+        })
+        .transpose()?;
+    let mismatch = |flat_length: f64| {
+        let relative = (flat_length - length).abs() / length;
+        if relative > t.length_tolerance {
+            Err(BendError::LengthMismatch {
+                region: k,
+                name: name.to_string(),
+                curve_length: length,
+                flat_length,
+                relative,
+                tolerance: t.length_tolerance,
+            })
+        } else {
+            Ok(())
+        }
+    };
+    match &spec.flat_curve {
+        None => {
+            let start = start.ok_or_else(|| field(&path, "needs `flat_start` (or a `flat_curve`)"))?;
+            let direction = match (spec.flat_end, direction) {
+                (Some(_), Some(_)) => return Err(field(&path, "give either `flat_end` or `flat_direction`, not both")),
+                (None, None) => return Err(field(&path, "needs `flat_end` or `flat_direction`")),
+                (Some(end), None) => {
+                    let end = finite2(end, &format!("{path}.flat_end"))?;
+                    let flat_length = (end - start).norm();
+                    if flat_length == 0.0 {
+                        return Err(field(
+                            format!("{path}.flat_end"),
+                            "equals `flat_start`: the flat geodesic has zero length",
+                        ));
+                    }
+                    mismatch(flat_length)?;
+                    (end - start) / flat_length
+                }
+                (None, Some(d)) => d,
+            };
+            Ok(FlatPath::Straight { start, direction })
+        }
+        Some(FlatCurveSpec::Arc { radius, turn }) => {
+            let start = start.ok_or_else(|| field(&path, "an arc `flat_curve` needs `flat_start`"))?;
+            let direction = direction
+                .ok_or_else(|| field(&path, "an arc `flat_curve` needs `flat_direction` (its start tangent)"))?;
+            if spec.flat_end.is_some() {
+                return Err(field(
+                    format!("{path}.flat_end"),
+                    "not used with an arc `flat_curve` (its length is the curve's)",
+                ));
+            }
+            if !(radius.is_finite() && *radius > 0.0) {
+                return Err(field(format!("{path}.flat_curve.radius"), "must be a positive number"));
+            }
+            let sign = match turn.as_str() {
+                "left" => 1.0,
+                "right" => -1.0,
+                other => {
+                    return Err(field(
+                        format!("{path}.flat_curve.turn"),
+                        format!("must be `left` or `right`, got `{other}`"),
+                    ))
+                }
+            };
+            Ok(FlatPath::Arc {
+                start,
+                direction,
+                curvature: sign / radius,
+            })
+        }
+        Some(spec_curve @ (FlatCurveSpec::Bezier { .. } | FlatCurveSpec::Bspline { .. })) => {
+            if start.is_some() || direction.is_some() || spec.flat_end.is_some() {
+                return Err(field(&path, "a Bézier or B-spline `flat_curve` gives its own start and direction: leave out `flat_start`, `flat_end` and `flat_direction`"));
+            }
+            let field_name = format!("{path}.flat_curve");
+            let geometry = |source| BendError::Geometry {
+                field: field_name.clone(),
+                source,
+            };
+            let curve = match spec_curve {
+                FlatCurveSpec::Bezier { control_points } => FlatCurve::Bezier(
+                    Bezier2::new(points2(control_points, &format!("{field_name}.control_points"))?)
+                        .map_err(geometry)?,
+                ),
+                FlatCurveSpec::Bspline {
+                    degree,
+                    control_points,
+                    knots,
+                } => {
+                    let pts = points2(control_points, &format!("{field_name}.control_points"))?;
+                    FlatCurve::BSpline(
+                        match knots {
+                            Some(k) => BSpline2::new(*degree, pts, k.clone()),
+                            None => BSpline2::clamped_uniform(*degree, pts),
+                        }
+                        .map_err(geometry)?,
+                    )
+                }
+                FlatCurveSpec::Arc { .. } => unreachable!("handled above"),
+            };
+            let flat = FlatPath::curve(curve).map_err(geometry)?;
+            mismatch(flat.fixed_length().expect("curve paths have a length"))?;
+            Ok(flat)
+        }
+    }
 }

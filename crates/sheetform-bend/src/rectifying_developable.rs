@@ -1,6 +1,6 @@
 //! Sampling the rectifying developable of a control curve (Bo & Wang 2007, §3.1, §3.3).
 
-use crate::{curve_of_regression::regression_distance, BendError, ControlCurve, TessellationOptions};
+use crate::{curve_of_regression::regression_distance, BendError, ControlCurve, FlatPath, TessellationOptions};
 use sheetform_geometry::{curve_frame, Vec2, Vec3};
 
 /// The rectifying developable at one ruling.
@@ -43,6 +43,8 @@ pub struct RulingSample {
     pub regression_distance: f64,
     /// The geodesic point on the flat sheet, `p̄(s)`.
     pub flat_point: Vec2,
+    /// Unit tangent `ē(s)` of the flat path there.
+    pub flat_tangent: Vec2,
     /// Unit flat ruling direction `r̄(s)`.
     pub flat_ruling: Vec2,
     /// Unit 3D ruling direction `r(s) = cos α T + sin α b`.
@@ -60,18 +62,29 @@ const STRAIGHT_CURVATURE: f64 = 1e-9;
 /// equidistributed in `∫ (|w| + Φ/L) ds`, `Φ = ∫|w| ds` the total turning), from `s = 0`
 /// to `s = L` inclusive.
 ///
-/// `flat_start`, `flat_direction` (unit) place the flat geodesic; `up` picks the sheet's
-/// top side at the start.
+/// `flat` is the curve's image on the flat sheet (a straight segment for a geodesic,
+/// §3; any planar curve for a non-geodesic control curve, §5); `up` picks the sheet's top
+/// side at the start.
+///
+/// Non-geodesic control curves (§5): the curvature vector splits as
+/// `p'' = κ_g b + κ_n n` with `κ_g` the flat curve's signed curvature, so the surface
+/// normal is `n = cos ψ N + sin ψ B` with `sin ψ = κ_g / κ` (needs `|κ_g| < κ`), the
+/// normal curvature is `κ_n = κ cos ψ` and the geodesic torsion `τ_g = τ + ψ'`. The frame
+/// `(T, b, n)` turns at `(τ_g, −κ_n, κ_g)`; the flat frame carries the `κ_g` part, so the
+/// ruling is the line along `(τ_g, −κ_n)` and everything below holds with `k = κ_n`,
+/// `τ = τ_g` (for a geodesic `κ_g = 0`, `ψ = 0`). For those curves the curve of
+/// regression is taken from neighbouring rulings (the discrete form of Eq. 2), since its
+/// exact form needs a fifth derivative.
 ///
 /// # Errors
-/// A cusp (zero speed), a curve straight everywhere, or a straight span joining two bends
-/// whose surface normals differ (a planar span cannot join them).
+/// A cusp (zero speed), a curve straight everywhere, a straight span joining two bends
+/// whose surface normals differ (a planar span cannot join them), or (§5) a control
+/// curve whose curvature is not larger than its flat curve's.
 pub fn sample_rulings(
     region: usize,
     name: &str,
     curve: &ControlCurve,
-    flat_start: Vec2,
-    flat_direction: Vec2,
+    flat: &FlatPath,
     up: Vec3,
     options: &TessellationOptions,
 ) -> Result<Vec<RulingSample>, BendError> {
@@ -170,137 +183,229 @@ pub fn sample_rulings(
     }
 
     // 3. Frames with a continuous surface normal.
-    let flat_side = Vec2::new(-flat_direction.y, flat_direction.x);
     let straight_limit = STRAIGHT_CURVATURE / length;
-    let mut samples = Vec::with_capacity(count);
+    let geodesic = flat.is_straight();
+    struct Raw {
+        frame: sheetform_geometry::CurveFrame,
+        flat: crate::FlatFrame,
+        normal: Vec3,
+        k: f64,
+        tau: f64,
+        dk: f64,
+        dtau: f64,
+        straight: bool,
+        point: Vec3,
+    }
+    let mut raw: Vec<Raw> = Vec::with_capacity(count);
     let mut prev_normal: Option<Vec3> = None;
     let mut straight_from: Option<f64> = None;
+    let mut too_curved: Option<(f64, f64, f64, f64)> = None;
     for j in 0..count {
         let u = params[j];
         let d = curve.derivatives4(u);
         let f = curve_frame(&d)
             .ok_or_else(|| degenerate(format!("the curve has zero speed (a cusp) at s = {:.6}", lengths[j])))?;
+        let ff = flat.frame(lengths[j]);
         let straight = f.curvature <= straight_limit || f.normal.is_none();
-        let (normal, sigma) = if straight {
-            match prev_normal {
-                Some(n) => {
-                    let n = n - f.tangent * n.dot(&f.tangent);
-                    (n.normalize(), 1.0)
-                }
-                None => (Vec3::zeros(), 1.0),
-            }
-        } else {
-            let big_n = f.normal.expect("curved sample has a normal");
-            let sigma = match prev_normal {
-                Some(prev) => {
-                    if let Some(from) = straight_from {
-                        // A planar span must join two bends with the same tangent plane.
-                        let c = big_n.dot(&prev).abs();
-                        if c < 1.0 - 1e-6 {
-                            return Err(degenerate(format!(
-                                "the curve is straight for s in [{from:.6}, {:.6}] and the bends on either side have \
-                                 surface normals {:.3} degrees apart: a planar span cannot join them",
-                                lengths[j],
-                                c.clamp(-1.0, 1.0).acos().to_degrees()
-                            )));
-                        }
-                    }
-                    if big_n.dot(&prev) >= 0.0 {
-                        1.0
-                    } else {
-                        -1.0
-                    }
-                }
-                None => {
-                    let c = big_n.dot(&up);
-                    if c.abs() > 1e-9 && c < 0.0 {
-                        -1.0
-                    } else {
-                        1.0
-                    }
-                }
-            };
-            (big_n * sigma, sigma)
-        };
         if straight {
+            if ff.curvature.abs() > straight_limit {
+                too_curved.get_or_insert((lengths[j], lengths[j], f.curvature, ff.curvature));
+            }
+            let normal = match prev_normal {
+                Some(n) => (n - f.tangent * n.dot(&f.tangent)).normalize(),
+                None => Vec3::zeros(),
+            };
             straight_from.get_or_insert(lengths[j]);
-        } else {
-            straight_from = None;
+            if normal != Vec3::zeros() {
+                prev_normal = Some(normal);
+            }
+            raw.push(Raw {
+                frame: f,
+                flat: ff,
+                normal,
+                k: 0.0,
+                tau: 0.0,
+                dk: 0.0,
+                dtau: 0.0,
+                straight,
+                point: d[0],
+            });
+            continue;
         }
-        if normal != Vec3::zeros() {
-            prev_normal = Some(normal);
+        let (big_n, big_b) = (f.normal.expect("curved"), f.binormal.expect("curved"));
+        let x = ff.curvature / f.curvature;
+        if x.abs() >= 1.0 - 1e-9 {
+            let entry = too_curved.get_or_insert((lengths[j], lengths[j], f.curvature, ff.curvature));
+            entry.1 = lengths[j];
+            continue;
         }
-        let k = sigma * f.curvature;
-        let tau = if straight { 0.0 } else { f.torsion };
-        samples.push((f, normal, k, tau, sigma, straight, d[0]));
+        let cos0 = (1.0 - x * x).sqrt();
+        let candidates = [big_n * cos0 + big_b * x, -big_n * cos0 + big_b * x];
+        let sigma = match prev_normal {
+            Some(prev) => {
+                if let Some(from) = straight_from {
+                    // A planar span must join two bends with the same tangent plane.
+                    let c = candidates[0].dot(&prev).abs().max(candidates[1].dot(&prev).abs());
+                    if c < 1.0 - 1e-6 {
+                        return Err(degenerate(format!(
+                            "the curve is straight for s in [{from:.6}, {:.6}] and the bends on either side have \
+                             surface normals {:.3} degrees apart: a planar span cannot join them",
+                            lengths[j],
+                            c.clamp(-1.0, 1.0).acos().to_degrees()
+                        )));
+                    }
+                }
+                if candidates[0].dot(&prev) >= candidates[1].dot(&prev) {
+                    1.0
+                } else {
+                    -1.0
+                }
+            }
+            None => {
+                let c = candidates[0].dot(&up) - candidates[1].dot(&up);
+                if c.abs() > 1e-9 && c < 0.0 {
+                    -1.0
+                } else {
+                    1.0
+                }
+            }
+        };
+        straight_from = None;
+        let normal = if sigma > 0.0 { candidates[0] } else { candidates[1] };
+        prev_normal = Some(normal);
+        // κ_n = σ κ cos ψ0; τ_g = τ + ψ', ψ' = σ x' / cos ψ0, x' = (κ_g' κ − κ_g κ') / κ².
+        let k = sigma * f.curvature * cos0;
+        let dx = (ff.curvature_derivative * f.curvature - ff.curvature * f.derivatives.curvature)
+            / (f.curvature * f.curvature);
+        let tau = f.torsion + sigma * dx / cos0;
+        // Exact derivatives for Eq. 4 on geodesics (ψ ≡ 0); §5 curves use Eq. 2 below.
+        let (dk, dtau) = (sigma * f.derivatives.curvature, f.derivatives.torsion);
+        raw.push(Raw {
+            frame: f,
+            flat: ff,
+            normal,
+            k,
+            tau,
+            dk,
+            dtau,
+            straight,
+            point: d[0],
+        });
     }
-    let first_curved = samples
-        .iter()
-        .position(|x| !x.5)
-        .ok_or_else(|| degenerate(format!(
+    if let Some((from, to, kappa, flat_kappa)) = too_curved {
+        return Err(degenerate(format!(
+            "for s in [{from:.6}, {to:.6}] the control curve's curvature ({kappa:.6}) is not larger than the flat curve's ({:.6}): \
+             the bent curve cannot keep that geodesic curvature (§5 needs |p''| > the flat curvature)",
+            flat_kappa.abs()
+        )));
+    }
+    let first_curved = raw.iter().position(|x| !x.straight).ok_or_else(|| {
+        degenerate(format!(
             "the control curve is straight everywhere (s in [0, {length:.6}]): a straight line lies on every plane through it, so it does not determine a developable"
-        )))?;
+        ))
+    })?;
     // Leading straight samples take the first curved sample's normal.
-    let lead_normal = samples[first_curved].1;
-    for x in samples.iter_mut().take(first_curved) {
-        let t = x.0.tangent;
-        x.1 = (lead_normal - t * lead_normal.dot(&t)).normalize();
+    let lead_normal = raw[first_curved].normal;
+    for x in raw.iter_mut().take(first_curved) {
+        let t = x.frame.tangent;
+        x.normal = (lead_normal - t * lead_normal.dot(&t)).normalize();
     }
 
     // 4. Angles, fold rates, regression distances; α carried over on straight spans.
     let mut out: Vec<RulingSample> = Vec::with_capacity(count);
-    for (j, (f, normal, k, tau, sigma, straight, point)) in samples.iter().copied().enumerate() {
-        let side = normal.cross(&f.tangent);
-        let (angle, fold_rate, regression) = if straight {
+    for (j, r) in raw.iter().enumerate() {
+        let side = r.normal.cross(&r.frame.tangent);
+        let (angle, fold_rate, regression) = if r.straight {
             (f64::NAN, 0.0, f64::INFINITY)
         } else {
-            let angle = k.abs().atan2(-k.signum() * tau);
-            let rate = tau * angle.cos() - k * angle.sin();
-            let l = regression_distance(
-                k,
-                tau,
-                sigma * f.derivatives.curvature,
-                f.derivatives.torsion,
-                angle.sin(),
-            );
+            let angle = r.k.abs().atan2(-r.k.signum() * r.tau);
+            let rate = r.tau * angle.cos() - r.k * angle.sin();
+            let l = if geodesic {
+                regression_distance(r.k, r.tau, r.dk, r.dtau, angle.sin())
+            } else {
+                f64::INFINITY
+            };
             (angle, rate, l)
         };
         out.push(RulingSample {
             arc_length: lengths[j],
             parameter: params[j],
-            point,
-            tangent: f.tangent,
+            point: r.point,
+            tangent: r.frame.tangent,
             side,
-            normal,
+            normal: r.normal,
             angle,
             fold_rate,
-            curvature: k,
-            torsion: tau,
+            curvature: r.k,
+            torsion: r.tau,
             regression_distance: regression,
-            flat_point: flat_start + flat_direction * lengths[j],
+            flat_point: r.flat.point,
+            flat_tangent: r.flat.tangent,
             flat_ruling: Vec2::zeros(),
             ruling: Vec3::zeros(),
-            straight,
+            straight: r.straight,
         });
     }
-    // Fill α on straight spans from the nearest curved sample (by arc length).
-    let curved: Vec<usize> = (0..out.len()).filter(|&j| !out[j].straight).collect();
-    for j in 0..out.len() {
-        if out[j].straight {
-            let nearest = curved
-                .iter()
-                .min_by(|&&a, &&b| {
-                    (out[a].arc_length - out[j].arc_length)
-                        .abs()
-                        .total_cmp(&(out[b].arc_length - out[j].arc_length).abs())
-                })
-                .copied()
-                .expect("at least one curved sample");
-            out[j].angle = out[nearest].angle;
+    // Fill α on straight spans from the nearest curved sample (by index, both ways).
+    let mut last_curved: Option<usize> = None;
+    let mut nearest_before = vec![None; out.len()];
+    for (j, s) in out.iter().enumerate() {
+        if !s.straight {
+            last_curved = Some(j);
         }
-        let (c, s) = (out[j].angle.cos(), out[j].angle.sin());
-        out[j].flat_ruling = flat_direction * c + flat_side * s;
-        out[j].ruling = out[j].tangent * c + out[j].side * s;
+        nearest_before[j] = last_curved;
+    }
+    let mut next_curved: Option<usize> = None;
+    for j in (0..out.len()).rev() {
+        if !out[j].straight {
+            next_curved = Some(j);
+            continue;
+        }
+        let pick = match (nearest_before[j], next_curved) {
+            (Some(a), Some(b)) => {
+                if out[j].arc_length - out[a].arc_length <= out[b].arc_length - out[j].arc_length {
+                    a
+                } else {
+                    b
+                }
+            }
+            (Some(a), None) => a,
+            (None, Some(b)) => b,
+            (None, None) => unreachable!("at least one curved sample"),
+        };
+        out[j].angle = out[pick].angle;
+    }
+    for (s, r) in out.iter_mut().zip(&raw) {
+        let (c, sn) = (s.angle.cos(), s.angle.sin());
+        s.flat_ruling = r.flat.tangent * c + r.flat.normal * sn;
+        s.ruling = s.tangent * c + s.side * sn;
+    }
+    if !geodesic {
+        // Discrete Eq. 2: where neighbouring flat rulings meet.
+        let n = out.len();
+        for j in 0..n {
+            let (a, b) = if j + 1 < n { (j, j + 1) } else { (j - 1, j) };
+            let (pa, ra, pb, rb) = (
+                out[a].flat_point,
+                out[a].flat_ruling,
+                out[b].flat_point,
+                out[b].flat_ruling,
+            );
+            let cross = |u: Vec2, v: Vec2| u.x * v.y - u.y * v.x;
+            let den = cross(ra, rb);
+            let l_a = if den.abs() > 1e-15 {
+                cross(pb - pa, rb) / den
+            } else {
+                f64::INFINITY
+            };
+            // Distance from this ruling's own geodesic point.
+            let meet = pa + ra * l_a;
+            out[j].regression_distance = if l_a.is_finite() {
+                (meet - out[j].flat_point).dot(&out[j].flat_ruling)
+            } else {
+                f64::INFINITY
+            };
+        }
     }
     Ok(out)
 }

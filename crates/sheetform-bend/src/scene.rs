@@ -29,6 +29,11 @@ pub struct BendScene {
     /// How finely the bent sheet is cut into planar strips.
     #[serde(default)]
     pub tessellation: TessellationOptions,
+    /// A picture printed on the sheet (PNG or JPEG, path relative to the scene file),
+    /// stretched over the flat pattern's bounding box. The flat sheet is the texture
+    /// domain, so the bent sheet shows it without distortion (Fig. 6). Embedded in the GLB.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub texture: Option<String>,
 }
 
 /// One curved region: a straight segment on the flat sheet and the 3D control curve it
@@ -39,8 +44,10 @@ pub struct CurvedRegionSpec {
     /// Optional name (default `curved-K`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
-    /// Start of the flat geodesic segment (where arc length 0 of the curve lands).
-    pub flat_start: [f64; 2],
+    /// Start of the flat geodesic segment (where arc length 0 of the curve lands). Not used
+    /// with a Bézier or B-spline `flat_curve`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flat_start: Option<[f64; 2]>,
     /// End of the flat geodesic segment. Its distance from `flat_start` must equal the
     /// curve's length (see `tessellation.length_tolerance`). Give this or `flat_direction`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -50,6 +57,11 @@ pub struct CurvedRegionSpec {
     pub flat_direction: Option<[f64; 2]>,
     /// The 3D control curve.
     pub curve: CurveSpec,
+    /// The control curve's image on the flat sheet when it is not a straight segment
+    /// (§5, non-geodesic control curves): the bent curve keeps this curve's curvature as
+    /// its geodesic curvature. Needs `|p''|` larger than that curvature everywhere.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flat_curve: Option<FlatCurveSpec>,
     /// Which way the sheet's top face (the side facing +z in the flat pattern) should face
     /// at the start of the curve: of the two possible sheets, the one whose top normal
     /// points more along `up`. Default `[0, 0, 1]`.
@@ -101,6 +113,37 @@ pub enum CurveSpec {
         /// Point on the axis (default origin).
         #[serde(default)]
         center: [f64; 3],
+    },
+}
+
+/// A planar curve on the flat sheet (§5).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum FlatCurveSpec {
+    /// A circular arc from `flat_start` leaving along `flat_direction`; its length is the
+    /// control curve's.
+    Arc {
+        /// Radius (model units).
+        radius: f64,
+        /// `left` (counter-clockwise) or `right`.
+        turn: String,
+    },
+    /// A planar Bézier curve; its length must equal the control curve's.
+    Bezier {
+        /// Control points `[x, y]`.
+        control_points: Vec<[f64; 2]>,
+    },
+    /// A planar B-spline (clamped uniform knots unless given); its length must equal the
+    /// control curve's.
+    Bspline {
+        /// Degree (default 3).
+        #[serde(default = "default_degree")]
+        degree: usize,
+        /// Control points `[x, y]`.
+        control_points: Vec<[f64; 2]>,
+        /// Full knot vector.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        knots: Option<Vec<f64>>,
     },
 }
 

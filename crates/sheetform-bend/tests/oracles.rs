@@ -3,7 +3,7 @@
 //! regression at the apex; every mesh is an exact isometry of its flat pattern.
 
 use nalgebra::SVector;
-use sheetform_bend::{bend, BendModel, ControlCurve, CurveShape, CurvedRegion, TessellationOptions};
+use sheetform_bend::{bend, BendModel, ControlCurve, CurveShape, CurvedRegion, FlatPath, TessellationOptions};
 use sheetform_geometry::{Bezier3, Helix, ParametricCurve, Polygon, Vec2, Vec3};
 use sheetform_mesh::{isometry_error, LengthUnit, PieceKind};
 use std::sync::Arc;
@@ -30,12 +30,15 @@ fn model(sheet: Polygon, shape: CurveShape, tessellation: TessellationOptions) -
         regions: vec![CurvedRegion {
             name: "test".into(),
             curve,
-            flat_start: Vec2::zeros(),
-            flat_direction: Vec2::x(),
+            flat: FlatPath::Straight {
+                start: Vec2::zeros(),
+                direction: Vec2::x(),
+            },
             up: Vec3::z(),
             closed: false,
         }],
         tessellation,
+        texture: None,
     }
 }
 

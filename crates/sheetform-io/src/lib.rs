@@ -13,7 +13,7 @@ mod svg_pattern;
 
 pub use atomic::write_atomic;
 pub use error::IoError;
-pub use glb::{glb_bytes, GLB_FLAT_ATTRIBUTE};
+pub use glb::{glb_bytes, Texture, GLB_FLAT_ATTRIBUTE};
 pub use obj::obj_string;
 pub use stl::stl_bytes;
 pub use svg_pattern::{svg_pattern, SvgOptions};

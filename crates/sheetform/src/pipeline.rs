@@ -2,7 +2,7 @@
 
 use crate::report::{RegionReport, RegressionEntry, Report, Timings, REPORT_FORMAT};
 use sheetform_bend::{bend, BendError, BendModel, BendScene, BentSheet};
-use sheetform_io::{glb_bytes, obj_string, stl_bytes, svg_pattern, write_atomic, IoError, SvgOptions};
+use sheetform_io::{glb_bytes, obj_string, stl_bytes, svg_pattern, write_atomic, IoError, SvgOptions, Texture};
 use sheetform_mesh::{developability_error, isometry_error, SheetMesh};
 use std::path::Path;
 use std::time::Instant;
@@ -25,6 +25,12 @@ pub enum PipelineError {
     /// Writing the outputs failed.
     #[error(transparent)]
     Io(#[from] IoError),
+    /// The texture is not a PNG or JPEG image.
+    #[error("texture {path}: not a PNG or JPEG image")]
+    Texture {
+        /// The file.
+        path: String,
+    },
     /// The output directory cannot be used.
     #[error("output directory {path}: {message}")]
     OutputDirectory {
@@ -42,6 +48,8 @@ pub struct BendRunOptions {
     pub animate_frames: usize,
     /// Input path, recorded in the report.
     pub input: Option<String>,
+    /// Directory that relative paths in the scene (the texture) are relative to.
+    pub base_dir: Option<std::path::PathBuf>,
 }
 
 /// A finished bend run: the model, the bent sheet, the files to write and the report.
@@ -83,9 +91,25 @@ pub fn run_bend(
     let solved = Instant::now();
     progress("exporting", 0.5);
     let name = model.name.clone().unwrap_or_else(|| "sheet".into());
+    let texture_bytes = match &model.texture {
+        Some(relative) => {
+            let path = options.base_dir.clone().unwrap_or_default().join(relative);
+            Some(std::fs::read(&path).map_err(|source| PipelineError::Read {
+                path: path.display().to_string(),
+                source,
+            })?)
+        }
+        None => None,
+    };
+    let texture = match &texture_bytes {
+        Some(bytes) => Some(Texture::from_bytes(bytes).ok_or_else(|| PipelineError::Texture {
+            path: model.texture.clone().unwrap_or_default(),
+        })?),
+        None => None,
+    };
     let mut files: Vec<(String, Vec<u8>)> = vec![
         ("model.obj".into(), obj_string(&sheet.mesh, &name).into_bytes()),
-        ("model.glb".into(), glb_bytes(&sheet.mesh, &name)),
+        ("model.glb".into(), glb_bytes(&sheet.mesh, &name, texture)),
         ("model.stl".into(), stl_bytes(&sheet.mesh)),
         (
             "pattern.svg".into(),
