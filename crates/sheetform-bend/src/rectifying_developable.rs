@@ -244,14 +244,21 @@ pub fn sample_rulings(
         let sigma = match prev_normal {
             Some(prev) => {
                 if let Some(from) = straight_from {
-                    // A planar span must join two bends with the same tangent plane.
-                    let c = candidates[0].dot(&prev).abs().max(candidates[1].dot(&prev).abs());
-                    if c < 1.0 - 1e-6 {
+                    // A planar span must join two bends with the same tangent plane: the
+                    // bend after it turns the tangent and normal about the side direction
+                    // b, so the span's normal must stay orthogonal to b.
+                    let n_next = if candidates[0].dot(&prev) >= candidates[1].dot(&prev) {
+                        candidates[0]
+                    } else {
+                        candidates[1]
+                    };
+                    let off = prev.dot(&n_next.cross(&f.tangent)).abs();
+                    if off > 1e-6 {
                         return Err(degenerate(format!(
                             "the curve is straight for s in [{from:.6}, {:.6}] and the bends on either side have \
-                             surface normals {:.3} degrees apart: a planar span cannot join them",
+                             tangent planes {:.3} degrees apart: a planar span cannot join them",
                             lengths[j],
-                            c.clamp(-1.0, 1.0).acos().to_degrees()
+                            off.clamp(-1.0, 1.0).asin().to_degrees()
                         )));
                     }
                 }
