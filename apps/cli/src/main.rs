@@ -11,6 +11,12 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+// The pipeline allocates and frees arrays of a few hundred KB per run; glibc's malloc
+// returns them to the OS each time (page faults), mimalloc keeps them: ~1.5x faster
+// bends (docs/benchmarks.md).
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 #[derive(Parser)]
 #[command(
     name = "sheetform",

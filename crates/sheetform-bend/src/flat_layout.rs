@@ -350,11 +350,12 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
     // Faces of the planar graph (half-edge walk), each to the left of its edges.
     let graph = graph_faces(&points, &edges);
     let kind_of_half = |h: usize| edge_kinds[graph.edge[h]];
-    let vertex_cycle = |cycle: &[usize]| cycle.iter().map(|&h| graph.origin[h]).collect::<Vec<usize>>();
-    let mut outer_halves: Vec<Vec<usize>> = Vec::new();
-    let mut outer_cycles: Vec<Vec<usize>> = Vec::new();
-    let mut inner_cycles: Vec<Vec<usize>> = Vec::new();
-    for cycle in &graph.faces {
+    let mut outer_halves = Cycles::default();
+    let mut outer_cycles = Cycles::default();
+    let mut inner_cycles = Cycles::default();
+    let mut scratch: Vec<usize> = Vec::new();
+    for fi in 0..graph.faces.len() {
+        let cycle = graph.faces.get(fi);
         // Left of a boundary edge run backwards is outside the sheet (or in a hole).
         let outside = cycle
             .iter()
@@ -362,35 +363,38 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
         if outside {
             continue;
         }
-        let vertices = vertex_cycle(cycle);
-        if cycle_area(&points, &vertices) > 0.0 {
-            outer_cycles.push(vertices);
-            outer_halves.push(cycle.clone());
+        scratch.clear();
+        scratch.extend(cycle.iter().map(|&h| graph.origin[h]));
+        if cycle_area(&points, &scratch) > 0.0 {
+            outer_cycles.push(&scratch);
+            outer_halves.push(cycle);
         } else {
-            inner_cycles.push(vertices);
+            inner_cycles.push(&scratch);
         }
     }
+    let faces = outer_cycles.len();
     // Islands (holes no ruling touches) belong to the smallest face around them.
-    let mut face_holes: Vec<Vec<usize>> = vec![Vec::new(); outer_cycles.len()];
-    for (h, cycle) in inner_cycles.iter().enumerate() {
-        let p = points[cycle[0]];
-        let owner = outer_cycles
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| cycle_contains(&points, c, p))
-            .min_by(|a, b| cycle_area(&points, a.1).total_cmp(&cycle_area(&points, b.1)))
-            .map(|(i, _)| i)
+    let mut face_holes: Vec<Vec<usize>> = vec![Vec::new(); if inner_cycles.len() > 0 { faces } else { 0 }];
+    for h in 0..inner_cycles.len() {
+        let p = points[inner_cycles.get(h)[0]];
+        let owner = (0..faces)
+            .filter(|&i| cycle_contains(&points, outer_cycles.get(i), p))
+            .min_by(|&a, &b| {
+                cycle_area(&points, outer_cycles.get(a)).total_cmp(&cycle_area(&points, outer_cycles.get(b)))
+            })
             .ok_or_else(|| BendError::Composite {
                 message: "a hole boundary is not inside any piece of the sheet".into(),
             })?;
         face_holes[owner].push(h);
     }
-    let mut triangles: Vec<[u32; 3]> = Vec::new();
-    let mut triangle_face: Vec<usize> = Vec::new();
-    for (f, cycle) in outer_cycles.iter().enumerate() {
-        let holes: Vec<&Vec<usize>> = face_holes[f].iter().map(|&h| &inner_cycles[h]).collect();
+    let mut triangles: Vec<[u32; 3]> = Vec::with_capacity(points.len() * 2);
+    let mut triangle_face: Vec<usize> = Vec::with_capacity(points.len() * 2);
+    for f in 0..faces {
+        let holes: Vec<&[usize]> = face_holes
+            .get(f)
+            .map_or(Vec::new(), |hs| hs.iter().map(|&h| inner_cycles.get(h)).collect());
         let before = triangles.len();
-        triangulate_face(&points, cycle, &holes, &mut triangles)?;
+        triangulate_face(&points, outer_cycles.get(f), &holes, &mut triangles)?;
         triangle_face.extend(std::iter::repeat_n(f, triangles.len() - before));
     }
     let triangle_area: f64 = triangles
@@ -416,12 +420,12 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
     }
     // Labels from ruling edges; cells join faces across geodesic edges.
     let mut face_of_half = vec![usize::MAX; graph.origin.len()];
-    for (f, cycle) in outer_halves.iter().enumerate() {
-        for &h in cycle {
+    for f in 0..faces {
+        for &h in outer_halves.get(f) {
             face_of_half[h] = f;
         }
     }
-    let mut parent: Vec<usize> = (0..outer_cycles.len()).collect();
+    let mut parent: Vec<usize> = (0..faces).collect();
     fn find(parent: &mut [usize], mut x: usize) -> usize {
         while parent[x] != x {
             parent[x] = parent[parent[x]];
@@ -429,9 +433,10 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
         }
         x
     }
-    let mut face_labels: Vec<Vec<(usize, usize)>> = vec![Vec::new(); outer_cycles.len()];
-    for (f, cycle) in outer_halves.iter().enumerate() {
-        for &h in cycle {
+    // (face, region, part) for every ruling edge of every face.
+    let mut face_labels: Vec<(usize, usize, usize)> = Vec::with_capacity(faces * 2);
+    for f in 0..faces {
+        for &h in outer_halves.get(f) {
             match kind_of_half(h) {
                 EdgeKind::Ruling { region, ruling } => {
                     let s = &geometries[region].samples[ruling];
@@ -440,9 +445,7 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
                     let d = points[graph.target[h]] - points[graph.origin[h]];
                     let left = Vec2::new(-d.y, d.x);
                     let part = if left.dot(&m) > 0.0 { ruling + 1 } else { ruling };
-                    if !face_labels[f].contains(&(region, part)) {
-                        face_labels[f].push((region, part));
-                    }
+                    face_labels.push((f, region, part));
                 }
                 EdgeKind::Geodesic => {
                     let g = face_of_half[graph.twin[h]];
@@ -455,35 +458,45 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
             }
         }
     }
-    let mut cell_of_root: HashMap<usize, usize> = HashMap::default();
+    // Cells: one per union-find root, numbered in face order.
+    let mut cell_of_root = vec![usize::MAX; faces];
+    let mut face_cell = vec![0usize; faces];
     let mut cells: Vec<Cell> = Vec::new();
-    let mut face_cell = vec![0usize; outer_cycles.len()];
-    for f in 0..outer_cycles.len() {
+    for f in 0..faces {
         let root = find(&mut parent, f);
-        let c = *cell_of_root.entry(root).or_insert_with(|| {
-            let cyc = &outer_cycles[f];
+        if cell_of_root[root] == usize::MAX {
+            cell_of_root[root] = cells.len();
             cells.push(Cell {
                 labels: Vec::new(),
                 vertices: Vec::new(),
-                sample_point: cycle_interior_point(&points, cyc),
+                sample_point: cycle_interior_point(&points, outer_cycles.get(f)),
             });
-            cells.len() - 1
-        });
-        face_cell[f] = c;
-        for l in &face_labels[f] {
-            if !cells[c].labels.contains(l) {
-                cells[c].labels.push(*l);
+        }
+        face_cell[f] = cell_of_root[root];
+    }
+    let mut labels: Vec<(usize, usize, usize)> = face_labels.iter().map(|&(f, r, p)| (face_cell[f], r, p)).collect();
+    labels.sort_unstable();
+    labels.dedup();
+    for (c, r, p) in labels {
+        cells[c].labels.push((r, p));
+    }
+    let mut cell_vertices: Vec<(usize, u32)> = Vec::with_capacity(outer_cycles.items.len());
+    for f in 0..faces {
+        let c = face_cell[f];
+        cell_vertices.extend(outer_cycles.get(f).iter().map(|&v| (c, v as u32)));
+        if let Some(hs) = face_holes.get(f) {
+            for &h in hs {
+                cell_vertices.extend(inner_cycles.get(h).iter().map(|&v| (c, v as u32)));
             }
         }
-        cells[c].vertices.extend(outer_cycles[f].iter().map(|&v| v as u32));
-        for &h in &face_holes[f] {
-            cells[c].vertices.extend(inner_cycles[h].iter().map(|&v| v as u32));
-        }
+    }
+    cell_vertices.sort_unstable();
+    cell_vertices.dedup();
+    for (c, v) in cell_vertices {
+        cells[c].vertices.push(v);
     }
     let face_cells: Vec<usize> = triangle_face.iter().map(|&f| face_cell[f]).collect();
-    for c in &mut cells {
-        c.vertices.sort_unstable();
-        c.vertices.dedup();
+    for c in &cells {
         if c.labels.is_empty() {
             return Err(BendError::Composite {
                 message: format!(
@@ -581,7 +594,28 @@ struct PlanarGraph {
     /// The undirected edge (index into the input) of each half-edge.
     edge: Vec<usize>,
     /// Faces as cycles of half-edges, each face to the left of its half-edges.
-    faces: Vec<Vec<usize>>,
+    faces: Cycles,
+}
+
+/// Many short index cycles in one array (`items[start[i]..start[i + 1]]` is cycle `i`).
+#[derive(Debug, Default)]
+struct Cycles {
+    start: Vec<usize>,
+    items: Vec<usize>,
+}
+
+impl Cycles {
+    fn len(&self) -> usize {
+        self.start.len()
+    }
+    fn get(&self, i: usize) -> &[usize] {
+        let end = self.start.get(i + 1).copied().unwrap_or(self.items.len());
+        &self.items[self.start[i]..end]
+    }
+    fn push(&mut self, cycle: &[usize]) {
+        self.start.push(self.items.len());
+        self.items.extend_from_slice(cycle);
+    }
 }
 
 /// Monotone in the polar angle of `d` (the "diamond angle", in [0, 4)): sorts directions
@@ -652,16 +686,19 @@ fn graph_faces(points: &[Vec2], edges: &[[usize; 2]]) -> PlanarGraph {
             .expect("edges are symmetric");
     }
     let mut used = vec![false; halves];
-    let mut faces = Vec::new();
+    let mut faces = Cycles {
+        start: Vec::with_capacity(halves / 3),
+        items: Vec::with_capacity(halves),
+    };
     for h0 in 0..halves {
         if used[h0] {
             continue;
         }
-        let mut cycle = Vec::new();
+        faces.start.push(faces.items.len());
         let mut h = h0;
         loop {
             used[h] = true;
-            cycle.push(h);
+            faces.items.push(h);
             // At v = target[h] the reverse half-edge is twin[h]; take the next one clockwise.
             let v = target[h];
             let (s, e) = (start[v], start[v + 1]);
@@ -671,7 +708,6 @@ fn graph_faces(points: &[Vec2], edges: &[[usize; 2]]) -> PlanarGraph {
                 break;
             }
         }
-        faces.push(cycle);
     }
     PlanarGraph {
         origin,
@@ -688,7 +724,7 @@ fn graph_faces(points: &[Vec2], edges: &[[usize; 2]]) -> PlanarGraph {
 fn triangulate_face(
     points: &[Vec2],
     cycle: &[usize],
-    holes: &[&Vec<usize>],
+    holes: &[&[usize]],
     out: &mut Vec<[u32; 3]>,
 ) -> Result<(), BendError> {
     let n = cycle.len();
@@ -737,7 +773,7 @@ fn triangulate_face(
         .collect();
     let mut cons: Vec<[usize; 2]> = Vec::new();
     let mut directed: HashSet<[usize; 2]> = HashSet::default();
-    for ring in std::iter::once(&cycle.to_vec()).chain(holes.iter().copied()) {
+    for ring in std::iter::once(cycle).chain(holes.iter().copied()) {
         for i in 0..ring.len() {
             let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
             cons.push([index_of[&a], index_of[&b]]);

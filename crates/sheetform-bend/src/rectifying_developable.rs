@@ -169,13 +169,39 @@ pub fn sample_rulings(
         let f = if m1 > m0 { (target - m0) / (m1 - m0) } else { 0.0 };
         params.push(grid_u[cursor] + f * (grid_u[cursor + 1] - grid_u[cursor]));
     }
+    // Derivatives at every ruling (used for the frames below), then exact arc lengths:
+    // 4-point Gauss–Lobatto per interval (exact for degree 5; reuses the end speeds, two
+    // new evaluations), checked against the table's total; 8-point Gauss–Legendre where
+    // that check fails (coarse sampling of a wiggly curve).
+    let derivatives: Vec<[Vec3; 5]> = params.iter().map(|&u| curve.derivatives4(u)).collect();
+    let speed = |u: f64| {
+        let mut d = [Vec3::zeros(); 2];
+        sheetform_geometry::ParametricCurve::derivatives_into(curve.shape(), u, &mut d);
+        d[1].norm()
+    };
+    const LOBATTO_X: f64 = 0.447_213_595_499_957_9; // 1/√5
+    let lobatto = |j: usize| {
+        let (a, b) = (params[j - 1], params[j]);
+        let (m, h) = (0.5 * (a + b), 0.5 * (b - a));
+        let ends = derivatives[j - 1][1].norm() + derivatives[j][1].norm();
+        h * (ends / 6.0 + 5.0 / 6.0 * (speed(m - h * LOBATTO_X) + speed(m + h * LOBATTO_X)))
+    };
     let mut lengths = Vec::with_capacity(count);
     let mut s = 0.0;
     for j in 0..count {
         if j > 0 {
-            s += sheetform_geometry::gauss_legendre_length(curve.shape(), params[j - 1], params[j]);
+            s += lobatto(j);
         }
         lengths.push(s);
+    }
+    if (s - length).abs() > 1e-13 * length {
+        s = 0.0;
+        for (j, l) in lengths.iter_mut().enumerate() {
+            if j > 0 {
+                s += sheetform_geometry::gauss_legendre_length(curve.shape(), params[j - 1], params[j]);
+            }
+            *l = s;
+        }
     }
     // Pin the last ruling to the exact total length.
     if let Some(last) = lengths.last_mut() {
@@ -201,8 +227,7 @@ pub fn sample_rulings(
     let mut straight_from: Option<f64> = None;
     let mut too_curved: Option<(f64, f64, f64, f64)> = None;
     for j in 0..count {
-        let u = params[j];
-        let d = curve.derivatives4(u);
+        let d = derivatives[j];
         let f = curve_frame(&d)
             .ok_or_else(|| degenerate(format!("the curve has zero speed (a cusp) at s = {:.6}", lengths[j])))?;
         let ff = flat.frame(lengths[j]);

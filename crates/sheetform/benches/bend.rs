@@ -6,6 +6,10 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Through
 use sheetform::bend::{bend, region_geometries, BendModel, BendScene};
 use std::hint::black_box;
 
+// Same allocator as the `sheetform` binary.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn model(rulings: usize) -> BendModel {
     let text = include_str!("../../../examples/bent-rectangle.json");
     let mut scene = BendScene::from_json(text).expect("example parses");
