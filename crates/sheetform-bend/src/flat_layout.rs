@@ -460,20 +460,21 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
     }
     // Cells: one per union-find root, numbered in face order.
     let mut cell_of_root = vec![usize::MAX; faces];
-    let mut face_cell = vec![0usize; faces];
     let mut cells: Vec<Cell> = Vec::new();
-    for f in 0..faces {
-        let root = find(&mut parent, f);
-        if cell_of_root[root] == usize::MAX {
-            cell_of_root[root] = cells.len();
-            cells.push(Cell {
-                labels: Vec::new(),
-                vertices: Vec::new(),
-                sample_point: cycle_interior_point(&points, outer_cycles.get(f)),
-            });
-        }
-        face_cell[f] = cell_of_root[root];
-    }
+    let face_cell: Vec<usize> = (0..faces)
+        .map(|f| {
+            let root = find(&mut parent, f);
+            if cell_of_root[root] == usize::MAX {
+                cell_of_root[root] = cells.len();
+                cells.push(Cell {
+                    labels: Vec::new(),
+                    vertices: Vec::new(),
+                    sample_point: cycle_interior_point(&points, outer_cycles.get(f)),
+                });
+            }
+            cell_of_root[root]
+        })
+        .collect();
     let mut labels: Vec<(usize, usize, usize)> = face_labels.iter().map(|&(f, r, p)| (face_cell[f], r, p)).collect();
     labels.sort_unstable();
     labels.dedup();
@@ -481,8 +482,7 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
         cells[c].labels.push((r, p));
     }
     let mut cell_vertices: Vec<(usize, u32)> = Vec::with_capacity(outer_cycles.items.len());
-    for f in 0..faces {
-        let c = face_cell[f];
+    for (f, &c) in face_cell.iter().enumerate() {
         cell_vertices.extend(outer_cycles.get(f).iter().map(|&v| (c, v as u32)));
         if let Some(hs) = face_holes.get(f) {
             for &h in hs {
