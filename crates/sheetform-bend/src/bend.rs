@@ -8,6 +8,7 @@ use crate::{
     ruling_extent::{ruling_extent, RulingExtent},
     BendError, BendModel,
 };
+use rayon::prelude::*;
 use sheetform_geometry::{RigidMotion, Vec3};
 use sheetform_mesh::SheetMesh;
 
@@ -30,10 +31,12 @@ pub fn region_geometry(model: &BendModel, k: usize) -> Result<RegionGeometry, Be
     let r = &model.regions[k];
     let samples = sample_rulings(k, &r.name, &r.curve, &r.flat, r.up, &model.tessellation)?;
     let scale = model.sheet.scale();
-    let extents: Vec<RulingExtent> = samples
-        .iter()
-        .map(|s| ruling_extent(&model.sheet, s.flat_point, s.flat_ruling, scale))
-        .collect();
+    let extent = |s: &RulingSample| ruling_extent(&model.sheet, s.flat_point, s.flat_ruling, scale);
+    let extents: Vec<RulingExtent> = if samples.len() >= crate::rectifying_developable::PARALLEL_RULINGS {
+        samples.par_iter().map(extent).collect()
+    } else {
+        samples.iter().map(extent).collect()
+    };
     let mut admissibility = check_region(k, &samples, &extents, 1e-9 * scale);
     explain_knot_jump(r, &samples, &mut admissibility);
     Ok(RegionGeometry {

@@ -32,7 +32,8 @@ pub enum EdgeKind {
 pub struct Cell {
     /// `(region, part)` pairs seen on the cell's ruling edges.
     pub labels: Vec<(usize, usize)>,
-    /// Vertices of the cell's faces.
+    /// Vertices of the cell's faces, for cells with two or more labels (whose placement
+    /// [`crate::place`] checks for consistency); empty for the others.
     pub vertices: Vec<u32>,
     /// A point inside the cell (flat).
     pub sample_point: Vec2,
@@ -243,9 +244,20 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
     let mut edges: Vec<[usize; 2]> = Vec::with_capacity(points.len() * 2);
     let mut edge_kinds: Vec<EdgeKind> = Vec::with_capacity(points.len() * 2);
     let mut edge_index: HashMap<[usize; 2], usize> =
-        HashMap::with_capacity_and_hasher(points.len() * 2, Default::default());
+        HashMap::with_capacity_and_hasher(points.len(), Default::default());
+    // Only an edge between two boundary vertices can be given twice (a ruling running
+    // along the outline, a geodesic along it); other edges go in without a lookup.
+    let mut is_boundary = vec![false; points.len()];
+    for v in ring_vertex.iter().flatten().chain(edge_points.values().flatten()) {
+        is_boundary[*v] = true;
+    }
     let mut push_edge = |a: usize, b: usize, kind: EdgeKind, edges: &mut Vec<[usize; 2]>, kinds: &mut Vec<EdgeKind>| {
         if a == b {
+            return;
+        }
+        if !(is_boundary[a] && is_boundary[b]) {
+            edges.push([a, b]);
+            kinds.push(kind);
             return;
         }
         let key = if a < b { [a, b] } else { [b, a] };
@@ -481,8 +493,12 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
     for (c, r, p) in labels {
         cells[c].labels.push((r, p));
     }
-    let mut cell_vertices: Vec<(usize, u32)> = Vec::with_capacity(outer_cycles.items.len());
+    // Vertices only for cells held by more than one label: their placement is checked.
+    let mut cell_vertices: Vec<(usize, u32)> = Vec::new();
     for (f, &c) in face_cell.iter().enumerate() {
+        if cells[c].labels.len() < 2 {
+            continue;
+        }
         cell_vertices.extend(outer_cycles.get(f).iter().map(|&v| (c, v as u32)));
         if let Some(hs) = face_holes.get(f) {
             for &h in hs {

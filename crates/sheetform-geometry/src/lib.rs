@@ -17,7 +17,7 @@ mod rigid;
 
 pub use arc_length::{gauss_legendre_length, ArcLengthOptions, ArcLengthTable};
 pub use bezier::{Bezier, Bezier2, Bezier3};
-pub use bspline::{BSpline, BSpline2, BSpline3};
+pub use bspline::{BSpline, BSpline2, BSpline3, MAX_BSPLINE_DEGREE};
 pub use curve::{Curve3, ParametricCurve};
 pub use error::GeometryError;
 pub use frame::{curve_frame, CurveFrame, CurveFrameDerivatives};
