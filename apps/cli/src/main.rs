@@ -6,7 +6,9 @@
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
-use sheetform::pipeline::{inadmissible_report, run_bend, write_outputs, BendRunOptions, PipelineError};
+use sheetform::pipeline::{
+    inadmissible_report, run_bend, run_check, write_outputs, BendRunOptions, CheckOptions, PipelineError,
+};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -46,12 +48,85 @@ enum Command {
         #[arg(long, value_name = "N", default_value_t = 0)]
         animate: usize,
     },
+    /// Measure the developability of any triangle mesh (OBJ, PLY, STL, OFF): topology,
+    /// angle defects, Gaussian curvature, `D[M]` and `G[X]`, the isometry error of the stored
+    /// `vt` flattening. Writes report.json and a colour map (developability.ply/.glb).
+    Check {
+        /// Mesh file.
+        mesh: PathBuf,
+        /// Output directory (created if missing).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Merge vertices closer than this distance (model units) before measuring.
+        #[arg(long, value_name = "DISTANCE")]
+        weld: Option<f64>,
+        /// Angle defects up to this (radians) count as developable.
+        #[arg(long, value_name = "RADIANS", default_value_t = sheetform::pipeline::DEFAULT_ANGLE_TOLERANCE)]
+        tolerance: f64,
+        /// Length unit of the mesh file.
+        #[arg(long, value_enum, default_value_t = Unit::Mm)]
+        units: Unit,
+    },
     /// Print the JSON Schema of a scene format.
     Schema {
         /// Which format.
         #[arg(value_enum)]
         format: SchemaFormat,
     },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum Unit {
+    Mm,
+    Cm,
+    M,
+    In,
+}
+
+impl From<Unit> for sheetform::mesh::LengthUnit {
+    fn from(u: Unit) -> Self {
+        match u {
+            Unit::Mm => Self::Mm,
+            Unit::Cm => Self::Cm,
+            Unit::M => Self::M,
+            Unit::In => Self::In,
+        }
+    }
+}
+
+fn check_command(
+    mesh: PathBuf,
+    output: PathBuf,
+    weld: Option<f64>,
+    tolerance: f64,
+    units: Unit,
+    quiet: bool,
+) -> Result<ExitCode, PipelineError> {
+    let options = CheckOptions {
+        weld,
+        tolerance,
+        unit: units.into(),
+    };
+    let run = run_check(&mesh, &options)?;
+    write_outputs(&output, &run.files, &run.report)?;
+    if !quiet {
+        let r = &run.report;
+        let d = r.angle_defects.as_ref().expect("check reports angle defects");
+        eprintln!(
+            "{}: {}; {} vertices, {} faces, max angle defect {:.2e} rad, D[M] = {:.4}{}; wrote {}",
+            mesh.display(),
+            r.status,
+            r.vertex_count,
+            r.face_count,
+            d.angle_defect_max_rad,
+            d.developability_d,
+            r.isometry_error_max_relative
+                .map(|e| format!(", stored flattening isometry error {e:.1e}"))
+                .unwrap_or_default(),
+            output.display()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -101,9 +176,9 @@ fn bend_command(scene: PathBuf, output: PathBuf, animate: usize, quiet: bool) ->
                 eprintln!(
                     "bent `{}`: {} rulings, {} faces, isometry error {:.1e}, admissible; wrote {} files to {}",
                     scene.display(),
-                    r.ruling_count,
+                    r.ruling_count.unwrap_or(0),
                     r.face_count,
-                    r.isometry_error_max_relative,
+                    r.isometry_error_max_relative.unwrap_or(f64::NAN),
                     r.outputs.len(),
                     output.display()
                 );
@@ -140,6 +215,13 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Bend { scene, output, animate } => bend_command(scene, output, animate, cli.quiet),
+        Command::Check {
+            mesh,
+            output,
+            weld,
+            tolerance,
+            units,
+        } => check_command(mesh, output, weld, tolerance, units, cli.quiet),
         Command::Schema {
             format: SchemaFormat::Bend,
         } => {

@@ -1,5 +1,5 @@
 use serde_json::json;
-use sheetform_mesh::{PieceKind, SheetMesh};
+use sheetform_mesh::{PieceKind, SheetMesh, TriangleMesh};
 
 /// Name of the application-specific glTF vertex attribute that holds the flat-sheet
 /// coordinates at 1:1 scale (in metres, like every glTF length).
@@ -33,6 +33,96 @@ impl<'a> Texture<'a> {
     }
 }
 
+/// Buffer, views and accessors of a glTF binary under construction.
+#[derive(Default)]
+struct GlbBuilder {
+    bin: Vec<u8>,
+    views: Vec<serde_json::Value>,
+    accessors: Vec<serde_json::Value>,
+}
+
+impl GlbBuilder {
+    fn view(&mut self, bytes: &[u8], target: Option<u32>) -> usize {
+        while self.bin.len() % 4 != 0 {
+            self.bin.push(0);
+        }
+        let mut v = json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()});
+        if let Some(t) = target {
+            v["target"] = json!(t);
+        }
+        self.views.push(v);
+        self.bin.extend_from_slice(bytes);
+        self.views.len() - 1
+    }
+
+    /// A float vertex attribute (`VEC2`, `VEC3`, `VEC4`); `min_max` adds bounds (needed
+    /// for `POSITION`).
+    fn floats(&mut self, values: &[f32], components: usize, min_max: bool) -> usize {
+        let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let view = self.view(&bytes, Some(34962));
+        let kind = ["", "SCALAR", "VEC2", "VEC3", "VEC4"][components];
+        let mut a =
+            json!({"bufferView": view, "componentType": 5126, "count": values.len() / components, "type": kind});
+        if min_max {
+            let mut lo = vec![f32::INFINITY; components];
+            let mut hi = vec![f32::NEG_INFINITY; components];
+            for chunk in values.chunks(components) {
+                for k in 0..components {
+                    lo[k] = lo[k].min(chunk[k]);
+                    hi[k] = hi[k].max(chunk[k]);
+                }
+            }
+            a["min"] = json!(lo);
+            a["max"] = json!(hi);
+        }
+        self.accessors.push(a);
+        self.accessors.len() - 1
+    }
+
+    fn indices(&mut self, indices: &[u32]) -> usize {
+        let bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
+        let view = self.view(&bytes, Some(34963));
+        self.accessors
+            .push(json!({"bufferView": view, "componentType": 5125, "count": indices.len(), "type": "SCALAR"}));
+        self.accessors.len() - 1
+    }
+
+    /// The `.glb` file: `doc` completed with buffers, views and accessors.
+    fn finish(mut self, mut doc: serde_json::Value) -> Vec<u8> {
+        while self.bin.len() % 4 != 0 {
+            self.bin.push(0);
+        }
+        doc["asset"] = json!({"version": "2.0", "generator": concat!("sheetform ", env!("CARGO_PKG_VERSION"))});
+        doc["buffers"] = json!([{"byteLength": self.bin.len()}]);
+        doc["bufferViews"] = json!(self.views);
+        doc["accessors"] = json!(self.accessors);
+        let mut json_bytes = serde_json::to_vec(&doc).expect("glTF JSON serialises");
+        while json_bytes.len() % 4 != 0 {
+            json_bytes.push(b' ');
+        }
+        let total = 12 + 8 + json_bytes.len() + 8 + self.bin.len();
+        let mut out = Vec::with_capacity(total);
+        out.extend_from_slice(b"glTF");
+        out.extend_from_slice(&2u32.to_le_bytes());
+        out.extend_from_slice(&(total as u32).to_le_bytes());
+        out.extend_from_slice(&(json_bytes.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"JSON");
+        out.extend_from_slice(&json_bytes);
+        out.extend_from_slice(&(self.bin.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"BIN\0");
+        out.extend_from_slice(&self.bin);
+        out
+    }
+}
+
+fn unit_normals(normals: Vec<nalgebra::Vector3<f64>>) -> Vec<f32> {
+    normals
+        .into_iter()
+        .map(|v| if v.norm() > 0.5 { v } else { nalgebra::Vector3::z() })
+        .flat_map(|v| [v.x as f32, v.y as f32, v.z as f32])
+        .collect()
+}
+
 /// glTF 2.0 binary (`.glb`) of the bent sheet.
 ///
 /// Lengths are converted to metres, glTF's unit. One mesh with one primitive per piece
@@ -42,146 +132,116 @@ impl<'a> Texture<'a> {
 /// pattern at 1:1 in metres). With a `texture`, every material shows it.
 pub fn glb_bytes(mesh: &SheetMesh, name: &str, texture: Option<Texture<'_>>) -> Vec<u8> {
     let to_m = mesh.unit.millimetres() / 1000.0;
-    let n = mesh.positions.len();
-    let mut bin: Vec<u8> = Vec::new();
-    let mut views = Vec::new();
-    let mut accessors = Vec::new();
-    let mut push_view = |bin: &mut Vec<u8>, bytes: &[u8], target: u32| -> usize {
-        while bin.len() % 4 != 0 {
-            bin.push(0);
-        }
-        views.push(json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": bytes.len(), "target": target}));
-        bin.extend_from_slice(bytes);
-        views.len() - 1
-    };
-    let f32s =
-        |values: &mut dyn Iterator<Item = f64>| -> Vec<u8> { values.flat_map(|v| (v as f32).to_le_bytes()).collect() };
-
-    // POSITION with exact f32 min/max.
-    let pos32: Vec<[f32; 3]> = mesh
+    let mut b = GlbBuilder::default();
+    let pos: Vec<f32> = mesh
         .positions
         .iter()
-        .map(|p| [(p.x * to_m) as f32, (p.y * to_m) as f32, (p.z * to_m) as f32])
+        .flat_map(|p| [(p.x * to_m) as f32, (p.y * to_m) as f32, (p.z * to_m) as f32])
         .collect();
-    let mut lo = [f32::INFINITY; 3];
-    let mut hi = [f32::NEG_INFINITY; 3];
-    for p in &pos32 {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    let bytes: Vec<u8> = pos32
-        .iter()
-        .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()))
-        .collect();
-    let v = push_view(&mut bin, &bytes, 34962);
-    accessors.push(json!({"bufferView": v, "componentType": 5126, "count": n, "type": "VEC3", "min": lo, "max": hi}));
-    let position = accessors.len() - 1;
-
-    let normals: Vec<_> = mesh
-        .vertex_normals()
-        .into_iter()
-        .map(|v| if v.norm() > 0.5 { v } else { nalgebra::Vector3::z() })
-        .collect();
-    let bytes = f32s(&mut normals.iter().flat_map(|v| [v.x, v.y, v.z]));
-    let v = push_view(&mut bin, &bytes, 34962);
-    accessors.push(json!({"bufferView": v, "componentType": 5126, "count": n, "type": "VEC3"}));
-    let normal = accessors.len() - 1;
-
+    let position = b.floats(&pos, 3, true);
+    let normal = b.floats(&unit_normals(mesh.vertex_normals()), 3, false);
     let (flo, fhi) = mesh.flat_bounds();
     let size = (fhi - flo).sup(&nalgebra::Vector2::repeat(f64::MIN_POSITIVE));
-    let bytes = f32s(
-        &mut mesh
-            .flat
-            .iter()
-            .flat_map(|q| [(q.x - flo.x) / size.x, 1.0 - (q.y - flo.y) / size.y]),
-    );
-    let v = push_view(&mut bin, &bytes, 34962);
-    accessors.push(json!({"bufferView": v, "componentType": 5126, "count": n, "type": "VEC2"}));
-    let texcoord = accessors.len() - 1;
-
-    let bytes = f32s(&mut mesh.flat.iter().flat_map(|q| [q.x * to_m, q.y * to_m]));
-    let v = push_view(&mut bin, &bytes, 34962);
-    accessors.push(json!({"bufferView": v, "componentType": 5126, "count": n, "type": "VEC2"}));
-    let flat = accessors.len() - 1;
-
+    let uv: Vec<f32> = mesh
+        .flat
+        .iter()
+        .flat_map(|q| [((q.x - flo.x) / size.x) as f32, (1.0 - (q.y - flo.y) / size.y) as f32])
+        .collect();
+    let texcoord = b.floats(&uv, 2, false);
+    let flat_m: Vec<f32> = mesh
+        .flat
+        .iter()
+        .flat_map(|q| [(q.x * to_m) as f32, (q.y * to_m) as f32])
+        .collect();
+    let flat = b.floats(&flat_m, 2, false);
     let mut primitives = Vec::new();
     let mut materials = Vec::new();
     for (p, piece) in mesh.pieces.iter().enumerate() {
-        let idx: Vec<u8> = mesh
+        let idx: Vec<u32> = mesh
             .triangles
             .iter()
             .zip(&mesh.face_pieces)
             .filter(|(_, &fp)| fp as usize == p)
-            .flat_map(|(t, _)| t.iter().flat_map(|i| i.to_le_bytes()))
+            .flat_map(|(t, _)| t.iter().copied())
             .collect();
         if idx.is_empty() {
             continue;
         }
-        let count = idx.len() / 4;
-        let v = push_view(&mut bin, &idx, 34963);
-        accessors.push(json!({"bufferView": v, "componentType": 5125, "count": count, "type": "SCALAR"}));
+        let indices = b.indices(&idx);
         let colour = match piece.kind {
             PieceKind::Curved => [0.32, 0.55, 0.85, 1.0],
             PieceKind::Planar => [0.86, 0.78, 0.6, 1.0],
         };
-        let mut pbr = json!({"baseColorFactor": colour, "metallicFactor": 0.0, "roughnessFactor": 0.8});
-        if texture.is_some() {
-            pbr = json!({"baseColorTexture": {"index": 0}, "metallicFactor": 0.0, "roughnessFactor": 0.8});
-        }
+        let pbr = if texture.is_some() {
+            json!({"baseColorTexture": {"index": 0}, "metallicFactor": 0.0, "roughnessFactor": 0.8})
+        } else {
+            json!({"baseColorFactor": colour, "metallicFactor": 0.0, "roughnessFactor": 0.8})
+        };
         materials.push(json!({"name": piece.name, "doubleSided": true, "pbrMetallicRoughness": pbr}));
         primitives.push(json!({
             "attributes": {"POSITION": position, "NORMAL": normal, "TEXCOORD_0": texcoord, GLB_FLAT_ATTRIBUTE: flat},
-            "indices": accessors.len() - 1,
+            "indices": indices,
             "material": materials.len() - 1,
             "mode": 4
         }));
     }
-    let mut images = Vec::new();
-    if let Some(t) = texture {
-        while bin.len() % 4 != 0 {
-            bin.push(0);
-        }
-        views.push(json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": t.bytes.len()}));
-        bin.extend_from_slice(t.bytes);
-        images.push(json!({"bufferView": views.len() - 1, "mimeType": t.mime_type}));
-    }
-    while bin.len() % 4 != 0 {
-        bin.push(0);
-    }
     let mut doc = json!({
-        "asset": {"version": "2.0", "generator": concat!("sheetform ", env!("CARGO_PKG_VERSION"))},
         "scene": 0,
         "scenes": [{"nodes": [0]}],
         "nodes": [{"mesh": 0, "name": name}],
         "meshes": [{"name": name, "primitives": primitives, "extras": {"flat_attribute": GLB_FLAT_ATTRIBUTE, "flat_unit": "m", "model_unit": mesh.unit.symbol()}}],
         "materials": materials,
-        "buffers": [{"byteLength": bin.len()}],
-        "bufferViews": views,
-        "accessors": accessors,
     });
-    if !images.is_empty() {
-        doc["images"] = json!(images);
+    if let Some(t) = texture {
+        let view = b.view(t.bytes, None);
+        doc["images"] = json!([{"bufferView": view, "mimeType": t.mime_type}]);
         doc["samplers"] = json!([{"magFilter": 9729, "minFilter": 9987, "wrapS": 33071, "wrapT": 33071}]);
         doc["textures"] = json!([{"source": 0, "sampler": 0}]);
     }
-    let mut json_bytes = serde_json::to_vec(&doc).expect("glTF JSON serialises");
-    while json_bytes.len() % 4 != 0 {
-        json_bytes.push(b' ');
+    b.finish(doc)
+}
+
+/// glTF 2.0 binary of any triangle mesh with a colour per vertex (`COLOR_0`, linear RGB
+/// in [0, 1]), unlit-looking (rough, non-metallic, double-sided): a colour map of a
+/// per-vertex measure. `to_metres` converts the mesh's lengths to metres.
+pub fn glb_vertex_colours(mesh: &TriangleMesh, colours: &[[f32; 3]], to_metres: f64, name: &str) -> Vec<u8> {
+    let mut b = GlbBuilder::default();
+    let pos: Vec<f32> = mesh
+        .positions
+        .iter()
+        .flat_map(|p| {
+            [
+                (p.x * to_metres) as f32,
+                (p.y * to_metres) as f32,
+                (p.z * to_metres) as f32,
+            ]
+        })
+        .collect();
+    let position = b.floats(&pos, 3, true);
+    let mut normals = vec![nalgebra::Vector3::<f64>::zeros(); mesh.positions.len()];
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        let n = mesh.face_normal(f) * mesh.face_area(f);
+        for &v in t {
+            normals[v as usize] += n;
+        }
     }
-    let total = 12 + 8 + json_bytes.len() + 8 + bin.len();
-    let mut out = Vec::with_capacity(total);
-    out.extend_from_slice(b"glTF");
-    out.extend_from_slice(&2u32.to_le_bytes());
-    out.extend_from_slice(&(total as u32).to_le_bytes());
-    out.extend_from_slice(&(json_bytes.len() as u32).to_le_bytes());
-    out.extend_from_slice(b"JSON");
-    out.extend_from_slice(&json_bytes);
-    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
-    out.extend_from_slice(b"BIN\0");
-    out.extend_from_slice(&bin);
-    out
+    let normals: Vec<_> = normals
+        .into_iter()
+        .map(|n| if n.norm() > 0.0 { n.normalize() } else { n })
+        .collect();
+    let normal = b.floats(&unit_normals(normals), 3, false);
+    let cols: Vec<f32> = colours.iter().flat_map(|c| c.iter().copied()).collect();
+    let colour = b.floats(&cols, 3, false);
+    let idx: Vec<u32> = mesh.triangles.iter().flat_map(|t| t.iter().copied()).collect();
+    let indices = b.indices(&idx);
+    let doc = json!({
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0, "name": name}],
+        "meshes": [{"name": name, "primitives": [{"attributes": {"POSITION": position, "NORMAL": normal, "COLOR_0": colour}, "indices": indices, "material": 0, "mode": 4}]}],
+        "materials": [{"name": "colour map", "doubleSided": true, "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 1.0}}],
+    });
+    b.finish(doc)
 }
 
 #[cfg(test)]

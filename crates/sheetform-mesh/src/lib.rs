@@ -1,14 +1,22 @@
 //! The output type every sheetform method returns: [`SheetMesh`], a triangle mesh of the
 //! bent sheet in which every vertex carries its 3D position *and* its exact position on
 //! the flat sheet (same length unit), plus the rulings and a piece label per face.
-//! Also the metrics computed on it (isometry error, developability along rulings).
+//! Also the metrics computed on it (isometry error, developability along rulings), and
+//! [`TriangleMesh`], any mesh read from a file, with its topology checks and
+//! developability measures (angle defects, Gaussian curvature, Wang & Tang's `D[M]`, `G[X]`).
 
+mod developability;
 mod error;
 mod metrics;
 mod sheet_mesh;
+mod topology;
+mod triangle_mesh;
 mod unit;
 
+pub use developability::{developability_summary, vertex_developability, DevelopabilitySummary, VertexDevelopability};
 pub use error::MeshError;
 pub use metrics::{developability_error, isometry_error, IsometryError, RulingNormalError};
 pub use sheet_mesh::{Piece, PieceKind, Ruling, SheetMesh};
+pub use topology::{mesh_topology, MeshTopology};
+pub use triangle_mesh::TriangleMesh;
 pub use unit::LengthUnit;

@@ -251,6 +251,23 @@ impl SheetMesh {
             .sum()
     }
 
+    /// The 3D mesh as a plain [`crate::TriangleMesh`] (one group per piece), for the
+    /// measures that work on any mesh.
+    pub fn to_triangle_mesh(&self) -> crate::TriangleMesh {
+        crate::TriangleMesh {
+            positions: self.positions.clone(),
+            triangles: self.triangles.clone(),
+            face_groups: self.face_pieces.clone(),
+            groups: self.pieces.iter().map(|p| p.name.clone()).collect(),
+            corner_uvs: Some(
+                self.triangles
+                    .iter()
+                    .map(|t| t.map(|i| self.flat[i as usize]))
+                    .collect(),
+            ),
+        }
+    }
+
     /// Total area of the 3D surface.
     pub fn area(&self) -> f64 {
         self.triangles

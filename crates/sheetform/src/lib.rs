@@ -14,8 +14,10 @@
 //! use sheetform::pipeline::{run_bend, BendRunOptions};
 //! let scene = include_str!("../../../examples/bent-rectangle.json");
 //! let run = run_bend(scene, &BendRunOptions::default(), &mut |_, _| {}).unwrap();
-//! assert!(run.report.admissible);
-//! assert!(run.report.isometry_error_max_relative < 1e-9);
+//! assert_eq!(run.report.admissible, Some(true));
+//! assert!(run.report.isometry_error_max_relative.unwrap() < 1e-9);
+//! // The bent sheet is developable: no angle defect at its interior vertices.
+//! assert!(run.report.angle_defects.unwrap().angle_defect_max_rad < 1e-9);
 //! ```
 
 #![warn(missing_docs)]

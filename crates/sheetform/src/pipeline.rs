@@ -1,9 +1,13 @@
 //! The pipelines every front end calls.
 
-use crate::report::{RegionReport, RegressionEntry, Report, Timings, REPORT_FORMAT};
+use crate::report::{AngleDefects, RegionReport, RegressionEntry, Report, Timings};
 use sheetform_bend::{bend, BendError, BendModel, BendScene, BentSheet};
+use sheetform_io::{colour_ramp, glb_vertex_colours, ply_vertex_colours, read_mesh, MeshReadError};
 use sheetform_io::{glb_bytes, obj_string, stl_bytes, svg_pattern, write_atomic, IoError, SvgOptions, Texture};
-use sheetform_mesh::{developability_error, isometry_error, SheetMesh};
+use sheetform_mesh::{
+    developability_error, developability_summary, isometry_error, mesh_topology, vertex_developability, LengthUnit,
+    MeshTopology, TriangleMesh, VertexDevelopability,
+};
 use std::path::Path;
 use std::time::Instant;
 use thiserror::Error;
@@ -25,6 +29,9 @@ pub enum PipelineError {
     /// Writing the outputs failed.
     #[error(transparent)]
     Io(#[from] IoError),
+    /// A mesh file cannot be read.
+    #[error(transparent)]
+    MeshRead(#[from] MeshReadError),
     /// The texture is not a PNG or JPEG image.
     #[error("texture {path}: not a PNG or JPEG image")]
     Texture {
@@ -154,61 +161,71 @@ pub fn run_bend(
     })
 }
 
-/// Mesh measures shared by every command's report.
-fn mesh_measures(mesh: &SheetMesh) -> (f64, f64, f64, f64, f64) {
-    let iso = isometry_error(mesh);
-    let dev = developability_error(mesh);
-    let mm = mesh.unit.millimetres();
+/// Angle-defect figures of a mesh, lengths converted to millimetres by `mm` per unit.
+fn angle_defects(
+    mesh: &TriangleMesh,
+    topology: &MeshTopology,
+    tolerance: f64,
+    mm: f64,
+) -> (AngleDefects, VertexDevelopability) {
+    let vertices = vertex_developability(mesh, topology);
+    let s = developability_summary(mesh, topology, &vertices, tolerance);
     (
-        iso.max_relative,
-        iso.mean_relative,
-        dev.max_radians,
-        mesh.flat_area() * mm * mm,
-        mesh.area() * mm * mm,
+        AngleDefects {
+            interior_vertex_count: s.interior_vertex_count,
+            angle_defect_max_rad: s.angle_defect_max_rad,
+            angle_defect_mean_rad: s.angle_defect_mean_rad,
+            angle_defect_rms_rad: s.angle_defect_rms_rad,
+            vertices_over_tolerance: s.vertices_over_tolerance,
+            tolerance_rad: s.tolerance_rad,
+            gaussian_curvature_max_per_mm2: s.gaussian_curvature_max_per_length2 / (mm * mm),
+            developability_d: s.developability_d,
+            developability_g_rad2: s.developability_g,
+        },
+        vertices,
     )
 }
 
 fn bend_report(model: &BendModel, sheet: &BentSheet, input: Option<String>, files: &[(String, Vec<u8>)]) -> Report {
     let mm = model.unit.millimetres();
-    let (iso_max, iso_mean, dev_max, flat_area, area) = mesh_measures(&sheet.mesh);
-    let mut outputs: Vec<String> = files.iter().map(|f| f.0.clone()).collect();
-    outputs.push("report.json".into());
-    Report {
-        format: REPORT_FORMAT,
-        command: "bend".into(),
-        sheetform_version: env!("CARGO_PKG_VERSION"),
-        input,
-        status: "ok".into(),
-        model_unit: model.unit.symbol().into(),
-        admissible: true,
-        regression_entry: None,
-        vertex_count: sheet.mesh.vertex_count(),
-        face_count: sheet.mesh.triangles.len(),
-        piece_count: sheet.mesh.pieces.len(),
-        ruling_count: sheet.regions.iter().map(|r| r.ruling_count).sum(),
-        isometry_error_max_relative: iso_max,
-        isometry_error_mean_relative: iso_mean,
-        developability_error_max_rad: dev_max,
-        flat_area_mm2: flat_area,
-        area_mm2: area,
-        regions: sheet
-            .regions
-            .iter()
-            .map(|r| RegionReport {
-                name: r.name.clone(),
-                ruling_count: r.ruling_count,
-                curve_length_mm: r.curve_length * mm,
-                total_fold_rad: r.total_fold_radians,
-                max_fold_rad: r.max_fold_radians,
-                admissible: r.admissibility.admissible,
-                regression_margin_mm: r.admissibility.regression_margin.map(|m| m * mm),
-                curve_deviation_mm: r.curve_deviation * mm,
-                closure_gap_mm: r.closure_gap.map(|g| g * mm),
-            })
-            .collect(),
-        outputs,
-        timings: Timings::default(),
-    }
+    let mesh = &sheet.mesh;
+    let iso = isometry_error(mesh);
+    let triangle_mesh = mesh.to_triangle_mesh();
+    let topology = mesh_topology(&triangle_mesh);
+    let mut report = Report::new("bend", input);
+    report.model_unit = model.unit.symbol().into();
+    report.vertex_count = mesh.vertex_count();
+    report.face_count = mesh.triangles.len();
+    report.isometry_error_max_relative = Some(iso.max_relative);
+    report.isometry_error_mean_relative = Some(iso.mean_relative);
+    report.angle_defects = Some(angle_defects(&triangle_mesh, &topology, DEFAULT_ANGLE_TOLERANCE, mm).0);
+    report.flat_area_mm2 = Some(mesh.flat_area() * mm * mm);
+    report.area_mm2 = mesh.area() * mm * mm;
+    report.admissible = Some(true);
+    report.piece_count = Some(mesh.pieces.len());
+    report.ruling_count = Some(sheet.regions.iter().map(|r| r.ruling_count).sum());
+    report.developability_error_max_rad = Some(developability_error(mesh).max_radians);
+    report.regions = sheet
+        .regions
+        .iter()
+        .map(|r| RegionReport {
+            name: r.name.clone(),
+            ruling_count: r.ruling_count,
+            curve_length_mm: r.curve_length * mm,
+            total_fold_rad: r.total_fold_radians,
+            max_fold_rad: r.max_fold_radians,
+            admissible: r.admissibility.admissible,
+            regression_margin_mm: r.admissibility.regression_margin.map(|m| m * mm),
+            curve_deviation_mm: r.curve_deviation * mm,
+            closure_gap_mm: r.closure_gap.map(|g| g * mm),
+        })
+        .collect();
+    report.outputs = files
+        .iter()
+        .map(|f| f.0.clone())
+        .chain(std::iter::once("report.json".to_string()))
+        .collect();
+    report
 }
 
 /// The report of a shape refused as inadmissible (no mesh is made).
@@ -216,34 +233,160 @@ pub fn inadmissible_report(error: &BendError, unit_mm: f64, input: Option<String
     let BendError::Inadmissible(detail) = error else {
         return None;
     };
-    Some(Report {
-        format: REPORT_FORMAT,
-        command: "bend".into(),
-        sheetform_version: env!("CARGO_PKG_VERSION"),
-        input,
-        status: "inadmissible".into(),
-        model_unit: String::new(),
-        admissible: false,
-        regression_entry: Some(RegressionEntry {
-            message: detail.message.clone(),
-            region: detail.region,
-            arc_length_range_mm: detail.arc_length_range.map(|v| v * unit_mm),
-            flat_point_mm: detail.flat_point.map(|v| v * unit_mm),
-            point_mm: detail.point.map(|p| p.map(|v| v * unit_mm)),
-        }),
-        vertex_count: 0,
-        face_count: 0,
-        piece_count: 0,
-        ruling_count: 0,
-        isometry_error_max_relative: f64::NAN,
-        isometry_error_mean_relative: f64::NAN,
-        developability_error_max_rad: f64::NAN,
-        flat_area_mm2: 0.0,
-        area_mm2: 0.0,
-        regions: vec![],
-        outputs: vec!["report.json".into()],
-        timings: Timings::default(),
+    let mut report = Report::new("bend", input);
+    report.status = "inadmissible".into();
+    report.admissible = Some(false);
+    report.regression_entry = Some(RegressionEntry {
+        message: detail.message.clone(),
+        region: detail.region,
+        arc_length_range_mm: detail.arc_length_range.map(|v| v * unit_mm),
+        flat_point_mm: detail.flat_point.map(|v| v * unit_mm),
+        point_mm: detail.point.map(|p| p.map(|v| v * unit_mm)),
+    });
+    report.outputs = vec!["report.json".into()];
+    Some(report)
+}
+
+/// Default tolerance (radians) under which an angle defect counts as zero: 1e-4 rad
+/// (0.006°) is far below anything a sheet material can show, and above the rounding of
+/// mesh files written with 6–7 significant digits (whose exactly developable meshes show
+/// defects of ~1e-5). `--tolerance` sets another.
+pub const DEFAULT_ANGLE_TOLERANCE: f64 = 1e-4;
+
+/// Knobs of `sheetform check`.
+#[derive(Debug, Clone)]
+pub struct CheckOptions {
+    /// Merge vertices closer than this (model units); `None`: no welding.
+    pub weld: Option<f64>,
+    /// Angle defects up to this (radians) count as developable.
+    pub tolerance: f64,
+    /// Length unit of the file.
+    pub unit: LengthUnit,
+}
+
+impl Default for CheckOptions {
+    fn default() -> Self {
+        Self {
+            weld: None,
+            tolerance: DEFAULT_ANGLE_TOLERANCE,
+            unit: LengthUnit::Mm,
+        }
+    }
+}
+
+/// A finished check: the mesh, its per-vertex figures, the files and the report.
+#[derive(Debug)]
+pub struct CheckRun {
+    /// The mesh as read (and welded).
+    pub mesh: TriangleMesh,
+    /// Its topology.
+    pub topology: MeshTopology,
+    /// Per-vertex angle defects and curvature.
+    pub vertices: VertexDevelopability,
+    /// Rendered outputs `(file name, bytes)`.
+    pub files: Vec<(String, Vec<u8>)>,
+    /// The report.
+    pub report: Report,
+}
+
+/// Measures the developability of any triangle mesh file (OBJ, PLY, STL, OFF): topology
+/// (non-manifold edges and vertices, degenerate faces, orientability, boundary loops),
+/// angle defects, Gaussian curvature, `D[M]` and `G[X]` (Wang & Tang 2004), and the
+/// isometry error of the flattening stored in the file's `vt`; renders a colour map of
+/// |angle defect| (PLY with vertex colours and GLB).
+///
+/// # Errors
+/// The file cannot be read or is malformed (the message names the line).
+pub fn run_check(path: &Path, options: &CheckOptions) -> Result<CheckRun, PipelineError> {
+    let start = Instant::now();
+    let mut mesh = read_mesh(path)?;
+    let welded = options.weld.map(|tolerance| mesh.weld(tolerance));
+    let parsed = Instant::now();
+    let mm = options.unit.millimetres();
+    let topology = mesh_topology(&mesh);
+    let (defects, vertices) = angle_defects(&mesh, &topology, options.tolerance, mm);
+    let stored = mesh.corner_uvs.as_ref().map(|uv| stored_flattening_error(&mesh, uv));
+    let solved = Instant::now();
+    // Logarithmic scale from the tolerance (blue: developable) to the largest defect
+    // (red), so that typical defects show next to a few large ones (cone points).
+    let top = defects.angle_defect_max_rad.max(10.0 * options.tolerance);
+    let span = (top / options.tolerance).ln();
+    let colours: Vec<[f32; 3]> = vertices
+        .angle_defect
+        .iter()
+        .map(|g| colour_ramp((g.abs().max(options.tolerance) / options.tolerance).ln() / span))
+        .collect();
+    let name = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "mesh".into());
+    let files = vec![
+        (
+            "developability.ply".to_string(),
+            ply_vertex_colours(&mesh, &colours, &vertices.angle_defect, "angle_defect").into_bytes(),
+        ),
+        (
+            "developability.glb".to_string(),
+            glb_vertex_colours(&mesh, &colours, mm / 1000.0, &name),
+        ),
+    ];
+    let exported = Instant::now();
+    let mut report = Report::new("check", Some(path.display().to_string()));
+    report.model_unit = options.unit.symbol().into();
+    report.status = if topology.is_clean() && defects.vertices_over_tolerance == 0 {
+        "developable"
+    } else {
+        "not developable"
+    }
+    .into();
+    report.vertex_count = mesh.positions.len();
+    report.face_count = mesh.triangles.len();
+    report.isometry_error_max_relative = stored.map(|s| s.0);
+    report.isometry_error_mean_relative = stored.map(|s| s.1);
+    report.flat_area_mm2 = stored.map(|s| s.2 * mm * mm);
+    report.area_mm2 = (0..mesh.triangles.len()).map(|f| mesh.face_area(f)).sum::<f64>() * mm * mm;
+    report.angle_defects = Some(defects);
+    report.topology = Some(topology.clone());
+    report.welded_vertex_count = welded;
+    report.outputs = files
+        .iter()
+        .map(|f| f.0.clone())
+        .chain(std::iter::once("report.json".to_string()))
+        .collect();
+    report.timings = Timings {
+        parse_ms: ms(parsed - start),
+        solve_ms: ms(solved - parsed),
+        export_ms: ms(exported - solved),
+        total_ms: ms(exported - start),
+    };
+    Ok(CheckRun {
+        mesh,
+        topology,
+        vertices,
+        files,
+        report,
     })
+}
+
+/// `(max, mean)` relative edge-length difference between the 3D faces and the stored
+/// per-corner flattening, and the flattening's area.
+fn stored_flattening_error(mesh: &TriangleMesh, uv: &[[nalgebra::Vector2<f64>; 3]]) -> (f64, f64, f64) {
+    let (mut max, mut sum, mut n, mut area) = (0.0f64, 0.0, 0usize, 0.0);
+    for (t, q) in mesh.triangles.iter().zip(uv) {
+        let p = t.map(|i| mesh.positions[i as usize]);
+        for k in 0..3 {
+            let flat = (q[(k + 1) % 3] - q[k]).norm();
+            if flat > 0.0 {
+                let rel = ((p[(k + 1) % 3] - p[k]).norm() - flat).abs() / flat;
+                max = max.max(rel);
+                sum += rel;
+                n += 1;
+            }
+        }
+        let (a, b) = (q[1] - q[0], q[2] - q[0]);
+        area += 0.5 * (a.x * b.y - a.y * b.x).abs();
+    }
+    (max, if n > 0 { sum / n as f64 } else { 0.0 }, area)
 }
 
 /// Writes rendered files and the report into `dir` (created if missing), each file

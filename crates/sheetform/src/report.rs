@@ -59,47 +59,116 @@ pub struct RegionReport {
     pub closure_gap_mm: Option<f64>,
 }
 
-/// The report every command writes.
+/// Angle-defect figures of a mesh (Wang & Tang 2004): the same keys in every command.
+#[derive(Debug, Clone, Serialize)]
+pub struct AngleDefects {
+    /// Interior vertices measured.
+    pub interior_vertex_count: usize,
+    /// Largest |2π − Σθ| over interior vertices.
+    pub angle_defect_max_rad: f64,
+    /// Mean |angle defect|.
+    pub angle_defect_mean_rad: f64,
+    /// Root mean square angle defect.
+    pub angle_defect_rms_rad: f64,
+    /// Interior vertices with |angle defect| above `tolerance_rad`.
+    pub vertices_over_tolerance: usize,
+    /// The tolerance.
+    pub tolerance_rad: f64,
+    /// Largest |discrete Gaussian curvature| (Eq. 2-1).
+    pub gaussian_curvature_max_per_mm2: f64,
+    /// `D[M]` (Definition 2-1): area fraction of developable vertices (1 = developable).
+    pub developability_d: f64,
+    /// `G[X]` = Σ g² (Eq. 2-5).
+    pub developability_g_rad2: f64,
+}
+
+/// The report every command writes. Keys that do not apply to a command are left out.
 #[derive(Debug, Clone, Serialize)]
 pub struct Report {
     /// [`REPORT_FORMAT`].
     pub format: &'static str,
-    /// `bend`, …
+    /// `bend`, `check`, …
     pub command: String,
     /// sheetform version.
     pub sheetform_version: &'static str,
     /// Input file, if any.
     pub input: Option<String>,
-    /// `ok` or `inadmissible`.
+    /// `ok`, `inadmissible`, or (check) `developable` / `not developable`.
     pub status: String,
     /// The model's length unit.
     pub model_unit: String,
-    /// Whether the shape is admissible (no singular point on the sheet).
-    pub admissible: bool,
-    /// Where it is not.
-    pub regression_entry: Option<RegressionEntry>,
     /// Mesh vertices.
     pub vertex_count: usize,
     /// Mesh triangles.
     pub face_count: usize,
-    /// Curved + planar pieces.
-    pub piece_count: usize,
-    /// Rulings over all curved regions.
-    pub ruling_count: usize,
-    /// `max | |e_3D| − |e_flat| | / |e_flat|` over the mesh edges.
-    pub isometry_error_max_relative: f64,
+    /// `max | |e_3D| − |e_flat| | / |e_flat|` over the mesh edges (for `check`: of the
+    /// flattening stored in the file's `vt`; absent when there is none).
+    pub isometry_error_max_relative: Option<f64>,
     /// Mean of the same.
-    pub isometry_error_mean_relative: f64,
-    /// Largest angle between the surface normals at the two ends of a ruling.
-    pub developability_error_max_rad: f64,
-    /// Area of the flat pattern.
-    pub flat_area_mm2: f64,
+    pub isometry_error_mean_relative: Option<f64>,
+    /// Angle defects.
+    pub angle_defects: Option<AngleDefects>,
+    /// Area of the flat pattern (when there is one).
+    pub flat_area_mm2: Option<f64>,
     /// Area of the 3D surface.
     pub area_mm2: f64,
-    /// Per curved region.
+    /// Mesh topology (`check`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub topology: Option<sheetform_mesh::MeshTopology>,
+    /// Vertices merged by `--weld` (`check`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub welded_vertex_count: Option<usize>,
+    /// Whether the shape is admissible (`bend`: no singular point on the sheet).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub admissible: Option<bool>,
+    /// Where it is not (`bend`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub regression_entry: Option<RegressionEntry>,
+    /// Curved + planar pieces (`bend`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub piece_count: Option<usize>,
+    /// Rulings over all curved regions (`bend`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ruling_count: Option<usize>,
+    /// Largest angle between the surface normals at the two ends of a ruling (`bend`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub developability_error_max_rad: Option<f64>,
+    /// Per curved region (`bend`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
     pub regions: Vec<RegionReport>,
     /// Files written (relative to the output directory).
     pub outputs: Vec<String>,
     /// Stage times.
     pub timings: Timings,
+}
+
+impl Report {
+    /// An empty report of `command` (fields filled by the pipeline).
+    pub fn new(command: &str, input: Option<String>) -> Self {
+        Self {
+            format: REPORT_FORMAT,
+            command: command.into(),
+            sheetform_version: env!("CARGO_PKG_VERSION"),
+            input,
+            status: "ok".into(),
+            model_unit: "mm".into(),
+            vertex_count: 0,
+            face_count: 0,
+            isometry_error_max_relative: None,
+            isometry_error_mean_relative: None,
+            angle_defects: None,
+            flat_area_mm2: None,
+            area_mm2: 0.0,
+            topology: None,
+            welded_vertex_count: None,
+            admissible: None,
+            regression_entry: None,
+            piece_count: None,
+            ruling_count: None,
+            developability_error_max_rad: None,
+            regions: vec![],
+            outputs: vec![],
+            timings: Timings::default(),
+        }
+    }
 }

@@ -1,0 +1,123 @@
+use nalgebra::{Vector2, Vector3};
+
+type Vec2 = Vector2<f64>;
+type Vec3 = Vector3<f64>;
+
+/// A triangle mesh as read from a file: positions, triangles, a group per face and,
+/// optionally, a texture coordinate per face corner (OBJ `vt`; a vertex on a seam has
+/// different coordinates in the faces on either side).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct TriangleMesh {
+    /// Vertex positions.
+    pub positions: Vec<Vec3>,
+    /// Triangles (vertex indices).
+    pub triangles: Vec<[u32; 3]>,
+    /// Group (index into `groups`) of each triangle.
+    pub face_groups: Vec<u32>,
+    /// Group names (OBJ `g`/`o`; one unnamed group if the file has none).
+    pub groups: Vec<String>,
+    /// Texture coordinates per face corner, if the file has them for every face.
+    pub corner_uvs: Option<Vec<[Vec2; 3]>>,
+}
+
+impl TriangleMesh {
+    /// Unit normal of face `f` (zero for a degenerate face).
+    pub fn face_normal(&self, f: usize) -> Vec3 {
+        let [a, b, c] = self.triangles[f].map(|i| self.positions[i as usize]);
+        let n = (b - a).cross(&(c - a));
+        let l = n.norm();
+        if l > 0.0 {
+            n / l
+        } else {
+            Vec3::zeros()
+        }
+    }
+
+    /// Area of face `f`.
+    pub fn face_area(&self, f: usize) -> f64 {
+        let [a, b, c] = self.triangles[f].map(|i| self.positions[i as usize]);
+        0.5 * (b - a).cross(&(c - a)).norm()
+    }
+
+    /// Length of the bounding-box diagonal (the length scale for tolerances).
+    pub fn scale(&self) -> f64 {
+        let mut lo = Vec3::repeat(f64::INFINITY);
+        let mut hi = Vec3::repeat(f64::NEG_INFINITY);
+        for p in &self.positions {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        if self.positions.is_empty() {
+            0.0
+        } else {
+            (hi - lo).norm()
+        }
+    }
+
+    /// Merges vertices closer than `tolerance` (absolute, model units) into one, keeping
+    /// the first; drops faces that become degenerate. Returns the number of vertices
+    /// merged away. Grid hashing: expected linear time.
+    pub fn weld(&mut self, tolerance: f64) -> usize {
+        let cell = tolerance.max(f64::MIN_POSITIVE) * 2.0;
+        let key = |p: &Vec3| {
+            [
+                (p.x / cell).floor() as i64,
+                (p.y / cell).floor() as i64,
+                (p.z / cell).floor() as i64,
+            ]
+        };
+        let mut grid: std::collections::HashMap<[i64; 3], Vec<u32>> = std::collections::HashMap::new();
+        let mut remap: Vec<u32> = Vec::with_capacity(self.positions.len());
+        let mut kept: Vec<Vec3> = Vec::with_capacity(self.positions.len());
+        for p in &self.positions {
+            let k = key(p);
+            let mut found = None;
+            'search: for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
+                        if let Some(list) = grid.get(&[k[0] + dx, k[1] + dy, k[2] + dz]) {
+                            for &i in list {
+                                if (kept[i as usize] - p).norm() <= tolerance {
+                                    found = Some(i);
+                                    break 'search;
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            let index = found.unwrap_or_else(|| {
+                kept.push(*p);
+                let i = (kept.len() - 1) as u32;
+                grid.entry(k).or_default().push(i);
+                i
+            });
+            remap.push(index);
+        }
+        let merged = self.positions.len() - kept.len();
+        self.positions = kept;
+        let mut keep = Vec::with_capacity(self.triangles.len());
+        for t in &mut self.triangles {
+            *t = t.map(|i| remap[i as usize]);
+            keep.push(t[0] != t[1] && t[1] != t[2] && t[0] != t[2]);
+        }
+        let mut i = 0;
+        self.triangles.retain(|_| {
+            i += 1;
+            keep[i - 1]
+        });
+        let mut i = 0;
+        self.face_groups.retain(|_| {
+            i += 1;
+            keep[i - 1]
+        });
+        if let Some(uv) = &mut self.corner_uvs {
+            let mut i = 0;
+            uv.retain(|_| {
+                i += 1;
+                keep[i - 1]
+            });
+        }
+        merged
+    }
+}
