@@ -2,12 +2,14 @@
 //! pipeline, shows progress and maps errors to exit codes.
 //!
 //! Exit codes: 0 success, 1 invalid input or I/O error, 2 usage error (from clap),
-//! 3 shape not admissible (only `report.json` is written, saying where).
+//! 3 shape not admissible (only `report.json` is written, saying where), 4 flattened
+//! pattern overlaps itself (written, flagged in the report).
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use sheetform::pipeline::{
-    inadmissible_report, run_bend, run_check, write_outputs, BendRunOptions, CheckOptions, PipelineError,
+    inadmissible_report, run_bend, run_check, run_flatten, write_outputs, BendRunOptions, CheckOptions, FlattenOptions,
+    PipelineError,
 };
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -63,6 +65,23 @@ enum Command {
         /// Angle defects up to this (radians) count as developable.
         #[arg(long, value_name = "RADIANS", default_value_t = sheetform::pipeline::DEFAULT_ANGLE_TOLERANCE)]
         tolerance: f64,
+        /// Length unit of the mesh file.
+        #[arg(long, value_enum, default_value_t = Unit::Mm)]
+        units: Unit,
+    },
+    /// Flatten a developable (or nearly developable) disk-like mesh into its cutting
+    /// pattern by exact unfolding from its edge lengths: writes model.obj (vt = the
+    /// pattern at 1:1), model.glb, pattern.svg and report.json (distortion per chart).
+    /// Exit code 4 when the pattern overlaps itself (written, see the report).
+    Flatten {
+        /// Mesh file (OBJ, PLY, STL, OFF).
+        mesh: PathBuf,
+        /// Output directory (created if missing).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Merge vertices closer than this distance (model units) first.
+        #[arg(long, value_name = "DISTANCE")]
+        weld: Option<f64>,
         /// Length unit of the mesh file.
         #[arg(long, value_enum, default_value_t = Unit::Mm)]
         units: Unit,
@@ -123,6 +142,46 @@ fn check_command(
             r.isometry_error_max_relative
                 .map(|e| format!(", stored flattening isometry error {e:.1e}"))
                 .unwrap_or_default(),
+            output.display()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn flatten_command(
+    mesh: PathBuf,
+    output: PathBuf,
+    weld: Option<f64>,
+    units: Unit,
+    quiet: bool,
+) -> Result<ExitCode, PipelineError> {
+    let run = run_flatten(
+        &mesh,
+        &FlattenOptions {
+            weld,
+            unit: units.into(),
+        },
+    )?;
+    write_outputs(&output, &run.files, &run.report)?;
+    let d = &run.distortion;
+    if !d.is_overlap_free() {
+        eprintln!(
+            "sheetform: {}: the pattern overlaps itself ({} flipped faces, {} boundary crossings); written to {}, but it cannot be cut from one sheet as it is",
+            mesh.display(),
+            d.flipped_faces.len(),
+            d.boundary_crossings,
+            output.display()
+        );
+        return Ok(ExitCode::from(4));
+    }
+    if !quiet {
+        eprintln!(
+            "{}: flattened {} faces; edge-length error max {:.1e}, mean {:.1e}; area error max {:.1e}; wrote {}",
+            mesh.display(),
+            run.report.face_count,
+            d.edge_length_max_relative,
+            d.edge_length_mean_relative,
+            d.area_max_relative,
             output.display()
         );
     }
@@ -222,6 +281,12 @@ fn main() -> ExitCode {
             tolerance,
             units,
         } => check_command(mesh, output, weld, tolerance, units, cli.quiet),
+        Command::Flatten {
+            mesh,
+            output,
+            weld,
+            units,
+        } => flatten_command(mesh, output, weld, units, cli.quiet),
         Command::Schema {
             format: SchemaFormat::Bend,
         } => {

@@ -506,3 +506,44 @@ fn check_reports_topology_problems_instead_of_failing() {
     assert_eq!(r["topology"]["non_manifold_edges"], serde_json::json!([[0, 1]]));
     assert_eq!(r["topology"]["degenerate_faces"], serde_json::json!([3]));
 }
+
+#[test]
+fn flatten_unfolds_the_crumpled_sheet_at_least_as_well_as_its_stored_pattern() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = sheetform(&[
+        "flatten",
+        shared("crumpled-developable.obj").to_str().unwrap(),
+        "-o",
+        tmp.path().to_str().unwrap(),
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(tmp.path());
+    assert_eq!(r["status"], "ok");
+    let chart = &r["charts"][0];
+    assert!(chart["edge_length_max_relative"].as_f64().unwrap() <= 2.6e-5);
+    assert_eq!(chart["flipped_face_count"], 0);
+    assert_eq!(chart["boundary_crossing_count"], 0);
+    assert_eq!(r["solver"]["converged"], true);
+    // The written OBJ carries the pattern as vt: check it from the file.
+    let obj = read_obj(&tmp.path().join("model.obj"));
+    assert!(obj_isometry_error(&obj) <= 2.6e-5);
+    let svg = std::fs::read_to_string(tmp.path().join("pattern.svg")).unwrap();
+    assert!(svg.contains("id=\"cut\""));
+    validate_glb(&[tmp.path().join("model.glb")]);
+}
+
+#[test]
+fn flatten_refuses_a_closed_mesh_with_the_reason() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let o = sheetform(&[
+        "flatten",
+        shared("wingnut.obj").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("0 boundary loop(s)"));
+    assert!(!out.exists());
+}

@@ -171,6 +171,7 @@ pub fn glb_bytes(mesh: &SheetMesh, name: &str, texture: Option<Texture<'_>>) -> 
         let colour = match piece.kind {
             PieceKind::Curved => [0.32, 0.55, 0.85, 1.0],
             PieceKind::Planar => [0.86, 0.78, 0.6, 1.0],
+            PieceKind::Chart => [0.55, 0.75, 0.55, 1.0],
         };
         let pbr = if texture.is_some() {
             json!({"baseColorTexture": {"index": 0}, "metallicFactor": 0.0, "roughnessFactor": 0.8})

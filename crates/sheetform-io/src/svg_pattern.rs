@@ -118,6 +118,7 @@ pub fn svg_pattern(mesh: &SheetMesh, options: &SvgOptions) -> String {
             let kind = match piece.kind {
                 PieceKind::Curved => "curved",
                 PieceKind::Planar => "planar",
+                PieceKind::Chart => "chart",
             };
             let _ = writeln!(
                 s,

@@ -13,6 +13,8 @@ pub enum PieceKind {
     Curved,
     /// A planar piece moved rigidly with the curved piece it is attached to.
     Planar,
+    /// A chart of a flattened mesh (a piece of the pattern cut from any surface).
+    Chart,
 }
 
 /// A named piece of the sheet: a label for a set of faces.

@@ -7,7 +7,8 @@
 //! - [`geometry`]: curves, frames, polygons;
 //! - [`mesh`]: [`mesh::SheetMesh`], the mesh that carries its own flat pattern;
 //! - [`bend`]: system A, sheets bent by geodesic control curves (Bo & Wang 2007);
-//! - [`io`]: exports (OBJ, GLB, STL, SVG) and atomic writing;
+//! - [`flatten`]: exact unfolding of developable meshes, distortion and overlap measures;
+//! - [`io`]: readers (OBJ, PLY, STL, OFF), exports (OBJ, GLB, STL, SVG), atomic writing;
 //! - [`pipeline`]: scene file → model → mesh + pattern → files + `report.json`.
 //!
 //! ```
@@ -26,6 +27,7 @@ pub mod pipeline;
 pub mod report;
 
 pub use sheetform_bend as bend;
+pub use sheetform_flatten as flatten;
 pub use sheetform_geometry as geometry;
 pub use sheetform_io as io;
 pub use sheetform_mesh as mesh;

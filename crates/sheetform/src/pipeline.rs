@@ -1,12 +1,13 @@
 //! The pipelines every front end calls.
 
-use crate::report::{AngleDefects, RegionReport, RegressionEntry, Report, Timings};
+use crate::report::{AngleDefects, ChartReport, RegionReport, RegressionEntry, Report, Timings};
 use sheetform_bend::{bend, BendError, BendModel, BendScene, BentSheet};
+use sheetform_flatten::{distortion, exact_unfold, Distortion, FlattenError, UnfoldOptions};
 use sheetform_io::{colour_ramp, glb_vertex_colours, ply_vertex_colours, read_mesh, MeshReadError};
 use sheetform_io::{glb_bytes, obj_string, stl_bytes, svg_pattern, write_atomic, IoError, SvgOptions, Texture};
 use sheetform_mesh::{
     developability_error, developability_summary, isometry_error, mesh_topology, vertex_developability, LengthUnit,
-    MeshTopology, TriangleMesh, VertexDevelopability,
+    MeshTopology, Piece, PieceKind, SheetMesh, TriangleMesh, VertexDevelopability,
 };
 use std::path::Path;
 use std::time::Instant;
@@ -32,6 +33,9 @@ pub enum PipelineError {
     /// A mesh file cannot be read.
     #[error(transparent)]
     MeshRead(#[from] MeshReadError),
+    /// A mesh cannot be flattened.
+    #[error(transparent)]
+    Flatten(#[from] FlattenError),
     /// The texture is not a PNG or JPEG image.
     #[error("texture {path}: not a PNG or JPEG image")]
     Texture {
@@ -363,6 +367,117 @@ pub fn run_check(path: &Path, options: &CheckOptions) -> Result<CheckRun, Pipeli
         mesh,
         topology,
         vertices,
+        files,
+        report,
+    })
+}
+
+/// Knobs of `sheetform flatten`.
+#[derive(Debug, Clone, Default)]
+pub struct FlattenOptions {
+    /// Merge vertices closer than this (model units) first.
+    pub weld: Option<f64>,
+    /// Length unit of the file.
+    pub unit: LengthUnit,
+}
+
+/// A finished flattening.
+#[derive(Debug)]
+pub struct FlattenRun {
+    /// The mesh with its pattern.
+    pub sheet: SheetMesh,
+    /// Distortion and overlaps.
+    pub distortion: Distortion,
+    /// Rendered outputs.
+    pub files: Vec<(String, Vec<u8>)>,
+    /// The report.
+    pub report: Report,
+}
+
+/// Flattens a developable (or nearly developable) disk-like mesh by exact unfolding from
+/// its edge lengths (see [`sheetform_flatten::exact_unfold`]) and renders the pattern.
+///
+/// # Errors
+/// Unreadable files; meshes that cannot be unfolded (closed, non-manifold, …) with the
+/// reason.
+pub fn run_flatten(path: &Path, options: &FlattenOptions) -> Result<FlattenRun, PipelineError> {
+    let start = Instant::now();
+    let mut mesh = read_mesh(path)?;
+    let welded = options.weld.map(|tolerance| mesh.weld(tolerance));
+    let parsed = Instant::now();
+    let unfolding = exact_unfold(&mesh, &UnfoldOptions::default())?;
+    let d = distortion(&mesh, &unfolding.flat);
+    let solved = Instant::now();
+    let mm = options.unit.millimetres();
+    let name = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "mesh".into());
+    let sheet = SheetMesh {
+        positions: mesh.positions.clone(),
+        flat: unfolding.flat.clone(),
+        triangles: mesh.triangles.clone(),
+        face_pieces: vec![0; mesh.triangles.len()],
+        pieces: vec![Piece {
+            name: name.clone(),
+            kind: PieceKind::Chart,
+        }],
+        rulings: vec![],
+        unit: options.unit,
+    };
+    let files = vec![
+        ("model.obj".to_string(), obj_string(&sheet, &name).into_bytes()),
+        ("model.glb".to_string(), glb_bytes(&sheet, &name, None)),
+        (
+            "pattern.svg".to_string(),
+            svg_pattern(
+                &sheet,
+                &SvgOptions {
+                    title: format!("{name}: flat pattern"),
+                    ..Default::default()
+                },
+            )
+            .into_bytes(),
+        ),
+    ];
+    let exported = Instant::now();
+    let topology = mesh_topology(&mesh);
+    let mut report = Report::new("flatten", Some(path.display().to_string()));
+    report.status = if d.is_overlap_free() { "ok" } else { "overlapping" }.into();
+    report.model_unit = options.unit.symbol().into();
+    report.vertex_count = mesh.positions.len();
+    report.face_count = mesh.triangles.len();
+    report.isometry_error_max_relative = Some(d.edge_length_max_relative);
+    report.isometry_error_mean_relative = Some(d.edge_length_mean_relative);
+    report.angle_defects = Some(angle_defects(&mesh, &topology, DEFAULT_ANGLE_TOLERANCE, mm).0);
+    report.flat_area_mm2 = Some(sheet.flat_area() * mm * mm);
+    report.area_mm2 = sheet.area() * mm * mm;
+    report.welded_vertex_count = welded;
+    report.charts = vec![ChartReport {
+        name,
+        face_count: mesh.triangles.len(),
+        edge_length_max_relative: d.edge_length_max_relative,
+        edge_length_mean_relative: d.edge_length_mean_relative,
+        area_max_relative: d.area_max_relative,
+        area_mean_relative: d.area_mean_relative,
+        flipped_face_count: d.flipped_faces.len(),
+        boundary_crossing_count: d.boundary_crossings,
+    }];
+    report.solver = Some(unfolding.solver);
+    report.outputs = files
+        .iter()
+        .map(|f| f.0.clone())
+        .chain(std::iter::once("report.json".to_string()))
+        .collect();
+    report.timings = Timings {
+        parse_ms: ms(parsed - start),
+        solve_ms: ms(solved - parsed),
+        export_ms: ms(exported - solved),
+        total_ms: ms(exported - start),
+    };
+    Ok(FlattenRun {
+        sheet,
+        distortion: d,
         files,
         report,
     })

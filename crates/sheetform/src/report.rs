@@ -82,6 +82,27 @@ pub struct AngleDefects {
     pub developability_g_rad2: f64,
 }
 
+/// One chart of a flattening (`flatten`).
+#[derive(Debug, Clone, Serialize)]
+pub struct ChartReport {
+    /// Chart name.
+    pub name: String,
+    /// Faces in the chart.
+    pub face_count: usize,
+    /// Largest relative edge-length error.
+    pub edge_length_max_relative: f64,
+    /// Mean relative edge-length error.
+    pub edge_length_mean_relative: f64,
+    /// Largest relative area error.
+    pub area_max_relative: f64,
+    /// Mean relative area error.
+    pub area_mean_relative: f64,
+    /// Faces flipped on the pattern.
+    pub flipped_face_count: usize,
+    /// Crossings of the pattern's boundary with itself.
+    pub boundary_crossing_count: usize,
+}
+
 /// The report every command writes. Keys that do not apply to a command are left out.
 #[derive(Debug, Clone, Serialize)]
 pub struct Report {
@@ -136,6 +157,12 @@ pub struct Report {
     /// Per curved region (`bend`).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub regions: Vec<RegionReport>,
+    /// Charts of the pattern (`flatten`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub charts: Vec<ChartReport>,
+    /// The solver's report (`flatten`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub solver: Option<sheetform_solve::SolverInfo>,
     /// Files written (relative to the output directory).
     pub outputs: Vec<String>,
     /// Stage times.
@@ -167,6 +194,8 @@ impl Report {
             ruling_count: None,
             developability_error_max_rad: None,
             regions: vec![],
+            charts: vec![],
+            solver: None,
             outputs: vec![],
             timings: Timings::default(),
         }

@@ -1,0 +1,104 @@
+use crate::Vec2;
+use sheetform_mesh::TriangleMesh;
+
+/// How far a flattening is from an isometry, and whether it overlaps itself.
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize)]
+pub struct Distortion {
+    /// `max | |e_flat| − |e_3D| | / |e_3D|` over edges.
+    pub edge_length_max_relative: f64,
+    /// Mean of the same.
+    pub edge_length_mean_relative: f64,
+    /// `max | A_flat − A_3D | / A_3D` over faces.
+    pub area_max_relative: f64,
+    /// Mean of the same.
+    pub area_mean_relative: f64,
+    /// Faces whose flat image is clockwise (flipped) or degenerate.
+    pub flipped_faces: Vec<u32>,
+    /// Pairs of boundary edges that cross on the pattern (the pattern overlaps itself).
+    pub boundary_crossings: usize,
+}
+
+impl Distortion {
+    /// No flipped faces and no boundary crossings.
+    pub fn is_overlap_free(&self) -> bool {
+        self.flipped_faces.is_empty() && self.boundary_crossings == 0
+    }
+}
+
+fn cross(a: Vec2, b: Vec2) -> f64 {
+    a.x * b.y - a.y * b.x
+}
+
+/// Distortion of the flattening `flat` (one point per vertex) of `mesh`.
+pub fn distortion(mesh: &TriangleMesh, flat: &[Vec2]) -> Distortion {
+    let mut d = Distortion::default();
+    let (mut sum, mut n, mut area_sum) = (0.0, 0usize, 0.0);
+    let mut boundary: std::collections::HashMap<[u32; 2], i32> = std::collections::HashMap::new();
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
+            // Each interior edge is seen twice; counting both is harmless for max/mean.
+            let l3 = (mesh.positions[a] - mesh.positions[b]).norm();
+            if l3 > 0.0 {
+                let rel = ((flat[a] - flat[b]).norm() - l3).abs() / l3;
+                d.edge_length_max_relative = d.edge_length_max_relative.max(rel);
+                sum += rel;
+                n += 1;
+            }
+            let key = if a < b {
+                [a as u32, b as u32]
+            } else {
+                [b as u32, a as u32]
+            };
+            *boundary.entry(key).or_default() += 1;
+        }
+        let [p, q, r] = t.map(|i| flat[i as usize]);
+        let a2 = 0.5 * cross(q - p, r - p);
+        let a3 = mesh.face_area(f);
+        if a2 <= 0.0 {
+            d.flipped_faces.push(f as u32);
+        }
+        if a3 > 0.0 {
+            let rel = (a2.abs() - a3).abs() / a3;
+            d.area_max_relative = d.area_max_relative.max(rel);
+            area_sum += rel;
+        }
+    }
+    if n > 0 {
+        d.edge_length_mean_relative = sum / n as f64;
+    }
+    if !mesh.triangles.is_empty() {
+        d.area_mean_relative = area_sum / mesh.triangles.len() as f64;
+    }
+    // Boundary edges crossing each other (sort by x to skip far pairs).
+    let mut edges: Vec<[Vec2; 2]> = boundary
+        .iter()
+        .filter(|(_, &c)| c == 1)
+        .map(|(k, _)| [flat[k[0] as usize], flat[k[1] as usize]])
+        .collect();
+    edges.sort_by(|a, b| a[0].x.min(a[1].x).total_cmp(&b[0].x.min(b[1].x)));
+    for i in 0..edges.len() {
+        let [a, b] = edges[i];
+        let max_x = a.x.max(b.x);
+        for e in &edges[i + 1..] {
+            let [c, dd] = *e;
+            if c.x.min(dd.x) > max_x {
+                break;
+            }
+            let shares = [a, b].iter().any(|p| [c, dd].iter().any(|q| (p - q).norm() == 0.0));
+            if shares {
+                continue;
+            }
+            let (o1, o2, o3, o4) = (
+                cross(b - a, c - a),
+                cross(b - a, dd - a),
+                cross(dd - c, a - c),
+                cross(dd - c, b - c),
+            );
+            if o1 * o2 < 0.0 && o3 * o4 < 0.0 {
+                d.boundary_crossings += 1;
+            }
+        }
+    }
+    d
+}

@@ -1,0 +1,151 @@
+//! Exact unfolding (issue 3, "Must show"): developable meshes flatten with edge-length
+//! error ≤ 1e-10; the crumpled developable reproduces its stored flattening.
+
+use nalgebra::Vector3;
+use sheetform_flatten::{align_rigid, distortion, exact_unfold, FlattenError, UnfoldOptions, Vec2};
+use sheetform_mesh::TriangleMesh;
+
+/// A grid mesh whose rows follow rulings (`f(u, v)`, rulings at constant `u`), so each
+/// quad is planar and the mesh exactly developable when the surface is.
+fn ruled_grid(f: impl Fn(f64, f64) -> [f64; 3], nu: usize, nv: usize) -> TriangleMesh {
+    let mut positions = Vec::new();
+    for i in 0..=nu {
+        for j in 0..=nv {
+            positions.push(Vector3::from(f(i as f64 / nu as f64, j as f64 / nv as f64)));
+        }
+    }
+    let id = |i: usize, j: usize| (i * (nv + 1) + j) as u32;
+    let mut triangles = Vec::new();
+    for i in 0..nu {
+        for j in 0..nv {
+            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    let n = triangles.len();
+    TriangleMesh {
+        positions,
+        triangles,
+        face_groups: vec![0; n],
+        groups: vec!["g".into()],
+        corner_uvs: None,
+    }
+}
+
+fn assert_exact(mesh: &TriangleMesh, label: &str) {
+    let u = exact_unfold(mesh, &UnfoldOptions::default()).unwrap();
+    let d = distortion(mesh, &u.flat);
+    assert!(
+        d.edge_length_max_relative <= 1e-10,
+        "{label}: edge error {}",
+        d.edge_length_max_relative
+    );
+    assert!(
+        d.area_max_relative <= 1e-9,
+        "{label}: area error {}",
+        d.area_max_relative
+    );
+    assert!(d.is_overlap_free(), "{label}: {d:?}");
+}
+
+#[test]
+fn cylinder_and_cone_unfold_exactly() {
+    assert_exact(
+        &ruled_grid(
+            |u, v| [(3.0 * u).cos() * 50.0, (3.0 * u).sin() * 50.0, 80.0 * v],
+            60,
+            20,
+        ),
+        "cylinder",
+    );
+    // Cone z = r cot β with half-angle 0.4, rulings through the apex, sheet from r = 20 to 60.
+    let (sb, cb) = 0.4f64.sin_cos();
+    assert_exact(
+        &ruled_grid(
+            |u, v| {
+                let (t, rho) = (4.0 * u, 20.0 + 40.0 * v);
+                [rho * sb * t.cos(), rho * sb * t.sin(), rho * cb]
+            },
+            80,
+            12,
+        ),
+        "cone",
+    );
+}
+
+#[test]
+fn unfolding_is_scale_invariant() {
+    for scale in [1e-6, 1e6] {
+        let m = ruled_grid(
+            |u, v| [(2.0 * u).cos() * scale, (2.0 * u).sin() * scale, 2.0 * v * scale],
+            30,
+            10,
+        );
+        assert_exact(&m, &format!("cylinder at scale {scale}"));
+    }
+}
+
+#[test]
+fn closed_and_non_manifold_meshes_are_refused() {
+    // A tetrahedron: closed.
+    let p = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let tet = TriangleMesh {
+        positions: p.iter().map(|q| Vector3::from(*q)).collect(),
+        triangles: vec![[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]],
+        face_groups: vec![0; 4],
+        groups: vec!["g".into()],
+        corner_uvs: None,
+    };
+    assert!(matches!(
+        exact_unfold(&tet, &UnfoldOptions::default()),
+        Err(FlattenError::NotADisk { boundary_loops: 0, .. })
+    ));
+    let mut fin = tet.clone();
+    fin.triangles = vec![[0, 1, 2], [1, 0, 3], [0, 1, 2]];
+    fin.face_groups = vec![0; 3];
+    assert!(matches!(
+        exact_unfold(&fin, &UnfoldOptions::default()),
+        Err(FlattenError::Topology { .. })
+    ));
+}
+
+#[test]
+fn crumpled_developable_reproduces_its_stored_flattening() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/testdata/crumpled-developable.obj");
+    let mesh = sheetform_io_free_obj(&path);
+    let u = exact_unfold(&mesh, &UnfoldOptions::default()).unwrap();
+    let ours = distortion(&mesh, &u.flat);
+    // The stored flattening, one point per vertex.
+    let stored = stored_per_vertex(&mesh);
+    let theirs = distortion(&mesh, &stored);
+    assert!(
+        ours.edge_length_max_relative <= theirs.edge_length_max_relative,
+        "ours {} vs the file's {}",
+        ours.edge_length_max_relative,
+        theirs.edge_length_max_relative
+    );
+    assert!(ours.is_overlap_free());
+    let a = align_rigid(&u.flat, &stored, true);
+    let size = stored.iter().fold(0.0f64, |m, p| m.max(p.norm()));
+    assert!(
+        a.max_distance <= 1e-4 * size,
+        "differs from the stored flattening by {} (size {size})",
+        a.max_distance
+    );
+}
+
+/// The file's `vt`, one per vertex (this mesh has no seams).
+fn stored_per_vertex(mesh: &TriangleMesh) -> Vec<Vec2> {
+    let mut out = vec![Vec2::zeros(); mesh.positions.len()];
+    for (t, q) in mesh.triangles.iter().zip(mesh.corner_uvs.as_ref().unwrap()) {
+        for k in 0..3 {
+            out[t[k] as usize] = q[k];
+        }
+    }
+    out
+}
+
+fn sheetform_io_free_obj(path: &std::path::Path) -> TriangleMesh {
+    sheetform_io::read_mesh(path).unwrap()
+}
