@@ -243,10 +243,11 @@ fn assemble(
     model: &BendModel,
     geometries: Vec<RegionGeometry>,
     strips: Vec<FoldedStrip>,
-    layout: FlatLayout,
+    mut layout: FlatLayout,
 ) -> Result<BentSheet, BendError> {
     let placement = place(model, &layout, &strips)?;
-    let mesh = mesh_from(model, &layout, &placement);
+    let rulings = std::mem::take(&mut layout.rulings);
+    let mesh = mesh_from(model, &layout, &placement, rulings);
     let regions = summaries(model, &geometries, &strips, &layout, &placement, &mesh);
     Ok(BentSheet {
         mesh,
@@ -258,7 +259,12 @@ fn assemble(
     })
 }
 
-fn mesh_from(model: &BendModel, layout: &FlatLayout, placement: &Placement) -> SheetMesh {
+fn mesh_from(
+    model: &BendModel,
+    layout: &FlatLayout,
+    placement: &Placement,
+    rulings: Vec<sheetform_mesh::Ruling>,
+) -> SheetMesh {
     let mut positions = vec![Vec3::zeros(); layout.flat.len()];
     let mut done = vec![false; layout.flat.len()];
     for (f, t) in layout.triangles.iter().enumerate() {
@@ -277,7 +283,7 @@ fn mesh_from(model: &BendModel, layout: &FlatLayout, placement: &Placement) -> S
         triangles: layout.triangles.clone(),
         face_pieces: layout.face_pieces.clone(),
         pieces: layout.pieces.clone(),
-        rulings: layout.rulings.clone(),
+        rulings,
         unit: model.unit,
     }
 }
@@ -343,6 +349,6 @@ impl BentSheet {
             .map(|(s, g)| s.scaled(&g.samples, t))
             .collect();
         let placement = place(model, &self.layout, &strips)?;
-        Ok(mesh_from(model, &self.layout, &placement))
+        Ok(mesh_from(model, &self.layout, &placement, self.mesh.rulings.clone()))
     }
 }

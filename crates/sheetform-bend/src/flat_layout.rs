@@ -54,7 +54,8 @@ pub struct FlatLayout {
     pub face_pieces: Vec<u32>,
     /// Curved pieces (one per region, in region order) then planar pieces.
     pub pieces: Vec<Piece>,
-    /// Rulings as vertex chains.
+    /// Rulings as vertex chains (moved into the mesh by [`crate::bend`]; empty in a
+    /// [`crate::BentSheet`]'s layout, whose mesh holds them).
     pub rulings: Vec<Ruling>,
     /// Per region, per ruling: the vertex of the geodesic point.
     pub geodesic_vertices: Vec<Vec<u32>>,
@@ -124,19 +125,19 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
         Slot(usize),
         Vertex(usize),
     }
-    struct Chain {
-        region: usize,
-        ruling: usize,
-        refs: Vec<Ref>,
-    }
-    let mut chains: Vec<Chain> = Vec::new();
+    // Chains in one array: (region, ruling, start of its refs in `chain_refs`).
+    let mut chains: Vec<(usize, usize, usize)> = Vec::new();
+    let mut chain_refs: Vec<Ref> = Vec::new();
     let mut geodesic_refs: Vec<Vec<Ref>> = Vec::new();
+    let mut bounds: Vec<(f64, BoundaryPoint)> = Vec::new();
+    let mut inner: Vec<(f64, Option<BoundaryPoint>)> = Vec::new();
     for (k, g) in geometries.iter().enumerate() {
         let mut geo = Vec::with_capacity(g.samples.len());
         for (j, (s, e)) in g.samples.iter().zip(&g.extents).enumerate() {
             let at = |l: f64| s.flat_point + s.flat_ruling * l;
             // Pieces of [l1, l0] outside the holes.
-            let mut bounds: Vec<(f64, BoundaryPoint)> = vec![(e.negative_end, e.ends[0])];
+            bounds.clear();
+            bounds.push((e.negative_end, e.ends[0]));
             for (gap, ends) in &e.gaps {
                 bounds.push((gap[0], ends[0]));
                 bounds.push((gap[1], ends[1]));
@@ -150,19 +151,21 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
                 }
                 let ra = Ref::Slot(add_boundary(a.1, at(a.0), &mut slots));
                 let rb = Ref::Slot(add_boundary(b.1, at(b.0), &mut slots));
-                let mut refs = vec![ra];
-                let mut inner: Vec<(f64, Option<BoundaryPoint>)> = e
-                    .touches
-                    .iter()
-                    .filter(|(t, _)| *t > a.0 + eps && *t < b.0 - eps)
-                    .map(|(t, bp)| (*t, Some(*bp)))
-                    .collect();
+                chains.push((k, j, chain_refs.len()));
+                chain_refs.push(ra);
+                inner.clear();
+                inner.extend(
+                    e.touches
+                        .iter()
+                        .filter(|(t, _)| *t > a.0 + eps && *t < b.0 - eps)
+                        .map(|(t, bp)| (*t, Some(*bp))),
+                );
                 let geo_on_touch = inner.iter().any(|(t, _)| t.abs() <= eps);
                 if a.0 < -eps && b.0 > eps && !geo_on_touch {
                     inner.push((0.0, None));
                 }
                 inner.sort_by(|x, y| x.0.total_cmp(&y.0));
-                for (t, bp) in inner {
+                for &(t, bp) in &inner {
                     let r = match bp {
                         Some(bp) => Ref::Slot(add_boundary(bp, at(t), &mut slots)),
                         None => {
@@ -184,19 +187,14 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
                     if t.abs() <= eps {
                         geo_ref = Some(r);
                     }
-                    refs.push(r);
+                    chain_refs.push(r);
                 }
                 if a.0.abs() <= eps {
                     geo_ref = Some(ra);
                 } else if b.0.abs() <= eps {
                     geo_ref = Some(rb);
                 }
-                refs.push(rb);
-                chains.push(Chain {
-                    region: k,
-                    ruling: j,
-                    refs,
-                });
+                chain_refs.push(rb);
             }
             let geo_ref = match geo_ref {
                 Some(r) => r,
@@ -293,10 +291,12 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
         push_edge(a, b, EdgeKind::Boundary, &mut edges, &mut edge_kinds);
     }
     let mut rulings = Vec::with_capacity(chains.len());
-    for c in &chains {
-        let verts: Vec<usize> = c.refs.iter().map(|r| resolve(*r)).collect();
-        let mut dedup: Vec<usize> = Vec::with_capacity(verts.len());
-        for v in verts {
+    let mut dedup: Vec<usize> = Vec::new();
+    for (c, &(region, ruling, start)) in chains.iter().enumerate() {
+        let end = chains.get(c + 1).map_or(chain_refs.len(), |next| next.2);
+        dedup.clear();
+        for r in &chain_refs[start..end] {
+            let v = resolve(*r);
             if dedup.last() != Some(&v) {
                 dedup.push(v);
             }
@@ -305,10 +305,7 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
             push_edge(
                 w[0],
                 w[1],
-                EdgeKind::Ruling {
-                    region: c.region,
-                    ruling: c.ruling,
-                },
+                EdgeKind::Ruling { region, ruling },
                 &mut edges,
                 &mut edge_kinds,
             );
@@ -316,8 +313,8 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
         if dedup.len() >= 2 {
             rulings.push(Ruling {
                 vertices: dedup.iter().map(|&v| v as u32).collect(),
-                piece: c.region as u32,
-                arc_length: geometries[c.region].samples[c.ruling].arc_length,
+                piece: region as u32,
+                arc_length: geometries[region].samples[ruling].arc_length,
             });
         }
     }
@@ -470,6 +467,11 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
             }
         }
     }
+    // A point inside each face: the centroid of its first triangle.
+    let mut face_sample = vec![Vec2::zeros(); faces];
+    for (t, &f) in triangles.iter().zip(&triangle_face).rev() {
+        face_sample[f] = t.iter().map(|&v| points[v as usize]).sum::<Vec2>() / 3.0;
+    }
     // Cells: one per union-find root, numbered in face order.
     let mut cell_of_root = vec![usize::MAX; faces];
     let mut cells: Vec<Cell> = Vec::new();
@@ -481,7 +483,7 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
                 cells.push(Cell {
                     labels: Vec::new(),
                     vertices: Vec::new(),
-                    sample_point: cycle_interior_point(&points, outer_cycles.get(f)),
+                    sample_point: face_sample[f],
                 });
             }
             cell_of_root[root]
@@ -584,19 +586,6 @@ fn cycle_contains(points: &[Vec2], cycle: &[usize], p: Vec2) -> bool {
         j = i;
     }
     inside
-}
-
-/// A point inside a face: the centroid of its first ear-like triangle, or the vertex mean.
-fn cycle_interior_point(points: &[Vec2], cycle: &[usize]) -> Vec2 {
-    let n = cycle.len();
-    for i in 0..n {
-        let (a, b, c) = (points[cycle[i]], points[cycle[(i + 1) % n]], points[cycle[(i + 2) % n]]);
-        let m = (a + b + c) / 3.0;
-        if ((b - a).x * (c - a).y - (b - a).y * (c - a).x) > 0.0 && cycle_contains(points, cycle, m) {
-            return m;
-        }
-    }
-    cycle.iter().map(|&v| points[v]).sum::<Vec2>() / n as f64
 }
 
 /// The half-edges of a planar straight-line graph and its faces.

@@ -363,10 +363,13 @@ pub fn sample_rulings(
         let (angle, fold_rate, regression) = if r.straight {
             (f64::NAN, 0.0, f64::INFINITY)
         } else {
-            let angle = r.k.abs().atan2(-r.k.signum() * r.tau);
-            let rate = r.tau * angle.cos() - r.k * angle.sin();
+            // cos α = −sign(k) τ / |w|, sin α = |k| / |w|, ρ = −sign(k) |w| (no trigonometry).
+            let w = r.k.hypot(r.tau);
+            let (cos, sin) = (-r.k.signum() * r.tau / w, r.k.abs() / w);
+            let angle = sin.atan2(cos);
+            let rate = -r.k.signum() * w;
             let l = if geodesic {
-                regression_distance(r.k, r.tau, r.dk, r.dtau, angle.sin())
+                regression_distance(r.k, r.tau, r.dk, r.dtau, sin)
             } else {
                 f64::INFINITY
             };
@@ -421,7 +424,7 @@ pub fn sample_rulings(
         out[j].angle = out[pick].angle;
     }
     for (s, r) in out.iter_mut().zip(&raw) {
-        let (c, sn) = (s.angle.cos(), s.angle.sin());
+        let (sn, c) = s.angle.sin_cos();
         s.flat_ruling = r.flat.tangent * c + r.flat.normal * sn;
         s.ruling = s.tangent * c + s.side * sn;
     }

@@ -117,53 +117,49 @@ fn ring_contains(ring: &[Vec2], p: Vec2) -> bool {
 
 /// Clips the flat ruling through `origin` with unit direction `direction` to the sheet
 /// (see [`RulingExtent`]). `scale` is the model's length scale (for tolerances).
+///
+/// One pass of [`Polygon::line_hits`] over all rings; the extent is found by walking the
+/// sorted outline hits outwards from the geodesic point and testing, between consecutive
+/// hits, whether the line is still on the (closed) sheet.
 pub fn ruling_extent(polygon: &Polygon, origin: Vec2, direction: Vec2, scale: f64) -> RulingExtent {
     let eps = 1e-11 * scale;
-    let mut ts: Vec<f64> = polygon
-        .line_hits(origin, direction, |r| r == 0)
-        .into_iter()
-        .map(|h| h.t)
-        .collect();
-    ts.dedup_by(|a, b| (*a - *b).abs() <= eps);
-    let walk = |forward: bool| -> f64 {
-        let sign = if forward { 1.0 } else { -1.0 };
-        let mut candidates: Vec<f64> = ts.iter().map(|t| t * sign).filter(|&t| t > eps).collect();
-        candidates.sort_by(f64::total_cmp);
-        let mut prev = 0.0;
-        for t in candidates {
-            let mid = origin + direction * (sign * 0.5 * (prev + t));
-            if !inside_outline_closed(polygon, mid, eps) {
-                return sign * prev;
-            }
-            prev = t;
+    let hits = polygon.line_hits(origin, direction, |_| true);
+    let walk = |sign: f64| {
+        if sign > 0.0 {
+            walk_outline(polygon, origin, direction, hits.iter(), 1.0, eps)
+        } else {
+            walk_outline(polygon, origin, direction, hits.iter().rev(), -1.0, eps)
         }
-        sign * prev
     };
-    let positive_end = walk(true);
-    let negative_end = walk(false);
+    let positive_end = walk(1.0);
+    let negative_end = walk(-1.0);
     let end_point = |l: f64| locate_on_boundary(polygon, origin + direction * l, 0..polygon.ring_count()).1;
     let ends = [end_point(negative_end), end_point(positive_end)];
 
     let mut gaps = Vec::new();
     if polygon.ring_count() > 1 {
-        let mut hs: Vec<f64> = polygon
-            .line_hits(origin, direction, |r| r > 0)
-            .into_iter()
-            .map(|h| h.t)
-            .filter(|&t| t > negative_end + eps && t < positive_end - eps)
-            .collect();
-        hs.dedup_by(|a, b| (*a - *b).abs() <= eps);
-        for w in hs.windows(2) {
-            let mid = origin + direction * (0.5 * (w[0] + w[1]));
-            if inside_hole_open(polygon, mid, eps) {
-                let a = locate_on_boundary(polygon, origin + direction * w[0], 1..polygon.ring_count()).1;
-                let b = locate_on_boundary(polygon, origin + direction * w[1], 1..polygon.ring_count()).1;
-                gaps.push(([w[0], w[1]], [a, b]));
+        let mut previous: Option<f64> = None;
+        for h in hits
+            .iter()
+            .filter(|h| h.ring > 0 && h.t > negative_end + eps && h.t < positive_end - eps)
+        {
+            if let Some(a) = previous {
+                if (h.t - a).abs() > eps {
+                    let mid = origin + direction * (0.5 * (a + h.t));
+                    if inside_hole_open(polygon, mid, eps) {
+                        let pa = locate_on_boundary(polygon, origin + direction * a, 1..polygon.ring_count()).1;
+                        let pb = locate_on_boundary(polygon, origin + direction * h.t, 1..polygon.ring_count()).1;
+                        gaps.push(([a, h.t], [pa, pb]));
+                    }
+                }
+            }
+            if previous.is_none_or(|a| (h.t - a).abs() > eps) {
+                previous = Some(h.t);
             }
         }
     }
     let mut touches: Vec<(f64, BoundaryPoint)> = Vec::new();
-    for h in polygon.line_hits(origin, direction, |_| true) {
+    for h in &hits {
         if h.t <= negative_end + eps || h.t >= positive_end - eps {
             continue;
         }
@@ -189,6 +185,31 @@ pub fn ruling_extent(polygon: &Polygon, origin: Vec2, direction: Vec2, scale: f6
         gaps,
         touches,
     }
+}
+
+/// Walks the outline hits (`hits` ordered away from `t = 0` in direction `sign`) and
+/// returns the signed distance where the line leaves the closed sheet.
+fn walk_outline<'a>(
+    polygon: &Polygon,
+    origin: Vec2,
+    direction: Vec2,
+    hits: impl Iterator<Item = &'a sheetform_geometry::RayHit>,
+    sign: f64,
+    eps: f64,
+) -> f64 {
+    let mut prev = 0.0;
+    for h in hits {
+        let t = sign * h.t;
+        if h.ring != 0 || t <= eps || (t - prev).abs() <= eps {
+            continue;
+        }
+        let mid = origin + direction * (sign * 0.5 * (prev + t));
+        if !inside_outline_closed(polygon, mid, eps) {
+            return sign * prev;
+        }
+        prev = t;
+    }
+    sign * prev
 }
 
 #[cfg(test)]
