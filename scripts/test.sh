@@ -1,8 +1,13 @@
 #!/usr/bin/env bash
-# The test command (README, CI): installs the Khronos glTF validator the end-to-end tests
-# use, then runs every test of the workspace (unit, oracle, property, CLI, doc tests).
+# The test command (README, CI): installs the outside checkers the end-to-end tests use
+# (Khronos glTF validator, ezdxf, pdftoppm), then runs every test of the workspace (unit, oracle, property, CLI, doc tests).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 npm ci --prefix tools/gltf-validate --no-audit --no-fund --loglevel=error
+# Outside readers the pattern tests check against: ezdxf (DXF) and poppler's pdftoppm (PDF).
+python3 -c "import ezdxf" 2>/dev/null || python3 -m pip install --quiet --disable-pip-version-check ezdxf
+if ! command -v pdftoppm >/dev/null; then
+  apt-get update -qq && apt-get install -y -qq poppler-utils >/dev/null
+fi
 cargo test --workspace --all-targets
 cargo test --workspace --doc

@@ -7,9 +7,10 @@
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
+use sheetform::pattern::{DxfUnit, PageSize};
 use sheetform::pipeline::{
     inadmissible_report, run_bend, run_check, run_flatten, write_outputs, BendRunOptions, CheckOptions, FlattenOptions,
-    PipelineError,
+    PatternOutputOptions, PipelineError,
 };
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -49,6 +50,8 @@ enum Command {
         /// (frames/frame-0000.obj …).
         #[arg(long, value_name = "N", default_value_t = 0)]
         animate: usize,
+        #[command(flatten)]
+        pattern: PatternArgs,
     },
     /// Measure the developability of any triangle mesh (OBJ, PLY, STL, OFF): topology,
     /// angle defects, Gaussian curvature, `D[M]` and `G[X]`, the isometry error of the stored
@@ -85,6 +88,8 @@ enum Command {
         /// Length unit of the mesh file.
         #[arg(long, value_enum, default_value_t = Unit::Mm)]
         units: Unit,
+        #[command(flatten)]
+        pattern: PatternArgs,
     },
     /// Print the JSON Schema of a scene format.
     Schema {
@@ -92,6 +97,50 @@ enum Command {
         #[arg(value_enum)]
         format: SchemaFormat,
     },
+}
+
+/// How the printable pattern (pattern.svg, .dxf, .pdf) is written.
+#[derive(clap::Args, Clone, Copy)]
+struct PatternArgs {
+    /// Scale factor for the pattern (1 = true size).
+    #[arg(long, default_value_t = 1.0)]
+    scale: f64,
+    /// Paper for the tiled PDF.
+    #[arg(long, value_enum, default_value_t = Page::A4)]
+    page: Page,
+    /// Unit of the DXF coordinates.
+    #[arg(long, value_enum, default_value_t = PatternUnit::Mm)]
+    pattern_units: PatternUnit,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum Page {
+    A4,
+    Letter,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum PatternUnit {
+    Mm,
+    Cm,
+    In,
+}
+
+impl From<PatternArgs> for PatternOutputOptions {
+    fn from(a: PatternArgs) -> Self {
+        PatternOutputOptions {
+            scale: a.scale,
+            page: match a.page {
+                Page::A4 => PageSize::A4,
+                Page::Letter => PageSize::Letter,
+            },
+            dxf_unit: match a.pattern_units {
+                PatternUnit::Mm => DxfUnit::Mm,
+                PatternUnit::Cm => DxfUnit::Cm,
+                PatternUnit::In => DxfUnit::In,
+            },
+        }
+    }
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -153,6 +202,7 @@ fn flatten_command(
     output: PathBuf,
     weld: Option<f64>,
     units: Unit,
+    pattern: PatternArgs,
     quiet: bool,
 ) -> Result<ExitCode, PipelineError> {
     let run = run_flatten(
@@ -160,6 +210,7 @@ fn flatten_command(
         &FlattenOptions {
             weld,
             unit: units.into(),
+            pattern: pattern.into(),
         },
     )?;
     write_outputs(&output, &run.files, &run.report)?;
@@ -207,13 +258,20 @@ fn progress_bar(quiet: bool) -> Option<ProgressBar> {
     Some(bar)
 }
 
-fn bend_command(scene: PathBuf, output: PathBuf, animate: usize, quiet: bool) -> Result<ExitCode, PipelineError> {
+fn bend_command(
+    scene: PathBuf,
+    output: PathBuf,
+    animate: usize,
+    pattern: PatternArgs,
+    quiet: bool,
+) -> Result<ExitCode, PipelineError> {
     let text = std::fs::read_to_string(&scene).map_err(|source| PipelineError::Read {
         path: scene.display().to_string(),
         source,
     })?;
     let bar = progress_bar(quiet);
     let options = BendRunOptions {
+        pattern: pattern.into(),
         animate_frames: animate,
         input: Some(scene.display().to_string()),
         base_dir: scene.parent().map(|p| p.to_path_buf()),
@@ -273,7 +331,12 @@ fn bend_command(scene: PathBuf, output: PathBuf, animate: usize, quiet: bool) ->
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Bend { scene, output, animate } => bend_command(scene, output, animate, cli.quiet),
+        Command::Bend {
+            scene,
+            output,
+            animate,
+            pattern,
+        } => bend_command(scene, output, animate, pattern, cli.quiet),
         Command::Check {
             mesh,
             output,
@@ -286,7 +349,8 @@ fn main() -> ExitCode {
             output,
             weld,
             units,
-        } => flatten_command(mesh, output, weld, units, cli.quiet),
+            pattern,
+        } => flatten_command(mesh, output, weld, units, pattern, cli.quiet),
         Command::Schema {
             format: SchemaFormat::Bend,
         } => {

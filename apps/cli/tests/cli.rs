@@ -159,7 +159,7 @@ fn every_example_bends_into_an_exact_isometry_with_all_outputs() {
             "{}: svg width {width}",
             scene.display()
         );
-        for layer in ["id=\"cut\"", "id=\"rulings\"", "id=\"labels\""] {
+        for layer in ["id=\"cut\"", "id=\"fold\"", "id=\"labels\""] {
             assert!(svg.contains(layer));
         }
     }
@@ -546,4 +546,138 @@ fn flatten_refuses_a_closed_mesh_with_the_reason() {
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("0 boundary loop(s)"));
     assert!(!out.exists());
+}
+
+/// CUT layer of a DXF as read by ezdxf (an independent reader): audit error count,
+/// polyline count, total signed area and bounds.
+fn ezdxf_cut(path: &Path) -> serde_json::Value {
+    let script = r#"
+import ezdxf, json, sys
+doc = ezdxf.readfile(sys.argv[1])
+auditor = doc.audit()
+polys = [e for e in doc.modelspace().query('LWPOLYLINE') if e.dxf.layer == 'CUT']
+area, xs, ys = 0.0, [], []
+for p in polys:
+    pts = [(x, y) for x, y, *_ in p.get_points()]
+    area += 0.5 * sum(a[0] * b[1] - b[0] * a[1] for a, b in zip(pts, pts[1:] + pts[:1]))
+    xs += [x for x, _ in pts]; ys += [y for _, y in pts]
+print(json.dumps({"errors": len(auditor.errors), "closed": all(p.closed for p in polys), "count": len(polys),
+  "area": area, "width": max(xs) - min(xs), "height": max(ys) - min(ys),
+  "layers": sorted(l.dxf.name for l in doc.layers), "insunits": doc.header.get('$INSUNITS', 0),
+  "folds": len([e for e in doc.modelspace().query('LINE') if e.dxf.layer == 'FOLD'])}))
+"#;
+    let o = Command::new("python3")
+        .arg("-c")
+        .arg(script)
+        .arg(path)
+        .output()
+        .expect("python3 runs");
+    assert!(
+        o.status.success(),
+        "ezdxf could not read {}: {}",
+        path.display(),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
+#[test]
+fn patterns_are_readable_and_at_true_scale_in_dxf_and_pdf() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = repo().join("examples/sheet-with-hole.json");
+    let o = sheetform(&[
+        "bend",
+        scene.to_str().unwrap(),
+        "-o",
+        tmp.path().to_str().unwrap(),
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(tmp.path());
+    let flat_area = r["flat_area_mm2"].as_f64().unwrap();
+    let d = ezdxf_cut(&tmp.path().join("pattern.dxf"));
+    assert_eq!(d["errors"], 0, "{d}");
+    assert_eq!(d["closed"], true);
+    assert_eq!(d["count"], 2, "outline and one hole: {d}");
+    assert_eq!(d["insunits"], 4, "millimetres");
+    assert!(d["folds"].as_u64().unwrap() > 10);
+    for layer in ["CUT", "FOLD", "LABEL"] {
+        assert!(d["layers"].as_array().unwrap().iter().any(|l| l == layer), "{d}");
+    }
+    // Outline counter-clockwise, hole clockwise: the signed sum is the sheet's area.
+    assert!(
+        (d["area"].as_f64().unwrap() - flat_area).abs() <= 1e-6 * flat_area,
+        "{d} vs {flat_area}"
+    );
+    assert!(
+        (d["width"].as_f64().unwrap() - 300.0).abs() < 1e-6 && (d["height"].as_f64().unwrap() - 140.0).abs() < 1e-6,
+        "{d}"
+    );
+    // The PDF renders, one page per tile, A4.
+    let pages = r["pattern"]["tile_rows"].as_u64().unwrap() * r["pattern"]["tile_columns"].as_u64().unwrap();
+    let render = Command::new("pdftoppm")
+        .args(["-r", "10", "-png"])
+        .arg(tmp.path().join("pattern.pdf"))
+        .arg(tmp.path().join("page"))
+        .output()
+        .expect("pdftoppm runs");
+    assert!(render.status.success(), "{}", String::from_utf8_lossy(&render.stderr));
+    let rendered = std::fs::read_dir(tmp.path())
+        .unwrap()
+        .filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().starts_with("page"))
+        .count();
+    assert_eq!(rendered as u64, pages);
+    let info = Command::new("pdfinfo")
+        .arg(tmp.path().join("pattern.pdf"))
+        .output()
+        .expect("pdfinfo runs");
+    assert!(
+        String::from_utf8_lossy(&info.stdout).contains("595.276 x 841.89"),
+        "{}",
+        String::from_utf8_lossy(&info.stdout)
+    );
+}
+
+#[test]
+fn pattern_scale_units_and_paper_options() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = repo().join("examples/bent-rectangle.json");
+    let o = sheetform(&[
+        "bend",
+        scene.to_str().unwrap(),
+        "-o",
+        tmp.path().to_str().unwrap(),
+        "-q",
+        "--scale",
+        "0.5",
+        "--pattern-units",
+        "in",
+        "--page",
+        "letter",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(tmp.path());
+    assert!((r["pattern"]["width_mm"].as_f64().unwrap() - 120.0).abs() < 1e-9);
+    assert_eq!(r["pattern"]["page"], "Letter");
+    let d = ezdxf_cut(&tmp.path().join("pattern.dxf"));
+    assert_eq!(d["insunits"], 1, "inches");
+    assert!((d["width"].as_f64().unwrap() - 120.0 / 25.4).abs() < 1e-9, "{d}");
+    let info = Command::new("pdfinfo")
+        .arg(tmp.path().join("pattern.pdf"))
+        .output()
+        .expect("pdfinfo runs");
+    assert!(
+        String::from_utf8_lossy(&info.stdout).contains("612 x 792"),
+        "{}",
+        String::from_utf8_lossy(&info.stdout)
+    );
+    let bad = sheetform(&[
+        "bend",
+        scene.to_str().unwrap(),
+        "-o",
+        tmp.path().join("x").to_str().unwrap(),
+        "--scale=-1",
+    ]);
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("scale"));
 }

@@ -1,6 +1,6 @@
 //! File formats of sheetform: exports of a [`sheetform_mesh::SheetMesh`] (OBJ with the
-//! flat pattern as `vt` at 1:1 scale, glTF 2.0 binary, STL, the flat pattern as SVG at
-//! true size) and atomic file writing. Writers render into memory; [`write_atomic`] puts
+//! flat pattern as `vt` at 1:1 scale, glTF 2.0 binary, STL, colour maps), mesh readers and
+//! atomic file writing. Patterns (SVG, DXF, PDF) are in `sheetform-pattern`. Writers render into memory; [`write_atomic`] puts
 //! bytes on disk through a temporary file and a rename, so a failed run never leaves a
 //! half-written file.
 
@@ -11,7 +11,6 @@ mod glb;
 mod mesh_read;
 mod obj;
 mod stl;
-mod svg_pattern;
 
 pub use atomic::write_atomic;
 pub use colour_map::{colour_ramp, ply_vertex_colours};
@@ -20,4 +19,3 @@ pub use glb::{glb_bytes, glb_vertex_colours, Texture, GLB_FLAT_ATTRIBUTE};
 pub use mesh_read::{parse_obj, parse_off, parse_ply, parse_stl, read_mesh, MeshReadError};
 pub use obj::obj_string;
 pub use stl::stl_bytes;
-pub use svg_pattern::{svg_pattern, SvgOptions};

@@ -9,6 +9,7 @@
 //! - [`bend`]: system A, sheets bent by geodesic control curves (Bo & Wang 2007);
 //! - [`flatten`]: exact unfolding of developable meshes, distortion and overlap measures;
 //! - [`io`]: readers (OBJ, PLY, STL, OFF), exports (OBJ, GLB, STL, SVG), atomic writing;
+//! - [`pattern`]: cutting patterns as SVG, DXF and tiled true-scale PDF;
 //! - [`pipeline`]: scene file → model → mesh + pattern → files + `report.json`.
 //!
 //! ```
@@ -31,3 +32,4 @@ pub use sheetform_flatten as flatten;
 pub use sheetform_geometry as geometry;
 pub use sheetform_io as io;
 pub use sheetform_mesh as mesh;
+pub use sheetform_pattern as pattern;

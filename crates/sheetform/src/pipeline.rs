@@ -1,13 +1,16 @@
 //! The pipelines every front end calls.
 
-use crate::report::{AngleDefects, ChartReport, RegionReport, RegressionEntry, Report, Timings};
+use crate::report::{AngleDefects, ChartReport, PatternReport, RegionReport, RegressionEntry, Report, Timings};
 use sheetform_bend::{bend, BendError, BendModel, BendScene, BentSheet};
 use sheetform_flatten::{distortion, exact_unfold, Distortion, FlattenError, UnfoldOptions};
 use sheetform_io::{colour_ramp, glb_vertex_colours, ply_vertex_colours, read_mesh, MeshReadError};
-use sheetform_io::{glb_bytes, obj_string, stl_bytes, svg_pattern, write_atomic, IoError, SvgOptions, Texture};
+use sheetform_io::{glb_bytes, obj_string, stl_bytes, write_atomic, IoError, Texture};
 use sheetform_mesh::{
     developability_error, developability_summary, isometry_error, mesh_topology, vertex_developability, LengthUnit,
     MeshTopology, Piece, PieceKind, SheetMesh, TriangleMesh, VertexDevelopability,
+};
+use sheetform_pattern::{
+    dxf_bytes, pattern_from_mesh, pdf_tiled, svg_bytes, DxfUnit, PageSize, PatternError, PatternOptions, PdfOptions,
 };
 use std::path::Path;
 use std::time::Instant;
@@ -36,6 +39,9 @@ pub enum PipelineError {
     /// A mesh cannot be flattened.
     #[error(transparent)]
     Flatten(#[from] FlattenError),
+    /// The pattern files cannot be made.
+    #[error(transparent)]
+    Pattern(#[from] PatternError),
     /// The texture is not a PNG or JPEG image.
     #[error("texture {path}: not a PNG or JPEG image")]
     Texture {
@@ -52,9 +58,76 @@ pub enum PipelineError {
     },
 }
 
+/// Rendered output files: `(file name relative to the output directory, bytes)`.
+pub type RenderedFiles = Vec<(String, Vec<u8>)>;
+
+/// How the printable pattern is written (every command that makes one).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PatternOutputOptions {
+    /// Scale factor (1 = true size).
+    pub scale: f64,
+    /// Paper of the tiled PDF.
+    pub page: PageSize,
+    /// Unit of the DXF coordinates.
+    pub dxf_unit: DxfUnit,
+}
+
+impl Default for PatternOutputOptions {
+    fn default() -> Self {
+        Self {
+            scale: 1.0,
+            page: PageSize::A4,
+            dxf_unit: DxfUnit::Mm,
+        }
+    }
+}
+
+/// `pattern.svg`, `pattern.dxf` and `pattern.pdf` of a mesh, all from one
+/// [`sheetform_pattern::Pattern`], and the report of it.
+fn pattern_files(
+    mesh: &SheetMesh,
+    title: &str,
+    options: &PatternOutputOptions,
+) -> Result<(RenderedFiles, PatternReport), PipelineError> {
+    let pattern = pattern_from_mesh(
+        mesh,
+        &PatternOptions {
+            scale: options.scale,
+            ..Default::default()
+        },
+    )?;
+    let pdf = pdf_tiled(
+        &pattern,
+        &PdfOptions {
+            page: options.page,
+            ..Default::default()
+        },
+    )?;
+    let (lo, hi) = pattern.bounds();
+    let report = PatternReport {
+        scale: options.scale,
+        width_mm: hi.x - lo.x,
+        height_mm: hi.y - lo.y,
+        page: format!("{:?}", options.page),
+        tile_rows: pdf.rows,
+        tile_columns: pdf.columns,
+    };
+    let files = vec![
+        (
+            "pattern.svg".to_string(),
+            svg_bytes(&pattern, &format!("{title}: flat pattern"), 10.0),
+        ),
+        ("pattern.dxf".to_string(), dxf_bytes(&pattern, options.dxf_unit)?),
+        ("pattern.pdf".to_string(), pdf.bytes),
+    ];
+    Ok((files, report))
+}
+
 /// Knobs of `sheetform bend`.
 #[derive(Debug, Clone, Default)]
 pub struct BendRunOptions {
+    /// How the pattern is written.
+    pub pattern: PatternOutputOptions,
     /// Write this many frames of the isometric deformation from flat to bent.
     pub animate_frames: usize,
     /// Input path, recorded in the report.
@@ -122,18 +195,9 @@ pub fn run_bend(
         ("model.obj".into(), obj_string(&sheet.mesh, &name).into_bytes()),
         ("model.glb".into(), glb_bytes(&sheet.mesh, &name, texture)),
         ("model.stl".into(), stl_bytes(&sheet.mesh)),
-        (
-            "pattern.svg".into(),
-            svg_pattern(
-                &sheet.mesh,
-                &SvgOptions {
-                    title: format!("{name}: flat pattern"),
-                    ..Default::default()
-                },
-            )
-            .into_bytes(),
-        ),
     ];
+    let (pattern, pattern_report) = pattern_files(&sheet.mesh, &name, &options.pattern)?;
+    files.extend(pattern);
     let frames = options.animate_frames;
     for i in 0..frames {
         let t = if frames == 1 {
@@ -150,6 +214,7 @@ pub fn run_bend(
     }
     let exported = Instant::now();
     let mut report = bend_report(&model, &sheet, options.input.clone(), &files);
+    report.pattern = Some(pattern_report);
     report.timings = Timings {
         parse_ms: ms(parsed - start),
         solve_ms: ms(solved - parsed),
@@ -375,6 +440,8 @@ pub fn run_check(path: &Path, options: &CheckOptions) -> Result<CheckRun, Pipeli
 /// Knobs of `sheetform flatten`.
 #[derive(Debug, Clone, Default)]
 pub struct FlattenOptions {
+    /// How the pattern is written.
+    pub pattern: PatternOutputOptions,
     /// Merge vertices closer than this (model units) first.
     pub weld: Option<f64>,
     /// Length unit of the file.
@@ -425,21 +492,12 @@ pub fn run_flatten(path: &Path, options: &FlattenOptions) -> Result<FlattenRun, 
         rulings: vec![],
         unit: options.unit,
     };
-    let files = vec![
+    let mut files = vec![
         ("model.obj".to_string(), obj_string(&sheet, &name).into_bytes()),
         ("model.glb".to_string(), glb_bytes(&sheet, &name, None)),
-        (
-            "pattern.svg".to_string(),
-            svg_pattern(
-                &sheet,
-                &SvgOptions {
-                    title: format!("{name}: flat pattern"),
-                    ..Default::default()
-                },
-            )
-            .into_bytes(),
-        ),
     ];
+    let (pattern, pattern_report) = pattern_files(&sheet, &name, &options.pattern)?;
+    files.extend(pattern);
     let exported = Instant::now();
     let topology = mesh_topology(&mesh);
     let mut report = Report::new("flatten", Some(path.display().to_string()));
@@ -464,6 +522,7 @@ pub fn run_flatten(path: &Path, options: &FlattenOptions) -> Result<FlattenRun, 
         boundary_crossing_count: d.boundary_crossings,
     }];
     report.solver = Some(unfolding.solver);
+    report.pattern = Some(pattern_report);
     report.outputs = files
         .iter()
         .map(|f| f.0.clone())

@@ -103,6 +103,23 @@ pub struct ChartReport {
     pub boundary_crossing_count: usize,
 }
 
+/// The printable pattern (`bend`, `flatten`).
+#[derive(Debug, Clone, Serialize)]
+pub struct PatternReport {
+    /// Scale factor applied (1 = true size).
+    pub scale: f64,
+    /// Width of the pattern as printed.
+    pub width_mm: f64,
+    /// Height of the pattern as printed.
+    pub height_mm: f64,
+    /// Paper of the tiled PDF.
+    pub page: String,
+    /// PDF tile rows.
+    pub tile_rows: usize,
+    /// PDF tile columns.
+    pub tile_columns: usize,
+}
+
 /// The report every command writes. Keys that do not apply to a command are left out.
 #[derive(Debug, Clone, Serialize)]
 pub struct Report {
@@ -157,6 +174,9 @@ pub struct Report {
     /// Per curved region (`bend`).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub regions: Vec<RegionReport>,
+    /// The printable pattern (`bend`, `flatten`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pattern: Option<PatternReport>,
     /// Charts of the pattern (`flatten`).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub charts: Vec<ChartReport>,
@@ -194,6 +214,7 @@ impl Report {
             ruling_count: None,
             developability_error_max_rad: None,
             regions: vec![],
+            pattern: None,
             charts: vec![],
             solver: None,
             outputs: vec![],

@@ -1,0 +1,292 @@
+use crate::{Pattern, PatternError, Vec2};
+use pdf_writer::{Content, Name, Pdf, Rect, Ref, Str};
+
+/// Paper size.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PageSize {
+    /// ISO A4, 210 × 297 mm.
+    #[default]
+    A4,
+    /// US Letter, 8.5 × 11 in.
+    Letter,
+}
+
+impl PageSize {
+    /// Width and height in millimetres (portrait).
+    pub fn millimetres(self) -> (f64, f64) {
+        match self {
+            PageSize::A4 => (210.0, 297.0),
+            PageSize::Letter => (215.9, 279.4),
+        }
+    }
+}
+
+/// Knobs of [`pdf_tiled`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PdfOptions {
+    /// Paper.
+    pub page: PageSize,
+    /// Unprinted margin on every side (millimetres); printers cannot print to the edge.
+    pub margin_mm: f64,
+    /// How much neighbouring tiles overlap (millimetres), to glue or tape them together.
+    pub overlap_mm: f64,
+    /// Length of the scale bar (millimetres).
+    pub scale_bar_mm: f64,
+}
+
+impl Default for PdfOptions {
+    fn default() -> Self {
+        Self {
+            page: PageSize::A4,
+            margin_mm: 12.0,
+            overlap_mm: 10.0,
+            scale_bar_mm: 50.0,
+        }
+    }
+}
+
+/// A tiled PDF and its layout.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TiledPdf {
+    /// The PDF file.
+    pub bytes: Vec<u8>,
+    /// Tile rows (top to bottom) and columns (left to right).
+    pub rows: usize,
+    /// Tile columns.
+    pub columns: usize,
+}
+
+/// Points per millimetre.
+const PT: f64 = 72.0 / 25.4;
+
+/// The pattern at true scale on as many pages as it needs.
+///
+/// Each page prints the window of the pattern that falls in its printable area (the page
+/// less `margin_mm`); neighbouring windows overlap by `overlap_mm`, marked with dashed
+/// lines to align them. Every page carries corner registration marks, its position
+/// (`row r, column c of R × C`), and a scale bar of `scale_bar_mm` to check the printer
+/// did not scale the page ("print at 100 %"). Cut lines red, fold lines grey dashed,
+/// labels blue (Helvetica).
+///
+/// # Errors
+/// Margins or overlap that leave no printable area.
+pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, PatternError> {
+    let (pw, ph) = options.page.millimetres();
+    let (m, o) = (options.margin_mm, options.overlap_mm);
+    let (aw, ah) = (pw - 2.0 * m, ph - 2.0 * m - 12.0); // 12 mm footer for the scale bar
+    if !(m >= 0.0 && o >= 0.0 && aw > o + 10.0 && ah > o + 10.0) {
+        return Err(PatternError::Option {
+            option: "margin_mm/overlap_mm",
+            message: "leave no printable area on the page".into(),
+        });
+    }
+    let (lo, hi) = pattern.bounds();
+    let (lo, hi) = if lo.x.is_finite() {
+        (lo, hi)
+    } else {
+        (Vec2::zeros(), Vec2::zeros())
+    };
+    let (w, h) = (hi.x - lo.x, hi.y - lo.y);
+    let (sx, sy) = (aw - o, ah - o);
+    let columns = ((w - o).max(0.0) / sx).ceil().max(1.0) as usize;
+    let rows = ((h - o).max(0.0) / sy).ceil().max(1.0) as usize;
+    // Centre the pattern in the tiled area.
+    let (tw, th) = (columns as f64 * sx + o, rows as f64 * sy + o);
+    let origin = Vec2::new(lo.x - 0.5 * (tw - w), hi.y + 0.5 * (th - h));
+
+    let mut pdf = Pdf::new();
+    let catalog = Ref::new(1);
+    let tree = Ref::new(2);
+    let font = Ref::new(3);
+    let mut next = 4;
+    let mut page_ids = Vec::new();
+    pdf.type1_font(font).base_font(Name(b"Helvetica"));
+    for r in 0..rows {
+        for c in 0..columns {
+            let (page_id, content_id) = (Ref::new(next), Ref::new(next + 1));
+            next += 2;
+            page_ids.push(page_id);
+            // Pattern window of this tile: x from wx, y down from wy.
+            let (wx, wy) = (origin.x + c as f64 * sx, origin.y - r as f64 * sy);
+            let to_page = |p: Vec2| (((p.x - wx + m) * PT) as f32, ((p.y - (wy - ah) + m + 12.0) * PT) as f32);
+            let mut content = Content::new();
+            // Clip to the printable area.
+            content.save_state();
+            content.rect(
+                (m * PT) as f32,
+                ((m + 12.0) * PT) as f32,
+                (aw * PT) as f32,
+                (ah * PT) as f32,
+            );
+            content.clip_nonzero();
+            content.end_path();
+            content.set_line_width(0.4);
+            content.set_stroke_rgb(0.85, 0.0, 0.0);
+            for cycle in &pattern.cut {
+                for (i, p) in cycle.iter().enumerate() {
+                    let (x, y) = to_page(*p);
+                    if i == 0 {
+                        content.move_to(x, y);
+                    } else {
+                        content.line_to(x, y);
+                    }
+                }
+                content.close_path();
+                content.stroke();
+            }
+            content.set_line_width(0.3);
+            content.set_stroke_rgb(0.55, 0.55, 0.55);
+            content.set_dash_pattern([3.0, 2.0], 0.0);
+            for [a, b] in &pattern.fold {
+                let ((x0, y0), (x1, y1)) = (to_page(*a), to_page(*b));
+                content.move_to(x0, y0);
+                content.line_to(x1, y1);
+                content.stroke();
+            }
+            content.set_fill_rgb(0.2, 0.3, 0.65);
+            for (p, text) in &pattern.labels {
+                let (x, y) = to_page(*p);
+                content.begin_text();
+                content.set_font(Name(b"F1"), 9.0);
+                content.next_line(x, y);
+                content.show(Str(ascii(text).as_bytes()));
+                content.end_text();
+            }
+            // Overlap guides (dashed blue) where this tile meets its neighbours.
+            content.set_stroke_rgb(0.3, 0.5, 0.9);
+            content.set_dash_pattern([1.0, 2.0], 0.0);
+            let (left, bottom, right, top) = (m, m + 12.0, m + aw, m + 12.0 + ah);
+            if c + 1 < columns {
+                line(&mut content, right - o, bottom, right - o, top);
+            }
+            if c > 0 {
+                line(&mut content, left + o, bottom, left + o, top);
+            }
+            if r + 1 < rows {
+                line(&mut content, left, bottom + o, right, bottom + o);
+            }
+            if r > 0 {
+                line(&mut content, left, top - o, right, top - o);
+            }
+            content.restore_state();
+            // Registration marks at the printable area's corners.
+            content.set_line_width(0.3);
+            content.set_stroke_rgb(0.0, 0.0, 0.0);
+            for (x, y) in [(left, bottom), (right, bottom), (left, top), (right, top)] {
+                line(&mut content, x - 4.0, y, x + 4.0, y);
+                line(&mut content, x, y - 4.0, x, y + 4.0);
+            }
+            // Scale bar with 10 mm ticks, and the tile's place.
+            let (bx, by) = (m, m + 3.0);
+            content.set_line_width(0.6);
+            line(&mut content, bx, by, bx + options.scale_bar_mm, by);
+            let ticks = (options.scale_bar_mm / 10.0).floor() as usize;
+            for t in 0..=ticks {
+                let x = bx + 10.0 * t as f64;
+                line(&mut content, x, by, x, by + 2.0);
+            }
+            content.set_fill_rgb(0.0, 0.0, 0.0);
+            let caption = format!(
+                "{:.0} mm: measure to check 100 % scale    tile row {} column {} of {} x {}    overlap {:.0} mm",
+                options.scale_bar_mm,
+                r + 1,
+                c + 1,
+                rows,
+                columns,
+                o
+            );
+            content.begin_text();
+            content.set_font(Name(b"F1"), 7.0);
+            content.next_line(((bx + options.scale_bar_mm + 4.0) * PT) as f32, (by * PT) as f32);
+            content.show(Str(caption.as_bytes()));
+            content.end_text();
+            pdf.stream(content_id, &content.finish());
+            let mut page = pdf.page(page_id);
+            page.media_box(Rect::new(0.0, 0.0, (pw * PT) as f32, (ph * PT) as f32));
+            page.parent(tree);
+            page.contents(content_id);
+            page.resources().fonts().pair(Name(b"F1"), font);
+            drop(page);
+        }
+    }
+    pdf.pages(tree)
+        .kids(page_ids.iter().copied())
+        .count(page_ids.len() as i32);
+    pdf.catalog(catalog).pages(tree);
+    Ok(TiledPdf {
+        bytes: pdf.finish(),
+        rows,
+        columns,
+    })
+}
+
+/// A straight stroke between two page points given in millimetres.
+fn line(content: &mut Content, x0: f64, y0: f64, x1: f64, y1: f64) {
+    content.move_to((x0 * PT) as f32, (y0 * PT) as f32);
+    content.line_to((x1 * PT) as f32, (y1 * PT) as f32);
+    content.stroke();
+}
+
+/// Labels in the built-in Helvetica: keep printable ASCII.
+fn ascii(text: &str) -> String {
+    text.chars()
+        .map(|c| if c.is_ascii_graphic() || c == ' ' { c } else { '?' })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rectangle(w: f64, h: f64) -> Pattern {
+        Pattern {
+            cut: vec![vec![
+                Vec2::new(0.0, 0.0),
+                Vec2::new(w, 0.0),
+                Vec2::new(w, h),
+                Vec2::new(0.0, h),
+            ]],
+            fold: vec![],
+            labels: vec![],
+        }
+    }
+
+    /// The first cut path's points (in points) from the uncompressed content stream.
+    fn cut_points(pdf: &[u8]) -> Vec<(f64, f64)> {
+        let text = String::from_utf8_lossy(pdf);
+        let start = text.find("0.85 0 0 RG").expect("cut colour set");
+        let mut out = Vec::new();
+        for line in text[start..].lines().skip(1) {
+            let p: Vec<&str> = line.split_whitespace().collect();
+            match p.as_slice() {
+                [x, y, "m"] | [x, y, "l"] => out.push((x.parse().unwrap(), y.parse().unwrap())),
+                ["h"] => break,
+                _ => {}
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn prints_at_true_size() {
+        let pdf = pdf_tiled(&rectangle(100.0, 50.0), &PdfOptions::default()).unwrap();
+        assert_eq!((pdf.rows, pdf.columns), (1, 1));
+        let p = cut_points(&pdf.bytes);
+        let mm = |a: (f64, f64), b: (f64, f64)| ((a.0 - b.0).hypot(a.1 - b.1)) / PT;
+        assert!((mm(p[0], p[1]) - 100.0).abs() < 0.1, "{}", mm(p[0], p[1]));
+        assert!((mm(p[1], p[2]) - 50.0).abs() < 0.1, "{}", mm(p[1], p[2]));
+    }
+
+    #[test]
+    fn large_patterns_are_tiled_with_overlap() {
+        let o = PdfOptions::default();
+        let pdf = pdf_tiled(&rectangle(500.0, 300.0), &o).unwrap();
+        let (pw, ph) = o.page.millimetres();
+        let (aw, ah) = (pw - 2.0 * o.margin_mm, ph - 2.0 * o.margin_mm - 12.0);
+        // Enough tiles to cover the pattern with the overlap, and no more.
+        assert!(pdf.columns as f64 * (aw - o.overlap_mm) + o.overlap_mm >= 500.0);
+        assert!((pdf.columns - 1) as f64 * (aw - o.overlap_mm) + o.overlap_mm < 500.0);
+        assert!(pdf.rows as f64 * (ah - o.overlap_mm) + o.overlap_mm >= 300.0);
+        assert!(pdf_tiled(&rectangle(10.0, 10.0), &PdfOptions { margin_mm: 150.0, ..o }).is_err());
+    }
+}
