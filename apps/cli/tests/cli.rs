@@ -486,6 +486,16 @@ fn check_rejects_bad_mesh_files_with_the_place() {
     );
     bad_mesh("noface.obj", "v 0 0 0\nv 1 0 0\n", "no faces");
     bad_mesh("format.xyz", "0 0 0\n", "unknown mesh format");
+    let tmp = tempfile::tempdir().unwrap();
+    let o = sheetform(&[
+        "check",
+        shared("wingnut.obj").to_str().unwrap(),
+        "-o",
+        tmp.path().join("o").to_str().unwrap(),
+        "--weld=-1",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--weld"));
 }
 
 #[test]

@@ -92,27 +92,7 @@ fn inside_outline_closed(polygon: &Polygon, p: Vec2, eps: f64) -> bool {
 }
 
 fn inside_hole_open(polygon: &Polygon, p: Vec2, eps: f64) -> bool {
-    (1..polygon.ring_count()).any(|r| {
-        let ring = polygon.ring(r);
-        ring_contains(ring, p) && nearest_on_ring(polygon, r, p).0 > eps
-    })
-}
-
-fn ring_contains(ring: &[Vec2], p: Vec2) -> bool {
-    let n = ring.len();
-    let mut inside = false;
-    let mut j = n - 1;
-    for i in 0..n {
-        let (a, b) = (ring[i], ring[j]);
-        if (a.y > p.y) != (b.y > p.y) {
-            let x = a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y);
-            if p.x < x {
-                inside = !inside;
-            }
-        }
-        j = i;
-    }
-    inside
+    (1..polygon.ring_count()).any(|r| polygon.ring_contains(r, p) && nearest_on_ring(polygon, r, p).0 > eps)
 }
 
 /// Clips the flat ruling through `origin` with unit direction `direction` to the sheet

@@ -272,6 +272,12 @@ impl Polygon {
         ring_contains(&self.outer, p)
     }
 
+    /// Whether `p` is inside ring `k` (0 = outline, k = hole k−1) by the even–odd rule.
+    /// Points exactly on the ring may go either way.
+    pub fn ring_contains(&self, k: usize, p: Vec2) -> bool {
+        ring_contains(self.ring(k), p)
+    }
+
     /// All points where the line `origin + t · direction` meets edges of the rings
     /// selected by `rings` (a predicate on the ring index), sorted by `t`. A line through
     /// a vertex reports it once per edge there; edges parallel to the line (to 1e-12) are

@@ -39,6 +39,14 @@ pub enum PipelineError {
     /// A mesh cannot be flattened.
     #[error(transparent)]
     Flatten(#[from] FlattenError),
+    /// A command-line option is out of range.
+    #[error("option `{option}`: {message}")]
+    Option {
+        /// The option.
+        option: &'static str,
+        /// What is wrong.
+        message: String,
+    },
     /// The pattern files cannot be made.
     #[error(transparent)]
     Pattern(#[from] PatternError),
@@ -358,6 +366,22 @@ pub struct CheckRun {
     pub report: Report,
 }
 
+/// Reads a mesh file and, if asked, welds vertices closer than `weld` (model units);
+/// returns the mesh and the number of vertices merged.
+fn read_input_mesh(path: &Path, weld: Option<f64>) -> Result<(TriangleMesh, Option<usize>), PipelineError> {
+    if let Some(w) = weld {
+        if !(w.is_finite() && w >= 0.0) {
+            return Err(PipelineError::Option {
+                option: "--weld",
+                message: format!("must be a non-negative distance, got {w}"),
+            });
+        }
+    }
+    let mut mesh = read_mesh(path)?;
+    let welded = weld.map(|tolerance| mesh.weld(tolerance));
+    Ok((mesh, welded))
+}
+
 /// Measures the developability of any triangle mesh file (OBJ, PLY, STL, OFF): topology
 /// (non-manifold edges and vertices, degenerate faces, orientability, boundary loops),
 /// angle defects, Gaussian curvature, `D[M]` and `G[X]` (Wang & Tang 2004), and the
@@ -368,8 +392,7 @@ pub struct CheckRun {
 /// The file cannot be read or is malformed (the message names the line).
 pub fn run_check(path: &Path, options: &CheckOptions) -> Result<CheckRun, PipelineError> {
     let start = Instant::now();
-    let mut mesh = read_mesh(path)?;
-    let welded = options.weld.map(|tolerance| mesh.weld(tolerance));
+    let (mesh, welded) = read_input_mesh(path, options.weld)?;
     let parsed = Instant::now();
     let mm = options.unit.millimetres();
     let topology = mesh_topology(&mesh);
@@ -469,8 +492,7 @@ pub struct FlattenRun {
 /// reason.
 pub fn run_flatten(path: &Path, options: &FlattenOptions) -> Result<FlattenRun, PipelineError> {
     let start = Instant::now();
-    let mut mesh = read_mesh(path)?;
-    let welded = options.weld.map(|tolerance| mesh.weld(tolerance));
+    let (mesh, welded) = read_input_mesh(path, options.weld)?;
     let parsed = Instant::now();
     let unfolding = exact_unfold(&mesh, &UnfoldOptions::default())?;
     let d = distortion(&mesh, &unfolding.flat);
