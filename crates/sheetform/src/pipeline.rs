@@ -157,10 +157,6 @@ pub struct BendRun {
     pub report: Report,
 }
 
-fn ms(d: std::time::Duration) -> f64 {
-    d.as_secs_f64() * 1e3
-}
-
 /// Runs system A on a scene's JSON text and renders every output in memory.
 ///
 /// `progress(stage, fraction)` is called as the run advances.
@@ -223,12 +219,7 @@ pub fn run_bend(
     let exported = Instant::now();
     let mut report = bend_report(&model, &sheet, options.input.clone(), &files);
     report.pattern = Some(pattern_report);
-    report.timings = Timings {
-        parse_ms: ms(parsed - start),
-        solve_ms: ms(solved - parsed),
-        export_ms: ms(exported - solved),
-        total_ms: ms(exported - start),
-    };
+    report.timings = Timings::from_stages(start, parsed, solved, exported);
     progress("done", 1.0);
     Ok(BendRun {
         model,
@@ -445,12 +436,7 @@ pub fn run_check(path: &Path, options: &CheckOptions) -> Result<CheckRun, Pipeli
         .map(|f| f.0.clone())
         .chain(std::iter::once("report.json".to_string()))
         .collect();
-    report.timings = Timings {
-        parse_ms: ms(parsed - start),
-        solve_ms: ms(solved - parsed),
-        export_ms: ms(exported - solved),
-        total_ms: ms(exported - start),
-    };
+    report.timings = Timings::from_stages(start, parsed, solved, exported);
     Ok(CheckRun {
         mesh,
         topology,
@@ -550,12 +536,7 @@ pub fn run_flatten(path: &Path, options: &FlattenOptions) -> Result<FlattenRun, 
         .map(|f| f.0.clone())
         .chain(std::iter::once("report.json".to_string()))
         .collect();
-    report.timings = Timings {
-        parse_ms: ms(parsed - start),
-        solve_ms: ms(solved - parsed),
-        export_ms: ms(exported - solved),
-        total_ms: ms(exported - start),
-    };
+    report.timings = Timings::from_stages(start, parsed, solved, exported);
     Ok(FlattenRun {
         sheet,
         distortion: d,

@@ -20,6 +20,25 @@ pub struct Timings {
     pub total_ms: f64,
 }
 
+impl Timings {
+    /// Stage times from the instants a pipeline passed: start, input read, solved,
+    /// outputs rendered.
+    pub fn from_stages(
+        start: std::time::Instant,
+        parsed: std::time::Instant,
+        solved: std::time::Instant,
+        exported: std::time::Instant,
+    ) -> Self {
+        let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
+        Self {
+            parse_ms: ms(parsed - start),
+            solve_ms: ms(solved - parsed),
+            export_ms: ms(exported - solved),
+            total_ms: ms(exported - start),
+        }
+    }
+}
+
 /// Where a shape stops being admissible, in millimetres.
 #[derive(Debug, Clone, Serialize)]
 pub struct RegressionEntry {
