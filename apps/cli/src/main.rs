@@ -9,8 +9,8 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use sheetform::pattern::{DxfUnit, PageSize};
 use sheetform::pipeline::{
-    inadmissible_report, run_bend, run_check, run_flatten, write_outputs, BendRunOptions, CheckOptions, FlattenOptions,
-    PatternOutputOptions, PipelineError,
+    inadmissible_report, run_bend, run_check, run_flatten, write_outputs, BendRunOptions, CheckOptions, FlattenMethod,
+    FlattenOptions, PatternOutputOptions, PipelineError,
 };
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -79,6 +79,10 @@ enum Command {
     Flatten {
         /// Mesh file (OBJ, PLY, STL, OFF).
         mesh: PathBuf,
+        /// Layout: `exact` unfolding from the edge lengths, or `lscm` (least-squares
+        /// conformal maps) for meshes that are only nearly developable.
+        #[arg(long, value_enum, default_value_t = Method::Exact)]
+        method: Method,
         /// Output directory (created if missing).
         #[arg(short, long)]
         output: PathBuf,
@@ -111,6 +115,12 @@ struct PatternArgs {
     /// Unit of the DXF coordinates.
     #[arg(long, value_enum, default_value_t = PatternUnit::Mm)]
     pattern_units: PatternUnit,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum Method {
+    Exact,
+    Lscm,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -202,17 +212,21 @@ fn flatten_command(
     output: PathBuf,
     weld: Option<f64>,
     units: Unit,
+    method: Method,
     pattern: PatternArgs,
     quiet: bool,
 ) -> Result<ExitCode, PipelineError> {
-    let run = run_flatten(
-        &mesh,
-        &FlattenOptions {
-            weld,
-            unit: units.into(),
-            pattern: pattern.into(),
-        },
-    )?;
+    let method = match method {
+        Method::Exact => FlattenMethod::Exact,
+        Method::Lscm => FlattenMethod::Lscm,
+    };
+    let options = FlattenOptions {
+        weld,
+        unit: units.into(),
+        pattern: pattern.into(),
+        method,
+    };
+    let run = run_flatten(&mesh, &options)?;
     write_outputs(&output, &run.files, &run.report)?;
     let d = &run.distortion;
     if !d.is_overlap_free() {
@@ -349,8 +363,9 @@ fn main() -> ExitCode {
             output,
             weld,
             units,
+            method,
             pattern,
-        } => flatten_command(mesh, output, weld, units, pattern, cli.quiet),
+        } => flatten_command(mesh, output, weld, units, method, pattern, cli.quiet),
         Command::Schema {
             format: SchemaFormat::Bend,
         } => {

@@ -691,3 +691,52 @@ fn pattern_scale_units_and_paper_options() {
     assert_eq!(bad.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("scale"));
 }
+
+#[test]
+fn flatten_with_lscm_handles_a_nearly_developable_mesh() {
+    let tmp = tempfile::tempdir().unwrap();
+    // A shallow paraboloid cap: not developable, flattens with small distortion.
+    let n = 20;
+    let mut obj = String::new();
+    for i in 0..=n {
+        for j in 0..=n {
+            let (x, y) = (i as f64 / n as f64 - 0.5, j as f64 / n as f64 - 0.5);
+            obj += &format!("v {} {} {}\n", 100.0 * x, 100.0 * y, 10.0 * (1.0 - x * x - y * y));
+        }
+    }
+    let id = |i: usize, j: usize| i * (n + 1) + j + 1;
+    for i in 0..n {
+        for j in 0..n {
+            obj += &format!(
+                "f {} {} {}\nf {} {} {}\n",
+                id(i, j),
+                id(i + 1, j),
+                id(i + 1, j + 1),
+                id(i, j),
+                id(i + 1, j + 1),
+                id(i, j + 1)
+            );
+        }
+    }
+    let path = tmp.path().join("cap.obj");
+    std::fs::write(&path, obj).unwrap();
+    let out = tmp.path().join("out");
+    let o = sheetform(&[
+        "flatten",
+        path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--method",
+        "lscm",
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(&out);
+    assert_eq!(r["charts"][0]["method"], "lscm");
+    assert_eq!(r["charts"][0]["flipped_face_count"], 0);
+    let e = r["charts"][0]["edge_length_max_relative"].as_f64().unwrap();
+    assert!(
+        e > 1e-6 && e < 0.05,
+        "a shallow cap flattens with small, nonzero distortion: {e}"
+    );
+}

@@ -149,3 +149,48 @@ fn stored_per_vertex(mesh: &TriangleMesh) -> Vec<Vec2> {
 fn sheetform_io_free_obj(path: &std::path::Path) -> TriangleMesh {
     sheetform_io::read_mesh(path).unwrap()
 }
+
+#[test]
+fn lscm_is_isometric_on_developable_meshes_and_conformal_on_others() {
+    use sheetform_flatten::lscm;
+    let cylinder = ruled_grid(
+        |u, v| [(3.0 * u).cos() * 50.0, (3.0 * u).sin() * 50.0, 80.0 * v],
+        40,
+        16,
+    );
+    let u = lscm(&cylinder).unwrap();
+    let d = distortion(&cylinder, &u.flat);
+    assert!(
+        d.edge_length_max_relative <= 1e-9,
+        "cylinder: {}",
+        d.edge_length_max_relative
+    );
+    // A paraboloid cap: not developable; LSCM keeps angles (small distortion), no flips.
+    let dome = ruled_grid(
+        |u, v| {
+            let (x, y) = (u - 0.5, v - 0.5);
+            [x * 100.0, y * 100.0, 30.0 * (1.0 - x * x - y * y)]
+        },
+        30,
+        30,
+    );
+    let u = lscm(&dome).unwrap();
+    let d = distortion(&dome, &u.flat);
+    assert!(d.is_overlap_free(), "{d:?}");
+    // Angle distortion: the largest change of a triangle corner angle.
+    let mut worst: f64 = 0.0;
+    for t in &dome.triangles {
+        for k in 0..3 {
+            let (i, j, l) = (t[k] as usize, t[(k + 1) % 3] as usize, t[(k + 2) % 3] as usize);
+            let a3 = (dome.positions[j] - dome.positions[i]).angle(&(dome.positions[l] - dome.positions[i]));
+            let a2 = (u.flat[j] - u.flat[i]).angle(&(u.flat[l] - u.flat[i]));
+            worst = worst.max((a3 - a2).abs());
+        }
+    }
+    assert!(worst < 0.05, "largest angle change {worst} rad");
+    assert!(
+        d.area_max_relative > 0.01,
+        "a curved cap cannot keep areas: {}",
+        d.area_max_relative
+    );
+}

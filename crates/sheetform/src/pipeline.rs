@@ -2,7 +2,7 @@
 
 use crate::report::{AngleDefects, ChartReport, PatternReport, RegionReport, RegressionEntry, Report, Timings};
 use sheetform_bend::{bend, BendError, BendModel, BendScene, BentSheet};
-use sheetform_flatten::{distortion, exact_unfold, Distortion, FlattenError, UnfoldOptions};
+use sheetform_flatten::{distortion, exact_unfold, lscm, Distortion, FlattenError, UnfoldOptions};
 use sheetform_io::{colour_ramp, glb_vertex_colours, ply_vertex_colours, read_mesh, MeshReadError};
 use sheetform_io::{glb_bytes, obj_string, stl_bytes, write_atomic, IoError, Texture};
 use sheetform_mesh::{
@@ -446,9 +446,23 @@ pub fn run_check(path: &Path, options: &CheckOptions) -> Result<CheckRun, Pipeli
     })
 }
 
+/// How `flatten` lays a mesh out in the plane.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FlattenMethod {
+    /// Exact unfolding from the edge lengths (developable meshes; least-squares layout of
+    /// the edge lengths otherwise).
+    #[default]
+    Exact,
+    /// Least-squares conformal maps (nearly developable meshes: keeps angles, spreads the
+    /// area error).
+    Lscm,
+}
+
 /// Knobs of `sheetform flatten`.
 #[derive(Debug, Clone, Default)]
 pub struct FlattenOptions {
+    /// Layout method.
+    pub method: FlattenMethod,
     /// How the pattern is written.
     pub pattern: PatternOutputOptions,
     /// Merge vertices closer than this (model units) first.
@@ -480,7 +494,10 @@ pub fn run_flatten(path: &Path, options: &FlattenOptions) -> Result<FlattenRun, 
     let start = Instant::now();
     let (mesh, welded) = read_input_mesh(path, options.weld)?;
     let parsed = Instant::now();
-    let unfolding = exact_unfold(&mesh, &UnfoldOptions::default())?;
+    let unfolding = match options.method {
+        FlattenMethod::Exact => exact_unfold(&mesh, &UnfoldOptions::default())?,
+        FlattenMethod::Lscm => lscm(&mesh)?,
+    };
     let d = distortion(&mesh, &unfolding.flat);
     let solved = Instant::now();
     let mm = options.unit.millimetres();
@@ -521,6 +538,7 @@ pub fn run_flatten(path: &Path, options: &FlattenOptions) -> Result<FlattenRun, 
     report.welded_vertex_count = welded;
     report.charts = vec![ChartReport {
         name,
+        method: format!("{:?}", options.method).to_lowercase(),
         face_count: mesh.triangles.len(),
         edge_length_max_relative: d.edge_length_max_relative,
         edge_length_mean_relative: d.edge_length_mean_relative,

@@ -106,6 +106,8 @@ pub struct AngleDefects {
 pub struct ChartReport {
     /// Chart name.
     pub name: String,
+    /// Layout method (`exact`, `lscm`).
+    pub method: String,
     /// Faces in the chart.
     pub face_count: usize,
     /// Largest relative edge-length error.
