@@ -498,8 +498,8 @@ pub fn run_flatten(path: &Path, options: &FlattenOptions) -> Result<FlattenRun, 
         FlattenMethod::Exact => exact_unfold(&mesh, &UnfoldOptions::default())?,
         FlattenMethod::Lscm => lscm(&mesh)?,
     };
-    let d = distortion(&mesh, &unfolding.flat);
     let solved = Instant::now();
+    let d = distortion(&mesh, &unfolding.flat);
     let mm = options.unit.millimetres();
     let name = path
         .file_stem()
