@@ -79,8 +79,9 @@ enum Command {
     Flatten {
         /// Mesh file (OBJ, PLY, STL, OFF).
         mesh: PathBuf,
-        /// Layout: `exact` unfolding from the edge lengths, or `lscm` (least-squares
-        /// conformal maps) for meshes that are only nearly developable.
+        /// Layout: `exact` unfolding from the edge lengths; for meshes that are only nearly
+        /// developable `lscm` (least-squares conformal maps) or `arap` (as rigid as
+        /// possible, started from LSCM).
         #[arg(long, value_enum, default_value_t = Method::Exact)]
         method: Method,
         /// Output directory (created if missing).
@@ -121,6 +122,7 @@ struct PatternArgs {
 enum Method {
     Exact,
     Lscm,
+    Arap,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -219,6 +221,7 @@ fn flatten_command(
     let method = match method {
         Method::Exact => FlattenMethod::Exact,
         Method::Lscm => FlattenMethod::Lscm,
+        Method::Arap => FlattenMethod::Arap,
     };
     let options = FlattenOptions {
         weld,

@@ -739,4 +739,20 @@ fn flatten_with_lscm_handles_a_nearly_developable_mesh() {
         e > 1e-6 && e < 0.05,
         "a shallow cap flattens with small, nonzero distortion: {e}"
     );
+    let lscm_mean = r["charts"][0]["edge_length_mean_relative"].as_f64().unwrap();
+    let out = tmp.path().join("arap");
+    let o = sheetform(&[
+        "flatten",
+        path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--method",
+        "arap",
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(&out);
+    assert_eq!(r["charts"][0]["method"], "arap");
+    assert_eq!(r["charts"][0]["flipped_face_count"], 0);
+    assert!(r["charts"][0]["edge_length_mean_relative"].as_f64().unwrap() < lscm_mean);
 }

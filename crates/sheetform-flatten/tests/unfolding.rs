@@ -194,3 +194,40 @@ fn lscm_is_isometric_on_developable_meshes_and_conformal_on_others() {
         d.area_max_relative
     );
 }
+
+#[test]
+fn arap_reaches_the_isometry_and_distorts_lengths_less_than_lscm() {
+    use sheetform_flatten::{arap, lscm, ArapOptions};
+    let cylinder = ruled_grid(
+        |u, v| [(3.0 * u).cos() * 50.0, (3.0 * u).sin() * 50.0, 80.0 * v],
+        30,
+        12,
+    );
+    let u = arap(&cylinder, &ArapOptions::default()).unwrap();
+    assert!(u.solver.converged, "{:?}", u.solver);
+    let d = distortion(&cylinder, &u.flat);
+    assert!(
+        d.edge_length_max_relative <= 1e-9,
+        "cylinder: {}",
+        d.edge_length_max_relative
+    );
+    let dome = ruled_grid(
+        |u, v| {
+            let (x, y) = (u - 0.5, v - 0.5);
+            [x * 100.0, y * 100.0, 30.0 * (1.0 - x * x - y * y)]
+        },
+        24,
+        24,
+    );
+    let a = arap(&dome, &ArapOptions::default()).unwrap();
+    let l = lscm(&dome).unwrap();
+    let (da, dl) = (distortion(&dome, &a.flat), distortion(&dome, &l.flat));
+    assert!(da.is_overlap_free(), "{da:?}");
+    assert!(
+        da.edge_length_mean_relative < dl.edge_length_mean_relative,
+        "ARAP {} vs LSCM {}",
+        da.edge_length_mean_relative,
+        dl.edge_length_mean_relative
+    );
+    assert!(a.solver.cost <= a.solver.initial_cost);
+}

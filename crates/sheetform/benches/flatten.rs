@@ -1,10 +1,10 @@
-//! Benchmarks of flattening (issue 3): exact unfolding and LSCM on developable cylinder
+//! Benchmarks of flattening (issue 3): exact unfolding, LSCM and ARAP on developable cylinder
 //! grids of 1k, 10k and 100k faces (1M with `SHEETFORM_BENCH_LARGE=1`). Run with
 //! `cargo bench -p sheetform --bench flatten`; `tools/compare_libigl.py` times libigl's
 //! LSCM on the same meshes. Figures in docs/benchmarks.md.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use sheetform::flatten::{exact_unfold, lscm, UnfoldOptions};
+use sheetform::flatten::{arap, exact_unfold, lscm, ArapOptions, UnfoldOptions};
 use sheetform::mesh::TriangleMesh;
 use std::hint::black_box;
 
@@ -58,6 +58,9 @@ fn bench_flatten(c: &mut Criterion) {
         });
         group.bench_with_input(BenchmarkId::new("lscm", label), &mesh, |b, m| {
             b.iter(|| lscm(black_box(m)).expect("disk"))
+        });
+        group.bench_with_input(BenchmarkId::new("arap", label), &mesh, |b, m| {
+            b.iter(|| arap(black_box(m), &ArapOptions::default()).expect("disk"))
         });
     }
     group.finish();

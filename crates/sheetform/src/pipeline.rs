@@ -2,7 +2,7 @@
 
 use crate::report::{AngleDefects, ChartReport, PatternReport, RegionReport, RegressionEntry, Report, Timings};
 use sheetform_bend::{bend, BendError, BendModel, BendScene, BentSheet};
-use sheetform_flatten::{distortion, exact_unfold, lscm, Distortion, FlattenError, UnfoldOptions};
+use sheetform_flatten::{arap, distortion, exact_unfold, lscm, ArapOptions, Distortion, FlattenError, UnfoldOptions};
 use sheetform_io::{colour_ramp, glb_vertex_colours, ply_vertex_colours, read_mesh, MeshReadError};
 use sheetform_io::{glb_bytes, obj_string, stl_bytes, write_atomic, IoError, Texture};
 use sheetform_mesh::{
@@ -456,6 +456,9 @@ pub enum FlattenMethod {
     /// Least-squares conformal maps (nearly developable meshes: keeps angles, spreads the
     /// area error).
     Lscm,
+    /// As-rigid-as-possible (nearly developable meshes: balances length and angle error),
+    /// started from LSCM.
+    Arap,
 }
 
 /// Knobs of `sheetform flatten`.
@@ -497,6 +500,7 @@ pub fn run_flatten(path: &Path, options: &FlattenOptions) -> Result<FlattenRun, 
     let unfolding = match options.method {
         FlattenMethod::Exact => exact_unfold(&mesh, &UnfoldOptions::default())?,
         FlattenMethod::Lscm => lscm(&mesh)?,
+        FlattenMethod::Arap => arap(&mesh, &ArapOptions::default())?,
     };
     let solved = Instant::now();
     let d = distortion(&mesh, &unfolding.flat);
