@@ -108,6 +108,19 @@ impl BendEditor {
         Ok(pts)
     }
 
+    /// `region`'s curve with control point `index` moved to `position` (not yet applied).
+    fn moved_shape(&self, region: usize, index: usize, position: Vec3) -> Result<CurveShape, BendError> {
+        let mut pts = self.control_points(region)?;
+        check_index(index, pts.len())?;
+        check_finite(position)?;
+        pts[index] = position;
+        self.model.regions[region]
+            .curve
+            .shape()
+            .with_control_points(pts)
+            .map_err(|e| BendError::Edit { message: e.to_string() })
+    }
+
     /// Tries a new curve for `region`: applied if the result is valid and admissible.
     fn try_curve(&mut self, region: usize, shape: CurveShape, solver: Option<SolverInfo>) -> EditInfo {
         let before = self.model.regions[region].curve.length();
@@ -145,15 +158,7 @@ impl BendEditor {
     /// No such region or control point, or an analytic curve. An edit that would make the
     /// shape inadmissible is not an error: it is reported in [`EditInfo`] and not applied.
     pub fn move_control_point(&mut self, region: usize, index: usize, position: Vec3) -> Result<EditInfo, BendError> {
-        let mut pts = self.control_points(region)?;
-        check_index(index, pts.len())?;
-        check_finite(position)?;
-        pts[index] = position;
-        let shape = self.model.regions[region]
-            .curve
-            .shape()
-            .with_control_points(pts)
-            .map_err(|e| BendError::Edit { message: e.to_string() })?;
+        let shape = self.moved_shape(region, index, position)?;
         Ok(self.try_curve(region, shape, None))
     }
 
@@ -229,16 +234,8 @@ impl BendEditor {
         position: Vec3,
         method: LengthPreservation,
     ) -> Result<EditInfo, BendError> {
-        let mut pts = self.control_points(region)?;
-        check_index(index, pts.len())?;
-        check_finite(position)?;
         let target = self.model.regions[region].curve.length();
-        pts[index] = position;
-        let shape = self.model.regions[region]
-            .curve
-            .shape()
-            .with_control_points(pts)
-            .map_err(|e| BendError::Edit { message: e.to_string() })?;
+        let shape = self.moved_shape(region, index, position)?;
         let (fixed, info) = match method {
             LengthPreservation::Scale => {
                 let length = crate::ControlCurve::new(shape.clone())

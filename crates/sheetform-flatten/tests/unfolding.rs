@@ -8,28 +8,15 @@ use sheetform_mesh::TriangleMesh;
 /// A grid mesh whose rows follow rulings (`f(u, v)`, rulings at constant `u`), so each
 /// quad is planar and the mesh exactly developable when the surface is.
 fn ruled_grid(f: impl Fn(f64, f64) -> [f64; 3], nu: usize, nv: usize) -> TriangleMesh {
-    let mut positions = Vec::new();
-    for i in 0..=nu {
-        for j in 0..=nv {
-            positions.push(Vector3::from(f(i as f64 / nu as f64, j as f64 / nv as f64)));
-        }
-    }
-    let id = |i: usize, j: usize| (i * (nv + 1) + j) as u32;
-    let mut triangles = Vec::new();
-    for i in 0..nu {
-        for j in 0..nv {
-            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
-    let n = triangles.len();
-    TriangleMesh {
-        positions,
-        triangles,
-        face_groups: vec![0; n],
-        groups: vec!["g".into()],
-        corner_uvs: None,
-    }
+    TriangleMesh::grid(nu, nv, f)
+}
+
+/// A paraboloid cap (not developable), `n × n` cells.
+fn dome(n: usize) -> TriangleMesh {
+    TriangleMesh::grid(n, n, |u, v| {
+        let (x, y) = (u - 0.5, v - 0.5);
+        [x * 100.0, y * 100.0, 30.0 * (1.0 - x * x - y * y)]
+    })
 }
 
 fn assert_exact(mesh: &TriangleMesh, label: &str) {
@@ -166,14 +153,7 @@ fn lscm_is_isometric_on_developable_meshes_and_conformal_on_others() {
         d.edge_length_max_relative
     );
     // A paraboloid cap: not developable; LSCM keeps angles (small distortion), no flips.
-    let dome = ruled_grid(
-        |u, v| {
-            let (x, y) = (u - 0.5, v - 0.5);
-            [x * 100.0, y * 100.0, 30.0 * (1.0 - x * x - y * y)]
-        },
-        30,
-        30,
-    );
+    let dome = dome(30);
     let u = lscm(&dome).unwrap();
     let d = distortion(&dome, &u.flat);
     assert!(d.is_overlap_free(), "{d:?}");
@@ -211,14 +191,7 @@ fn arap_reaches_the_isometry_and_distorts_lengths_less_than_lscm() {
         "cylinder: {}",
         d.edge_length_max_relative
     );
-    let dome = ruled_grid(
-        |u, v| {
-            let (x, y) = (u - 0.5, v - 0.5);
-            [x * 100.0, y * 100.0, 30.0 * (1.0 - x * x - y * y)]
-        },
-        24,
-        24,
-    );
+    let dome = dome(24);
     let a = arap(&dome, &ArapOptions::default()).unwrap();
     let l = lscm(&dome).unwrap();
     let (da, dl) = (distortion(&dome, &a.flat), distortion(&dome, &l.flat));

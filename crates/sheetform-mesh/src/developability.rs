@@ -131,48 +131,18 @@ pub fn developability_summary(
 mod tests {
     use super::*;
     use crate::mesh_topology;
-    use nalgebra::Vector3;
-
-    /// A (open) cylinder and a dome-like cap, triangulated on a grid.
-    fn grid(f: impl Fn(f64, f64) -> [f64; 3], n: usize) -> TriangleMesh {
-        let mut positions = Vec::new();
-        for i in 0..=n {
-            for j in 0..=n {
-                positions.push(Vector3::from(f(i as f64 / n as f64, j as f64 / n as f64)));
-            }
-        }
-        let id = |i: usize, j: usize| (i * (n + 1) + j) as u32;
-        let mut triangles = Vec::new();
-        for i in 0..n {
-            for j in 0..n {
-                triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-                triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-            }
-        }
-        let faces = triangles.len();
-        TriangleMesh {
-            positions,
-            triangles,
-            face_groups: vec![0; faces],
-            groups: vec!["g".into()],
-            corner_uvs: None,
-        }
-    }
 
     #[test]
     fn cylinder_is_developable_and_a_dome_is_not() {
-        let cylinder = grid(|u, v| [(2.0 * u).cos(), (2.0 * u).sin(), 3.0 * v], 20);
+        let cylinder = TriangleMesh::grid(20, 20, |u, v| [(2.0 * u).cos(), (2.0 * u).sin(), 3.0 * v]);
         let t = mesh_topology(&cylinder);
         let s = developability_summary(&cylinder, &t, &vertex_developability(&cylinder, &t), 1e-10);
         assert!(s.angle_defect_max_rad < 1e-12, "{s:?}");
         assert!((s.developability_d - 1.0).abs() < 1e-12);
-        let dome = grid(
-            |u, v| {
-                let (x, y) = (u - 0.5, v - 0.5);
-                [x, y, 1.0 - x * x - y * y]
-            },
-            20,
-        );
+        let dome = TriangleMesh::grid(20, 20, |u, v| {
+            let (x, y) = (u - 0.5, v - 0.5);
+            [x, y, 1.0 - x * x - y * y]
+        });
         let t = mesh_topology(&dome);
         let v = vertex_developability(&dome, &t);
         let s = developability_summary(&dome, &t, &v, 1e-10);

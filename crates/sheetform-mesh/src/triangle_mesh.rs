@@ -21,6 +21,35 @@ pub struct TriangleMesh {
 }
 
 impl TriangleMesh {
+    /// A parametric grid: `(nu + 1) × (nv + 1)` vertices at `surface(i / nu, j / nv)`, two
+    /// triangles per cell, one group. When the grid lines of constant `u` are rulings of a
+    /// developable surface every cell is planar and the mesh is exactly developable (the
+    /// test and benchmark meshes of cylinders and cones).
+    pub fn grid(nu: usize, nv: usize, surface: impl Fn(f64, f64) -> [f64; 3]) -> Self {
+        let mut positions = Vec::with_capacity((nu + 1) * (nv + 1));
+        for i in 0..=nu {
+            for j in 0..=nv {
+                positions.push(Vec3::from(surface(i as f64 / nu as f64, j as f64 / nv as f64)));
+            }
+        }
+        let id = |i: usize, j: usize| (i * (nv + 1) + j) as u32;
+        let mut triangles = Vec::with_capacity(2 * nu * nv);
+        for i in 0..nu {
+            for j in 0..nv {
+                triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        let faces = triangles.len();
+        Self {
+            positions,
+            triangles,
+            face_groups: vec![0; faces],
+            groups: vec!["grid".into()],
+            corner_uvs: None,
+        }
+    }
+
     /// Unit normal of face `f` (zero for a degenerate face).
     pub fn face_normal(&self, f: usize) -> Vec3 {
         let [a, b, c] = self.triangles[f].map(|i| self.positions[i as usize]);

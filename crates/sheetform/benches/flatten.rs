@@ -14,33 +14,10 @@ static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 /// A developable grid: a half cylinder of radius 100 and height 200, `nu × nv` quads,
 /// two triangles each (the mesh `tools/compare_libigl.py` builds).
 fn cylinder(nu: usize, nv: usize) -> TriangleMesh {
-    let mut positions = Vec::with_capacity((nu + 1) * (nv + 1));
-    for i in 0..=nu {
-        let a = std::f64::consts::PI * i as f64 / nu as f64;
-        for j in 0..=nv {
-            positions.push(nalgebra::Vector3::new(
-                100.0 * a.cos(),
-                100.0 * a.sin(),
-                200.0 * j as f64 / nv as f64,
-            ));
-        }
-    }
-    let id = |i: usize, j: usize| (i * (nv + 1) + j) as u32;
-    let mut triangles = Vec::with_capacity(2 * nu * nv);
-    for i in 0..nu {
-        for j in 0..nv {
-            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
-    let n = triangles.len();
-    TriangleMesh {
-        positions,
-        triangles,
-        face_groups: vec![0; n],
-        groups: vec!["g".into()],
-        corner_uvs: None,
-    }
+    TriangleMesh::grid(nu, nv, |u, v| {
+        let a = std::f64::consts::PI * u;
+        [100.0 * a.cos(), 100.0 * a.sin(), 200.0 * v]
+    })
 }
 
 fn bench_flatten(c: &mut Criterion) {

@@ -69,6 +69,15 @@ pub enum PipelineError {
 /// Rendered output files: `(file name relative to the output directory, bytes)`.
 pub type RenderedFiles = Vec<(String, Vec<u8>)>;
 
+/// The report's `outputs`: the rendered files' names and `report.json`.
+fn output_names(files: &[(String, Vec<u8>)]) -> Vec<String> {
+    files
+        .iter()
+        .map(|f| f.0.clone())
+        .chain(std::iter::once("report.json".to_string()))
+        .collect()
+}
+
 /// How the printable pattern is written (every command that makes one).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PatternOutputOptions {
@@ -288,11 +297,7 @@ fn bend_report(model: &BendModel, sheet: &BentSheet, input: Option<String>, file
             closure_gap_mm: r.closure_gap.map(|g| g * mm),
         })
         .collect();
-    report.outputs = files
-        .iter()
-        .map(|f| f.0.clone())
-        .chain(std::iter::once("report.json".to_string()))
-        .collect();
+    report.outputs = output_names(files);
     report
 }
 
@@ -431,11 +436,7 @@ pub fn run_check(path: &Path, options: &CheckOptions) -> Result<CheckRun, Pipeli
     report.angle_defects = Some(defects);
     report.topology = Some(topology.clone());
     report.welded_vertex_count = welded;
-    report.outputs = files
-        .iter()
-        .map(|f| f.0.clone())
-        .chain(std::iter::once("report.json".to_string()))
-        .collect();
+    report.outputs = output_names(&files);
     report.timings = Timings::from_stages(start, parsed, solved, exported);
     Ok(CheckRun {
         mesh,
@@ -553,11 +554,7 @@ pub fn run_flatten(path: &Path, options: &FlattenOptions) -> Result<FlattenRun, 
     }];
     report.solver = Some(unfolding.solver);
     report.pattern = Some(pattern_report);
-    report.outputs = files
-        .iter()
-        .map(|f| f.0.clone())
-        .chain(std::iter::once("report.json".to_string()))
-        .collect();
+    report.outputs = output_names(&files);
     report.timings = Timings::from_stages(start, parsed, solved, exported);
     Ok(FlattenRun {
         sheet,
