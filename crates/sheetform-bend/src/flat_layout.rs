@@ -210,10 +210,42 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
         geodesic_refs.push(geo);
     }
     // Merge boundary points per edge; snap to ring vertices.
-    pending.sort_by(|a, b| a.key.cmp(&b.key).then(a.parameter.total_cmp(&b.parameter)));
+    // Bucketed by outline edge (counting sort), then by parameter: each bucket comes in
+    // ruling order, so it is usually already sorted one way or the other.
+    let mut edge_offset: Vec<usize> = Vec::with_capacity(sheet.ring_count() + 1);
+    edge_offset.push(0);
+    for r in 0..sheet.ring_count() {
+        edge_offset.push(edge_offset[r] + sheet.ring(r).len());
+    }
+    let bucket_of = |p: &PendingBoundary| edge_offset[p.key.0] + p.key.1;
+    let mut bucket_start = vec![0usize; edge_offset[sheet.ring_count()] + 1];
+    for p in &pending {
+        bucket_start[bucket_of(p) + 1] += 1;
+    }
+    for b in 1..bucket_start.len() {
+        bucket_start[b] += bucket_start[b - 1];
+    }
+    let mut fill = bucket_start.clone();
+    let mut order = vec![0usize; pending.len()];
+    for (i, p) in pending.iter().enumerate() {
+        let b = bucket_of(p);
+        order[fill[b]] = i;
+        fill[b] += 1;
+    }
+    for w in bucket_start.windows(2) {
+        let bucket = &mut order[w[0]..w[1]];
+        let at = |i: &usize| pending[*i].parameter;
+        if bucket.windows(2).all(|x| at(&x[0]) >= at(&x[1])) {
+            bucket.reverse();
+        }
+        if !bucket.windows(2).all(|x| at(&x[0]) <= at(&x[1])) {
+            bucket.sort_unstable_by(|x, y| at(x).total_cmp(&at(y)));
+        }
+    }
+    let pending: Vec<&PendingBoundary> = order.iter().map(|&i| &pending[i]).collect();
     let mut edge_points: HashMap<(usize, usize), Vec<usize>> = HashMap::default();
     let mut last: Option<((usize, usize), Vec2, usize)> = None;
-    for p in &pending {
+    for p in pending {
         let ring = sheet.ring(p.key.0);
         let n = ring.len();
         let (a, b) = (ring[p.key.1], ring[(p.key.1 + 1) % n]);
@@ -358,7 +390,7 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
 
     // Faces of the planar graph (half-edge walk), each to the left of its edges.
     let graph = graph_faces(&points, &edges);
-    let kind_of_half = |h: usize| edge_kinds[graph.edge[h]];
+    let kind_of_half = |h: usize| edge_kinds[graph.edge(h)];
     let mut outer_halves = Cycles::default();
     let mut outer_cycles = Cycles::default();
     let mut inner_cycles = Cycles::default();
@@ -368,13 +400,21 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
         // Left of a boundary edge run backwards is outside the sheet (or in a hole).
         let outside = cycle
             .iter()
-            .any(|&h| kind_of_half(h) == EdgeKind::Boundary && graph.origin[h] != edges[graph.edge[h]][0]);
+            .any(|&h| !graph.forward(h) && kind_of_half(h) == EdgeKind::Boundary);
         if outside {
             continue;
         }
         scratch.clear();
-        scratch.extend(cycle.iter().map(|&h| graph.origin[h]));
-        if cycle_area(&points, &scratch) > 0.0 {
+        scratch.extend(cycle.iter().map(|&h| graph.origin(h)));
+        // Twice the signed area, from the half-edges' own ends.
+        let area: f64 = cycle
+            .iter()
+            .map(|&h| {
+                let (a, b) = (points[graph.origin(h)], points[graph.target(h)]);
+                a.x * b.y - b.x * a.y
+            })
+            .sum();
+        if area > 0.0 {
             outer_cycles.push(&scratch);
             outer_halves.push(cycle);
         } else {
@@ -451,13 +491,13 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
                     let s = &geometries[region].samples[ruling];
                     let m = Vec2::new(s.flat_ruling.y, -s.flat_ruling.x);
                     let m = if m.dot(&s.flat_tangent) >= 0.0 { m } else { -m };
-                    let d = points[graph.target[h]] - points[graph.origin[h]];
+                    let d = points[graph.target(h)] - points[graph.origin(h)];
                     let left = Vec2::new(-d.y, d.x);
                     let part = if left.dot(&m) > 0.0 { ruling + 1 } else { ruling };
                     face_labels.push((f, region, part));
                 }
                 EdgeKind::Geodesic => {
-                    let g = face_of_half[graph.twin[h]];
+                    let g = face_of_half[graph.twin(h)];
                     if g != usize::MAX {
                         let (ra, rb) = (find(&mut parent, f), find(&mut parent, g));
                         parent[ra] = rb;
@@ -489,11 +529,14 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
             cell_of_root[root]
         })
         .collect();
-    let mut labels: Vec<(usize, usize, usize)> = face_labels.iter().map(|&(f, r, p)| (face_cell[f], r, p)).collect();
-    labels.sort_unstable();
-    labels.dedup();
-    for (c, r, p) in labels {
-        cells[c].labels.push((r, p));
+    for &(f, r, p) in &face_labels {
+        let labels = &mut cells[face_cell[f]].labels;
+        if !labels.contains(&(r, p)) {
+            labels.push((r, p));
+        }
+    }
+    for c in &mut cells {
+        c.labels.sort_unstable();
     }
     // Vertices only for cells held by more than one label: their placement is checked.
     let mut cell_vertices: Vec<(usize, u32)> = Vec::new();
@@ -588,18 +631,40 @@ fn cycle_contains(points: &[Vec2], cycle: &[usize], p: Vec2) -> bool {
     inside
 }
 
-/// The half-edges of a planar straight-line graph and its faces.
+/// The half-edges of a planar straight-line graph and its faces. Indices are `u32`
+/// (half the memory traffic of `usize` on the hot path of every bend).
 struct PlanarGraph {
     /// Start vertex of each half-edge.
-    origin: Vec<usize>,
+    origin: Vec<u32>,
     /// End vertex of each half-edge.
-    target: Vec<usize>,
+    target: Vec<u32>,
     /// The opposite half-edge.
-    twin: Vec<usize>,
-    /// The undirected edge (index into the input) of each half-edge.
-    edge: Vec<usize>,
+    twin: Vec<u32>,
+    /// `2e` for the half-edge that runs along input edge `e` as given, `2e + 1` for the
+    /// reverse one.
+    directed_edge: Vec<u32>,
     /// Faces as cycles of half-edges, each face to the left of its half-edges.
     faces: Cycles,
+}
+
+impl PlanarGraph {
+    fn origin(&self, h: usize) -> usize {
+        self.origin[h] as usize
+    }
+    fn target(&self, h: usize) -> usize {
+        self.target[h] as usize
+    }
+    fn twin(&self, h: usize) -> usize {
+        self.twin[h] as usize
+    }
+    /// The input edge of half-edge `h`.
+    fn edge(&self, h: usize) -> usize {
+        (self.directed_edge[h] >> 1) as usize
+    }
+    /// Whether `h` runs along its input edge as given.
+    fn forward(&self, h: usize) -> bool {
+        self.directed_edge[h] & 1 == 0
+    }
 }
 
 /// Many short index cycles in one array (`items[start[i]..start[i + 1]]` is cycle `i`).
@@ -642,7 +707,7 @@ fn pseudo_angle(d: Vec2) -> f64 {
 /// the walk is linear after the per-vertex sorts.
 fn graph_faces(points: &[Vec2], edges: &[[usize; 2]]) -> PlanarGraph {
     let nv = points.len();
-    let mut start = vec![0usize; nv + 1];
+    let mut start = vec![0u32; nv + 1];
     for &[a, b] in edges {
         start[a + 1] += 1;
         start[b + 1] += 1;
@@ -650,46 +715,57 @@ fn graph_faces(points: &[Vec2], edges: &[[usize; 2]]) -> PlanarGraph {
     for v in 0..nv {
         start[v + 1] += start[v];
     }
-    let halves = start[nv];
-    let mut target = vec![0usize; halves];
-    let mut edge = vec![0usize; halves];
+    let halves = start[nv] as usize;
+    let end_of = |d: u32| {
+        let [a, b] = edges[(d >> 1) as usize];
+        if d & 1 == 0 {
+            b
+        } else {
+            a
+        }
+    };
+    // Bucket the directed edges by origin, then sort each bucket by angle.
+    let mut directed_edge = vec![0u32; halves];
     let mut fill = start.clone();
     for (e, &[a, b]) in edges.iter().enumerate() {
-        target[fill[a]] = b;
-        edge[fill[a]] = e;
+        directed_edge[fill[a] as usize] = 2 * e as u32;
         fill[a] += 1;
-        target[fill[b]] = a;
-        edge[fill[b]] = e;
+        directed_edge[fill[b] as usize] = 2 * e as u32 + 1;
         fill[b] += 1;
     }
-    let mut order: Vec<(f64, usize, usize)> = Vec::new();
+    drop(fill);
+    let mut order: Vec<(f64, u32)> = Vec::new();
+    let mut origin = vec![0u32; halves];
+    let mut target = vec![0u32; halves];
+    // position[d]: the half-edge of directed edge d after sorting.
+    let mut position = vec![0u32; halves];
     for v in 0..nv {
         let p = points[v];
-        let range = start[v]..start[v + 1];
+        let range = start[v] as usize..start[v + 1] as usize;
         order.clear();
         order.extend(
-            range
-                .clone()
-                .map(|h| (pseudo_angle(points[target[h]] - p), target[h], edge[h])),
+            directed_edge[range.clone()]
+                .iter()
+                .map(|&d| (pseudo_angle(points[end_of(d)] - p), d)),
         );
-        order.sort_by(|x, y| x.0.total_cmp(&y.0));
-        for (h, &(_, t, e)) in range.zip(order.iter()) {
-            target[h] = t;
-            edge[h] = e;
+        // Degrees are small (mostly 2 to 4): insertion sort.
+        for i in 1..order.len() {
+            let mut j = i;
+            while j > 0 && order[j - 1].0 > order[j].0 {
+                order.swap(j - 1, j);
+                j -= 1;
+            }
+        }
+        for (h, &(_, d)) in range.zip(order.iter()) {
+            directed_edge[h] = d;
+            position[d as usize] = h as u32;
+            origin[h] = v as u32;
+            target[h] = end_of(d) as u32;
         }
     }
-    let mut origin = vec![0usize; halves];
-    for v in 0..nv {
-        origin[start[v]..start[v + 1]].fill(v);
-    }
-    // twin[h]: the half-edge w→v for h = v→w.
-    let mut twin = vec![0usize; halves];
-    for h in 0..halves {
-        let (v, w) = (origin[h], target[h]);
-        twin[h] = (start[w]..start[w + 1])
-            .find(|&g| target[g] == v)
-            .expect("edges are symmetric");
-    }
+    // twin[h]: the half-edge w→v for h = v→w (the other direction of the same edge).
+    let twin: Vec<u32> = directed_edge.iter().map(|&d| position[(d ^ 1) as usize]).collect();
+    drop(position);
     let mut used = vec![false; halves];
     let mut faces = Cycles {
         start: Vec::with_capacity(halves / 3),
@@ -705,9 +781,9 @@ fn graph_faces(points: &[Vec2], edges: &[[usize; 2]]) -> PlanarGraph {
             used[h] = true;
             faces.items.push(h);
             // At v = target[h] the reverse half-edge is twin[h]; take the next one clockwise.
-            let v = target[h];
-            let (s, e) = (start[v], start[v + 1]);
-            let i = twin[h];
+            let v = target[h] as usize;
+            let (s, e) = (start[v] as usize, start[v + 1] as usize);
+            let i = twin[h] as usize;
             h = if i == s { e - 1 } else { i - 1 };
             if h == h0 || used[h] {
                 break;
@@ -718,7 +794,7 @@ fn graph_faces(points: &[Vec2], edges: &[[usize; 2]]) -> PlanarGraph {
         origin,
         target,
         twin,
-        edge,
+        directed_edge,
         faces,
     }
 }
@@ -739,7 +815,7 @@ fn triangulate_face(
             // Strictly convex: collinear runs (touch points, hole gaps) go to the CDT,
             // so a fan never makes a zero-area triangle.
             let turn = (b - a).x * (c - b).y - (b - a).y * (c - b).x;
-            turn > 1e-12 * (b - a).norm() * (c - b).norm()
+            turn > 0.0 && turn * turn > 1e-24 * (b - a).norm_squared() * (c - b).norm_squared()
         });
     if convex {
         // Fan from the vertex that gives the best smallest angle is overkill here; fan from

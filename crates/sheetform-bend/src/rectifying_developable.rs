@@ -358,15 +358,19 @@ pub fn sample_rulings(
 
     // 4. Angles, fold rates, regression distances; α carried over on straight spans.
     let mut out: Vec<RulingSample> = Vec::with_capacity(count);
+    // (cos α, sin α) per sample, kept beside α so the ruling directions need no sin_cos.
+    let mut cos_sin: Vec<(f64, f64)> = Vec::with_capacity(count);
     for (j, r) in raw.iter().enumerate() {
         let side = r.normal.cross(&r.frame.tangent);
         let (angle, fold_rate, regression) = if r.straight {
+            cos_sin.push((f64::NAN, f64::NAN));
             (f64::NAN, 0.0, f64::INFINITY)
         } else {
             // cos α = −sign(k) τ / |w|, sin α = |k| / |w|, ρ = −sign(k) |w| (no trigonometry).
             let w = r.k.hypot(r.tau);
             let (cos, sin) = (-r.k.signum() * r.tau / w, r.k.abs() / w);
             let angle = sin.atan2(cos);
+            cos_sin.push((cos, sin));
             let rate = -r.k.signum() * w;
             let l = if geodesic {
                 regression_distance(r.k, r.tau, r.dk, r.dtau, sin)
@@ -422,9 +426,9 @@ pub fn sample_rulings(
             (None, None) => unreachable!("at least one curved sample"),
         };
         out[j].angle = out[pick].angle;
+        cos_sin[j] = cos_sin[pick];
     }
-    for (s, r) in out.iter_mut().zip(&raw) {
-        let (sn, c) = s.angle.sin_cos();
+    for ((s, r), &(c, sn)) in out.iter_mut().zip(&raw).zip(&cos_sin) {
         s.flat_ruling = r.flat.tangent * c + r.flat.normal * sn;
         s.ruling = s.tangent * c + s.side * sn;
     }

@@ -64,7 +64,7 @@ fn nearest_on_ring(polygon: &Polygon, ring: usize, p: Vec2) -> (f64, BoundaryPoi
         } else {
             0.0
         };
-        let d = (a + e * t - p).norm();
+        let d = (a + e * t - p).norm_squared();
         if d < best.0 {
             best = (
                 d,
@@ -76,6 +76,7 @@ fn nearest_on_ring(polygon: &Polygon, ring: usize, p: Vec2) -> (f64, BoundaryPoi
             );
         }
     }
+    best.0 = best.0.sqrt();
     best
 }
 
@@ -111,10 +112,22 @@ pub fn ruling_extent(polygon: &Polygon, origin: Vec2, direction: Vec2, scale: f6
             walk_outline(polygon, origin, direction, hits.iter().rev(), -1.0, eps)
         }
     };
-    let positive_end = walk(1.0);
-    let negative_end = walk(-1.0);
-    let end_point = |l: f64| locate_on_boundary(polygon, origin + direction * l, 0..polygon.ring_count()).1;
-    let ends = [end_point(negative_end), end_point(positive_end)];
+    let (positive_end, positive_hit) = walk(1.0);
+    let (negative_end, negative_hit) = walk(-1.0);
+    // The outline hit where the walk stopped is the end point; a ruling that never left
+    // its geodesic point (zero extent on that side) is located by distance.
+    let end_point = |l: f64, hit: Option<&sheetform_geometry::RayHit>| match hit {
+        Some(h) => BoundaryPoint {
+            ring: h.ring,
+            edge: h.edge,
+            edge_parameter: h.edge_parameter,
+        },
+        None => locate_on_boundary(polygon, origin + direction * l, 0..polygon.ring_count()).1,
+    };
+    let ends = [
+        end_point(negative_end, negative_hit),
+        end_point(positive_end, positive_hit),
+    ];
 
     let mut gaps = Vec::new();
     if polygon.ring_count() > 1 {
@@ -168,7 +181,8 @@ pub fn ruling_extent(polygon: &Polygon, origin: Vec2, direction: Vec2, scale: f6
 }
 
 /// Walks the outline hits (`hits` ordered away from `t = 0` in direction `sign`) and
-/// returns the signed distance where the line leaves the closed sheet.
+/// returns the signed distance where the line leaves the closed sheet, with the outline
+/// hit there (`None` when the line leaves at `t = 0`).
 fn walk_outline<'a>(
     polygon: &Polygon,
     origin: Vec2,
@@ -176,20 +190,20 @@ fn walk_outline<'a>(
     hits: impl Iterator<Item = &'a sheetform_geometry::RayHit>,
     sign: f64,
     eps: f64,
-) -> f64 {
-    let mut prev = 0.0;
+) -> (f64, Option<&'a sheetform_geometry::RayHit>) {
+    let mut prev = (0.0, None);
     for h in hits {
         let t = sign * h.t;
-        if h.ring != 0 || t <= eps || (t - prev).abs() <= eps {
+        if h.ring != 0 || t <= eps || (t - prev.0).abs() <= eps {
             continue;
         }
-        let mid = origin + direction * (sign * 0.5 * (prev + t));
+        let mid = origin + direction * (sign * 0.5 * (prev.0 + t));
         if !inside_outline_closed(polygon, mid, eps) {
-            return sign * prev;
+            break;
         }
-        prev = t;
+        prev = (t, Some(h));
     }
-    sign * prev
+    (sign * prev.0, prev.1)
 }
 
 #[cfg(test)]
