@@ -7,10 +7,11 @@
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
-use sheetform::pattern::{DxfUnit, PageSize};
+use sheetform::flatten::ChartOptions;
+use sheetform::pattern::{DxfUnit, PageSize, SheetOptions, TabOptions, TabSides};
 use sheetform::pipeline::{
-    inadmissible_report, run_bend, run_check, run_flatten, write_outputs, BendRunOptions, CheckOptions, FlattenMethod,
-    FlattenOptions, PatternOutputOptions, PipelineError,
+    inadmissible_report, run_bend, run_check, run_flatten, write_outputs, BendRunOptions, ChartMode, CheckOptions,
+    FlattenMethod, FlattenOptions, PatternOutputOptions, PipelineError,
 };
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -72,10 +73,13 @@ enum Command {
         #[arg(long, value_enum, default_value_t = Unit::Mm)]
         units: Unit,
     },
-    /// Flatten a developable (or nearly developable) disk-like mesh into its cutting
-    /// pattern by exact unfolding from its edge lengths: writes model.obj (vt = the
-    /// pattern at 1:1), model.glb, pattern.svg and report.json (distortion per chart).
-    /// Exit code 4 when the pattern overlaps itself (written, see the report).
+    /// Flatten a developable (or nearly developable) mesh into its cutting pattern: a
+    /// disk-like mesh whole (exact unfolding from its edge lengths, or LSCM / ARAP); a
+    /// closed or high-genus mesh, or one with seams (OBJ `l` lines), cut into charts along
+    /// sharp creases and split until each flattens without overlap within the distortion
+    /// bound. Writes model.obj (vt = the pattern at 1:1), model.glb, pattern.svg/.dxf/.pdf
+    /// and report.json (distortion per chart). Exit code 4 when the pattern overlaps
+    /// itself (written, see the report).
     Flatten {
         /// Mesh file (OBJ, PLY, STL, OFF).
         mesh: PathBuf,
@@ -93,6 +97,8 @@ enum Command {
         /// Length unit of the mesh file.
         #[arg(long, value_enum, default_value_t = Unit::Mm)]
         units: Unit,
+        #[command(flatten)]
+        charts: ChartArgs,
         #[command(flatten)]
         pattern: PatternArgs,
     },
@@ -116,6 +122,76 @@ struct PatternArgs {
     /// Unit of the DXF coordinates.
     #[arg(long, value_enum, default_value_t = PatternUnit::Mm)]
     pattern_units: PatternUnit,
+    /// Folds with a smaller dihedral angle (degrees) are not drawn.
+    #[arg(long, value_name = "DEGREES", default_value_t = 1.0)]
+    min_fold_angle: f64,
+    /// Leave out the seam IDs printed on both sides of every seam.
+    #[arg(long)]
+    no_seam_labels: bool,
+    /// Glue tabs along seams: on one side of each seam, or alternating between seams.
+    #[arg(long, value_enum, default_value_t = Tabs::None)]
+    tabs: Tabs,
+    /// Glue tab depth (mm).
+    #[arg(long, value_name = "MM", default_value_t = 5.0)]
+    tab_width: f64,
+    /// Angle of the tabs' slanted sides (degrees; 90 = straight tabs).
+    #[arg(long, value_name = "DEGREES", default_value_t = 45.0)]
+    tab_angle: f64,
+    /// Pack the pieces onto sheets of this size, `WIDTHxHEIGHT` in mm (e.g. 210x297,
+    /// or a4 / letter); writes sheets/sheet-NN.svg and .dxf too.
+    #[arg(long, value_name = "WxH", value_parser = parse_sheet)]
+    sheet: Option<(f64, f64)>,
+    /// Gap between packed pieces and from the sheet's edges (mm).
+    #[arg(long, value_name = "MM", default_value_t = 5.0)]
+    sheet_gap: f64,
+}
+
+fn parse_sheet(text: &str) -> Result<(f64, f64), String> {
+    match text.to_ascii_lowercase().as_str() {
+        "a4" => return Ok((210.0, 297.0)),
+        "a3" => return Ok((297.0, 420.0)),
+        "letter" => return Ok((215.9, 279.4)),
+        _ => {}
+    }
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("`{text}`: expected WIDTHxHEIGHT in mm, e.g. 600x400"))?;
+    let number = |s: &str| {
+        s.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite() && *v > 0.0)
+            .ok_or_else(|| format!("`{s}` in `{text}` is not a positive number of millimetres"))
+    };
+    Ok((number(w)?, number(h)?))
+}
+
+#[derive(Clone, Copy, PartialEq, clap::ValueEnum)]
+enum Tabs {
+    None,
+    One,
+    Alternate,
+}
+
+/// How `flatten` cuts a mesh into charts.
+#[derive(clap::Args, Clone, Copy)]
+struct ChartArgs {
+    /// When to cut into charts: `auto` when the mesh is not a disk or has seams.
+    #[arg(long, value_enum, default_value_t = Charts::Auto)]
+    charts: Charts,
+    /// Edges folded by more than this (degrees) become seams between charts.
+    #[arg(long, value_name = "DEGREES", default_value_t = 30.0)]
+    crease_angle: f64,
+    /// Charts that stretch an edge by more than this (relative) are split further.
+    #[arg(long, value_name = "RELATIVE", default_value_t = 0.01)]
+    max_distortion: f64,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum Charts {
+    Auto,
+    Always,
+    Never,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -151,6 +227,22 @@ impl From<PatternArgs> for PatternOutputOptions {
                 PatternUnit::Cm => DxfUnit::Cm,
                 PatternUnit::In => DxfUnit::In,
             },
+            min_fold_angle_degrees: a.min_fold_angle,
+            seam_labels: !a.no_seam_labels,
+            tabs: (a.tabs != Tabs::None).then_some(TabOptions {
+                width_mm: a.tab_width,
+                angle_degrees: a.tab_angle,
+                sides: if a.tabs == Tabs::Alternate {
+                    TabSides::Alternate
+                } else {
+                    TabSides::One
+                },
+            }),
+            sheet: a.sheet.map(|(w, h)| SheetOptions {
+                width_mm: w,
+                height_mm: h,
+                gap_mm: a.sheet_gap,
+            }),
         }
     }
 }
@@ -209,15 +301,23 @@ fn check_command(
     Ok(ExitCode::SUCCESS)
 }
 
-fn flatten_command(
-    mesh: PathBuf,
-    output: PathBuf,
+/// The `flatten` arguments that become [`FlattenOptions`].
+struct FlattenArgs {
     weld: Option<f64>,
     units: Unit,
     method: Method,
+    charts: ChartArgs,
     pattern: PatternArgs,
-    quiet: bool,
-) -> Result<ExitCode, PipelineError> {
+}
+
+fn flatten_command(mesh: PathBuf, output: PathBuf, args: FlattenArgs, quiet: bool) -> Result<ExitCode, PipelineError> {
+    let FlattenArgs {
+        weld,
+        units,
+        method,
+        charts,
+        pattern,
+    } = args;
     let method = match method {
         Method::Exact => FlattenMethod::Exact,
         Method::Lscm => FlattenMethod::Lscm,
@@ -228,6 +328,16 @@ fn flatten_command(
         unit: units.into(),
         pattern: pattern.into(),
         method,
+        charts: match charts.charts {
+            Charts::Auto => ChartMode::Auto,
+            Charts::Always => ChartMode::Always,
+            Charts::Never => ChartMode::Never,
+        },
+        chart_options: ChartOptions {
+            crease_angle_degrees: charts.crease_angle,
+            max_edge_distortion: charts.max_distortion,
+            ..Default::default()
+        },
     };
     let run = run_flatten(&mesh, &options)?;
     write_outputs(&output, &run.files, &run.report)?;
@@ -367,8 +477,20 @@ fn main() -> ExitCode {
             weld,
             units,
             method,
+            charts,
             pattern,
-        } => flatten_command(mesh, output, weld, units, method, pattern, cli.quiet),
+        } => flatten_command(
+            mesh,
+            output,
+            FlattenArgs {
+                weld,
+                units,
+                method,
+                charts,
+                pattern,
+            },
+            cli.quiet,
+        ),
         Command::Schema {
             format: SchemaFormat::Bend,
         } => {

@@ -544,17 +544,180 @@ fn flatten_unfolds_the_crumpled_sheet_at_least_as_well_as_its_stored_pattern() {
 }
 
 #[test]
-fn flatten_refuses_a_closed_mesh_with_the_reason() {
+fn flatten_without_charts_refuses_a_closed_mesh_with_the_reason() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
     let o = sheetform(&[
         "flatten",
         shared("wingnut.obj").to_str().unwrap(),
+        "--charts",
+        "never",
         "-o",
         out.to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("0 boundary loop(s)"));
+    assert!(!out.exists());
+}
+
+/// Cut loops of an SVG pattern (layer `cut`) as point lists (mm, SVG coordinates).
+fn svg_cut_loops(svg: &str) -> Vec<Vec<[f64; 2]>> {
+    let layer = &svg[svg.find(r#"<g id="cut""#).unwrap()..];
+    let layer = &layer[..layer.find("</g>").unwrap()];
+    layer
+        .split(r#"<path d=""#)
+        .skip(1)
+        .map(|d| {
+            d[..d.find('"').unwrap()]
+                .split_whitespace()
+                .filter(|t| t.starts_with('M') || t.starts_with('L'))
+                .map(|t| {
+                    let (x, y) = t[1..].split_once(',').unwrap();
+                    [x.parse().unwrap(), y.parse().unwrap()]
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Texts of one class in the SVG's label layer.
+fn svg_texts(svg: &str, class: &str) -> Vec<String> {
+    let marker = format!(r#"<text class="{class}""#);
+    svg.split(&marker)
+        .skip(1)
+        .map(|t| t[t.find('>').unwrap() + 1..t.find("</text>").unwrap()].to_string())
+        .collect()
+}
+
+/// Pairs of cut segments that meet, other than neighbours in one loop at their shared
+/// point.
+fn cut_intersections(loops: &[Vec<[f64; 2]>]) -> usize {
+    let mut segments = Vec::new();
+    for (l, points) in loops.iter().enumerate() {
+        for i in 0..points.len() {
+            segments.push((l, i, points.len(), points[i], points[(i + 1) % points.len()]));
+        }
+    }
+    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    let mut hits = 0;
+    for (x, &(la, ia, na, a0, a1)) in segments.iter().enumerate() {
+        for &(lb, ib, _, b0, b1) in &segments[x + 1..] {
+            if la == lb && (ib == (ia + 1) % na || ia == (ib + 1) % na) {
+                continue;
+            }
+            let (d1, d2) = (cross(a0, a1, b0), cross(a0, a1, b1));
+            let (d3, d4) = (cross(b0, b1, a0), cross(b0, b1, a1));
+            if d1 * d2 < 0.0 && d3 * d4 < 0.0 {
+                hits += 1;
+            }
+        }
+    }
+    hits
+}
+
+#[test]
+fn flatten_cuts_the_wingnut_into_flat_charts_with_seam_ids_tabs_and_sheets() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let o = sheetform(&[
+        "flatten",
+        shared("wingnut.obj").to_str().unwrap(),
+        "--scale",
+        "40",
+        "--tabs",
+        "alternate",
+        "--sheet",
+        "600x400",
+        "--min-fold-angle",
+        "10",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(&out);
+    assert_eq!(r["status"], "ok");
+    let seg = &r["segmentation"];
+    let charts = seg["chart_count"].as_u64().unwrap() as usize;
+    assert!(charts > 1 && seg["seam_edge_count"].as_u64().unwrap() > 0);
+    assert_eq!(r["charts"].as_array().unwrap().len(), charts);
+    for c in r["charts"].as_array().unwrap() {
+        assert!(c["edge_length_max_relative"].as_f64().unwrap() <= 0.01, "{c}");
+        assert_eq!(c["flipped_face_count"], 0);
+        assert_eq!(c["boundary_crossing_count"], 0);
+    }
+    assert!(r["isometry_error_max_relative"].as_f64().unwrap() <= 0.01);
+    // The OBJ's vt is the pattern: every 3D edge within 1 % of its flat length.
+    let obj = read_obj(&out.join("model.obj"));
+    assert!(obj_isometry_error(&obj) <= 0.01 + 1e-12);
+    // The cut layer (pieces with their tabs) touches itself nowhere.
+    let svg = std::fs::read_to_string(out.join("pattern.svg")).unwrap();
+    let loops = svg_cut_loops(&svg);
+    assert_eq!(loops.len(), charts);
+    assert_eq!(cut_intersections(&loops), 0);
+    let p = &r["pattern"];
+    let tabs = &p["tabs"];
+    assert!(tabs["placed"].as_u64().unwrap() > 20, "{tabs}");
+    // Tabs lie outside the pieces: the cut area is the flat area plus the tabs.
+    let area = |l: &Vec<[f64; 2]>| {
+        0.5 * (0..l.len())
+            .map(|i| {
+                let (a, b) = (l[i], l[(i + 1) % l.len()]);
+                a[0] * b[1] - b[0] * a[1]
+            })
+            .sum::<f64>()
+    };
+    let cut_area: f64 = loops.iter().map(|l| area(l).abs()).sum();
+    let flat_area = r["flat_area_mm2"].as_f64().unwrap() * 40.0 * 40.0;
+    assert!(cut_area > flat_area, "{cut_area} vs {flat_area}");
+    // Seam IDs: every seam's ID is printed on both of its sides.
+    let ids = svg_texts(&svg, "seam");
+    let seams = p["seam_count"].as_u64().unwrap() as usize;
+    assert!(seams > 0);
+    for id in 1..=seams {
+        let n = ids.iter().filter(|t| **t == id.to_string()).count();
+        assert_eq!(n, 2, "seam {id} is labelled {n} times");
+    }
+    // Packed onto 600 × 400 sheets: each sheet file's cut loops lie inside its sheet.
+    let sheets = p["sheet_count"].as_u64().unwrap() as usize;
+    assert!(sheets >= 1);
+    let mut pieces = 0;
+    for s in 1..=sheets {
+        let sheet_svg = std::fs::read_to_string(out.join(format!("sheets/sheet-{s:02}.svg"))).unwrap();
+        assert!(sheet_svg.contains(r#"width="600.0000mm" height="400.0000mm""#));
+        for l in svg_cut_loops(&sheet_svg) {
+            pieces += 1;
+            for q in l {
+                assert!(q[0] >= 5.0 - 1e-6 && q[0] <= 595.0 + 1e-6 && q[1] >= 5.0 - 1e-6 && q[1] <= 395.0 + 1e-6);
+            }
+        }
+        let dxf = ezdxf_cut(&out.join(format!("sheets/sheet-{s:02}.dxf")));
+        assert_eq!(dxf["errors"], 0);
+    }
+    assert_eq!(pieces, charts);
+}
+
+#[test]
+fn a_piece_larger_than_the_sheet_is_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let o = sheetform(&[
+        "flatten",
+        shared("crumpled-developable.obj").to_str().unwrap(),
+        "--units",
+        "cm",
+        "--scale",
+        "5",
+        "--sheet",
+        "50x50",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("piece `crumpled-developable`") && err.contains("does not fit"),
+        "{err}"
+    );
     assert!(!out.exists());
 }
 

@@ -61,31 +61,7 @@ pub struct Unfolding {
 /// (closed surfaces and annuli must be cut first); a failing factorisation.
 pub fn exact_unfold(mesh: &TriangleMesh, options: &UnfoldOptions) -> Result<Unfolding, FlattenError> {
     let topology = mesh_topology(mesh);
-    let mut problems = Vec::new();
-    if !topology.non_manifold_edges.is_empty() {
-        problems.push(format!(
-            "{} non-manifold edge(s), first {:?}",
-            topology.non_manifold_edges.len(),
-            topology.non_manifold_edges[0]
-        ));
-    }
-    if !topology.non_manifold_vertices.is_empty() {
-        problems.push(format!(
-            "{} non-manifold vertex/vertices, first {}",
-            topology.non_manifold_vertices.len(),
-            topology.non_manifold_vertices[0]
-        ));
-    }
-    if !topology.degenerate_faces.is_empty() {
-        problems.push(format!(
-            "{} degenerate (zero-area) face(s), first {}",
-            topology.degenerate_faces.len(),
-            topology.degenerate_faces[0]
-        ));
-    }
-    if !topology.orientable {
-        problems.push("the surface is not orientable".into());
-    }
+    let problems = topology_problems(&topology);
     if !problems.is_empty() {
         return Err(FlattenError::Topology {
             problem: problems.join("; "),
@@ -111,11 +87,14 @@ pub fn exact_unfold(mesh: &TriangleMesh, options: &UnfoldOptions) -> Result<Unfo
                 .push(f as u32);
         }
     }
+    // Built in face order (not hash order), so that the layout is reproducible.
     let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); nf];
-    for faces in edge_faces.values() {
-        if let [f, g] = faces[..] {
-            neighbours[f as usize].push(g);
-            neighbours[g as usize].push(f);
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            if let [g, h] = edge_faces[&if a < b { [a, b] } else { [b, a] }][..] {
+                neighbours[f].push(if g as usize == f { h } else { g });
+            }
         }
     }
     let bfs = |start: usize| {
@@ -167,7 +146,8 @@ pub fn exact_unfold(mesh: &TriangleMesh, options: &UnfoldOptions) -> Result<Unfo
     }
 
     // 2. Global Gauss–Newton over all edges.
-    let edges: Vec<([u32; 2], f64)> = edge_faces.keys().map(|&[i, j]| ([i, j], length(i, j))).collect();
+    let mut edges: Vec<([u32; 2], f64)> = edge_faces.keys().map(|&[i, j]| ([i, j], length(i, j))).collect();
+    edges.sort_unstable_by_key(|e| e.0);
     // Unknowns: all coordinates except a.x, a.y, b.y (gauge).
     let mut column = vec![[usize::MAX; 2]; nv];
     let mut unknowns = 0;
@@ -299,4 +279,35 @@ fn third_point(pi: Vec2, pj: Vec2, li: f64, lj: f64) -> Vec2 {
     let x = (li * li - lj * lj + d * d) / (2.0 * d);
     let h = (li * li - x * x).max(0.0).sqrt();
     pi + ex * x + ey * h
+}
+
+/// What keeps a mesh from being flattened as it is: non-manifold edges and vertices,
+/// degenerate faces, a non-orientable surface (empty when it is clean).
+pub(crate) fn topology_problems(topology: &sheetform_mesh::MeshTopology) -> Vec<String> {
+    let mut problems = Vec::new();
+    if !topology.non_manifold_edges.is_empty() {
+        problems.push(format!(
+            "{} non-manifold edge(s), first {:?}",
+            topology.non_manifold_edges.len(),
+            topology.non_manifold_edges[0]
+        ));
+    }
+    if !topology.non_manifold_vertices.is_empty() {
+        problems.push(format!(
+            "{} non-manifold vertex/vertices, first {}",
+            topology.non_manifold_vertices.len(),
+            topology.non_manifold_vertices[0]
+        ));
+    }
+    if !topology.degenerate_faces.is_empty() {
+        problems.push(format!(
+            "{} degenerate (zero-area) face(s), first {}",
+            topology.degenerate_faces.len(),
+            topology.degenerate_faces[0]
+        ));
+    }
+    if !topology.orientable {
+        problems.push("the surface is not orientable".into());
+    }
+    problems
 }

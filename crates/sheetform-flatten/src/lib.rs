@@ -1,10 +1,12 @@
 //! Flattening triangle meshes into patterns: exact unfolding of developable meshes from
 //! their intrinsic edge lengths, least-squares conformal maps for meshes that are only
 //! nearly developable, as-rigid-as-possible flattening, distortion and overlap measures,
-//! and rigid 2D alignment. Cutting into charts comes next (issue 3).
+//! rigid 2D alignment, and cutting closed or high-genus meshes into charts that each
+//! flatten without overlap.
 
 mod alignment;
 mod arap;
+mod chart_segmentation;
 mod distortion;
 mod error;
 mod exact_unfolding;
@@ -12,6 +14,7 @@ mod lscm;
 
 pub use alignment::{align_rigid, RigidAlignment};
 pub use arap::{arap, ArapOptions};
+pub use chart_segmentation::{cut_into_charts, Chart, ChartOptions, ChartSet};
 pub use distortion::{distortion, Distortion};
 pub use error::FlattenError;
 pub use exact_unfolding::{exact_unfold, UnfoldOptions, Unfolding};

@@ -82,6 +82,7 @@ fn closed_and_non_manifold_meshes_are_refused() {
         face_groups: vec![0; 4],
         groups: vec!["g".into()],
         corner_uvs: None,
+        seam_edges: Vec::new(),
     };
     assert!(matches!(
         exact_unfold(&tet, &UnfoldOptions::default()),

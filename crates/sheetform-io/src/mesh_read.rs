@@ -87,7 +87,7 @@ fn number(path: &Path, line: usize, token: Option<&str>, what: &str) -> Result<f
 }
 
 /// Wavefront OBJ: `v`, `vt`, `f` (with `v`, `v/vt`, `v/vt/vn`, `v//vn`, negative indices),
-/// `g`/`o` groups; other statements are ignored. Vertex indices are global across groups
+/// `g`/`o` groups, `l` polylines (kept as seam edges); other statements are ignored. Vertex indices are global across groups
 /// (patches sharing vertices stay connected). `vt` are kept per face corner when every
 /// face has them.
 ///
@@ -129,6 +129,29 @@ pub fn parse_obj(path: &Path, text: &str) -> Result<TriangleMesh, MeshReadError>
                     next
                 });
                 current_group = Some(g);
+            }
+            Some("l") => {
+                // A polyline: its segments are user-given seams.
+                let mut previous: Option<u32> = None;
+                for token in it {
+                    let s = token.split('/').next().unwrap_or("");
+                    let k: i64 = s.parse().map_err(|_| {
+                        malformed(path, Some(line), format!("line vertex index `{s}` is not an integer"))
+                    })?;
+                    let count = mesh.positions.len();
+                    let idx = if k < 0 { count as i64 + k } else { k - 1 };
+                    if k == 0 || idx < 0 || idx as usize >= count {
+                        return Err(malformed(
+                            path,
+                            Some(line),
+                            format!("line vertex index {k} is out of range (there are {count} so far)"),
+                        ));
+                    }
+                    if let Some(a) = previous {
+                        mesh.seam_edges.push([a, idx as u32]);
+                    }
+                    previous = Some(idx as u32);
+                }
             }
             Some("f") => {
                 let mut corners: Vec<(u32, Option<usize>)> = Vec::new();

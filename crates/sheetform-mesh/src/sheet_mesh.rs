@@ -267,6 +267,7 @@ impl SheetMesh {
                     .map(|t| t.map(|i| self.flat[i as usize]))
                     .collect(),
             ),
+            seam_edges: Vec::new(),
         }
     }
 

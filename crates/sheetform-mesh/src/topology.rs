@@ -191,6 +191,7 @@ mod tests {
             face_groups: vec![0; n],
             groups: vec!["g".into()],
             corner_uvs: None,
+            seam_edges: Vec::new(),
         }
     }
 

@@ -18,6 +18,9 @@ pub struct TriangleMesh {
     pub groups: Vec<String>,
     /// Texture coordinates per face corner, if the file has them for every face.
     pub corner_uvs: Option<Vec<[Vec2; 3]>>,
+    /// Edges the user marked as seams (OBJ `l` polylines): chart boundaries when the mesh
+    /// is cut for flattening.
+    pub seam_edges: Vec<[u32; 2]>,
 }
 
 impl TriangleMesh {
@@ -47,6 +50,7 @@ impl TriangleMesh {
             face_groups: vec![0; faces],
             groups: vec!["grid".into()],
             corner_uvs: None,
+            seam_edges: Vec::new(),
         }
     }
 
@@ -125,6 +129,10 @@ impl TriangleMesh {
         }
         let merged = self.positions.len() - kept.len();
         self.positions = kept;
+        for e in &mut self.seam_edges {
+            *e = e.map(|i| remap[i as usize]);
+        }
+        self.seam_edges.retain(|e| e[0] != e[1]);
         let mut keep = Vec::with_capacity(self.triangles.len());
         for t in &mut self.triangles {
             *t = t.map(|i| remap[i as usize]);

@@ -1,4 +1,4 @@
-use crate::{Pattern, PatternError};
+use crate::{FoldStyle, Pattern, PatternError, Vec2};
 use dxf::entities::{Entity, EntityType, Line, LwPolyline, Text};
 use dxf::enums::{AcadVersion, Units};
 use dxf::tables::Layer;
@@ -26,9 +26,11 @@ impl DxfUnit {
     }
 }
 
-/// The pattern as DXF (AutoCAD R2000, so that LWPOLYLINE entities are kept): layer `CUT`
-/// (closed LWPOLYLINEs, red), `FOLD` (LINEs, grey) and `LABEL` (TEXT, blue), coordinates in
-/// `unit` with `$INSUNITS` set accordingly.
+/// The pattern as DXF (AutoCAD R2000, so that LWPOLYLINE entities are kept), coordinates
+/// in `unit` with `$INSUNITS` set accordingly. Layers: `CUT` (closed LWPOLYLINEs, glue tabs
+/// included, red), `FOLD` (LINEs: mountain folds red, valley folds blue, bending guides
+/// and tab bases grey, as entity colours), `LABEL` (TEXT: piece names and seam IDs) and
+/// `SHEET` (sheet outlines, when packed).
 ///
 /// # Errors
 /// The writer fails (it does not on valid input).
@@ -41,17 +43,17 @@ pub fn dxf_bytes(pattern: &Pattern, unit: DxfUnit) -> Result<Vec<u8>, PatternErr
         DxfUnit::Cm => Units::Centimeters,
         DxfUnit::In => Units::Inches,
     };
-    for (name, colour) in [("CUT", 1u8), ("FOLD", 8), ("LABEL", 5)] {
+    for (name, colour) in [("CUT", 1u8), ("FOLD", 8), ("LABEL", 5), ("SHEET", 7)] {
         drawing.add_layer(Layer {
             name: name.into(),
             color: Color::from_index(colour),
             ..Default::default()
         });
     }
-    for cycle in &pattern.cut {
+    let closed = |points: &[Vec2]| {
         let mut poly = LwPolyline::default();
         poly.set_is_closed(true);
-        poly.vertices = cycle
+        poly.vertices = points
             .iter()
             .map(|p| LwPolylineVertex {
                 x: p.x * k,
@@ -59,27 +61,47 @@ pub fn dxf_bytes(pattern: &Pattern, unit: DxfUnit) -> Result<Vec<u8>, PatternErr
                 ..Default::default()
             })
             .collect();
-        let mut e = Entity::new(EntityType::LwPolyline(poly));
+        poly
+    };
+    for cycle in pattern.cut_loops() {
+        let mut e = Entity::new(EntityType::LwPolyline(closed(cycle)));
         e.common.layer = "CUT".into();
         drawing.add_entity(e);
     }
-    for [a, b] in &pattern.fold {
+    for f in pattern.folds() {
         let mut e = Entity::new(EntityType::Line(Line::new(
-            Point::new(a.x * k, a.y * k, 0.0),
-            Point::new(b.x * k, b.y * k, 0.0),
+            Point::new(f.a.x * k, f.a.y * k, 0.0),
+            Point::new(f.b.x * k, f.b.y * k, 0.0),
         )));
         e.common.layer = "FOLD".into();
+        e.common.color = Color::from_index(match f.style {
+            FoldStyle::Mountain => 1,
+            FoldStyle::Valley => 5,
+            FoldStyle::Guide | FoldStyle::TabBase => 8,
+        });
         drawing.add_entity(e);
     }
-    for (p, text) in &pattern.labels {
+    for label in pattern.labels() {
         let t = Text {
-            location: Point::new(p.x * k, p.y * k, 0.0),
-            text_height: 4.0 * k,
-            value: text.clone(),
+            location: Point::new(label.position.x * k, label.position.y * k, 0.0),
+            text_height: label.height_mm * k,
+            rotation: label.angle_radians.to_degrees(),
+            value: label.text.clone(),
             ..Default::default()
         };
         let mut e = Entity::new(EntityType::Text(t));
         e.common.layer = "LABEL".into();
+        drawing.add_entity(e);
+    }
+    for (corner, size) in &pattern.sheets {
+        let rect = [
+            *corner,
+            corner + Vec2::new(size.x, 0.0),
+            corner + size,
+            corner + Vec2::new(0.0, size.y),
+        ];
+        let mut e = Entity::new(EntityType::LwPolyline(closed(&rect)));
+        e.common.layer = "SHEET".into();
         drawing.add_entity(e);
     }
     let mut out = Vec::new();

@@ -1,17 +1,27 @@
-//! Cutting patterns shared by every sheetform method: the [`Pattern`] of a mesh (cut
-//! loops, fold/score lines, labels, in millimetres), written as SVG (true size), DXF for
-//! laser cutters and plotters, and a tiled true-scale PDF for printing on A4 or Letter.
+//! Cutting patterns shared by every sheetform method: the [`Pattern`] of a mesh (pieces
+//! with cut loops, mountain/valley folds and bending guides, labels, matching seam IDs,
+//! glue tabs, in millimetres), packed onto sheets when asked, written as SVG (true size),
+//! DXF for laser cutters and plotters, and a tiled true-scale PDF for printing on A4 or
+//! Letter.
 
 mod dxf_pattern;
 mod error;
+mod glue_tabs;
 mod pattern;
 mod pdf_tiles;
+mod seam_matching;
+mod sheet_packing;
 mod svg_pattern;
 
 pub use dxf_pattern::{dxf_bytes, DxfUnit};
 pub use error::PatternError;
-pub use pattern::{pattern_from_mesh, Pattern, PatternOptions};
+pub use glue_tabs::{add_glue_tabs, TabOptions, TabReport, TabSides, TabbedLoops};
+pub use pattern::{
+    pattern_from_mesh, signed_fold_angle, Fold, FoldStyle, Label, LabelKind, Pattern, PatternOptions, PatternPiece,
+};
 pub use pdf_tiles::{pdf_tiled, PageSize, PdfOptions, TiledPdf};
+pub use seam_matching::{match_seams, SeamRun};
+pub use sheet_packing::{arrange_in_rows, pack_pieces, smallest_bounding_rotation, SheetOptions};
 pub use svg_pattern::svg_bytes;
 
 /// A point on the pattern (millimetres).

@@ -1,16 +1,88 @@
+use crate::glue_tabs::{add_glue_tabs, TabOptions, TabReport};
+use crate::seam_matching::{match_seams, SeamRun};
+use crate::sheet_packing::{pack_pieces, SheetOptions};
 use crate::{PatternError, Vec2};
 use sheetform_mesh::SheetMesh;
+use std::collections::HashMap;
 
-/// A cutting pattern in millimetres at print scale: closed cut loops (outline and holes),
-/// fold/score segments (the rulings, as bending guides), and piece labels.
+/// How a fold line is folded, seen from the pattern's printed side (the side the mesh's
+/// face normals point to).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FoldStyle {
+    /// The crease points towards the viewer (a ridge).
+    Mountain,
+    /// The crease points away from the viewer (a trough).
+    Valley,
+    /// A bending guide (a ruling of a smoothly bent sheet; score lightly or just mark).
+    Guide,
+    /// The base of a glue tab (folded back under the neighbouring piece).
+    TabBase,
+}
+
+/// A fold or score line.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fold {
+    /// Start (mm).
+    pub a: Vec2,
+    /// End (mm).
+    pub b: Vec2,
+    /// Mountain, valley, guide or tab base.
+    pub style: FoldStyle,
+    /// Dihedral fold angle (degrees, unsigned; 0 for guides and tab bases).
+    pub angle_degrees: f64,
+}
+
+/// What a label marks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LabelKind {
+    /// The piece's name.
+    Piece,
+    /// A seam's ID, printed on both pieces it joins.
+    Seam,
+}
+
+/// A text on the pattern.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Label {
+    /// Anchor (mm), the text's centre.
+    pub position: Vec2,
+    /// The text.
+    pub text: String,
+    /// Text height (mm).
+    pub height_mm: f64,
+    /// Direction of the text baseline (radians from +x).
+    pub angle_radians: f64,
+    /// Piece name or seam ID.
+    pub kind: LabelKind,
+}
+
+/// One part to cut out: a connected piece of the flat pattern.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PatternPiece {
+    /// Name (the mesh pieces it holds).
+    pub name: String,
+    /// Closed loops to cut (outline counter-clockwise, holes clockwise), glue tabs included.
+    pub cut: Vec<Vec<Vec2>>,
+    /// Fold and score lines.
+    pub folds: Vec<Fold>,
+    /// Labels.
+    pub labels: Vec<Label>,
+    /// Sheet the piece is packed on (0 without packing).
+    pub sheet: usize,
+}
+
+/// A cutting pattern in millimetres at print scale.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Pattern {
-    /// Closed loops to cut (outline counter-clockwise, holes clockwise).
-    pub cut: Vec<Vec<Vec2>>,
-    /// Segments to score or fold.
-    pub fold: Vec<[Vec2; 2]>,
-    /// Label positions and texts.
-    pub labels: Vec<(Vec2, String)>,
+    /// The pieces.
+    pub pieces: Vec<PatternPiece>,
+    /// Sheets as `(lower-left corner, size)` in the drawing (mm), when packed.
+    pub sheets: Vec<(Vec2, Vec2)>,
+    /// Seams: pairs of boundary stretches glued together, with matching IDs.
+    pub seam_count: usize,
+    /// Glue tabs placed and dropped.
+    pub tabs: TabReport,
 }
 
 /// Knobs of [`pattern_from_mesh`].
@@ -20,6 +92,14 @@ pub struct PatternOptions {
     pub scale: f64,
     /// At most this many rulings per piece as fold guides (evenly chosen).
     pub max_rulings_per_piece: usize,
+    /// Folds whose dihedral angle is below this (degrees) are not drawn.
+    pub min_fold_angle_degrees: f64,
+    /// Print matching IDs on both sides of every seam.
+    pub seam_labels: bool,
+    /// Glue tabs along seams (`None`: no tabs).
+    pub tabs: Option<TabOptions>,
+    /// Pack the pieces onto sheets of this size (`None`: keep the mesh's flat layout).
+    pub sheet: Option<SheetOptions>,
 }
 
 impl Default for PatternOptions {
@@ -27,12 +107,102 @@ impl Default for PatternOptions {
         Self {
             scale: 1.0,
             max_rulings_per_piece: 60,
+            min_fold_angle_degrees: 1.0,
+            seam_labels: true,
+            tabs: None,
+            sheet: None,
         }
     }
 }
 
 impl Pattern {
-    /// Axis-aligned bounds `(min, max)` over the cut loops.
+    /// Axis-aligned bounds `(min, max)` over the cut loops and sheets.
+    pub fn bounds(&self) -> (Vec2, Vec2) {
+        let mut lo = Vec2::repeat(f64::INFINITY);
+        let mut hi = Vec2::repeat(f64::NEG_INFINITY);
+        for p in self.cut_loops().flatten() {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        for (origin, size) in &self.sheets {
+            lo = lo.inf(origin);
+            hi = hi.sup(&(origin + size));
+        }
+        (lo, hi)
+    }
+
+    /// Every cut loop of every piece.
+    pub fn cut_loops(&self) -> impl Iterator<Item = &Vec<Vec2>> {
+        self.pieces.iter().flat_map(|p| p.cut.iter())
+    }
+
+    /// Every fold of every piece.
+    pub fn folds(&self) -> impl Iterator<Item = &Fold> {
+        self.pieces.iter().flat_map(|p| p.folds.iter())
+    }
+
+    /// Every label of every piece.
+    pub fn labels(&self) -> impl Iterator<Item = &Label> {
+        self.pieces.iter().flat_map(|p| p.labels.iter())
+    }
+
+    /// The pieces on sheet `sheet`, moved so that the sheet's corner is the origin, with
+    /// that sheet alone (for one cutter file per sheet).
+    pub fn sheet_pattern(&self, sheet: usize) -> Pattern {
+        let (origin, size) = self
+            .sheets
+            .get(sheet)
+            .copied()
+            .unwrap_or((Vec2::zeros(), Vec2::zeros()));
+        let pieces = self
+            .pieces
+            .iter()
+            .filter(|p| p.sheet == sheet)
+            .map(|p| p.translated(-origin))
+            .collect();
+        Pattern {
+            pieces,
+            sheets: vec![(Vec2::zeros(), size)],
+            seam_count: self.seam_count,
+            tabs: self.tabs,
+        }
+    }
+}
+
+impl PatternPiece {
+    /// The piece moved by `offset`.
+    pub fn translated(&self, offset: Vec2) -> PatternPiece {
+        self.transformed(|p| p + offset, 0.0)
+    }
+
+    /// The piece mapped point by point by `f` (a rigid motion turning by `turn` radians).
+    pub fn transformed(&self, f: impl Fn(Vec2) -> Vec2, turn: f64) -> PatternPiece {
+        PatternPiece {
+            name: self.name.clone(),
+            cut: self.cut.iter().map(|l| l.iter().map(|&p| f(p)).collect()).collect(),
+            folds: self
+                .folds
+                .iter()
+                .map(|x| Fold {
+                    a: f(x.a),
+                    b: f(x.b),
+                    ..*x
+                })
+                .collect(),
+            labels: self
+                .labels
+                .iter()
+                .map(|l| Label {
+                    position: f(l.position),
+                    angle_radians: l.angle_radians + turn,
+                    ..l.clone()
+                })
+                .collect(),
+            sheet: self.sheet,
+        }
+    }
+
+    /// Axis-aligned bounds of the cut loops.
     pub fn bounds(&self) -> (Vec2, Vec2) {
         let mut lo = Vec2::repeat(f64::INFINITY);
         let mut hi = Vec2::repeat(f64::NEG_INFINITY);
@@ -44,11 +214,34 @@ impl Pattern {
     }
 }
 
-/// The pattern of a mesh: its flat boundary loops to cut, its rulings to score, its piece
-/// names, converted to millimetres (`mesh.unit`) and multiplied by `options.scale`.
+/// Signed dihedral fold angle (radians) across the edge `a → b` shared by triangles
+/// `(a, b, c)` and `(b, a, d)`: positive when the surface bends away from the side the
+/// normals point to (a mountain seen from that side), negative for a valley, 0 when flat.
+pub fn signed_fold_angle(p: [nalgebra::Vector3<f64>; 4]) -> f64 {
+    let [a, b, c, d] = p;
+    let n1 = (b - a).cross(&(c - a));
+    let n2 = (a - b).cross(&(d - b));
+    let (l1, l2) = (n1.norm(), n2.norm());
+    if l1 == 0.0 || l2 == 0.0 {
+        return 0.0;
+    }
+    let (n1, n2) = (n1 / l1, n2 / l2);
+    let e = (b - a).normalize();
+    // Angle from n1 to n2 about e: positive when the second face turns away from the
+    // first one's normal side (a ridge seen from that side).
+    n1.cross(&n2).dot(&e).atan2(n1.dot(&n2))
+}
+
+/// The pattern of a mesh in millimetres (`mesh.unit`) times `options.scale`: one piece per
+/// connected part of the flat pattern with its boundary loops to cut; folds from the
+/// signed dihedral angle of every interior edge (mountain / valley, those below
+/// `options.min_fold_angle_degrees` hidden) and the rulings as bending guides; piece
+/// names; matching IDs on both sides of every seam (boundary edges that meet another
+/// boundary edge in 3D); optional glue tabs; optional packing onto sheets.
 ///
 /// # Errors
-/// A scale that is not a positive finite number.
+/// A scale that is not a positive finite number; bad tab or sheet options; a piece larger
+/// than the sheet (named).
 pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<Pattern, PatternError> {
     if !(options.scale.is_finite() && options.scale > 0.0) {
         return Err(PatternError::Option {
@@ -56,38 +249,340 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
             message: format!("must be a positive number, got {}", options.scale),
         });
     }
+    if !(options.min_fold_angle_degrees.is_finite() && options.min_fold_angle_degrees >= 0.0) {
+        return Err(PatternError::Option {
+            option: "min_fold_angle_degrees",
+            message: format!("must be a non-negative number, got {}", options.min_fold_angle_degrees),
+        });
+    }
     let k = mesh.unit.millimetres() * options.scale;
     let at = |v: u32| mesh.flat[v as usize] * k;
-    let cut = mesh
-        .boundary_loops()
+
+    // Connected parts of the flat pattern (by shared vertices of faces).
+    let nv = mesh.flat.len();
+    let mut parent: Vec<u32> = (0..nv as u32).collect();
+    fn find(parent: &mut [u32], mut x: u32) -> u32 {
+        while parent[x as usize] != x {
+            parent[x as usize] = parent[parent[x as usize] as usize];
+            x = parent[x as usize];
+        }
+        x
+    }
+    for t in &mesh.triangles {
+        for k in 1..3 {
+            let (a, b) = (find(&mut parent, t[0]), find(&mut parent, t[k]));
+            parent[a as usize] = b;
+        }
+    }
+    let mut part_of_root: HashMap<u32, usize> = HashMap::new();
+    let mut face_part = Vec::with_capacity(mesh.triangles.len());
+    for t in &mesh.triangles {
+        let root = find(&mut parent, t[0]);
+        let next = part_of_root.len();
+        face_part.push(*part_of_root.entry(root).or_insert(next));
+    }
+    let parts = part_of_root.len();
+    let vertex_part = |v: u32, parent: &mut [u32]| part_of_root[&find(parent, v)];
+
+    // Piece names: the mesh pieces each part holds.
+    let mut names: Vec<Vec<String>> = vec![Vec::new(); parts];
+    for (f, &piece) in mesh.face_pieces.iter().enumerate() {
+        let name = &mesh.pieces[piece as usize].name;
+        if !names[face_part[f]].contains(name) {
+            names[face_part[f]].push(name.clone());
+        }
+    }
+    let mut pieces: Vec<PatternPiece> = names
         .iter()
-        .map(|l| l.iter().map(|&v| at(v)).collect())
+        .map(|n| PatternPiece {
+            name: if n.len() <= 3 {
+                n.join(" + ")
+            } else {
+                format!("{} + {} more", n[..2].join(" + "), n.len() - 2)
+            },
+            cut: Vec::new(),
+            folds: Vec::new(),
+            labels: Vec::new(),
+            sheet: 0,
+        })
         .collect();
-    let mut fold = Vec::new();
+
+    // Cut loops, as vertex cycles kept for seams and tabs.
+    let loops = mesh.boundary_loops();
+    let mut loop_part = Vec::with_capacity(loops.len());
+    for l in &loops {
+        loop_part.push(vertex_part(l[0], &mut parent));
+    }
+
+    // Folds: interior edges by dihedral sign; ruling edges are guides.
+    let mut ruling_edge: std::collections::HashSet<[u32; 2]> = std::collections::HashSet::new();
+    let key = |a: u32, b: u32| if a < b { [a, b] } else { [b, a] };
+    for r in &mesh.rulings {
+        for w in r.vertices.windows(2) {
+            ruling_edge.insert(key(w[0], w[1]));
+        }
+    }
+    let mut edge_faces: HashMap<[u32; 2], Vec<(u32, usize)>> = HashMap::with_capacity(mesh.triangles.len() * 2);
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for j in 0..3 {
+            edge_faces
+                .entry(key(t[j], t[(j + 1) % 3]))
+                .or_default()
+                .push((f as u32, j));
+        }
+    }
+    let min_fold = options.min_fold_angle_degrees.to_radians();
+    let mut fold_edges: Vec<([u32; 2], f64)> = edge_faces
+        .iter()
+        .filter(|(e, faces)| faces.len() == 2 && !ruling_edge.contains(*e))
+        .filter_map(|(e, faces)| {
+            let (f, j) = faces[0];
+            let (g, _) = faces[1];
+            let t = mesh.triangles[f as usize];
+            let (a, b, c) = (t[j], t[(j + 1) % 3], t[(j + 2) % 3]);
+            let d = *mesh.triangles[g as usize].iter().find(|&&v| v != a && v != b)?;
+            let angle = signed_fold_angle([a, b, c, d].map(|v| mesh.positions[v as usize]));
+            (angle.abs() >= min_fold.max(1e-9)).then_some((*e, angle))
+        })
+        .collect();
+    fold_edges.sort_by_key(|x| x.0);
+    for ([a, b], angle) in fold_edges {
+        pieces[vertex_part(a, &mut parent)].folds.push(Fold {
+            a: at(a),
+            b: at(b),
+            style: if angle > 0.0 {
+                FoldStyle::Mountain
+            } else {
+                FoldStyle::Valley
+            },
+            angle_degrees: angle.abs().to_degrees(),
+        });
+    }
     for piece in 0..mesh.pieces.len() {
         let rulings: Vec<_> = mesh.rulings.iter().filter(|r| r.piece as usize == piece).collect();
         let step = rulings.len().div_ceil(options.max_rulings_per_piece.max(1)).max(1);
         for (i, r) in rulings.iter().enumerate() {
             if i % step == 0 || i + 1 == rulings.len() {
-                fold.push([at(r.vertices[0]), at(*r.vertices.last().expect("ruling has vertices"))]);
+                let (a, b) = (r.vertices[0], *r.vertices.last().expect("ruling has vertices"));
+                pieces[vertex_part(a, &mut parent)].folds.push(Fold {
+                    a: at(a),
+                    b: at(b),
+                    style: FoldStyle::Guide,
+                    angle_degrees: 0.0,
+                });
             }
         }
     }
-    let mut labels = Vec::new();
+
+    // Piece labels at the centroid of each mesh piece's largest triangle.
+    let label_height = 4.0;
     for (p, piece) in mesh.pieces.iter().enumerate() {
         let best = mesh
             .triangles
             .iter()
-            .zip(&mesh.face_pieces)
-            .filter(|(_, &fp)| fp as usize == p)
-            .map(|(t, _)| {
+            .enumerate()
+            .filter(|(f, _)| mesh.face_pieces[*f] as usize == p)
+            .map(|(f, t)| {
                 let [a, b, c] = t.map(at);
-                (((b - a).x * (c - a).y - (b - a).y * (c - a).x).abs(), (a + b + c) / 3.0)
+                (
+                    ((b - a).x * (c - a).y - (b - a).y * (c - a).x).abs(),
+                    (a + b + c) / 3.0,
+                    f,
+                )
             })
             .max_by(|x, y| x.0.total_cmp(&y.0));
-        if let Some((_, c)) = best {
-            labels.push((c, piece.name.clone()));
+        if let Some((_, c, f)) = best {
+            pieces[face_part[f]].labels.push(Label {
+                position: c,
+                text: piece.name.clone(),
+                height_mm: label_height,
+                angle_radians: 0.0,
+                kind: LabelKind::Piece,
+            });
         }
     }
-    Ok(Pattern { cut, fold, labels })
+
+    // Seams: boundary stretches that meet in 3D, with matching IDs.
+    let runs: Vec<SeamRun> = match_seams(mesh, &loops, 1e-9 * mesh_scale(mesh));
+    let seam_count = runs.iter().map(|r| r.seam + 1).max().unwrap_or(0);
+    if options.seam_labels {
+        let seam_height = 3.0;
+        for r in &runs {
+            // The middle edge of the run, label set inside the piece (left of the loop).
+            let l = &loops[r.loop_index];
+            let mid = r.start + r.edges / 2;
+            let (a, b) = (at(l[mid % l.len()]), at(l[(mid + 1) % l.len()]));
+            let d = b - a;
+            if d.norm() == 0.0 {
+                continue;
+            }
+            let inward = Vec2::new(-d.y, d.x).normalize();
+            pieces[loop_part[r.loop_index]].labels.push(Label {
+                position: (a + b) * 0.5 + inward * (0.9 * seam_height),
+                text: format!("{}", r.seam + 1),
+                height_mm: seam_height,
+                angle_radians: d.y.atan2(d.x),
+                kind: LabelKind::Seam,
+            });
+        }
+    }
+
+    // Cut loops, then tabs on them.
+    let mut loop_points: Vec<Vec<Vec2>> = loops.iter().map(|l| l.iter().map(|&v| at(v)).collect()).collect();
+    let mut tabs = TabReport::default();
+    let mut tab_folds: Vec<Vec<Fold>> = vec![Vec::new(); loops.len()];
+    if let Some(tab_options) = &options.tabs {
+        let (new_loops, folds, report) = add_glue_tabs(&loop_points, &runs, tab_options)?;
+        loop_points = new_loops;
+        tab_folds = folds;
+        tabs = report;
+    }
+    for (i, points) in loop_points.into_iter().enumerate() {
+        pieces[loop_part[i]].cut.push(points);
+        pieces[loop_part[i]].folds.append(&mut tab_folds[i]);
+    }
+
+    let mut pattern = Pattern {
+        pieces,
+        sheets: Vec::new(),
+        seam_count,
+        tabs,
+    };
+    if let Some(sheet) = &options.sheet {
+        pack_pieces(&mut pattern, sheet)?;
+    }
+    Ok(pattern)
+}
+
+/// Largest extent of the mesh's 3D bounding box (for tolerances).
+fn mesh_scale(mesh: &SheetMesh) -> f64 {
+    let (lo, hi) = mesh.bounds();
+    (hi - lo).amax().max(f64::MIN_POSITIVE)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    type Vec3 = nalgebra::Vector3<f64>;
+
+    #[test]
+    fn fold_sign_follows_the_normal_side() {
+        // Two triangles over the x axis; the second one dips down (away from the +z
+        // normal of the first): a mountain seen from above.
+        let (a, b) = (Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0));
+        let c = Vec3::new(0.5, 1.0, 0.0);
+        let down = Vec3::new(0.5, -1.0, -1.0);
+        let up = Vec3::new(0.5, -1.0, 1.0);
+        let m = signed_fold_angle([a, b, c, down]);
+        let v = signed_fold_angle([a, b, c, up]);
+        assert!((m - std::f64::consts::FRAC_PI_4).abs() < 1e-12, "{m}");
+        assert!((v + std::f64::consts::FRAC_PI_4).abs() < 1e-12, "{v}");
+        assert_eq!(signed_fold_angle([a, b, c, Vec3::new(0.5, -1.0, 0.0)]), 0.0);
+    }
+
+    /// Two unit squares hinged along the x axis, the second one turned by `angle`
+    /// (radians, positive = down, away from the +z normals): a mountain.
+    fn roof(angle: f64) -> SheetMesh {
+        let (s, c) = angle.sin_cos();
+        let positions = vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(0.0, -c, -s),
+            Vec3::new(1.0, -c, -s),
+        ];
+        let flat = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0), (0.0, -1.0), (1.0, -1.0)]
+            .map(|(x, y)| Vec2::new(x, y))
+            .to_vec();
+        SheetMesh {
+            positions,
+            flat,
+            triangles: vec![[0, 1, 2], [0, 2, 3], [4, 5, 1], [4, 1, 0]],
+            face_pieces: vec![0; 4],
+            pieces: vec![sheetform_mesh::Piece {
+                name: "roof".into(),
+                kind: sheetform_mesh::PieceKind::Chart,
+            }],
+            rulings: vec![],
+            unit: sheetform_mesh::LengthUnit::Cm,
+        }
+    }
+
+    #[test]
+    fn folds_are_mountain_or_valley_by_sign_and_small_ones_hidden() {
+        let count = |mesh: &SheetMesh, min: f64, style: FoldStyle| {
+            let options = PatternOptions {
+                min_fold_angle_degrees: min,
+                ..Default::default()
+            };
+            pattern_from_mesh(mesh, &options)
+                .unwrap()
+                .folds()
+                .filter(|f| f.style == style)
+                .count()
+        };
+        let down = roof(40f64.to_radians());
+        let up = roof(-40f64.to_radians());
+        assert_eq!(count(&down, 1.0, FoldStyle::Mountain), 1);
+        assert_eq!(count(&down, 1.0, FoldStyle::Valley), 0);
+        assert_eq!(count(&up, 1.0, FoldStyle::Valley), 1);
+        assert_eq!(count(&up, 1.0, FoldStyle::Mountain), 0);
+        // Hidden below the threshold; the flat diagonals are never folds.
+        assert_eq!(count(&down, 45.0, FoldStyle::Mountain), 0);
+        let pattern = pattern_from_mesh(&down, &PatternOptions::default()).unwrap();
+        let fold = pattern.folds().next().unwrap();
+        assert!((fold.angle_degrees - 40.0).abs() < 1e-9);
+        // Centimetres to millimetres: the hinge is 10 mm long on the pattern.
+        assert!(((fold.b - fold.a).norm() - 10.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn seams_found_in_3d_get_one_id_on_both_sides_and_tabs_outside() {
+        // The roof cut along its hinge: two pieces whose hinge edges meet in 3D.
+        let mut mesh = roof(30f64.to_radians());
+        mesh.positions.extend([mesh.positions[0], mesh.positions[1]]);
+        mesh.flat.extend([Vec2::new(0.0, -1.5), Vec2::new(1.0, -1.5)]);
+        mesh.flat[4] = Vec2::new(0.0, -2.5);
+        mesh.flat[5] = Vec2::new(1.0, -2.5);
+        mesh.triangles[2] = [4, 5, 7];
+        mesh.triangles[3] = [4, 7, 6];
+        let options = PatternOptions {
+            tabs: Some(TabOptions {
+                width_mm: 2.0,
+                ..Default::default()
+            }),
+            ..Default::default()
+        };
+        let pattern = pattern_from_mesh(&mesh, &options).unwrap();
+        assert_eq!(pattern.pieces.len(), 2);
+        assert_eq!(pattern.seam_count, 1);
+        let ids: Vec<&str> = pattern
+            .labels()
+            .filter(|l| l.kind == LabelKind::Seam)
+            .map(|l| l.text.as_str())
+            .collect();
+        assert_eq!(ids, ["1", "1"]);
+        assert_eq!(pattern.tabs.placed, 1);
+        // The tab adds a 2 mm deep trapezoid (45°, 10 mm base) to one piece's outline.
+        let areas: Vec<f64> = pattern
+            .cut_loops()
+            .map(|l| {
+                0.5 * (0..l.len())
+                    .map(|i| {
+                        let (a, b) = (l[i], l[(i + 1) % l.len()]);
+                        a.x * b.y - b.x * a.y
+                    })
+                    .sum::<f64>()
+            })
+            .collect();
+        let tab_area = 0.5 * (10.0 + 6.0) * 2.0;
+        let mut sorted = areas.clone();
+        sorted.sort_by(f64::total_cmp);
+        assert!(
+            (sorted[0] - 100.0).abs() < 1e-9 && (sorted[1] - 100.0 - tab_area).abs() < 1e-9,
+            "{areas:?}"
+        );
+        assert!(pattern.folds().any(|f| f.style == FoldStyle::TabBase));
+    }
 }

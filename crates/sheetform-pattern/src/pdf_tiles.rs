@@ -1,4 +1,4 @@
-use crate::{Pattern, PatternError, Vec2};
+use crate::{FoldStyle, Pattern, PatternError, Vec2};
 use pdf_writer::{Content, Name, Pdf, Rect, Ref, Str};
 
 /// Paper size.
@@ -122,7 +122,7 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
             content.end_path();
             content.set_line_width(0.4);
             content.set_stroke_rgb(0.85, 0.0, 0.0);
-            for cycle in &pattern.cut {
+            for cycle in pattern.cut_loops() {
                 for (i, p) in cycle.iter().enumerate() {
                     let (x, y) = to_page(*p);
                     if i == 0 {
@@ -135,22 +135,58 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                 content.stroke();
             }
             content.set_line_width(0.3);
-            content.set_stroke_rgb(0.55, 0.55, 0.55);
-            content.set_dash_pattern([3.0, 2.0], 0.0);
-            for [a, b] in &pattern.fold {
-                let ((x0, y0), (x1, y1)) = (to_page(*a), to_page(*b));
-                content.move_to(x0, y0);
-                content.line_to(x1, y1);
-                content.stroke();
+            // Origami convention: mountain dash-dot red, valley dashed blue; guides and
+            // tab bases dotted grey.
+            for style in [
+                FoldStyle::Mountain,
+                FoldStyle::Valley,
+                FoldStyle::Guide,
+                FoldStyle::TabBase,
+            ] {
+                match style {
+                    FoldStyle::Mountain => {
+                        content.set_stroke_rgb(0.8, 0.2, 0.2);
+                        content.set_dash_pattern([4.0, 1.5, 1.0, 1.5], 0.0);
+                    }
+                    FoldStyle::Valley => {
+                        content.set_stroke_rgb(0.2, 0.35, 0.8);
+                        content.set_dash_pattern([3.0, 2.0], 0.0);
+                    }
+                    FoldStyle::Guide | FoldStyle::TabBase => {
+                        content.set_stroke_rgb(0.55, 0.55, 0.55);
+                        content.set_dash_pattern([1.0, 2.0], 0.0);
+                    }
+                }
+                for f in pattern.folds().filter(|f| f.style == style) {
+                    let ((x0, y0), (x1, y1)) = (to_page(f.a), to_page(f.b));
+                    content.move_to(x0, y0);
+                    content.line_to(x1, y1);
+                    content.stroke();
+                }
             }
+            content.set_dash_pattern([], 0.0);
             content.set_fill_rgb(0.2, 0.3, 0.65);
-            for (p, text) in &pattern.labels {
-                let (x, y) = to_page(*p);
+            for label in pattern.labels() {
+                let (x, y) = to_page(label.position);
+                let size = (label.height_mm * PT * 1.4) as f32;
+                let width = ascii(&label.text).len() as f32 * size * 0.55;
+                let (s, c) = (label.angle_radians as f32).sin_cos();
                 content.begin_text();
-                content.set_font(Name(b"F1"), 9.0);
-                content.next_line(x, y);
-                content.show(Str(ascii(text).as_bytes()));
+                content.set_font(Name(b"F1"), size);
+                // Centred on the anchor, turned with the label.
+                let (dx, dy) = (-0.5 * width, -0.35 * size);
+                content.set_text_matrix([c, s, -s, c, x + c * dx - s * dy, y + s * dx + c * dy]);
+                content.show(Str(ascii(&label.text).as_bytes()));
                 content.end_text();
+            }
+            // Sheet outlines (packed patterns), thin black.
+            content.set_stroke_rgb(0.0, 0.0, 0.0);
+            content.set_line_width(0.2);
+            for (corner, size) in &pattern.sheets {
+                let (x0, y0) = to_page(*corner);
+                let (x1, y1) = to_page(corner + size);
+                content.rect(x0, y0, x1 - x0, y1 - y0);
+                content.stroke();
             }
             // Overlap guides (dashed blue) where this tile meets its neighbours.
             content.set_stroke_rgb(0.3, 0.5, 0.9);
@@ -240,14 +276,19 @@ mod tests {
 
     fn rectangle(w: f64, h: f64) -> Pattern {
         Pattern {
-            cut: vec![vec![
-                Vec2::new(0.0, 0.0),
-                Vec2::new(w, 0.0),
-                Vec2::new(w, h),
-                Vec2::new(0.0, h),
-            ]],
-            fold: vec![],
-            labels: vec![],
+            pieces: vec![crate::PatternPiece {
+                name: "rectangle".into(),
+                cut: vec![vec![
+                    Vec2::new(0.0, 0.0),
+                    Vec2::new(w, 0.0),
+                    Vec2::new(w, h),
+                    Vec2::new(0.0, h),
+                ]],
+                folds: vec![],
+                labels: vec![],
+                sheet: 0,
+            }],
+            ..Default::default()
         }
     }
 

@@ -1,4 +1,4 @@
-use crate::Pattern;
+use crate::{FoldStyle, LabelKind, Pattern};
 use std::fmt::Write;
 
 fn escape(s: &str) -> String {
@@ -10,9 +10,12 @@ fn escape(s: &str) -> String {
 
 /// The pattern as SVG at true size: the document is `W mm × H mm` and one user unit is
 /// one millimetre, so it prints and laser-cuts at 1:1. Layers (Inkscape layer groups,
-/// plain `<g id>` for other tools): `cut` (the loops, red hairline), `fold` (fold/score
-/// guides, grey dashed), `labels`. The y axis is flipped so the pattern reads as seen
-/// from the sheet's top side; `margin_mm` surrounds it.
+/// plain `<g id>` for other tools): `cut` (the loops, glue tabs included, red hairline),
+/// `fold` with sub-groups `fold-mountain` (red dash-dot), `fold-valley` (blue dashed),
+/// `fold-guide` (bending guides: rulings, grey dotted) and `fold-tab` (tab bases, grey
+/// dotted), `labels` (piece names and seam IDs), and `sheets` (sheet outlines, when
+/// packed). The y axis is flipped so the pattern reads as seen from the sheet's printed
+/// side; `margin_mm` surrounds it.
 pub fn svg_bytes(pattern: &Pattern, title: &str, margin_mm: f64) -> Vec<u8> {
     let (lo, hi) = pattern.bounds();
     let (lo, hi) = if lo.x.is_finite() {
@@ -30,12 +33,15 @@ pub fn svg_bytes(pattern: &Pattern, title: &str, margin_mm: f64) -> Vec<u8> {
         r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" width="{w:.4}mm" height="{h:.4}mm" viewBox="0 0 {w:.4} {h:.4}">"#
     );
     let _ = writeln!(s, "<title>{}</title>", escape(title));
-    let _ = writeln!(s, "<desc>1 user unit = 1 mm. Layers: cut, fold, labels.</desc>");
+    let _ = writeln!(
+        s,
+        "<desc>1 user unit = 1 mm. Layers: cut, fold (mountain, valley, guide, tab), labels, sheets.</desc>"
+    );
     let _ = writeln!(
         s,
         r##"<g id="cut" inkscape:groupmode="layer" inkscape:label="cut" fill="none" stroke="#e00000" stroke-width="0.1">"##
     );
-    for cycle in &pattern.cut {
+    for cycle in pattern.cut_loops() {
         let mut d = String::new();
         for (i, p) in cycle.iter().enumerate() {
             let _ = write!(d, "{}{:.4},{:.4} ", if i == 0 { "M" } else { "L" }, px(p.x), py(p.y));
@@ -46,30 +52,63 @@ pub fn svg_bytes(pattern: &Pattern, title: &str, margin_mm: f64) -> Vec<u8> {
     let _ = writeln!(s, "</g>");
     let _ = writeln!(
         s,
-        r##"<g id="fold" inkscape:groupmode="layer" inkscape:label="fold" fill="none" stroke="#9a9a9a" stroke-width="0.1" stroke-dasharray="1,1">"##
+        r#"<g id="fold" inkscape:groupmode="layer" inkscape:label="fold" fill="none" stroke-width="0.1">"#
     );
-    for [a, b] in &pattern.fold {
+    for (style, id, colour, dash) in [
+        (FoldStyle::Mountain, "fold-mountain", "#c03030", "3,1,0.6,1"),
+        (FoldStyle::Valley, "fold-valley", "#3050c0", "2,1.2"),
+        (FoldStyle::Guide, "fold-guide", "#9a9a9a", "1,1"),
+        (FoldStyle::TabBase, "fold-tab", "#9a9a9a", "0.6,0.6"),
+    ] {
         let _ = writeln!(
             s,
-            r#"<line x1="{:.4}" y1="{:.4}" x2="{:.4}" y2="{:.4}"/>"#,
-            px(a.x),
-            py(a.y),
-            px(b.x),
-            py(b.y)
+            r#"<g id="{id}" inkscape:groupmode="layer" inkscape:label="{id}" stroke="{colour}" stroke-dasharray="{dash}">"#
+        );
+        for f in pattern.folds().filter(|f| f.style == style) {
+            let _ = writeln!(
+                s,
+                r#"<line x1="{:.4}" y1="{:.4}" x2="{:.4}" y2="{:.4}"/>"#,
+                px(f.a.x),
+                py(f.a.y),
+                px(f.b.x),
+                py(f.b.y)
+            );
+        }
+        let _ = writeln!(s, "</g>");
+    }
+    let _ = writeln!(s, "</g>");
+    let _ = writeln!(
+        s,
+        r##"<g id="labels" inkscape:groupmode="layer" inkscape:label="labels" font-family="Helvetica, Arial, sans-serif" fill="#3050a0" text-anchor="middle" dominant-baseline="middle">"##
+    );
+    for label in pattern.labels() {
+        let (x, y) = (px(label.position.x), py(label.position.y));
+        let class = match label.kind {
+            LabelKind::Piece => "piece",
+            LabelKind::Seam => "seam",
+        };
+        // SVG's y axis points down, so the angle changes sign.
+        let _ = writeln!(
+            s,
+            r#"<text class="{class}" x="{x:.4}" y="{y:.4}" font-size="{:.3}" transform="rotate({:.3} {x:.4} {y:.4})">{}</text>"#,
+            label.height_mm,
+            -label.angle_radians.to_degrees(),
+            escape(&label.text)
         );
     }
     let _ = writeln!(s, "</g>");
     let _ = writeln!(
         s,
-        r##"<g id="labels" inkscape:groupmode="layer" inkscape:label="labels" font-family="Helvetica, Arial, sans-serif" font-size="4" fill="#3050a0" text-anchor="middle">"##
+        r##"<g id="sheets" inkscape:groupmode="layer" inkscape:label="sheets" fill="none" stroke="#000000" stroke-width="0.2">"##
     );
-    for (p, text) in &pattern.labels {
+    for (corner, size) in &pattern.sheets {
         let _ = writeln!(
             s,
-            r#"<text x="{:.4}" y="{:.4}">{}</text>"#,
-            px(p.x),
-            py(p.y),
-            escape(text)
+            r#"<rect x="{:.4}" y="{:.4}" width="{:.4}" height="{:.4}"/>"#,
+            px(corner.x),
+            py(corner.y + size.y),
+            size.x,
+            size.y
         );
     }
     let _ = writeln!(s, "</g>\n</svg>");

@@ -1,8 +1,13 @@
 //! The pipelines every front end calls.
 
-use crate::report::{AngleDefects, ChartReport, PatternReport, RegionReport, RegressionEntry, Report, Timings};
+use crate::report::{
+    AngleDefects, ChartReport, PatternReport, RegionReport, RegressionEntry, Report, SegmentationReport, Timings,
+};
 use sheetform_bend::{bend, BendError, BendModel, BendScene, BentSheet};
-use sheetform_flatten::{arap, distortion, exact_unfold, lscm, ArapOptions, Distortion, FlattenError, UnfoldOptions};
+use sheetform_flatten::{
+    arap, cut_into_charts, distortion, exact_unfold, lscm, ArapOptions, ChartOptions, ChartSet, Distortion,
+    FlattenError, UnfoldOptions,
+};
 use sheetform_io::{colour_ramp, glb_vertex_colours, ply_vertex_colours, read_mesh, MeshReadError};
 use sheetform_io::{glb_bytes, obj_string, stl_bytes, write_atomic, IoError, Texture};
 use sheetform_mesh::{
@@ -10,9 +15,12 @@ use sheetform_mesh::{
     MeshTopology, Piece, PieceKind, SheetMesh, TriangleMesh, VertexDevelopability,
 };
 use sheetform_pattern::{
-    dxf_bytes, pattern_from_mesh, pdf_tiled, svg_bytes, DxfUnit, PageSize, PatternError, PatternOptions, PdfOptions,
+    arrange_in_rows, dxf_bytes, pattern_from_mesh, pdf_tiled, smallest_bounding_rotation, svg_bytes, DxfUnit,
+    FoldStyle, PageSize, PatternError, PatternOptions, PdfOptions, SheetOptions, TabOptions,
 };
 use std::path::Path;
+
+type Vec2 = nalgebra::Vector2<f64>;
 use std::time::Instant;
 use thiserror::Error;
 
@@ -87,6 +95,14 @@ pub struct PatternOutputOptions {
     pub page: PageSize,
     /// Unit of the DXF coordinates.
     pub dxf_unit: DxfUnit,
+    /// Folds below this dihedral angle (degrees) are not drawn.
+    pub min_fold_angle_degrees: f64,
+    /// Matching IDs on both sides of every seam.
+    pub seam_labels: bool,
+    /// Glue tabs along seams (`None`: none).
+    pub tabs: Option<TabOptions>,
+    /// Pack the pieces onto sheets of this size (`None`: keep the layout).
+    pub sheet: Option<SheetOptions>,
 }
 
 impl Default for PatternOutputOptions {
@@ -95,6 +111,10 @@ impl Default for PatternOutputOptions {
             scale: 1.0,
             page: PageSize::A4,
             dxf_unit: DxfUnit::Mm,
+            min_fold_angle_degrees: PatternOptions::default().min_fold_angle_degrees,
+            seam_labels: true,
+            tabs: None,
+            sheet: None,
         }
     }
 }
@@ -110,6 +130,10 @@ fn pattern_files(
         mesh,
         &PatternOptions {
             scale: options.scale,
+            min_fold_angle_degrees: options.min_fold_angle_degrees,
+            seam_labels: options.seam_labels,
+            tabs: options.tabs,
+            sheet: options.sheet,
             ..Default::default()
         },
     )?;
@@ -128,8 +152,14 @@ fn pattern_files(
         page: format!("{:?}", options.page),
         tile_rows: pdf.rows,
         tile_columns: pdf.columns,
+        piece_count: pattern.pieces.len(),
+        sheet_count: pattern.sheets.len(),
+        seam_count: pattern.seam_count,
+        mountain_fold_count: pattern.folds().filter(|f| f.style == FoldStyle::Mountain).count(),
+        valley_fold_count: pattern.folds().filter(|f| f.style == FoldStyle::Valley).count(),
+        tabs: options.tabs.map(|_| pattern.tabs),
     };
-    let files = vec![
+    let mut files = vec![
         (
             "pattern.svg".to_string(),
             svg_bytes(&pattern, &format!("{title}: flat pattern"), 10.0),
@@ -137,6 +167,20 @@ fn pattern_files(
         ("pattern.dxf".to_string(), dxf_bytes(&pattern, options.dxf_unit)?),
         ("pattern.pdf".to_string(), pdf.bytes),
     ];
+    // One cutter file per sheet when packed.
+    if pattern.sheets.len() > 1 || options.sheet.is_some() {
+        for sheet in 0..pattern.sheets.len() {
+            let one = pattern.sheet_pattern(sheet);
+            files.push((
+                format!("sheets/sheet-{:02}.svg", sheet + 1),
+                svg_bytes(&one, &format!("{title}: sheet {}", sheet + 1), 0.0),
+            ));
+            files.push((
+                format!("sheets/sheet-{:02}.dxf", sheet + 1),
+                dxf_bytes(&one, options.dxf_unit)?,
+            ));
+        }
+    }
     Ok((files, report))
 }
 
@@ -462,11 +506,28 @@ pub enum FlattenMethod {
     Arap,
 }
 
+/// When `flatten` cuts the mesh into charts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ChartMode {
+    /// When the mesh is not a single disk (closed, several pieces, handles, holes) or
+    /// has user seams.
+    #[default]
+    Auto,
+    /// Always (a disk is still cut along sharp creases and split where it would distort).
+    Always,
+    /// Never (a mesh that is not a disk is refused).
+    Never,
+}
+
 /// Knobs of `sheetform flatten`.
 #[derive(Debug, Clone, Default)]
 pub struct FlattenOptions {
-    /// Layout method.
+    /// Layout method (for a mesh flattened whole; charts use exact unfolding).
     pub method: FlattenMethod,
+    /// When to cut into charts.
+    pub charts: ChartMode,
+    /// How to cut into charts.
+    pub chart_options: ChartOptions,
     /// How the pattern is written.
     pub pattern: PatternOutputOptions,
     /// Merge vertices closer than this (model units) first.
@@ -498,30 +559,83 @@ pub fn run_flatten(path: &Path, options: &FlattenOptions) -> Result<FlattenRun, 
     let start = Instant::now();
     let (mesh, welded) = read_input_mesh(path, options.weld)?;
     let parsed = Instant::now();
-    let unfolding = match options.method {
-        FlattenMethod::Exact => exact_unfold(&mesh, &UnfoldOptions::default())?,
-        FlattenMethod::Lscm => lscm(&mesh)?,
-        FlattenMethod::Arap => arap(&mesh, &ArapOptions::default())?,
+    let topology = mesh_topology(&mesh);
+    let disk = topology.component_count == 1 && topology.boundary_loop_count == 1 && topology.euler_characteristic == 1;
+    let use_charts = match options.charts {
+        ChartMode::Always => true,
+        ChartMode::Never => false,
+        ChartMode::Auto => !disk || !mesh.seam_edges.is_empty(),
     };
-    let solved = Instant::now();
-    let d = distortion(&mesh, &unfolding.flat);
     let mm = options.unit.millimetres();
     let name = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "mesh".into());
-    let sheet = SheetMesh {
-        positions: mesh.positions.clone(),
-        flat: unfolding.flat.clone(),
-        triangles: mesh.triangles.clone(),
-        face_pieces: vec![0; mesh.triangles.len()],
-        pieces: vec![Piece {
-            name: name.clone(),
-            kind: PieceKind::Chart,
-        }],
-        rulings: vec![],
-        unit: options.unit,
+    let mut report = Report::new("flatten", Some(path.display().to_string()));
+    let (sheet, solved) = if use_charts {
+        let set = cut_into_charts(&mesh, &options.chart_options)?;
+        let solved = Instant::now();
+        // Room between charts for glue tabs (model units).
+        let tab_room = options
+            .pattern
+            .tabs
+            .map_or(0.0, |t| 2.5 * t.width_mm / (mm * options.pattern.scale));
+        let sheet = sheet_from_charts(&mesh, &set, &name, options.unit, tab_room);
+        report.segmentation = Some(SegmentationReport {
+            chart_count: set.charts.len(),
+            initial_chart_count: set.initial_chart_count,
+            split_count: set.split_count,
+            seam_edge_count: set.seam_edge_count,
+            user_seam_edge_count: mesh.seam_edges.len(),
+            crease_angle_degrees: options.chart_options.crease_angle_degrees,
+            max_edge_distortion_relative: options.chart_options.max_edge_distortion,
+        });
+        report.charts = set
+            .charts
+            .iter()
+            .enumerate()
+            .map(|(c, chart)| chart_report(&sheet.pieces[c].name, "exact", chart.faces.len(), &chart.distortion))
+            .collect();
+        let iterations = set.charts.iter().map(|c| c.solver.iterations).sum();
+        report.solver = Some(sheetform_solve::SolverInfo {
+            iterations,
+            cost: set.charts.iter().map(|c| c.solver.cost).sum(),
+            initial_cost: set.charts.iter().map(|c| c.solver.initial_cost).sum(),
+            gradient_norm: set.charts.iter().map(|c| c.solver.gradient_norm).fold(0.0, f64::max),
+            converged: set.charts.iter().all(|c| c.solver.converged),
+        });
+        (sheet, solved)
+    } else {
+        let unfolding = match options.method {
+            FlattenMethod::Exact => exact_unfold(&mesh, &UnfoldOptions::default())?,
+            FlattenMethod::Lscm => lscm(&mesh)?,
+            FlattenMethod::Arap => arap(&mesh, &ArapOptions::default())?,
+        };
+        let solved = Instant::now();
+        let sheet = SheetMesh {
+            positions: mesh.positions.clone(),
+            flat: unfolding.flat.clone(),
+            triangles: mesh.triangles.clone(),
+            face_pieces: vec![0; mesh.triangles.len()],
+            pieces: vec![Piece {
+                name: name.clone(),
+                kind: PieceKind::Chart,
+            }],
+            rulings: vec![],
+            unit: options.unit,
+        };
+        let d = distortion(&mesh, &unfolding.flat);
+        report.charts = vec![chart_report(
+            &name,
+            &format!("{:?}", options.method).to_lowercase(),
+            mesh.triangles.len(),
+            &d,
+        )];
+        report.solver = Some(unfolding.solver);
+        (sheet, solved)
     };
+    // Distortion and overlaps over the whole pattern (charts against each other too).
+    let d = distortion(&sheet.to_triangle_mesh(), &sheet.flat);
     let mut files = vec![
         ("model.obj".to_string(), obj_string(&sheet, &name).into_bytes()),
         ("model.glb".to_string(), glb_bytes(&sheet, &name, None)),
@@ -529,8 +643,6 @@ pub fn run_flatten(path: &Path, options: &FlattenOptions) -> Result<FlattenRun, 
     let (pattern, pattern_report) = pattern_files(&sheet, &name, &options.pattern)?;
     files.extend(pattern);
     let exported = Instant::now();
-    let topology = mesh_topology(&mesh);
-    let mut report = Report::new("flatten", Some(path.display().to_string()));
     report.status = if d.is_overlap_free() { "ok" } else { "overlapping" }.into();
     report.model_unit = options.unit.symbol().into();
     report.vertex_count = mesh.positions.len();
@@ -541,18 +653,6 @@ pub fn run_flatten(path: &Path, options: &FlattenOptions) -> Result<FlattenRun, 
     report.flat_area_mm2 = Some(sheet.flat_area() * mm * mm);
     report.area_mm2 = sheet.area() * mm * mm;
     report.welded_vertex_count = welded;
-    report.charts = vec![ChartReport {
-        name,
-        method: format!("{:?}", options.method).to_lowercase(),
-        face_count: mesh.triangles.len(),
-        edge_length_max_relative: d.edge_length_max_relative,
-        edge_length_mean_relative: d.edge_length_mean_relative,
-        area_max_relative: d.area_max_relative,
-        area_mean_relative: d.area_mean_relative,
-        flipped_face_count: d.flipped_faces.len(),
-        boundary_crossing_count: d.boundary_crossings,
-    }];
-    report.solver = Some(unfolding.solver);
     report.pattern = Some(pattern_report);
     report.outputs = output_names(&files);
     report.timings = Timings::from_stages(start, parsed, solved, exported);
@@ -562,6 +662,84 @@ pub fn run_flatten(path: &Path, options: &FlattenOptions) -> Result<FlattenRun, 
         files,
         report,
     })
+}
+
+fn chart_report(name: &str, method: &str, face_count: usize, d: &Distortion) -> ChartReport {
+    ChartReport {
+        name: name.to_string(),
+        method: method.to_string(),
+        face_count,
+        edge_length_max_relative: d.edge_length_max_relative,
+        edge_length_mean_relative: d.edge_length_mean_relative,
+        area_max_relative: d.area_max_relative,
+        area_mean_relative: d.area_mean_relative,
+        flipped_face_count: d.flipped_faces.len(),
+        boundary_crossing_count: d.boundary_crossings,
+    }
+}
+
+/// The charts as one [`SheetMesh`]: every chart keeps its own copy of its seam vertices
+/// (same 3D position, own flat position), one piece per chart, the charts' flat layouts
+/// set side by side in rows (`gap` apart plus `extra_gap`, model units) so that the
+/// pattern (and the OBJ `vt`) has no chart over another.
+fn sheet_from_charts(mesh: &TriangleMesh, set: &ChartSet, name: &str, unit: LengthUnit, extra_gap: f64) -> SheetMesh {
+    // Each chart turned to its smallest bounding rectangle, landscape.
+    let turned: Vec<Vec<Vec2>> = set
+        .charts
+        .iter()
+        .map(|c| {
+            let (angle, _) = smallest_bounding_rotation(&c.flat);
+            let (s, co) = angle.sin_cos();
+            c.flat
+                .iter()
+                .map(|p| Vec2::new(co * p.x - s * p.y, s * p.x + co * p.y))
+                .collect()
+        })
+        .collect();
+    let sizes: Vec<(Vec2, Vec2)> = turned
+        .iter()
+        .map(|flat| {
+            let mut lo = Vec2::repeat(f64::INFINITY);
+            let mut hi = Vec2::repeat(f64::NEG_INFINITY);
+            for p in flat {
+                lo = lo.inf(p);
+                hi = hi.sup(p);
+            }
+            (lo, hi - lo)
+        })
+        .collect();
+    let area: f64 = sizes.iter().map(|(_, s)| s.x * s.y).sum();
+    let gap = 0.02 * area.sqrt() + extra_gap;
+    let corners = arrange_in_rows(&sizes.iter().map(|s| s.1).collect::<Vec<_>>(), 1.5 * area.sqrt(), gap);
+    let digits = set.charts.len().to_string().len().max(2);
+    let mut sheet = SheetMesh {
+        positions: Vec::new(),
+        flat: Vec::new(),
+        triangles: Vec::new(),
+        face_pieces: Vec::new(),
+        pieces: Vec::new(),
+        rulings: vec![],
+        unit,
+    };
+    for (c, chart) in set.charts.iter().enumerate() {
+        let offset = sheet.positions.len() as u32;
+        let shift = corners[c] - sizes[c].0;
+        sheet
+            .positions
+            .extend(chart.vertices.iter().map(|&v| mesh.positions[v as usize]));
+        sheet.flat.extend(turned[c].iter().map(|p| p + shift));
+        sheet
+            .triangles
+            .extend(chart.triangles.iter().map(|t| t.map(|v| v + offset)));
+        sheet
+            .face_pieces
+            .extend(std::iter::repeat_n(c as u32, chart.triangles.len()));
+        sheet.pieces.push(Piece {
+            name: format!("{name}-{:0digits$}", c + 1),
+            kind: PieceKind::Chart,
+        });
+    }
+    sheet
 }
 
 /// `(max, mean)` relative edge-length difference between the 3D faces and the stored

@@ -124,6 +124,26 @@ pub struct ChartReport {
     pub boundary_crossing_count: usize,
 }
 
+/// The cut into charts (`flatten` of a closed or high-genus mesh).
+#[derive(Debug, Clone, Serialize)]
+pub struct SegmentationReport {
+    /// Charts in the end.
+    pub chart_count: usize,
+    /// Charts separated by sharp creases and user seams alone.
+    pub initial_chart_count: usize,
+    /// Charts split in two because they were not disks or flattened with too much
+    /// distortion or with overlaps.
+    pub split_count: usize,
+    /// Mesh edges cut open (each appears on two charts).
+    pub seam_edge_count: usize,
+    /// User-given seam edges (OBJ `l`).
+    pub user_seam_edge_count: usize,
+    /// Crease angle used (degrees).
+    pub crease_angle_degrees: f64,
+    /// Distortion bound each chart had to meet.
+    pub max_edge_distortion_relative: f64,
+}
+
 /// The printable pattern (`bend`, `flatten`).
 #[derive(Debug, Clone, Serialize)]
 pub struct PatternReport {
@@ -139,6 +159,19 @@ pub struct PatternReport {
     pub tile_rows: usize,
     /// PDF tile columns.
     pub tile_columns: usize,
+    /// Pieces to cut (connected parts of the pattern).
+    pub piece_count: usize,
+    /// Sheets the pieces are packed on (0 when not packed).
+    pub sheet_count: usize,
+    /// Seams (pairs of edges glued together), each with an ID printed on both sides.
+    pub seam_count: usize,
+    /// Mountain folds drawn.
+    pub mountain_fold_count: usize,
+    /// Valley folds drawn.
+    pub valley_fold_count: usize,
+    /// Glue tabs placed, narrowed, dropped (when asked for).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tabs: Option<sheetform_pattern::TabReport>,
 }
 
 /// The report every command writes. Keys that do not apply to a command are left out.
@@ -201,6 +234,9 @@ pub struct Report {
     /// Charts of the pattern (`flatten`).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub charts: Vec<ChartReport>,
+    /// How a closed or high-genus mesh was cut into charts (`flatten`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub segmentation: Option<SegmentationReport>,
     /// The solver's report (`flatten`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub solver: Option<sheetform_solve::SolverInfo>,
@@ -237,6 +273,7 @@ impl Report {
             regions: vec![],
             pattern: None,
             charts: vec![],
+            segmentation: None,
             solver: None,
             outputs: vec![],
             timings: Timings::default(),

@@ -1,0 +1,414 @@
+//! Cutting a closed or high-genus mesh into charts that each flatten with small
+//! distortion and without overlap.
+
+use crate::{distortion, exact_unfold, Distortion, FlattenError, UnfoldOptions, Vec2};
+use sheetform_mesh::{mesh_topology, TriangleMesh};
+use sheetform_solve::SolverInfo;
+use std::collections::{HashMap, VecDeque};
+
+/// Knobs of [`cut_into_charts`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ChartOptions {
+    /// An edge whose two faces' normals differ by more than this angle (degrees) is a
+    /// sharp crease and becomes a seam. Default 30°.
+    pub crease_angle_degrees: f64,
+    /// A chart whose flattening changes some edge length by more than this relative
+    /// amount is split further. Default 0.01 (1 %).
+    pub max_edge_distortion: f64,
+    /// Upper bound on the number of charts: splitting stops there (the report then shows
+    /// charts over the distortion bound). Default 100 000.
+    pub max_charts: usize,
+}
+
+impl Default for ChartOptions {
+    fn default() -> Self {
+        Self {
+            crease_angle_degrees: 30.0,
+            max_edge_distortion: 0.01,
+            max_charts: 100_000,
+        }
+    }
+}
+
+/// One chart: a disk-like set of faces and its flattening.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Chart {
+    /// Faces of the mesh in this chart.
+    pub faces: Vec<u32>,
+    /// Mesh vertex of each chart vertex (seam vertices appear in several charts).
+    pub vertices: Vec<u32>,
+    /// The chart's triangles in chart vertex indices (same order as `faces`).
+    pub triangles: Vec<[u32; 3]>,
+    /// Flat position of each chart vertex (mesh length units).
+    pub flat: Vec<Vec2>,
+    /// Distortion of the flattening.
+    pub distortion: Distortion,
+    /// The unfolding's solver report.
+    pub solver: SolverInfo,
+}
+
+/// The charts of a mesh.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChartSet {
+    /// The charts, largest first.
+    pub charts: Vec<Chart>,
+    /// Chart of every mesh face.
+    pub face_chart: Vec<u32>,
+    /// Mesh edges on a chart boundary that have faces on both sides (cut edges).
+    pub seam_edge_count: usize,
+    /// Charts from creases and user seams before any splitting.
+    pub initial_chart_count: usize,
+    /// How many times a chart was split in two.
+    pub split_count: usize,
+}
+
+/// Cuts `mesh` into charts and flattens each.
+///
+/// 1. **Seams**: user-given seam edges (`mesh.seam_edges`, OBJ `l` lines) and sharp
+///    creases (the angle between the two face normals above
+///    `options.crease_angle_degrees`) separate the initial charts, the connected sets of
+///    faces between them.
+/// 2. **Split until flat**: a chart is accepted when it is a topological disk (one
+///    component, one boundary loop, Euler characteristic 1) and its exact unfolding
+///    ([`exact_unfold`], the least-squares layout of its edge lengths) has no flipped face,
+///    no crossing boundary edges and no edge length changed by more than
+///    `options.max_edge_distortion`. Otherwise it is split in two: the two faces farthest
+///    apart (double breadth-first search over the face adjacency) seed two regions that
+///    grow breadth-first at the same pace, so both halves are connected. A single triangle
+///    always flattens exactly, so the splitting ends.
+///
+/// Departure from published segmenters (D-charts, feature-based seams): no seam
+/// straightening or chart merging; the splits follow the face graph, so chart borders
+/// are staircase-like on fine meshes. What is guaranteed is the acceptance test above.
+///
+/// # Errors
+/// Non-manifold, degenerate or non-orientable meshes (named), seam edges that are not
+/// mesh edges.
+pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<ChartSet, FlattenError> {
+    let topology = mesh_topology(mesh);
+    let problems = crate::exact_unfolding::topology_problems(&topology);
+    if !problems.is_empty() {
+        return Err(FlattenError::Topology {
+            problem: problems.join("; "),
+        });
+    }
+    let nf = mesh.triangles.len();
+    let key = |a: u32, b: u32| if a < b { [a, b] } else { [b, a] };
+    let mut edge_faces: HashMap<[u32; 2], Vec<u32>> = HashMap::with_capacity(nf * 2);
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for k in 0..3 {
+            edge_faces.entry(key(t[k], t[(k + 1) % 3])).or_default().push(f as u32);
+        }
+    }
+    let mut seams: std::collections::HashSet<[u32; 2]> = std::collections::HashSet::new();
+    for (i, &[a, b]) in mesh.seam_edges.iter().enumerate() {
+        if !edge_faces.contains_key(&key(a, b)) {
+            return Err(FlattenError::Topology {
+                problem: format!(
+                    "seam edge {i} ({} – {}, 1-based as in the file) is not an edge of the mesh",
+                    a + 1,
+                    b + 1
+                ),
+            });
+        }
+        seams.insert(key(a, b));
+    }
+    let cos_crease = options.crease_angle_degrees.to_radians().cos();
+    let normals: Vec<_> = (0..nf).map(|f| mesh.face_normal(f)).collect();
+    // Face adjacency across edges that are not seams (built in face order, so the
+    // result does not depend on hash order).
+    let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); nf];
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for k in 0..3 {
+            let e = key(t[k], t[(k + 1) % 3]);
+            if let [a, b] = edge_faces[&e][..] {
+                let g = if a as usize == f { b } else { a };
+                let crease = normals[f].dot(&normals[g as usize]) < cos_crease;
+                if !crease && !seams.contains(&e) {
+                    neighbours[f].push(g);
+                }
+            }
+        }
+    }
+    // Initial charts: connected components.
+    let mut pending: Vec<Vec<u32>> = Vec::new();
+    let mut seen = vec![false; nf];
+    for f0 in 0..nf {
+        if seen[f0] {
+            continue;
+        }
+        seen[f0] = true;
+        let mut component = vec![f0 as u32];
+        let mut i = 0;
+        while i < component.len() {
+            let f = component[i] as usize;
+            i += 1;
+            for &g in &neighbours[f] {
+                if !seen[g as usize] {
+                    seen[g as usize] = true;
+                    component.push(g);
+                }
+            }
+        }
+        pending.push(component);
+    }
+    let initial_chart_count = pending.len();
+    let mut charts: Vec<Chart> = Vec::new();
+    let mut split_count = 0;
+    let mut in_chart = vec![u32::MAX; nf];
+    while let Some(faces) = pending.pop() {
+        let (sub, vertices) = submesh(mesh, &faces);
+        let out_of_budget = charts.len() + pending.len() + 1 >= options.max_charts;
+        let attempt = flatten_chart(&sub);
+        let accept = match &attempt {
+            Some((_, d)) => d.is_overlap_free() && d.edge_length_max_relative <= options.max_edge_distortion,
+            None => false,
+        };
+        if accept || faces.len() == 1 || (out_of_budget && attempt.is_some()) {
+            let (unfolding, d) = attempt.expect("a single triangle or an accepted chart unfolds");
+            charts.push(Chart {
+                faces,
+                vertices,
+                triangles: sub.triangles,
+                flat: unfolding.flat,
+                distortion: d,
+                solver: unfolding.solver,
+            });
+            continue;
+        }
+        split_count += 1;
+        for (i, &f) in faces.iter().enumerate() {
+            in_chart[f as usize] = i as u32;
+        }
+        let (a, b) = split_in_two(&faces, &neighbours, &in_chart);
+        for &f in &faces {
+            in_chart[f as usize] = u32::MAX;
+        }
+        pending.push(a);
+        pending.push(b);
+    }
+    charts.sort_by(|a, b| b.faces.len().cmp(&a.faces.len()).then(a.faces[0].cmp(&b.faces[0])));
+    let mut face_chart = vec![0u32; nf];
+    for (c, chart) in charts.iter().enumerate() {
+        for &f in &chart.faces {
+            face_chart[f as usize] = c as u32;
+        }
+    }
+    let seam_edge_count = edge_faces
+        .values()
+        .filter(|faces| matches!(faces[..], [f, g] if face_chart[f as usize] != face_chart[g as usize]))
+        .count();
+    Ok(ChartSet {
+        charts,
+        face_chart,
+        seam_edge_count,
+        initial_chart_count,
+        split_count,
+    })
+}
+
+/// The faces as a mesh of their own (vertices renumbered), with the mesh vertex of each.
+fn submesh(mesh: &TriangleMesh, faces: &[u32]) -> (TriangleMesh, Vec<u32>) {
+    let mut local: HashMap<u32, u32> = HashMap::with_capacity(faces.len());
+    let mut vertices = Vec::new();
+    let triangles = faces
+        .iter()
+        .map(|&f| {
+            mesh.triangles[f as usize].map(|v| {
+                *local.entry(v).or_insert_with(|| {
+                    vertices.push(v);
+                    vertices.len() as u32 - 1
+                })
+            })
+        })
+        .collect::<Vec<_>>();
+    let sub = TriangleMesh {
+        positions: vertices.iter().map(|&v| mesh.positions[v as usize]).collect(),
+        face_groups: vec![0; triangles.len()],
+        triangles,
+        groups: vec!["chart".into()],
+        corner_uvs: None,
+        seam_edges: Vec::new(),
+    };
+    (sub, vertices)
+}
+
+/// Exact unfolding of a chart and its distortion; `None` when it is not a disk.
+fn flatten_chart(sub: &TriangleMesh) -> Option<(crate::Unfolding, Distortion)> {
+    let unfolding = exact_unfold(sub, &UnfoldOptions::default()).ok()?;
+    let d = distortion(sub, &unfolding.flat);
+    Some((unfolding, d))
+}
+
+/// Splits a connected face set in two connected halves grown from its two faces farthest
+/// apart. `position[f]` is `f`'s index in `faces` (`u32::MAX` outside).
+fn split_in_two(faces: &[u32], neighbours: &[Vec<u32>], position: &[u32]) -> (Vec<u32>, Vec<u32>) {
+    let n = faces.len();
+    let bfs_last = |start: usize| {
+        let mut dist = vec![usize::MAX; n];
+        let mut queue = VecDeque::from([start]);
+        dist[start] = 0;
+        let mut last = start;
+        while let Some(i) = queue.pop_front() {
+            last = i;
+            for &g in &neighbours[faces[i] as usize] {
+                let j = position[g as usize];
+                if j != u32::MAX && dist[j as usize] == usize::MAX {
+                    dist[j as usize] = dist[i] + 1;
+                    queue.push_back(j as usize);
+                }
+            }
+        }
+        last
+    };
+    let s1 = bfs_last(0);
+    let s2 = bfs_last(s1);
+    let s2 = if s2 == s1 { (s1 + 1) % n } else { s2 };
+    // Grow both at the same pace (one queue, labels carried along).
+    let mut label = vec![u8::MAX; n];
+    label[s1] = 0;
+    label[s2] = 1;
+    let mut queue = VecDeque::from([s1, s2]);
+    while let Some(i) = queue.pop_front() {
+        for &g in &neighbours[faces[i] as usize] {
+            let j = position[g as usize];
+            if j != u32::MAX && label[j as usize] == u8::MAX {
+                label[j as usize] = label[i];
+                queue.push_back(j as usize);
+            }
+        }
+    }
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    for (i, &f) in faces.iter().enumerate() {
+        // Faces reached by neither seed cannot occur in a connected set; keep them with `a`.
+        if label[i] == 1 {
+            b.push(f);
+        } else {
+            a.push(f);
+        }
+    }
+    (a, b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A closed cube made of 12 triangles per face side subdivided `n` times.
+    fn cube(n: usize) -> TriangleMesh {
+        let mut mesh = TriangleMesh::default();
+        let mut index: HashMap<[i64; 3], u32> = HashMap::new();
+        let mut vertex = |p: [i64; 3], mesh: &mut TriangleMesh| {
+            *index.entry(p).or_insert_with(|| {
+                mesh.positions
+                    .push(nalgebra::Vector3::new(p[0] as f64, p[1] as f64, p[2] as f64) / n as f64);
+                mesh.positions.len() as u32 - 1
+            })
+        };
+        let n = n as i64;
+        // Each face: origin, two axes, outward normal = u × v.
+        let sides: [([i64; 3], [i64; 3], [i64; 3]); 6] = [
+            ([0, 0, 0], [0, 1, 0], [1, 0, 0]),
+            ([0, 0, n], [1, 0, 0], [0, 1, 0]),
+            ([0, 0, 0], [1, 0, 0], [0, 0, 1]),
+            ([0, n, 0], [0, 0, 1], [1, 0, 0]),
+            ([0, 0, 0], [0, 0, 1], [0, 1, 0]),
+            ([n, 0, 0], [0, 1, 0], [0, 0, 1]),
+        ];
+        for (o, u, v) in sides {
+            let at = |i: i64, j: i64| {
+                [
+                    o[0] + u[0] * i + v[0] * j,
+                    o[1] + u[1] * i + v[1] * j,
+                    o[2] + u[2] * i + v[2] * j,
+                ]
+            };
+            for i in 0..n {
+                for j in 0..n {
+                    let a = vertex(at(i, j), &mut mesh);
+                    let b = vertex(at(i + 1, j), &mut mesh);
+                    let c = vertex(at(i + 1, j + 1), &mut mesh);
+                    let d = vertex(at(i, j + 1), &mut mesh);
+                    mesh.triangles.push([a, b, c]);
+                    mesh.triangles.push([a, c, d]);
+                }
+            }
+        }
+        mesh.face_groups = vec![0; mesh.triangles.len()];
+        mesh.groups = vec!["cube".into()];
+        mesh
+    }
+
+    #[test]
+    fn a_cube_is_cut_along_its_creases_into_six_exact_squares() {
+        let mesh = cube(3);
+        assert_eq!(mesh_topology(&mesh).euler_characteristic, 2);
+        let set = cut_into_charts(&mesh, &ChartOptions::default()).unwrap();
+        assert_eq!(set.charts.len(), 6);
+        assert_eq!(set.split_count, 0);
+        assert_eq!(set.seam_edge_count, 12 * 3);
+        for c in &set.charts {
+            assert_eq!(c.faces.len(), 18);
+            assert!(c.distortion.edge_length_max_relative < 1e-12);
+            assert!(c.distortion.is_overlap_free());
+        }
+    }
+
+    #[test]
+    fn without_creases_a_closed_surface_is_split_until_every_chart_is_a_flat_disk() {
+        let mesh = cube(3);
+        let options = ChartOptions {
+            crease_angle_degrees: 180.0,
+            ..Default::default()
+        };
+        let set = cut_into_charts(&mesh, &options).unwrap();
+        assert!(set.split_count >= 1 && set.initial_chart_count == 1);
+        let total: usize = set.charts.iter().map(|c| c.faces.len()).sum();
+        assert_eq!(total, mesh.triangles.len());
+        for c in &set.charts {
+            assert!(c.distortion.is_overlap_free());
+            assert!(c.distortion.edge_length_max_relative <= options.max_edge_distortion);
+        }
+    }
+
+    #[test]
+    fn user_seams_cut_where_no_crease_is() {
+        // Without creases, a seam ring around the cube's middle leaves two open boxes.
+        let mut mesh = cube(2);
+        let mid = |v: u32| (mesh.positions[v as usize].z - 0.5).abs() < 1e-12;
+        let mut ring = Vec::new();
+        for t in &mesh.triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                if a < b && mid(a) && mid(b) {
+                    ring.push([a, b]);
+                }
+            }
+        }
+        assert_eq!(ring.len(), 8);
+        mesh.seam_edges = ring;
+        let options = ChartOptions {
+            crease_angle_degrees: 180.0,
+            max_edge_distortion: 1.0,
+            ..Default::default()
+        };
+        let set = cut_into_charts(&mesh, &options).unwrap();
+        assert_eq!(set.initial_chart_count, 2);
+        assert!(set.seam_edge_count >= 8);
+    }
+
+    #[test]
+    fn user_seams_must_be_mesh_edges() {
+        let mut mesh = cube(1);
+        // Opposite corners of the cube are never joined by an edge.
+        let corner = |p: [f64; 3]| {
+            mesh.positions
+                .iter()
+                .position(|q| (q - nalgebra::Vector3::from(p)).norm() < 1e-12)
+                .unwrap() as u32
+        };
+        mesh.seam_edges = vec![[corner([0.0, 0.0, 0.0]), corner([1.0, 1.0, 1.0])]];
+        let e = cut_into_charts(&mesh, &ChartOptions::default()).unwrap_err();
+        assert!(e.to_string().contains("seam edge 0"), "{e}");
+    }
+}
