@@ -5,9 +5,10 @@ use faer::prelude::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Col, Side};
+use rustc_hash::FxHashMap as HashMap;
 use sheetform_mesh::{mesh_topology, TriangleMesh};
 use sheetform_solve::SolverInfo;
-use std::collections::{HashMap, VecDeque};
+use std::collections::VecDeque;
 
 /// Knobs of [`exact_unfold`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -77,7 +78,7 @@ pub fn exact_unfold(mesh: &TriangleMesh, options: &UnfoldOptions) -> Result<Unfo
     let nf = mesh.triangles.len();
     let nv = mesh.positions.len();
     // Face adjacency across edges.
-    let mut edge_faces: HashMap<[u32; 2], Vec<u32>> = HashMap::with_capacity(nf * 2);
+    let mut edge_faces: HashMap<[u32; 2], Vec<u32>> = HashMap::with_capacity_and_hasher(nf * 2, Default::default());
     for (f, t) in mesh.triangles.iter().enumerate() {
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);

@@ -1,5 +1,5 @@
 use crate::TriangleMesh;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// The combinatorial structure of a triangle mesh and everything wrong with it.
 ///
@@ -53,7 +53,8 @@ pub fn mesh_topology(mesh: &TriangleMesh) -> MeshTopology {
         ..Default::default()
     };
     // Directed edge → face, undirected edge → faces.
-    let mut edges: HashMap<[u32; 2], Vec<(u32, bool)>> = HashMap::with_capacity(mesh.triangles.len() * 2);
+    let mut edges: HashMap<[u32; 2], Vec<(u32, bool)>> =
+        HashMap::with_capacity_and_hasher(mesh.triangles.len() * 2, Default::default());
     let mut used = vec![false; nv];
     for (f, t) in mesh.triangles.iter().enumerate() {
         if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || mesh.face_area(f) <= 1e-14 * scale * scale {
@@ -82,7 +83,7 @@ pub fn mesh_topology(mesh: &TriangleMesh) -> MeshTopology {
     let nf = mesh.triangles.len();
     let mut neighbours: Vec<Vec<(u32, bool)>> = vec![Vec::new(); nf];
     let mut consistent = true;
-    let mut boundary_next: HashMap<u32, Vec<u32>> = HashMap::new();
+    let mut boundary_next: HashMap<u32, Vec<u32>> = HashMap::default();
     for (key, faces) in &edges {
         match faces.len() {
             1 => {
