@@ -15,9 +15,11 @@ use std::collections::VecDeque;
 pub struct UnfoldOptions {
     /// Most Gauss–Newton iterations of the global refinement.
     pub max_iterations: usize,
-    /// Stop when the largest relative edge-length residual is below this (1e-12: exact to
-    /// rounding, 100× below what the tests require; an exactly developable mesh needs no
-    /// iteration, so it unfolds in linear time).
+    /// Stop when the largest relative edge-length residual is below this (1e-11: 10× below
+    /// the 1e-10 the tests require; an exactly developable mesh needs no iteration, so it
+    /// unfolds in linear time). Not 1e-12: the breadth-first layout of a developable mesh
+    /// accumulates rounding to ~1e-12 along paths of a thousand faces, and a Gauss–Newton
+    /// step to remove that costs seconds at 1M faces and buys nothing.
     pub tolerance: f64,
 }
 
@@ -25,7 +27,7 @@ impl Default for UnfoldOptions {
     fn default() -> Self {
         Self {
             max_iterations: 30,
-            tolerance: 1e-12,
+            tolerance: 1e-11,
         }
     }
 }
