@@ -17,11 +17,12 @@ pub use dxf_pattern::{dxf_bytes, DxfUnit};
 pub use error::PatternError;
 pub use glue_tabs::{add_glue_tabs, TabOptions, TabReport, TabSides, TabbedLoops};
 pub use pattern::{
-    pattern_from_mesh, signed_fold_angle, Fold, FoldStyle, Label, LabelKind, Pattern, PatternOptions, PatternPiece,
+    pattern_from_mesh, point_bounds, signed_fold_angle, Fold, FoldStyle, Label, LabelKind, Pattern, PatternOptions,
+    PatternPiece,
 };
 pub use pdf_tiles::{pdf_tiled, PageSize, PdfOptions, TiledPdf};
 pub use seam_matching::{match_seams, SeamRun};
-pub use sheet_packing::{arrange_in_rows, pack_pieces, smallest_bounding_rotation, SheetOptions};
+pub use sheet_packing::{arrange_in_rows, pack_pieces, rotated, smallest_bounding_rotation, SheetOptions};
 pub use svg_pattern::svg_bytes;
 
 /// A point on the pattern (millimetres).

@@ -118,17 +118,8 @@ impl Default for PatternOptions {
 impl Pattern {
     /// Axis-aligned bounds `(min, max)` over the cut loops and sheets.
     pub fn bounds(&self) -> (Vec2, Vec2) {
-        let mut lo = Vec2::repeat(f64::INFINITY);
-        let mut hi = Vec2::repeat(f64::NEG_INFINITY);
-        for p in self.cut_loops().flatten() {
-            lo = lo.inf(p);
-            hi = hi.sup(p);
-        }
-        for (origin, size) in &self.sheets {
-            lo = lo.inf(origin);
-            hi = hi.sup(&(origin + size));
-        }
-        (lo, hi)
+        let corners: Vec<Vec2> = self.sheets.iter().flat_map(|(o, size)| [*o, o + size]).collect();
+        point_bounds(self.cut_loops().flatten().chain(&corners))
     }
 
     /// Every cut loop of every piece.
@@ -204,14 +195,16 @@ impl PatternPiece {
 
     /// Axis-aligned bounds of the cut loops.
     pub fn bounds(&self) -> (Vec2, Vec2) {
-        let mut lo = Vec2::repeat(f64::INFINITY);
-        let mut hi = Vec2::repeat(f64::NEG_INFINITY);
-        for p in self.cut.iter().flatten() {
-            lo = lo.inf(p);
-            hi = hi.sup(p);
-        }
-        (lo, hi)
+        point_bounds(self.cut.iter().flatten())
     }
+}
+
+/// Axis-aligned bounds `(min, max)` of points (infinite, inverted, when there are none).
+pub fn point_bounds<'a>(points: impl IntoIterator<Item = &'a Vec2>) -> (Vec2, Vec2) {
+    points.into_iter().fold(
+        (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+    )
 }
 
 /// Signed dihedral fold angle (radians) across the edge `a → b` shared by triangles
@@ -322,23 +315,16 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
             ruling_edge.insert(key(w[0], w[1]));
         }
     }
-    let mut edge_faces: HashMap<[u32; 2], Vec<(u32, usize)>> = HashMap::with_capacity(mesh.triangles.len() * 2);
-    for (f, t) in mesh.triangles.iter().enumerate() {
-        for j in 0..3 {
-            edge_faces
-                .entry(key(t[j], t[(j + 1) % 3]))
-                .or_default()
-                .push((f as u32, j));
-        }
-    }
+    let edge_faces = mesh.edge_faces();
     let min_fold = options.min_fold_angle_degrees.to_radians();
     let mut fold_edges: Vec<([u32; 2], f64)> = edge_faces
         .iter()
         .filter(|(e, faces)| faces.len() == 2 && !ruling_edge.contains(*e))
         .filter_map(|(e, faces)| {
-            let (f, j) = faces[0];
-            let (g, _) = faces[1];
+            let (f, g) = (faces[0], faces[1]);
             let t = mesh.triangles[f as usize];
+            // The edge as the first face runs it, and that face's third vertex.
+            let j = (0..3).find(|&j| key(t[j], t[(j + 1) % 3]) == *e)?;
             let (a, b, c) = (t[j], t[(j + 1) % 3], t[(j + 2) % 3]);
             let d = *mesh.triangles[g as usize].iter().find(|&&v| v != a && v != b)?;
             let angle = signed_fold_angle([a, b, c, d].map(|v| mesh.positions[v as usize]));

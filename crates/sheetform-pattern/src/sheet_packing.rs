@@ -27,6 +27,12 @@ impl SheetOptions {
 /// Space between sheets in the combined drawing (mm).
 const SHEET_SPACING_MM: f64 = 20.0;
 
+/// `p` turned by `angle` radians about the origin.
+pub fn rotated(p: Vec2, angle: f64) -> Vec2 {
+    let (s, c) = angle.sin_cos();
+    Vec2::new(c * p.x - s * p.y, s * p.x + c * p.y)
+}
+
 /// Convex hull (counter-clockwise, Andrew's monotone chain).
 fn convex_hull(mut points: Vec<Vec2>) -> Vec<Vec2> {
     points.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
@@ -61,14 +67,8 @@ fn convex_hull(mut points: Vec<Vec2>) -> Vec<Vec2> {
 pub fn smallest_bounding_rotation(points: &[Vec2]) -> (f64, Vec2) {
     let hull = convex_hull(points.to_vec());
     let size_at = |angle: f64| {
-        let (s, c) = angle.sin_cos();
-        let mut lo = Vec2::repeat(f64::INFINITY);
-        let mut hi = Vec2::repeat(f64::NEG_INFINITY);
-        for p in &hull {
-            let q = Vec2::new(c * p.x - s * p.y, s * p.x + c * p.y);
-            lo = lo.inf(&q);
-            hi = hi.sup(&q);
-        }
+        let turned: Vec<Vec2> = hull.iter().map(|&p| rotated(p, angle)).collect();
+        let (lo, hi) = crate::point_bounds(&turned);
         hi - lo
     };
     let mut best = (0.0, size_at(0.0));
@@ -198,9 +198,7 @@ pub fn pack_pieces(pattern: &mut Pattern, options: &SheetOptions) -> Result<(), 
         .map(|s| (Vec2::new(s as f64 * (w + SHEET_SPACING_MM), 0.0), Vec2::new(w, h)))
         .collect();
     for (i, angle, sheet, corner) in placed {
-        let (s, c) = angle.sin_cos();
-        let rotate = move |p: Vec2| Vec2::new(c * p.x - s * p.y, s * p.x + c * p.y);
-        let turned = pattern.pieces[i].transformed(rotate, angle);
+        let turned = pattern.pieces[i].transformed(|p| rotated(p, angle), angle);
         let (lo, _) = turned.bounds();
         let target = pattern.sheets[sheet].0 + Vec2::new(gap, gap) + corner;
         let mut moved = turned.translated(target - lo);

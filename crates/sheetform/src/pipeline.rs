@@ -15,8 +15,8 @@ use sheetform_mesh::{
     MeshTopology, Piece, PieceKind, SheetMesh, TriangleMesh, VertexDevelopability,
 };
 use sheetform_pattern::{
-    arrange_in_rows, dxf_bytes, pattern_from_mesh, pdf_tiled, smallest_bounding_rotation, svg_bytes, DxfUnit,
-    FoldStyle, PageSize, PatternError, PatternOptions, PdfOptions, SheetOptions, TabOptions,
+    arrange_in_rows, dxf_bytes, pattern_from_mesh, pdf_tiled, point_bounds, rotated, smallest_bounding_rotation,
+    svg_bytes, DxfUnit, FoldStyle, PageSize, PatternError, PatternOptions, PdfOptions, SheetOptions, TabOptions,
 };
 use std::path::Path;
 
@@ -624,18 +624,16 @@ pub fn run_flatten(path: &Path, options: &FlattenOptions) -> Result<FlattenRun, 
             rulings: vec![],
             unit: options.unit,
         };
-        let d = distortion(&mesh, &unfolding.flat);
-        report.charts = vec![chart_report(
-            &name,
-            &format!("{:?}", options.method).to_lowercase(),
-            mesh.triangles.len(),
-            &d,
-        )];
         report.solver = Some(unfolding.solver);
         (sheet, solved)
     };
-    // Distortion and overlaps over the whole pattern (charts against each other too).
+    // Distortion and overlaps over the whole pattern (charts against each other too);
+    // a mesh flattened whole is its own single chart.
     let d = distortion(&sheet.to_triangle_mesh(), &sheet.flat);
+    if !use_charts {
+        let method = format!("{:?}", options.method).to_lowercase();
+        report.charts = vec![chart_report(&name, &method, mesh.triangles.len(), &d)];
+    }
     let mut files = vec![
         ("model.obj".to_string(), obj_string(&sheet, &name).into_bytes()),
         ("model.glb".to_string(), glb_bytes(&sheet, &name, None)),
@@ -689,22 +687,13 @@ fn sheet_from_charts(mesh: &TriangleMesh, set: &ChartSet, name: &str, unit: Leng
         .iter()
         .map(|c| {
             let (angle, _) = smallest_bounding_rotation(&c.flat);
-            let (s, co) = angle.sin_cos();
-            c.flat
-                .iter()
-                .map(|p| Vec2::new(co * p.x - s * p.y, s * p.x + co * p.y))
-                .collect()
+            c.flat.iter().map(|&p| rotated(p, angle)).collect()
         })
         .collect();
     let sizes: Vec<(Vec2, Vec2)> = turned
         .iter()
         .map(|flat| {
-            let mut lo = Vec2::repeat(f64::INFINITY);
-            let mut hi = Vec2::repeat(f64::NEG_INFINITY);
-            for p in flat {
-                lo = lo.inf(p);
-                hi = hi.sup(p);
-            }
+            let (lo, hi) = point_bounds(flat);
             (lo, hi - lo)
         })
         .collect();
