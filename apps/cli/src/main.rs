@@ -10,8 +10,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use sheetform::flatten::ChartOptions;
 use sheetform::pattern::{DxfUnit, PageSize, SheetOptions, TabOptions, TabSides};
 use sheetform::pipeline::{
-    inadmissible_report, run_bend, run_check, run_flatten, write_outputs, BendRunOptions, ChartMode, CheckOptions,
-    FlattenMethod, FlattenOptions, PatternOutputOptions, PipelineError,
+    inadmissible_report, run_bend, run_check, run_flatten, run_slit, write_outputs, BendRunOptions, ChartMode,
+    CheckOptions, FlattenMethod, FlattenOptions, PatternOutputOptions, PipelineError, SlitRunOptions,
 };
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -51,6 +51,19 @@ enum Command {
         /// (frames/frame-0000.obj …).
         #[arg(long, value_name = "N", default_value_t = 0)]
         animate: usize,
+        #[command(flatten)]
+        pattern: PatternArgs,
+    },
+    /// Design furniture from one sheet with parallel slits (Tsuruta et al.): solves every
+    /// strip, writes the full symmetric model (model.obj with vt = flat sheet at 1:1,
+    /// model.glb, model.stl), the cutting pattern (pattern.svg/.dxf/.pdf: outline and
+    /// slits to cut, ridge lines to fold or score), mould.stl and report.json.
+    Slit {
+        /// Scene file (JSON; schema: `sheetform schema slit`).
+        scene: PathBuf,
+        /// Output directory (created if missing).
+        #[arg(short, long)]
+        output: PathBuf,
         #[command(flatten)]
         pattern: PatternArgs,
     },
@@ -370,6 +383,8 @@ fn flatten_command(mesh: PathBuf, output: PathBuf, args: FlattenArgs, quiet: boo
 enum SchemaFormat {
     /// The bend scene.
     Bend,
+    /// The slit scene.
+    Slit,
 }
 
 fn progress_bar(quiet: bool) -> Option<ProgressBar> {
@@ -455,6 +470,38 @@ fn bend_command(
     }
 }
 
+fn slit_command(scene: PathBuf, output: PathBuf, pattern: PatternArgs, quiet: bool) -> Result<ExitCode, PipelineError> {
+    let text = std::fs::read_to_string(&scene).map_err(|source| PipelineError::Read {
+        path: scene.display().to_string(),
+        source,
+    })?;
+    let options = SlitRunOptions {
+        pattern: pattern.into(),
+        input: Some(scene.display().to_string()),
+        base_dir: scene.parent().map(|p| p.to_path_buf()),
+    };
+    let run = run_slit(&text, &options)?;
+    write_outputs(&output, &run.files, &run.report)?;
+    if !quiet {
+        let slit = run.report.slit.as_ref().expect("slit report");
+        eprintln!(
+            "slit `{}`: {} strips, E = {:.1e} (gap {:.2e} mm), {}; wrote {} files to {}",
+            scene.display(),
+            slit.strips.len(),
+            slit.normalised_error,
+            slit.gap_max_mm,
+            if slit.converged {
+                "converged"
+            } else {
+                "NOT all strips converged"
+            },
+            run.report.outputs.len(),
+            output.display()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -464,6 +511,7 @@ fn main() -> ExitCode {
             animate,
             pattern,
         } => bend_command(scene, output, animate, pattern, cli.quiet),
+        Command::Slit { scene, output, pattern } => slit_command(scene, output, pattern, cli.quiet),
         Command::Check {
             mesh,
             output,
@@ -491,6 +539,15 @@ fn main() -> ExitCode {
             },
             cli.quiet,
         ),
+        Command::Schema {
+            format: SchemaFormat::Slit,
+        } => {
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&sheetform::slit::SlitScene::json_schema()).expect("schema serialises")
+            );
+            Ok(ExitCode::SUCCESS)
+        }
         Command::Schema {
             format: SchemaFormat::Bend,
         } => {

@@ -1,7 +1,8 @@
 //! The pipelines every front end calls.
 
 use crate::report::{
-    AngleDefects, ChartReport, PatternReport, RegionReport, RegressionEntry, Report, SegmentationReport, Timings,
+    AngleDefects, ChartReport, MouldReport, PatternReport, RegionReport, RegressionEntry, Report, SegmentationReport,
+    SlitReport, StripReport, Timings,
 };
 use sheetform_bend::{bend, BendError, BendModel, BendScene, BentSheet};
 use sheetform_flatten::{
@@ -18,6 +19,7 @@ use sheetform_pattern::{
     arrange_in_rows, dxf_bytes, pattern_from_mesh, pdf_tiled, point_bounds, rotated, smallest_bounding_rotation,
     svg_bytes, DxfUnit, FoldStyle, PageSize, PatternError, PatternOptions, PdfOptions, SheetOptions, TabOptions,
 };
+use sheetform_slit::{build_mould, slit_mesh, solve_design, SlitDesign, SlitError, SlitModel, SlitScene};
 use std::path::Path;
 
 type Vec2 = nalgebra::Vector2<f64>;
@@ -55,6 +57,9 @@ pub enum PipelineError {
         /// What is wrong.
         message: String,
     },
+    /// The slit-sheet model is invalid or cannot be built.
+    #[error(transparent)]
+    Slit(#[from] SlitError),
     /// The pattern files cannot be made.
     #[error(transparent)]
     Pattern(#[from] PatternError),
@@ -277,6 +282,127 @@ pub fn run_bend(
     Ok(BendRun {
         model,
         sheet,
+        files,
+        report,
+    })
+}
+
+/// Knobs of `sheetform slit`.
+#[derive(Debug, Clone, Default)]
+pub struct SlitRunOptions {
+    /// How the pattern is written.
+    pub pattern: PatternOutputOptions,
+    /// Input path, recorded in the report.
+    pub input: Option<String>,
+    /// Directory that relative paths in the scene (the scan) are relative to.
+    pub base_dir: Option<std::path::PathBuf>,
+}
+
+/// A finished slit run.
+#[derive(Debug)]
+pub struct SlitRun {
+    /// The validated model.
+    pub model: SlitModel,
+    /// The solved design.
+    pub design: SlitDesign,
+    /// The full symmetric sheet.
+    pub mesh: SheetMesh,
+    /// Rendered outputs `(file name, bytes)`, not yet written.
+    pub files: RenderedFiles,
+    /// The report.
+    pub report: Report,
+}
+
+/// Runs system B on a scene's JSON text: solve the strips, build the full sheet and its
+/// pattern, the mould, and the report.
+///
+/// # Errors
+/// [`PipelineError::Slit`] for invalid scenes (naming the field) and impossible moulds.
+pub fn run_slit(scene_text: &str, options: &SlitRunOptions) -> Result<SlitRun, PipelineError> {
+    let start = Instant::now();
+    let scene = SlitScene::from_json(scene_text)?;
+    let model = SlitModel::from_scene(&scene, options.base_dir.as_deref())?;
+    let parsed = Instant::now();
+    let design = solve_design(&model);
+    let mesh = slit_mesh(&model, &design);
+    let mould = if model.mould.enabled {
+        Some(build_mould(&model, &design)?)
+    } else {
+        None
+    };
+    let solved = Instant::now();
+    let name = model.name.clone().unwrap_or_else(|| "slit sheet".into());
+    let mut files: RenderedFiles = vec![
+        ("model.obj".into(), obj_string(&mesh, &name).into_bytes()),
+        ("model.glb".into(), glb_bytes(&mesh, &name, None)),
+        ("model.stl".into(), stl_bytes(&mesh)),
+    ];
+    let (pattern, pattern_report) = pattern_files(&mesh, &name, &options.pattern)?;
+    files.extend(pattern);
+    let mm = model.unit.millimetres();
+    let mould_report = mould.as_ref().map(|m| {
+        let solid = SheetMesh {
+            positions: m.positions.clone(),
+            flat: vec![Vec2::zeros(); m.positions.len()],
+            triangles: m.triangles.clone(),
+            face_pieces: vec![0; m.triangles.len()],
+            pieces: vec![Piece {
+                name: "mould".into(),
+                kind: PieceKind::Planar,
+            }],
+            rulings: vec![],
+            unit: model.unit,
+        };
+        files.push(("mould.stl".into(), stl_bytes(&solid)));
+        MouldReport {
+            face_count: m.triangles.len(),
+            volume_mm3: m.volume() * mm * mm * mm,
+            watertight: m.is_watertight(),
+        }
+    });
+    let exported = Instant::now();
+    let iso = isometry_error(&mesh);
+    let mut report = Report::new("slit", options.input.clone());
+    report.model_unit = model.unit.symbol().into();
+    report.vertex_count = mesh.vertex_count();
+    report.face_count = mesh.triangles.len();
+    report.isometry_error_max_relative = Some(iso.max_relative);
+    report.isometry_error_mean_relative = Some(iso.mean_relative);
+    report.flat_area_mm2 = Some(mesh.flat_area() * mm * mm);
+    report.area_mm2 = mesh.area() * mm * mm;
+    report.piece_count = Some(mesh.pieces.len());
+    report.pattern = Some(pattern_report);
+    report.slit = Some(SlitReport {
+        solve_mode: format!("{:?}", model.solver.mode).to_lowercase(),
+        gap_handling: format!("{:?}", model.solver.gap).to_lowercase(),
+        subdivision_count: design.level,
+        normalised_error: design.normalised_error,
+        gap_max_mm: design.gap * mm,
+        converged: design.strips.iter().all(|s| s.converged),
+        strips: design
+            .strips
+            .iter()
+            .map(|s| StripReport {
+                strip: s.strip,
+                quad_count: s.quads,
+                iterations: s.iterations,
+                initial_penalty: s.initial_penalty,
+                penalty: s.penalty.total,
+                penalty_terms: s.penalty,
+                gap_mm: s.gap * mm,
+                normalised_error: s.normalised_error,
+                converged: s.converged,
+                time_ms: s.time_ms,
+            })
+            .collect(),
+        mould: mould_report,
+    });
+    report.timings = Timings::from_stages(start, parsed, solved, exported);
+    report.outputs = output_names(&files);
+    Ok(SlitRun {
+        model,
+        design,
+        mesh,
         files,
         report,
     })

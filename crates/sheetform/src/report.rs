@@ -78,6 +78,63 @@ pub struct RegionReport {
     pub closure_gap_mm: Option<f64>,
 }
 
+/// One strip of a slit sheet (`slit`).
+#[derive(Debug, Clone, Serialize)]
+pub struct StripReport {
+    /// Strip index (0 at `z = 0`).
+    pub strip: usize,
+    /// Quads per half strip (after subdivision).
+    pub quad_count: usize,
+    /// Levenberg–Marquardt iterations (all subdivision levels).
+    pub iterations: usize,
+    /// The paper's penalty `F` (Eq. 1) before solving.
+    pub initial_penalty: f64,
+    /// `F` at the end.
+    pub penalty: f64,
+    /// `F`'s terms at the end, each with its weight.
+    pub penalty_terms: sheetform_slit::strip_penalty::PenaltyTerms,
+    /// Largest distance of the strip's end from the symmetry plane.
+    pub gap_mm: f64,
+    /// `gap_mm / (L2 + L3)`.
+    pub normalised_error: f64,
+    /// Converged (see `StripSolveInfo::converged`).
+    pub converged: bool,
+    /// Solver time.
+    pub time_ms: f64,
+}
+
+/// The slit-sheet design (`slit`).
+#[derive(Debug, Clone, Serialize)]
+pub struct SlitReport {
+    /// `independent` or `joint`.
+    pub solve_mode: String,
+    /// `exact` or `penalty`.
+    pub gap_handling: String,
+    /// Subdivisions applied.
+    pub subdivision_count: usize,
+    /// `E = G / (L2 + L3)` (§4), `G` the largest gap over all strips.
+    pub normalised_error: f64,
+    /// `G`.
+    pub gap_max_mm: f64,
+    /// Every strip converged.
+    pub converged: bool,
+    /// Per strip.
+    pub strips: Vec<StripReport>,
+    /// The mould (`null` when disabled).
+    pub mould: Option<MouldReport>,
+}
+
+/// The printable mould (`slit`).
+#[derive(Debug, Clone, Serialize)]
+pub struct MouldReport {
+    /// Triangles in `mould.stl`.
+    pub face_count: usize,
+    /// Enclosed volume.
+    pub volume_mm3: f64,
+    /// Every edge is shared by exactly two faces in opposite directions.
+    pub watertight: bool,
+}
+
 /// Angle-defect figures of a mesh (Wang & Tang 2004): the same keys in every command.
 #[derive(Debug, Clone, Serialize)]
 pub struct AngleDefects {
@@ -240,6 +297,9 @@ pub struct Report {
     /// The solver's report (`flatten`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub solver: Option<sheetform_solve::SolverInfo>,
+    /// `slit`: the strips, the gap and the mould.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub slit: Option<SlitReport>,
     /// Files written (relative to the output directory).
     pub outputs: Vec<String>,
     /// Stage times.
@@ -275,6 +335,7 @@ impl Report {
             charts: vec![],
             segmentation: None,
             solver: None,
+            slit: None,
             outputs: vec![],
             timings: Timings::default(),
         }

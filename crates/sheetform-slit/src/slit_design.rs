@@ -1,0 +1,475 @@
+//! Scene → validated model → solved design, and the edits of §3.2: anchors added and
+//! removed (only the affected strip is solved again, from its current state) and
+//! subdivision (Fig. 13).
+
+use crate::point_cloud::ScanCloud;
+use crate::strip_folding::{fold_strip, FoldedStrip, RidgeEnd, StripStart, StripState};
+use crate::strip_penalty::{StripTerms, VertexAnchor};
+use crate::strip_solver::{solve_gap_constrained, solve_strip, JointProblem, StripSolveInfo, StripSolveOptions};
+use crate::{
+    AnchorSpec, MouldSpec, SeatCurve, SheetLayout, SidePanel, SlitError, SlitScene, SolveMode, SolverSpec, StripSide,
+    WeightsSpec,
+};
+use nalgebra::{DVector, Vector2, Vector3};
+use rayon::prelude::*;
+use sheetform_geometry::Bezier2;
+use sheetform_mesh::LengthUnit;
+
+type Vec3 = Vector3<f64>;
+
+/// Segments of the seat-curve polyline.
+const SEAT_SEGMENTS: usize = 256;
+
+/// A validated slit-sheet model: the flat sheet, the two design curves, the anchors, the
+/// weights and the solver settings.
+#[derive(Debug)]
+pub struct SlitModel {
+    /// Name from the scene.
+    pub name: Option<String>,
+    /// Length unit.
+    pub unit: LengthUnit,
+    /// The flat sheet.
+    pub layout: SheetLayout,
+    /// The side panel (leg).
+    pub panel: SidePanel,
+    /// The seat curve on the symmetry plane.
+    pub seat: Option<SeatCurve>,
+    /// Position anchors (ridge indices before subdivision).
+    pub anchors: Vec<AnchorSpec>,
+    /// Penalty weights.
+    pub weights: WeightsSpec,
+    /// Solver settings.
+    pub solver: SolverSpec,
+    /// Scanned points to fit.
+    pub scan: Option<ScanCloud>,
+    /// Mould settings.
+    pub mould: MouldSpec,
+}
+
+fn planar_bezier(field: &str, points: &[[f64; 2]]) -> Result<Bezier2, SlitError> {
+    if points.len() < 2 {
+        return Err(SlitError::field(
+            format!("{field}.control_points"),
+            format!("needs at least two points, got {}", points.len()),
+        ));
+    }
+    if let Some(i) = points.iter().position(|p| p.iter().any(|c| !c.is_finite())) {
+        return Err(SlitError::field(
+            format!("{field}.control_points[{i}]"),
+            "not a finite number",
+        ));
+    }
+    Bezier2::new(points.iter().map(|p| Vector2::new(p[0], p[1])).collect())
+        .map_err(|e| SlitError::field(format!("{field}.control_points"), e.to_string()))
+}
+
+impl SlitModel {
+    /// Validates a scene. `base_dir` is where relative paths (the scan) are resolved.
+    ///
+    /// # Errors
+    /// [`SlitError::Field`] naming the first invalid field: lengths ≤ 0, no strips, slits
+    /// wider than the sheet, a leg curve shorter than the panel or whose strips cannot
+    /// reach the symmetry plane, a seat curve that does not span the strips or that they
+    /// cannot reach, anchors on strips or ridge lines that do not exist, bad weights.
+    /// [`SlitError::PointCloud`] for an unreadable scan.
+    pub fn from_scene(scene: &SlitScene, base_dir: Option<&std::path::Path>) -> Result<Self, SlitError> {
+        let layout = SheetLayout::new(&scene.sheet)?;
+        let solver = scene.solver;
+        if !(solver.gap_tolerance.is_finite() && solver.gap_tolerance > 0.0) {
+            return Err(SlitError::field("solver.gap_tolerance", "must be a positive number"));
+        }
+        if solver.max_iterations == 0 {
+            return Err(SlitError::field("solver.max_iterations", "must be at least 1"));
+        }
+        if solver.subdivisions > 6 {
+            return Err(SlitError::field(
+                "solver.subdivisions",
+                format!("at most 6 (each doubles the quads), got {}", solver.subdivisions),
+            ));
+        }
+        if !(1..=1000).contains(&solver.leg_segments) {
+            return Err(SlitError::field("solver.leg_segments", "must be between 1 and 1000"));
+        }
+        let w = scene.weights;
+        for (name, value) in [
+            ("weights.no_gap", w.no_gap),
+            ("weights.smooth", w.smooth),
+            ("weights.fair", w.fair),
+            ("weights.user_control", w.user_control),
+            ("weights.scan", w.scan),
+            ("weights.neighbour", w.neighbour),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(SlitError::field(
+                    name,
+                    format!("must be a non-negative number, got {value}"),
+                ));
+            }
+        }
+        if w.no_gap <= 0.0 {
+            return Err(SlitError::field(
+                "weights.no_gap",
+                "must be positive (it closes the strips)",
+            ));
+        }
+        if w.fair <= 0.0 {
+            return Err(SlitError::field(
+                "weights.fair",
+                "must be positive (it keeps quads from collapsing)",
+            ));
+        }
+        let panel = match &scene.leg_curve {
+            Some(spec) => SidePanel::new(
+                &planar_bezier("leg_curve", &spec.control_points)?,
+                layout.panel_length,
+                solver.leg_segments,
+            )?,
+            None => SidePanel::vertical(layout.strip_length, layout.panel_length, solver.leg_segments),
+        };
+        let top = panel.top();
+        if top.x > layout.strip_length * (1.0 + 1e-12) {
+            return Err(SlitError::field(
+                "leg_curve",
+                format!(
+                    "unreachable: the strips start at x = {:.6} from the symmetry plane but are only \
+                     l3_strip_length = {} long, so they cannot reach it",
+                    top.x, layout.strip_length
+                ),
+            ));
+        }
+        let seat = match &scene.seat_curve {
+            Some(spec) => {
+                let curve = SeatCurve::from_bezier(&planar_bezier("seat_curve", &spec.control_points)?, SEAT_SEGMENTS);
+                let (lo, hi) = curve.z_range();
+                let slack = 1e-9 * layout.width;
+                if lo > slack || hi < layout.width - slack {
+                    return Err(SlitError::field(
+                        "seat_curve",
+                        format!(
+                            "misses strips: it spans z = {lo:.6} .. {hi:.6} on the symmetry plane but the strips' ends \
+                             span z = 0 .. {} (l1_width); give it control points from z = 0 to z = {}",
+                            layout.width, layout.width
+                        ),
+                    ));
+                }
+                for k in 0..layout.strip_count {
+                    for z in [
+                        layout.strip_left_edge(k),
+                        layout.strip_left_edge(k) + layout.strip_width,
+                    ] {
+                        let Some(y) = curve.height_at(z) else { continue };
+                        let reach = Vector2::new(top.x, y - top.y).norm();
+                        if reach > layout.strip_length * (1.0 + 1e-9) {
+                            return Err(SlitError::field(
+                                "seat_curve",
+                                format!(
+                                    "unreachable: at z = {z:.3} it is at height {y:.3}, {reach:.3} away from where strip \
+                                     {k} starts ({:.3}, {:.3}), but the strip is only l3_strip_length = {} long",
+                                    top.x, top.y, layout.strip_length
+                                ),
+                            ));
+                        }
+                    }
+                }
+                Some(curve)
+            }
+            None => None,
+        };
+        let model = Self {
+            name: scene.name.clone(),
+            unit: scene.units,
+            layout,
+            panel,
+            seat,
+            anchors: Vec::new(),
+            weights: w,
+            solver,
+            scan: match &scene.scan {
+                Some(spec) => {
+                    let path = base_dir.map_or_else(|| spec.points.clone().into(), |d| d.join(&spec.points));
+                    Some(ScanCloud::read(&path)?)
+                }
+                None => None,
+            },
+            mould: scene.mould,
+        };
+        if !(model.mould.base_thickness.is_finite() && model.mould.base_thickness > 0.0) {
+            return Err(SlitError::field("mould.base_thickness", "must be a positive length"));
+        }
+        let mut model = model;
+        for (i, a) in scene.anchors.iter().enumerate() {
+            model.add_anchor(*a).map_err(|e| match e {
+                SlitError::Field { field, message } => SlitError::field(format!("anchors[{i}]{field}"), message),
+                other => other,
+            })?;
+        }
+        Ok(model)
+    }
+
+    /// Adds a position anchor (Fig. 12).
+    ///
+    /// # Errors
+    /// A strip or ridge line that does not exist, E0 (fixed), a non-finite position, or
+    /// a position the ridge line's end cannot reach; the field is relative (`.strip`).
+    pub fn add_anchor(&mut self, anchor: AnchorSpec) -> Result<(), SlitError> {
+        let l = &self.layout;
+        if anchor.strip >= l.strip_count {
+            return Err(SlitError::field(
+                ".strip",
+                format!(
+                    "strip {} does not exist (the sheet has strips 0..{})",
+                    anchor.strip,
+                    l.strip_count - 1
+                ),
+            ));
+        }
+        if anchor.ridge == 0 {
+            return Err(SlitError::field(
+                ".ridge",
+                "ridge line 0 (E0) is fixed by the leg curve; anchors go on ridge lines 1..quads_per_strip",
+            ));
+        }
+        if anchor.ridge > l.quads_per_strip {
+            return Err(SlitError::field(
+                ".ridge",
+                format!(
+                    "ridge line {} does not exist (the strips have ridge lines 0..{})",
+                    anchor.ridge, l.quads_per_strip
+                ),
+            ));
+        }
+        if anchor.position.iter().any(|c| !c.is_finite()) {
+            return Err(SlitError::field(".position", "not a finite number"));
+        }
+        let start = self.strip_start(anchor.strip);
+        let p = Vec3::from(anchor.position);
+        let base = match anchor.side {
+            StripSide::Left => start.origin,
+            StripSide::Right => start.origin + start.across * start.width,
+        };
+        let reach = (l.strip_length * l.strip_length + l.strip_width * l.strip_width).sqrt();
+        if (p - base).norm() > reach * (1.0 + 1e-9) {
+            return Err(SlitError::field(
+                ".position",
+                format!(
+                    "unreachable: it is {:.3} from where the strip starts but no point of the strip is farther than {:.3}",
+                    (p - base).norm(),
+                    reach
+                ),
+            ));
+        }
+        self.anchors.push(anchor);
+        Ok(())
+    }
+
+    /// Removes anchor `index` and returns it.
+    pub fn remove_anchor(&mut self, index: usize) -> Option<AnchorSpec> {
+        (index < self.anchors.len()).then(|| self.anchors.remove(index))
+    }
+
+    /// Where strip `k` starts: E0 on the top of the side panel.
+    pub fn strip_start(&self, strip: usize) -> StripStart {
+        let top = self.panel.top();
+        StripStart {
+            origin: Vec3::new(top.x, top.y, self.layout.strip_left_edge(strip)),
+            along: self.panel.top_direction(),
+            across: Vec3::z(),
+            width: self.layout.strip_width,
+            length: self.layout.strip_length,
+        }
+    }
+
+    /// The penalty terms of strip `k` whose quads have been subdivided `level` times.
+    pub fn strip_terms(&self, strip: usize, level: usize) -> StripTerms<'_> {
+        let factor = 1usize << level;
+        StripTerms {
+            start: self.strip_start(strip),
+            quads: self.layout.quads_per_strip * factor,
+            weights: self.weights,
+            anchors: self
+                .anchors
+                .iter()
+                .filter(|a| a.strip == strip)
+                .map(|a| VertexAnchor {
+                    ridge: a.ridge * factor,
+                    end: match a.side {
+                        StripSide::Left => RidgeEnd::Left,
+                        StripSide::Right => RidgeEnd::Right,
+                    },
+                    position: Vec3::from(a.position),
+                })
+                .collect(),
+            seat: self.seat.as_ref(),
+            scan: self.scan.as_ref(),
+            length_scale: self.layout.half_length(),
+            gap_weight: self.weights.no_gap,
+            gap_shift: [0.0; 2],
+        }
+    }
+
+    fn solve_options(&self) -> StripSolveOptions {
+        StripSolveOptions {
+            gap: self.solver.gap,
+            gap_tolerance: self.solver.gap_tolerance,
+            max_iterations: self.solver.max_iterations,
+        }
+    }
+}
+
+/// A solved design: every strip's ridge lines and what the solver did.
+#[derive(Debug, Clone)]
+pub struct SlitDesign {
+    /// Ridge-line parameters per strip.
+    pub states: Vec<StripState>,
+    /// Times the quads have been subdivided.
+    pub level: usize,
+    /// Solver info per strip (iterations and time summed over the subdivision levels).
+    pub strips: Vec<StripSolveInfo>,
+    /// `E = G / (L2 + L3)` with `G` the largest gap over all strips (§4).
+    pub normalised_error: f64,
+    /// `G`, in the model's unit.
+    pub gap: f64,
+}
+
+impl SlitDesign {
+    /// The paper's starting state (Fig. 9) for every strip, not yet solved.
+    pub fn initial(model: &SlitModel) -> Self {
+        let l = &model.layout;
+        let states = vec![StripState::initial(l.quads_per_strip, l.strip_length); l.strip_count];
+        let mut design = Self {
+            strips: (0..l.strip_count)
+                .map(|k| StripSolveInfo {
+                    strip: k,
+                    quads: l.quads_per_strip,
+                    ..Default::default()
+                })
+                .collect(),
+            states,
+            level: 0,
+            normalised_error: 0.0,
+            gap: 0.0,
+        };
+        design.measure(model);
+        design
+    }
+
+    /// Each strip folded.
+    pub fn folded(&self, model: &SlitModel) -> Vec<FoldedStrip> {
+        self.states
+            .iter()
+            .enumerate()
+            .map(|(k, s)| fold_strip(&model.strip_start(k), s))
+            .collect()
+    }
+
+    fn measure(&mut self, model: &SlitModel) {
+        let scale = model.layout.half_length();
+        self.gap = self
+            .folded(model)
+            .iter()
+            .map(|f| {
+                let m = f.quads();
+                f.left[m].x.abs().max(f.right[m].x.abs())
+            })
+            .fold(0.0, f64::max);
+        self.normalised_error = self.gap / scale;
+    }
+
+    /// Solves the given strips again from their current state (after an anchor edit, only
+    /// the affected strip), one by one in parallel, or all strips jointly when the model
+    /// says so.
+    pub fn solve(&mut self, model: &SlitModel, strips: &[usize]) {
+        let options = model.solve_options();
+        let level = self.level;
+        if model.solver.mode == SolveMode::Joint && model.layout.strip_count > 1 {
+            let started = std::time::Instant::now();
+            let mut problem = JointProblem {
+                strips: (0..model.layout.strip_count)
+                    .map(|k| model.strip_terms(k, level))
+                    .collect(),
+                neighbour_weight: model.weights.neighbour,
+            };
+            let x0: Vec<f64> = self.states.iter().flat_map(StripState::to_vector).collect();
+            let initial: Vec<f64> = problem
+                .strips
+                .iter()
+                .zip(&self.states)
+                .map(|(t, s)| t.penalty(&s.to_vector()).total)
+                .collect();
+            let (x, info, _) = solve_gap_constrained(&mut problem, DVector::from_vec(x0), &options);
+            let mut at = 0;
+            let time_ms = started.elapsed().as_secs_f64() * 1e3;
+            for (k, state) in self.states.iter_mut().enumerate() {
+                let n = state.variable_count();
+                state.set_vector(&x.as_slice()[at..at + n]);
+                let terms = &problem.strips[k];
+                let gaps = terms.gaps(&x.as_slice()[at..at + n]);
+                let e = gaps[0].abs().max(gaps[1].abs());
+                let previous = self.strips[k];
+                self.strips[k] = StripSolveInfo {
+                    strip: k,
+                    quads: state.quads(),
+                    iterations: previous.iterations + info.iterations,
+                    initial_penalty: if level == 0 {
+                        initial[k]
+                    } else {
+                        previous.initial_penalty
+                    },
+                    penalty: terms.penalty(&x.as_slice()[at..at + n]),
+                    gap: e * terms.length_scale,
+                    normalised_error: e,
+                    gradient_norm: info.gradient_norm,
+                    converged: info.converged,
+                    time_ms: previous.time_ms + time_ms,
+                };
+                at += n;
+            }
+        } else {
+            let results: Vec<(usize, StripState, StripSolveInfo)> = strips
+                .par_iter()
+                .map(|&k| {
+                    let mut state = self.states[k].clone();
+                    let info = solve_strip(model.strip_terms(k, level), k, &mut state, &options);
+                    (k, state, info)
+                })
+                .collect();
+            for (k, state, info) in results {
+                let previous = self.strips[k];
+                self.states[k] = state;
+                self.strips[k] = StripSolveInfo {
+                    iterations: previous.iterations + info.iterations,
+                    time_ms: previous.time_ms + info.time_ms,
+                    initial_penalty: if level == 0 && previous.iterations == 0 {
+                        info.initial_penalty
+                    } else {
+                        previous.initial_penalty
+                    },
+                    ..info
+                };
+            }
+        }
+        self.measure(model);
+    }
+
+    /// Splits every quad in two (new ridge lines with zero angle, Fig. 13); the shape is
+    /// unchanged until the next [`SlitDesign::solve`].
+    pub fn subdivide(&mut self) {
+        for s in &mut self.states {
+            *s = s.subdivided();
+        }
+        self.level += 1;
+    }
+}
+
+/// Solves a model from the paper's initial state, with the subdivisions its solver
+/// settings ask for (solve, split, solve again from the current state, …).
+pub fn solve_design(model: &SlitModel) -> SlitDesign {
+    let mut design = SlitDesign::initial(model);
+    let all: Vec<usize> = (0..model.layout.strip_count).collect();
+    design.solve(model, &all);
+    for _ in 0..model.solver.subdivisions {
+        design.subdivide();
+        design.solve(model, &all);
+    }
+    design
+}

@@ -1,0 +1,376 @@
+//! A strip folded along its ridge lines (§3, Fig. 3 and 4), and the exact derivatives of
+//! its ridge-line end points with respect to the ridge parameters.
+//!
+//! **Flat strip.** Strip-local coordinates `(x, y)`: `x` along the strip from E0 (`x = 0`,
+//! where the slits begin) to the middle line (`x = L3`), `y` across it from the left long
+//! edge (`y = 0`, end points `v_L,i`) to the right one (`y = w`). Ridge line `E_i` joins
+//! `p_L,i = (x_L,i, 0)` and `p_R,i = (x_R,i, w)`; `x_·,0 = 0` and `x_·,M = L3` are fixed.
+//!
+//! **Folding.** `θ_j` is the dihedral angle at `E_j` (`j = 0..M−1`): quad `j + 1` is quad
+//! `j` (or, for `j = 0`, the side panel's last facet) turned by `θ_j` about `E_j`. With the
+//! flat rotation `RF_j(p) = p_L,j + Q_j (p − p_L,j)`, `Q_j = Rot(d_j, θ_j)`,
+//! `d_j = (p_R,j − p_L,j)/ℓ_j`, quad `i`'s placement is
+//! `F_i = F_0 ∘ RF_0 ∘ … ∘ RF_{i−1}` (`F_0`: the panel's frame at E0), and
+//! `v_s,i = F_i(p_s,i)`. Every quad is moved rigidly, so it stays congruent to its flat
+//! quad: the isometry holds by construction, not by a penalty. (The paper says "quad i is
+//! rotated by θ_i about E_{i−1}" and also "θ_0 = 90°"; we index the angle by the ridge it
+//! sits on, so `θ_0` is the fold between side panel and strip and the `M` angles are
+//! `θ_0..θ_{M−1}`, which gives the paper's `D = 2(M − 1) + M` unknowns.)
+//!
+//! **Derivatives** (all exact, no finite differences). A point `q` on a quad after ridge
+//! `j` moves with the rigid motion of `RF_j`:
+//! - `∂q/∂θ_j = D_j × (q − a_j)` with the ridge's world axis `a_j = v_L,j`,
+//!   `D_j = R_j d_j`;
+//! - moving an end of ridge `j` changes the axis: `δQ Qᵀ = [ω]×` with
+//!   `ω = sin θ δd + (1 − cos θ) d × δd` (the left Jacobian of SO(3) applied to `θ δd`,
+//!   `δd ⊥ d`), and `δd = ±(e_x − d d_x)/ℓ` for `x_R` / `x_L`. So
+//!   `∂q/∂x_L,j = R_j ω_L × (q − a_j) + R_j (I − Q_j) e_x` and
+//!   `∂q/∂x_R,j = R_j ω_R × (q − a_j)`;
+//! - the ridge's own end point moves along the quad: `∂v_L,j/∂x_L,j = R_j e_x`.
+
+use nalgebra::{Matrix3, Rotation3, Unit, Vector3};
+
+type Vec3 = Vector3<f64>;
+
+/// Where a strip starts (ridge line E0, on the side panel) and its flat size.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StripStart {
+    /// `v_L,0` in 3D.
+    pub origin: Vec3,
+    /// Unit 3D direction of the flat `+x` at E0 before the first fold (the side panel's
+    /// direction at its top, away from the foot).
+    pub along: Vec3,
+    /// Unit 3D direction of the flat `+y` (from `v_L` to `v_R`, the sheet's width).
+    pub across: Vec3,
+    /// Strip width `w`.
+    pub width: f64,
+    /// Half-strip length `L3`.
+    pub length: f64,
+}
+
+impl StripStart {
+    /// The frame `F_0`: columns `along`, `across`, `along × across`.
+    pub fn rotation(&self) -> Matrix3<f64> {
+        Matrix3::from_columns(&[self.along, self.across, self.along.cross(&self.across)])
+    }
+}
+
+/// The ridge-line parameters of one half strip.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StripState {
+    /// `θ_0..θ_{M−1}` (radians): the dihedral angle at each ridge line but the last.
+    pub angles: Vec<f64>,
+    /// `x_L,0..x_L,M`: where each ridge line meets the left long edge (`x_L,0 = 0`,
+    /// `x_L,M = L3`).
+    pub left: Vec<f64>,
+    /// `x_R,0..x_R,M` on the right long edge.
+    pub right: Vec<f64>,
+}
+
+impl StripState {
+    /// The paper's initial state (Fig. 9): ridge lines evenly spaced and square to the
+    /// strip, every angle zero but `θ_0 = 90°`.
+    pub fn initial(quads: usize, length: f64) -> Self {
+        let mut angles = vec![0.0; quads];
+        angles[0] = std::f64::consts::FRAC_PI_2;
+        let x: Vec<f64> = (0..=quads).map(|i| length * i as f64 / quads as f64).collect();
+        Self {
+            angles,
+            left: x.clone(),
+            right: x,
+        }
+    }
+
+    /// M, the number of quads.
+    pub fn quads(&self) -> usize {
+        self.angles.len()
+    }
+
+    /// `D = 2(M − 1) + M` unknowns.
+    pub fn variable_count(&self) -> usize {
+        3 * self.quads() - 2
+    }
+
+    /// The unknowns `[θ_0..θ_{M−1}, x_L,1..x_L,M−1, x_R,1..x_R,M−1]`.
+    pub fn to_vector(&self) -> Vec<f64> {
+        let m = self.quads();
+        let mut x = self.angles.clone();
+        x.extend_from_slice(&self.left[1..m]);
+        x.extend_from_slice(&self.right[1..m]);
+        x
+    }
+
+    /// Sets the unknowns from [`StripState::to_vector`]'s layout.
+    pub fn set_vector(&mut self, x: &[f64]) {
+        let m = self.quads();
+        self.angles.copy_from_slice(&x[..m]);
+        self.left[1..m].copy_from_slice(&x[m..2 * m - 1]);
+        self.right[1..m].copy_from_slice(&x[2 * m - 1..3 * m - 2]);
+    }
+
+    /// Every quad split in two by a new ridge line through the midpoints of its long
+    /// edges, with a zero angle (Fig. 13): the folded shape is unchanged, and ridge line
+    /// `i` becomes ridge line `2i`.
+    pub fn subdivided(&self) -> Self {
+        let m = self.quads();
+        let mut angles = Vec::with_capacity(2 * m);
+        for &a in &self.angles {
+            angles.push(a);
+            angles.push(0.0);
+        }
+        let split = |x: &[f64]| {
+            let mut out = Vec::with_capacity(2 * m + 1);
+            for w in x.windows(2) {
+                out.push(w[0]);
+                out.push(0.5 * (w[0] + w[1]));
+            }
+            out.push(x[m]);
+            out
+        };
+        Self {
+            angles,
+            left: split(&self.left),
+            right: split(&self.right),
+        }
+    }
+}
+
+/// Index of `θ_j` in the unknowns.
+pub fn angle_variable(j: usize) -> usize {
+    j
+}
+
+/// Index of `x_L,j` (`1 ≤ j ≤ M − 1`) in the unknowns of an `M`-quad strip.
+pub fn left_variable(quads: usize, j: usize) -> usize {
+    quads + j - 1
+}
+
+/// Index of `x_R,j` (`1 ≤ j ≤ M − 1`) in the unknowns of an `M`-quad strip.
+pub fn right_variable(quads: usize, j: usize) -> usize {
+    2 * quads - 1 + j - 1
+}
+
+/// The infinitesimal motions of the quads after one ridge line.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct RidgeMotion {
+    /// World point on the axis, `a_j = v_L,j`.
+    point: Vec3,
+    /// World axis direction `D_j`.
+    direction: Vec3,
+    /// `∂/∂x_L,j`: angular part.
+    left_spin: Vec3,
+    /// `∂/∂x_L,j`: translation part.
+    left_shift: Vec3,
+    /// `∂/∂x_R,j`: angular part.
+    right_spin: Vec3,
+}
+
+/// A folded half strip: its ridge-line end points in 3D and what is needed for their
+/// derivatives.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FoldedStrip {
+    /// `v_L,0..v_L,M`.
+    pub left: Vec<Vec3>,
+    /// `v_R,0..v_R,M`.
+    pub right: Vec<Vec3>,
+    /// World direction of the flat `+x` on quad `i` (`i = 0`: the side panel), `R_i e_x`.
+    along: Vec<Vec3>,
+    ridges: Vec<RidgeMotion>,
+}
+
+/// Which end of a ridge line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RidgeEnd {
+    /// `v_L,i`.
+    Left,
+    /// `v_R,i`.
+    Right,
+}
+
+/// Folds a strip: places every quad by the chain of rotations (see the module docs).
+pub fn fold_strip(start: &StripStart, state: &StripState) -> FoldedStrip {
+    let m = state.quads();
+    let w = start.width;
+    let mut rotation = start.rotation();
+    let mut shift = start.origin;
+    let mut left = Vec::with_capacity(m + 1);
+    let mut right = Vec::with_capacity(m + 1);
+    let mut along = Vec::with_capacity(m + 1);
+    let mut ridges = Vec::with_capacity(m);
+    let ex = Vec3::x();
+    for j in 0..=m {
+        let pl = Vec3::new(state.left[j], 0.0, 0.0);
+        let pr = Vec3::new(state.right[j], w, 0.0);
+        left.push(rotation * pl + shift);
+        right.push(rotation * pr + shift);
+        along.push(rotation.column(0).into_owned());
+        if j == m {
+            break;
+        }
+        let span = pr - pl;
+        let length = span.norm();
+        let d = span / length;
+        let theta = state.angles[j];
+        let (sin, cos) = theta.sin_cos();
+        let q = Rotation3::from_axis_angle(&Unit::new_unchecked(d), theta).into_inner();
+        let dd = (ex - d * d.x) / length;
+        let spin = |delta: Vec3| rotation * (delta * sin + d.cross(&delta) * (1.0 - cos));
+        ridges.push(RidgeMotion {
+            point: left[j],
+            direction: rotation * d,
+            left_spin: spin(-dd),
+            left_shift: rotation * (ex - q * ex),
+            right_spin: spin(dd),
+        });
+        shift += rotation * (pl - q * pl);
+        rotation *= q;
+    }
+    FoldedStrip {
+        left,
+        right,
+        along,
+        ridges,
+    }
+}
+
+impl FoldedStrip {
+    /// M.
+    pub fn quads(&self) -> usize {
+        self.ridges.len()
+    }
+
+    /// `v_end,i`.
+    pub fn vertex(&self, end: RidgeEnd, i: usize) -> Vec3 {
+        match end {
+            RidgeEnd::Left => self.left[i],
+            RidgeEnd::Right => self.right[i],
+        }
+    }
+
+    /// `∂v_end,i/∂(unknowns)`, one 3-vector per unknown, written into `out` (length
+    /// `D = 3M − 2`; entries the vertex does not depend on are set to zero).
+    pub fn vertex_derivatives(&self, end: RidgeEnd, i: usize, out: &mut [Vec3]) {
+        let m = self.quads();
+        out.fill(Vec3::zeros());
+        if i == 0 {
+            return;
+        }
+        let q = self.vertex(end, i);
+        for (j, ridge) in self.ridges.iter().enumerate().take(i) {
+            let arm = q - ridge.point;
+            out[angle_variable(j)] = ridge.direction.cross(&arm);
+            if j >= 1 {
+                out[left_variable(m, j)] = ridge.left_spin.cross(&arm) + ridge.left_shift;
+                out[right_variable(m, j)] = ridge.right_spin.cross(&arm);
+            }
+        }
+        if i < m {
+            match end {
+                RidgeEnd::Left => out[left_variable(m, i)] = self.along[i],
+                RidgeEnd::Right => out[right_variable(m, i)] = self.along[i],
+            }
+        }
+    }
+
+    /// The 3D corners of quad `i` (`1..=M`): `v_L,i−1, v_R,i−1, v_R,i, v_L,i`.
+    pub fn quad(&self, i: usize) -> [Vec3; 4] {
+        [self.left[i - 1], self.right[i - 1], self.right[i], self.left[i]]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn start() -> StripStart {
+        StripStart {
+            origin: Vec3::new(450.0, 400.0, 0.0),
+            along: Vec3::new(0.0, 1.0, 0.0),
+            across: Vec3::new(0.0, 0.0, 1.0),
+            width: 60.0,
+            length: 450.0,
+        }
+    }
+
+    fn wavy(quads: usize) -> StripState {
+        let mut s = StripState::initial(quads, 450.0);
+        for i in 1..quads {
+            s.angles[i] = 0.3 * (i as f64 * 1.3).sin();
+            s.left[i] += 7.0 * (i as f64 * 0.7).cos();
+            s.right[i] -= 5.0 * (i as f64 * 0.9).sin();
+        }
+        s
+    }
+
+    #[test]
+    fn initial_strip_is_horizontal_and_reaches_the_symmetry_plane() {
+        let f = fold_strip(&start(), &StripState::initial(10, 450.0));
+        assert!(f.left[10].x.abs() < 1e-12 && f.right[10].x.abs() < 1e-12);
+        assert!((f.left[10].y - 400.0).abs() < 1e-12 && (f.right[10].z - 60.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn quads_stay_congruent_to_their_flat_quads() {
+        let s = wavy(12);
+        let f = fold_strip(&start(), &s);
+        for i in 1..=12 {
+            let flat = [
+                Vec3::new(s.left[i - 1], 0.0, 0.0),
+                Vec3::new(s.right[i - 1], 60.0, 0.0),
+                Vec3::new(s.right[i], 60.0, 0.0),
+                Vec3::new(s.left[i], 0.0, 0.0),
+            ];
+            let q = f.quad(i);
+            for a in 0..4 {
+                for b in a + 1..4 {
+                    let d3 = (q[a] - q[b]).norm();
+                    let d2 = (flat[a] - flat[b]).norm();
+                    assert!((d3 - d2).abs() <= 1e-12 * d2.max(1.0), "quad {i} {a}-{b}: {d3} vs {d2}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn vertex_derivatives_match_finite_differences() {
+        let m = 9;
+        let s = wavy(m);
+        let st = start();
+        let f = fold_strip(&st, &s);
+        let x0 = s.to_vector();
+        let mut out = vec![Vec3::zeros(); x0.len()];
+        for end in [RidgeEnd::Left, RidgeEnd::Right] {
+            for i in 1..=m {
+                f.vertex_derivatives(end, i, &mut out);
+                for (k, exact) in out.iter().enumerate() {
+                    let h = 1e-6;
+                    let mut plus = s.clone();
+                    let mut xp = x0.clone();
+                    xp[k] += h;
+                    plus.set_vector(&xp);
+                    let mut minus = s.clone();
+                    let mut xm = x0.clone();
+                    xm[k] -= h;
+                    minus.set_vector(&xm);
+                    let fd =
+                        (fold_strip(&st, &plus).vertex(end, i) - fold_strip(&st, &minus).vertex(end, i)) / (2.0 * h);
+                    assert!(
+                        (fd - exact).norm() <= 1e-6 * (1.0 + exact.norm()),
+                        "{end:?} {i} var {k}: exact {exact:?} fd {fd:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn subdivision_keeps_the_shape() {
+        let s = wavy(7);
+        let f = fold_strip(&start(), &s);
+        let g = fold_strip(&start(), &s.subdivided());
+        for i in 0..=7 {
+            assert!((f.left[i] - g.left[2 * i]).norm() < 1e-9);
+            assert!((f.right[i] - g.right[2 * i]).norm() < 1e-9);
+        }
+    }
+}
