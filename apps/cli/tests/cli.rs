@@ -919,3 +919,39 @@ fn flatten_with_lscm_handles_a_nearly_developable_mesh() {
     assert_eq!(r["charts"][0]["flipped_face_count"], 0);
     assert!(r["charts"][0]["edge_length_mean_relative"].as_f64().unwrap() < lscm_mean);
 }
+
+#[test]
+fn slit_examples_write_model_pattern_mould_and_report() {
+    for name in ["chair", "bench", "monument"] {
+        let tmp = tempfile::tempdir().unwrap();
+        let scene = repo().join("examples/slit").join(format!("{name}.json"));
+        let o = sheetform(&["slit", scene.to_str().unwrap(), "-o", tmp.path().to_str().unwrap()]);
+        assert!(o.status.success(), "{name}: {}", String::from_utf8_lossy(&o.stderr));
+        let r = report(tmp.path());
+        assert_eq!(r["command"], "slit");
+        let slit = &r["slit"];
+        assert!(slit["normalised_error"].as_f64().unwrap() <= 1e-6, "{name}: {slit}");
+        assert!(r["isometry_error_max_relative"].as_f64().unwrap() < 1e-6);
+        let obj = read_obj(&tmp.path().join("model.obj"));
+        assert!(obj_isometry_error(&obj) < 1e-6, "{name}: vt is the flat sheet at 1:1");
+        // The pattern cuts the outline and the slits: one outer loop and N − 1 holes.
+        let svg = std::fs::read_to_string(tmp.path().join("pattern.svg")).unwrap();
+        assert!(svg.contains("fold"), "{name}: ridge lines on the fold layer");
+        if name != "monument" {
+            assert_eq!(slit["mould"]["watertight"], true, "{name}");
+            assert!(tmp.path().join("mould.stl").exists());
+        }
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("bad.json");
+    std::fs::write(
+        &path,
+        r#"{"sheet":{"l1_width":200,"l2_panel_length":300,"l3_strip_length":-4,"l4_slit_width":4,"strip_count":3}}"#,
+    )
+    .unwrap();
+    let out = tmp.path().join("out");
+    let o = sheetform(&["slit", path.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("sheet.l3_strip_length"));
+    assert!(!out.exists());
+}

@@ -1,0 +1,256 @@
+//! System B end to end: the chair converges, quads stay congruent, the Jacobian is exact,
+//! E is right on a known gap, the mould is closed, bad input names the field.
+
+use nalgebra::{DMatrix, DVector, Vector3};
+use sheetform_slit::strip_folding::{fold_strip, StripState};
+use sheetform_slit::strip_solver::StripProblem;
+use sheetform_slit::*;
+use sheetform_solve::LeastSquaresProblem;
+
+fn chair() -> SlitModel {
+    let text = include_str!("../../../examples/slit/chair.json");
+    SlitModel::from_scene(&SlitScene::from_json(text).unwrap(), None).unwrap()
+}
+
+#[test]
+fn chair_converges_from_the_initial_state_with_congruent_quads() {
+    let model = chair();
+    let design = solve_design(&model);
+    assert!(design.normalised_error <= 1e-6, "E = {}", design.normalised_error);
+    assert!(design.strips.iter().all(|s| s.normalised_error <= 1e-6));
+    let w = model.layout.strip_width;
+    for (k, state) in design.states.iter().enumerate() {
+        let f = fold_strip(&model.strip_start(k), state);
+        for i in 1..=state.quads() {
+            let flat = [
+                Vector3::new(state.left[i - 1], 0.0, 0.0),
+                Vector3::new(state.right[i - 1], w, 0.0),
+                Vector3::new(state.right[i], w, 0.0),
+                Vector3::new(state.left[i], 0.0, 0.0),
+            ];
+            let q = f.quad(i);
+            for a in 0..4 {
+                for b in a + 1..4 {
+                    let (d3, d2) = ((q[a] - q[b]).norm(), (flat[a] - flat[b]).norm());
+                    assert!((d3 - d2).abs() <= 1e-12 * d2, "strip {k} quad {i}: {d3} vs {d2}");
+                }
+            }
+        }
+    }
+    // The whole sheet mesh carries its flat sheet: isometric up to the welded middle line.
+    let mesh = slit_mesh(&model, &design);
+    mesh.validate().unwrap();
+    let iso = sheetform_mesh::isometry_error(&mesh);
+    assert!(iso.max_relative < 1e-6, "{iso:?}");
+    let flat_area = 2.0 * (model.layout.half_length() * model.layout.width)
+        - (model.layout.strip_count - 1) as f64 * model.layout.slit_width * 2.0 * model.layout.strip_length;
+    assert!((mesh.flat_area() - flat_area).abs() < 1e-6 * flat_area);
+}
+
+#[test]
+fn penalty_jacobian_matches_finite_differences() {
+    let mut model = chair();
+    model
+        .add_anchor(AnchorSpec {
+            strip: 1,
+            ridge: 4,
+            side: StripSide::Right,
+            position: [150.0, 380.0, 90.0],
+        })
+        .unwrap();
+    let mut state = StripState::initial(10, model.layout.strip_length);
+    for i in 1..10 {
+        state.angles[i] = 0.2 * (i as f64).sin();
+        state.left[i] += 4.0 * (i as f64 * 0.8).cos();
+        state.right[i] -= 3.0 * (i as f64 * 0.5).sin();
+    }
+    let mut terms = model.strip_terms(1, 0);
+    terms.gap_shift = [0.01, -0.02];
+    let problem = StripProblem { terms };
+    let x = DVector::from_vec(state.to_vector());
+    let exact: DMatrix<f64> = problem.jacobian(&x);
+    for k in 0..x.len() {
+        let h = 1e-6;
+        let mut p = x.clone();
+        p[k] += h;
+        let mut m = x.clone();
+        m[k] -= h;
+        let fd = (problem.residuals(&p) - problem.residuals(&m)) / (2.0 * h);
+        for r in 0..fd.len() {
+            assert!(
+                (fd[r] - exact[(r, k)]).abs() <= 1e-6 * (1.0 + exact[(r, k)].abs()),
+                "row {r} col {k}: exact {} fd {}",
+                exact[(r, k)],
+                fd[r]
+            );
+        }
+    }
+}
+
+#[test]
+fn normalised_error_is_reported_on_a_known_gap() {
+    // A vertical leg 10 mm closer to the symmetry plane than the strips are long: the
+    // straight initial strips overshoot the plane by exactly 10 mm.
+    let text = r#"{"sheet":{"l1_width":200,"l2_panel_length":300,"l3_strip_length":400,"l4_slit_width":4,"strip_count":3},
+        "leg_curve":{"control_points":[[390,0],[390,350]]}}"#;
+    let model = SlitModel::from_scene(&SlitScene::from_json(text).unwrap(), None).unwrap();
+    let design = SlitDesign::initial(&model);
+    assert!((design.gap - 10.0).abs() < 1e-9, "{}", design.gap);
+    assert!((design.normalised_error - 10.0 / 700.0).abs() < 1e-12);
+}
+
+#[test]
+fn subdivision_then_solving_keeps_the_strips_closed() {
+    let mut model = chair();
+    model.solver.subdivisions = 1;
+    let design = solve_design(&model);
+    assert_eq!(design.states[0].quads(), 20);
+    assert!(design.normalised_error <= 1e-6);
+}
+
+#[test]
+fn joint_solve_closes_every_strip() {
+    let mut model = chair();
+    model.solver.mode = SolveMode::Joint;
+    let design = solve_design(&model);
+    assert!(design.normalised_error <= 1e-6, "{}", design.normalised_error);
+}
+
+#[test]
+fn mould_is_closed_and_outward() {
+    let model = chair();
+    let design = solve_design(&model);
+    let mould = build_mould(&model, &design).unwrap();
+    assert!(mould.is_watertight());
+    assert!(mould.volume() > 0.0);
+}
+
+#[test]
+fn fits_a_point_cloud_sampled_from_another_design() {
+    // Points on the chair's strips; a model with a different seat curve pulled to them.
+    let target_model = chair();
+    let target = solve_design(&target_model);
+    let mut points = Vec::new();
+    for f in target.folded(&target_model) {
+        for i in 0..f.left.len() - 1 {
+            for t in 0..=4 {
+                let s = t as f64 / 4.0;
+                let [a, b, c, d] = f.quad(i + 1);
+                for u in [0.0, 0.5, 1.0] {
+                    let p = (a * (1.0 - s) + b * s) * (1.0 - u) + (d * (1.0 - s) + c * s) * u;
+                    points.push([p.x, p.y, p.z]);
+                }
+            }
+        }
+    }
+    let text = include_str!("../../../examples/slit/chair.json").replace(
+        "[[0, 360], [140, 300], [300, 330], [420, 470]]",
+        "[[0, 330], [420, 330]]",
+    );
+    let mut scene = SlitScene::from_json(&text).unwrap();
+    let plain = solve_design(&SlitModel::from_scene(&scene, None).unwrap());
+    let dir = tempfile_dir();
+    let path = dir.join("scan.xyz");
+    std::fs::write(
+        &path,
+        points
+            .iter()
+            .map(|p| format!("{} {} {}\n", p[0], p[1], p[2]))
+            .collect::<String>(),
+    )
+    .unwrap();
+    scene.scan = Some(ScanSpec {
+        points: path.display().to_string(),
+    });
+    scene.weights.scan = 1.0;
+    let fitted_model = SlitModel::from_scene(&scene, None).unwrap();
+    let fitted = solve_design(&fitted_model);
+    let distance = |d: &SlitDesign, m: &SlitModel| {
+        let scan = m.scan.as_ref().unwrap();
+        let all: Vec<f64> = d
+            .folded(m)
+            .iter()
+            .flat_map(|f| {
+                f.left
+                    .iter()
+                    .chain(&f.right)
+                    .map(|v| (v - scan.nearest(v)).norm())
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        all.iter().sum::<f64>() / all.len() as f64
+    };
+    let before = distance(&plain, &fitted_model);
+    let after = distance(&fitted, &fitted_model);
+    assert!(after < 0.5 * before, "scan fitting: {before} -> {after}");
+    assert!(fitted.normalised_error <= 1e-6);
+}
+
+fn tempfile_dir() -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("sheetform-slit-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn bad_input_names_the_field() {
+    let base =
+        r#"{"sheet":{"l1_width":200,"l2_panel_length":300,"l3_strip_length":400,"l4_slit_width":4,"strip_count":3}"#;
+    let case = |extra: &str, sheet_patch: Option<(&str, &str)>, expect: &str| {
+        let mut text = format!("{base}{extra}}}");
+        if let Some((a, b)) = sheet_patch {
+            text = text.replace(a, b);
+        }
+        let err = SlitScene::from_json(&text)
+            .and_then(|s| SlitModel::from_scene(&s, None))
+            .expect_err(&text)
+            .to_string();
+        assert!(err.contains(expect), "expected `{expect}` in `{err}`");
+    };
+    case("", Some(("\"l1_width\":200", "\"l1_width\":0")), "sheet.l1_width");
+    case(
+        "",
+        Some(("\"l3_strip_length\":400", "\"l3_strip_length\":-1")),
+        "sheet.l3_strip_length",
+    );
+    case(
+        "",
+        Some(("\"strip_count\":3", "\"strip_count\":0")),
+        "sheet.strip_count",
+    );
+    case(
+        "",
+        Some(("\"l4_slit_width\":4", "\"l4_slit_width\":150")),
+        "sheet.l4_slit_width",
+    );
+    case(
+        r#","seat_curve":{"control_points":[[50,300],[150,300]]}"#,
+        None,
+        "seat_curve",
+    );
+    case(
+        r#","seat_curve":{"control_points":[[0,900],[200,900]]}"#,
+        None,
+        "unreachable",
+    );
+    case(
+        r#","leg_curve":{"control_points":[[600,0],[600,400]]}"#,
+        None,
+        "leg_curve",
+    );
+    case(
+        r#","anchors":[{"strip":5,"ridge":2,"side":"left","position":[0,0,0]}]"#,
+        None,
+        "anchors[0].strip",
+    );
+    case(
+        r#","anchors":[{"strip":1,"ridge":11,"side":"left","position":[0,0,0]}]"#,
+        None,
+        "anchors[0].ridge",
+    );
+    case(
+        r#","anchors":[{"strip":1,"ridge":0,"side":"left","position":[0,0,0]}]"#,
+        None,
+        "anchors[0].ridge",
+    );
+}
