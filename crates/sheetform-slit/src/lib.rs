@@ -14,7 +14,7 @@
 //! - [`strip_solver`]: Levenberg–Marquardt with the gap as a constraint, per strip or
 //!   jointly;
 //! - [`slit_design`]: scene → model → solved design; anchors, subdivision;
-//! - [`slit_mesh`]: the full symmetric sheet as a mesh carrying its flat pattern;
+//! - [`mod@slit_mesh`]: the full symmetric sheet as a mesh carrying its flat pattern;
 //! - [`mould`]: the closed, printable mould under the strips (§4.2);
 //! - [`point_cloud`]: scanned points for fitting (§4.1).
 
