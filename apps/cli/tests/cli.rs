@@ -934,9 +934,50 @@ fn slit_examples_write_model_pattern_mould_and_report() {
         assert!(r["isometry_error_max_relative"].as_f64().unwrap() < 1e-6);
         let obj = read_obj(&tmp.path().join("model.obj"));
         assert!(obj_isometry_error(&obj) < 1e-6, "{name}: vt is the flat sheet at 1:1");
-        // The pattern cuts the outline and the slits: one outer loop and N − 1 holes.
+        // The pattern cuts the outline and the slits: one outer loop and N − 1 holes, the
+        // outline 2 (L2 + L3) long and L1 wide; ridge lines are folds.
+        let text = std::fs::read_to_string(&scene).unwrap();
+        let sheet: serde_json::Value = serde_json::from_str::<serde_json::Value>(&text).unwrap()["sheet"].clone();
+        let f = |k: &str| sheet[k].as_f64().unwrap();
         let svg = std::fs::read_to_string(tmp.path().join("pattern.svg")).unwrap();
-        assert!(svg.contains("fold"), "{name}: ridge lines on the fold layer");
+        let cut = &svg[svg.find("<g id=\"cut\"").unwrap()..];
+        let cut = &cut[..cut.find("</g>").unwrap()];
+        let loops: Vec<Vec<[f64; 2]>> = cut
+            .split("d=\"M")
+            .skip(1)
+            .map(|d| {
+                d[..d.find('"').unwrap()]
+                    .split(['L', 'Z'])
+                    .filter_map(|p| {
+                        let v: Vec<f64> = p.trim().split(',').filter_map(|x| x.trim().parse().ok()).collect();
+                        (v.len() == 2).then(|| [v[0], v[1]])
+                    })
+                    .collect()
+            })
+            .collect();
+        assert_eq!(
+            loops.len(),
+            sheet["strip_count"].as_u64().unwrap() as usize,
+            "{name}: outline + slits"
+        );
+        let extent = |l: &Vec<[f64; 2]>, i: usize| {
+            l.iter().map(|p| p[i]).fold(f64::NEG_INFINITY, f64::max)
+                - l.iter().map(|p| p[i]).fold(f64::INFINITY, f64::min)
+        };
+        let outline = loops
+            .iter()
+            .max_by(|a, b| extent(a, 0).total_cmp(&extent(b, 0)))
+            .unwrap();
+        let (length, width) = (2.0 * (f("l2_panel_length") + f("l3_strip_length")), f("l1_width"));
+        let (ex, ey) = (extent(outline, 0), extent(outline, 1));
+        assert!(
+            ((ex - length).abs() < 0.01 && (ey - width).abs() < 0.01)
+                || ((ey - length).abs() < 0.01 && (ex - width).abs() < 0.01),
+            "{name}: outline {ex} x {ey}, sheet {length} x {width}"
+        );
+        let folds =
+            r["pattern"]["mountain_fold_count"].as_u64().unwrap() + r["pattern"]["valley_fold_count"].as_u64().unwrap();
+        assert!(folds > 0, "{name}: ridge lines on the fold layer");
         if name != "monument" {
             assert_eq!(slit["mould"]["watertight"], true, "{name}");
             assert!(tmp.path().join("mould.stl").exists());

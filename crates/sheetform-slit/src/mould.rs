@@ -14,6 +14,7 @@
 
 use crate::{SlitDesign, SlitError, SlitModel};
 use nalgebra::{Vector2, Vector3};
+use sheetform_geometry::Polygon;
 use spade::{ConstrainedDelaunayTriangulation, HasPosition, Point2, Triangulation};
 
 type Vec3 = Vector3<f64>;
@@ -95,21 +96,13 @@ fn wall(
              closed mould can be made from the profile"
         )));
     }
-    let inside = |q: Vector2<f64>| {
-        let mut odd = false;
-        for i in 0..n {
-            let (a, b) = (points[i], points[(i + 1) % n]);
-            if (a.y > q.y) != (b.y > q.y) && q.x < a.x + (q.y - a.y) / (b.y - a.y) * (b.x - a.x) {
-                odd = !odd;
-            }
-        }
-        odd
-    };
+    let outline = Polygon::new(points.clone(), vec![])
+        .map_err(|e| SlitError::Mould(format!("the {name}'s outline is not a simple polygon: {e}")))?;
     let mut count = 0;
     for face in cdt.inner_faces() {
         let idx = face.vertices().map(|v| v.fix().index());
         let c = idx.iter().fold(Vector2::zeros(), |s, &i| s + points[i]) / 3.0;
-        if !inside(c) {
+        if !outline.contains(c) {
             continue;
         }
         let mut t = idx.map(|i| ring[i]);

@@ -175,7 +175,10 @@ impl SlitModel {
             }
             None => None,
         };
-        let model = Self {
+        if !(scene.mould.base_thickness.is_finite() && scene.mould.base_thickness > 0.0) {
+            return Err(SlitError::field("mould.base_thickness", "must be a positive length"));
+        }
+        let mut model = Self {
             name: scene.name.clone(),
             unit: scene.units,
             layout,
@@ -193,10 +196,6 @@ impl SlitModel {
             },
             mould: scene.mould,
         };
-        if !(model.mould.base_thickness.is_finite() && model.mould.base_thickness > 0.0) {
-            return Err(SlitError::field("mould.base_thickness", "must be a positive length"));
-        }
-        let mut model = model;
         for (i, a) in scene.anchors.iter().enumerate() {
             model.add_anchor(*a).map_err(|e| match e {
                 SlitError::Field { field, message } => SlitError::field(format!("anchors[{i}]{field}"), message),
@@ -341,6 +340,7 @@ impl SlitDesign {
                 .map(|k| StripSolveInfo {
                     strip: k,
                     quads: l.quads_per_strip,
+                    initial_penalty: model.strip_terms(k, 0).penalty(&states[k].to_vector()).total,
                     ..Default::default()
                 })
                 .collect(),
@@ -390,12 +390,6 @@ impl SlitDesign {
                 neighbour_weight: model.weights.neighbour,
             };
             let x0: Vec<f64> = self.states.iter().flat_map(StripState::to_vector).collect();
-            let initial: Vec<f64> = problem
-                .strips
-                .iter()
-                .zip(&self.states)
-                .map(|(t, s)| t.penalty(&s.to_vector()).total)
-                .collect();
             let (x, info, _) = solve_gap_constrained(&mut problem, DVector::from_vec(x0), &options);
             let mut at = 0;
             let time_ms = started.elapsed().as_secs_f64() * 1e3;
@@ -405,23 +399,21 @@ impl SlitDesign {
                 let terms = &problem.strips[k];
                 let gaps = terms.gaps(&x.as_slice()[at..at + n]);
                 let e = gaps[0].abs().max(gaps[1].abs());
-                let previous = self.strips[k];
-                self.strips[k] = StripSolveInfo {
-                    strip: k,
-                    quads: state.quads(),
-                    iterations: previous.iterations + info.iterations,
-                    initial_penalty: if level == 0 {
-                        initial[k]
-                    } else {
-                        previous.initial_penalty
+                self.strips[k] = accumulate(
+                    self.strips[k],
+                    StripSolveInfo {
+                        strip: k,
+                        quads: state.quads(),
+                        iterations: info.iterations,
+                        initial_penalty: self.strips[k].initial_penalty,
+                        penalty: terms.penalty(&x.as_slice()[at..at + n]),
+                        gap: e * terms.length_scale,
+                        normalised_error: e,
+                        gradient_norm: info.gradient_norm,
+                        converged: info.converged,
+                        time_ms,
                     },
-                    penalty: terms.penalty(&x.as_slice()[at..at + n]),
-                    gap: e * terms.length_scale,
-                    normalised_error: e,
-                    gradient_norm: info.gradient_norm,
-                    converged: info.converged,
-                    time_ms: previous.time_ms + time_ms,
-                };
+                );
                 at += n;
             }
         } else {
@@ -434,18 +426,8 @@ impl SlitDesign {
                 })
                 .collect();
             for (k, state, info) in results {
-                let previous = self.strips[k];
                 self.states[k] = state;
-                self.strips[k] = StripSolveInfo {
-                    iterations: previous.iterations + info.iterations,
-                    time_ms: previous.time_ms + info.time_ms,
-                    initial_penalty: if level == 0 && previous.iterations == 0 {
-                        info.initial_penalty
-                    } else {
-                        previous.initial_penalty
-                    },
-                    ..info
-                };
+                self.strips[k] = accumulate(self.strips[k], info);
             }
         }
         self.measure(model);
@@ -458,6 +440,17 @@ impl SlitDesign {
             *s = s.subdivided();
         }
         self.level += 1;
+    }
+}
+
+/// A strip's info after one more solve: iterations and time add up over solves, the
+/// initial penalty stays the one of the paper's initial state.
+fn accumulate(previous: StripSolveInfo, latest: StripSolveInfo) -> StripSolveInfo {
+    StripSolveInfo {
+        iterations: previous.iterations + latest.iterations,
+        time_ms: previous.time_ms + latest.time_ms,
+        initial_penalty: previous.initial_penalty,
+        ..latest
     }
 }
 

@@ -361,16 +361,7 @@ pub fn run_slit(scene_text: &str, options: &SlitRunOptions) -> Result<SlitRun, P
         }
     });
     let exported = Instant::now();
-    let iso = isometry_error(&mesh);
-    let mut report = Report::new("slit", options.input.clone());
-    report.model_unit = model.unit.symbol().into();
-    report.vertex_count = mesh.vertex_count();
-    report.face_count = mesh.triangles.len();
-    report.isometry_error_max_relative = Some(iso.max_relative);
-    report.isometry_error_mean_relative = Some(iso.mean_relative);
-    report.flat_area_mm2 = Some(mesh.flat_area() * mm * mm);
-    report.area_mm2 = mesh.area() * mm * mm;
-    report.piece_count = Some(mesh.pieces.len());
+    let mut report = sheet_mesh_report("slit", options.input.clone(), &mesh);
     report.pattern = Some(pattern_report);
     report.slit = Some(SlitReport {
         solve_mode: format!("{:?}", model.solver.mode).to_lowercase(),
@@ -433,14 +424,15 @@ fn angle_defects(
     )
 }
 
-fn bend_report(model: &BendModel, sheet: &BentSheet, input: Option<String>, files: &[(String, Vec<u8>)]) -> Report {
-    let mm = model.unit.millimetres();
-    let mesh = &sheet.mesh;
+/// The report fields every command that makes a [`SheetMesh`] shares: unit, counts, the
+/// isometry error of its flat pattern, angle defects, areas (mm, mm²), pieces.
+fn sheet_mesh_report(command: &str, input: Option<String>, mesh: &SheetMesh) -> Report {
+    let mm = mesh.unit.millimetres();
     let iso = isometry_error(mesh);
     let triangle_mesh = mesh.to_triangle_mesh();
     let topology = mesh_topology(&triangle_mesh);
-    let mut report = Report::new("bend", input);
-    report.model_unit = model.unit.symbol().into();
+    let mut report = Report::new(command, input);
+    report.model_unit = mesh.unit.symbol().into();
     report.vertex_count = mesh.vertex_count();
     report.face_count = mesh.triangles.len();
     report.isometry_error_max_relative = Some(iso.max_relative);
@@ -448,8 +440,15 @@ fn bend_report(model: &BendModel, sheet: &BentSheet, input: Option<String>, file
     report.angle_defects = Some(angle_defects(&triangle_mesh, &topology, DEFAULT_ANGLE_TOLERANCE, mm).0);
     report.flat_area_mm2 = Some(mesh.flat_area() * mm * mm);
     report.area_mm2 = mesh.area() * mm * mm;
-    report.admissible = Some(true);
     report.piece_count = Some(mesh.pieces.len());
+    report
+}
+
+fn bend_report(model: &BendModel, sheet: &BentSheet, input: Option<String>, files: &[(String, Vec<u8>)]) -> Report {
+    let mm = model.unit.millimetres();
+    let mesh = &sheet.mesh;
+    let mut report = sheet_mesh_report("bend", input, mesh);
+    report.admissible = Some(true);
     report.ruling_count = Some(sheet.regions.iter().map(|r| r.ruling_count).sum());
     report.developability_error_max_rad = Some(developability_error(mesh).max_radians);
     report.regions = sheet
