@@ -8,6 +8,7 @@
 mod arc_length;
 mod bezier;
 mod bspline;
+mod bspline_basis;
 mod curve;
 mod error;
 mod frame;
@@ -17,7 +18,8 @@ mod rigid;
 
 pub use arc_length::{gauss_legendre_length, ArcLengthOptions, ArcLengthTable};
 pub use bezier::{Bezier, Bezier2, Bezier3};
-pub use bspline::{BSpline, BSpline2, BSpline3, MAX_BSPLINE_DEGREE};
+pub use bspline::{BSpline, BSpline2, BSpline3};
+pub use bspline_basis::{BSplineBasis, BasisTable, MAX_BSPLINE_DEGREE};
 pub use curve::{Curve3, ParametricCurve};
 pub use error::GeometryError;
 pub use frame::{curve_frame, CurveFrame, CurveFrameDerivatives};
