@@ -10,8 +10,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use sheetform::flatten::ChartOptions;
 use sheetform::pattern::{DxfUnit, PageSize, SheetOptions, TabOptions, TabSides};
 use sheetform::pipeline::{
-    inadmissible_report, run_bend, run_check, run_flatten, run_slit, write_outputs, BendRunOptions, ChartMode,
-    CheckOptions, FlattenMethod, FlattenOptions, PatternOutputOptions, PipelineError, SlitRunOptions,
+    inadmissible_report, run_bend, run_check, run_ffd, run_flatten, run_slit, write_outputs, BendRunOptions, ChartMode,
+    CheckOptions, FfdRunOptions, FlattenMethod, FlattenOptions, PatternOutputOptions, PipelineError, SlitRunOptions,
 };
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -64,6 +64,24 @@ enum Command {
         /// Output directory (created if missing).
         #[arg(short, long)]
         output: PathBuf,
+        #[command(flatten)]
+        pattern: PatternArgs,
+    },
+    /// Deform developable panels with a NURBS lattice and restore their developability
+    /// (Wang & Tang): writes the restored object (model.obj with one group per panel and
+    /// vt = each panel's exact flat pattern at 1:1, model.glb, model.stl), the plain FFD
+    /// (deformed.obj/.glb), developability colour maps before/after
+    /// (developability-before/after.ply/.glb), the pattern (pattern.svg/.dxf/.pdf) and
+    /// report.json.
+    Ffd {
+        /// Scene file (JSON; schema: `sheetform schema ffd`).
+        scene: PathBuf,
+        /// Output directory (created if missing).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Restoration method (default: the scene's, which defaults to `constrained`).
+        #[arg(long, value_enum)]
+        solver: Option<SolverArg>,
         #[command(flatten)]
         pattern: PatternArgs,
     },
@@ -379,12 +397,25 @@ fn flatten_command(mesh: PathBuf, output: PathBuf, args: FlattenArgs, quiet: boo
     Ok(ExitCode::SUCCESS)
 }
 
+/// `--solver` of `ffd`.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum SolverArg {
+    /// Constrained Gauss–Newton with exact gradients (defects to 1e-10 rad).
+    Constrained,
+    /// The paper's penalty method with conjugate gradients.
+    Paper,
+    /// No restoration (plain FFD).
+    None,
+}
+
 #[derive(Clone, Copy, clap::ValueEnum)]
 enum SchemaFormat {
     /// The bend scene.
     Bend,
     /// The slit scene.
     Slit,
+    /// The FFD scene.
+    Ffd,
 }
 
 fn progress_bar(quiet: bool) -> Option<ProgressBar> {
@@ -502,6 +533,49 @@ fn slit_command(scene: PathBuf, output: PathBuf, pattern: PatternArgs, quiet: bo
     Ok(ExitCode::SUCCESS)
 }
 
+fn ffd_command(
+    scene: PathBuf,
+    output: PathBuf,
+    solver: Option<SolverArg>,
+    pattern: PatternArgs,
+    quiet: bool,
+) -> Result<ExitCode, PipelineError> {
+    use sheetform::ffd::SolverMethod;
+    let text = std::fs::read_to_string(&scene).map_err(|source| PipelineError::Read {
+        path: scene.display().to_string(),
+        source,
+    })?;
+    let options = FfdRunOptions {
+        pattern: pattern.into(),
+        input: Some(scene.display().to_string()),
+        base_dir: scene.parent().map(|p| p.to_path_buf()),
+        solver: solver.map(|s| match s {
+            SolverArg::Constrained => SolverMethod::Constrained,
+            SolverArg::Paper => SolverMethod::Paper,
+            SolverArg::None => SolverMethod::None,
+        }),
+    };
+    let run = run_ffd(&text, &options)?;
+    write_outputs(&output, &run.files, &run.report)?;
+    if !quiet {
+        let ffd = run.report.ffd.as_ref().expect("ffd report");
+        eprintln!(
+            "ffd `{}` ({}): {} panels, max angle defect {:.2e} -> {:.2e} rad, D[M] {:.3} -> {:.3}, {}; wrote {} files to {}",
+            scene.display(),
+            ffd.solver,
+            ffd.panel_count,
+            ffd.angle_defects_before.angle_defect_max_rad,
+            ffd.angle_defects_after.angle_defect_max_rad,
+            ffd.angle_defects_before.developability_d,
+            ffd.angle_defects_after.developability_d,
+            run.report.status,
+            run.report.outputs.len(),
+            output.display()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -512,6 +586,12 @@ fn main() -> ExitCode {
             pattern,
         } => bend_command(scene, output, animate, pattern, cli.quiet),
         Command::Slit { scene, output, pattern } => slit_command(scene, output, pattern, cli.quiet),
+        Command::Ffd {
+            scene,
+            output,
+            solver,
+            pattern,
+        } => ffd_command(scene, output, solver, pattern, cli.quiet),
         Command::Check {
             mesh,
             output,
@@ -545,6 +625,15 @@ fn main() -> ExitCode {
             println!(
                 "{}",
                 serde_json::to_string_pretty(&sheetform::slit::SlitScene::json_schema()).expect("schema serialises")
+            );
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Schema {
+            format: SchemaFormat::Ffd,
+        } => {
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&sheetform::ffd::FfdScene::json_schema()).expect("schema serialises")
             );
             Ok(ExitCode::SUCCESS)
         }

@@ -18,5 +18,5 @@ pub use error::MeshError;
 pub use metrics::{developability_error, isometry_error, IsometryError, RulingNormalError};
 pub use sheet_mesh::{Piece, PieceKind, Ruling, SheetMesh};
 pub use topology::{mesh_topology, MeshTopology};
-pub use triangle_mesh::TriangleMesh;
+pub use triangle_mesh::{coincident_vertices, TriangleMesh};
 pub use unit::LengthUnit;

@@ -91,41 +91,11 @@ impl TriangleMesh {
     /// the first; drops faces that become degenerate. Returns the number of vertices
     /// merged away. Grid hashing: expected linear time.
     pub fn weld(&mut self, tolerance: f64) -> usize {
-        let cell = tolerance.max(f64::MIN_POSITIVE) * 2.0;
-        let key = |p: &Vec3| {
-            [
-                (p.x / cell).floor() as i64,
-                (p.y / cell).floor() as i64,
-                (p.z / cell).floor() as i64,
-            ]
-        };
-        let mut grid: std::collections::HashMap<[i64; 3], Vec<u32>> = std::collections::HashMap::new();
-        let mut remap: Vec<u32> = Vec::with_capacity(self.positions.len());
-        let mut kept: Vec<Vec3> = Vec::with_capacity(self.positions.len());
-        for p in &self.positions {
-            let k = key(p);
-            let mut found = None;
-            'search: for dx in -1..=1 {
-                for dy in -1..=1 {
-                    for dz in -1..=1 {
-                        if let Some(list) = grid.get(&[k[0] + dx, k[1] + dy, k[2] + dz]) {
-                            for &i in list {
-                                if (kept[i as usize] - p).norm() <= tolerance {
-                                    found = Some(i);
-                                    break 'search;
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-            let index = found.unwrap_or_else(|| {
-                kept.push(*p);
-                let i = (kept.len() - 1) as u32;
-                grid.entry(k).or_default().push(i);
-                i
-            });
-            remap.push(index);
+        let remap = coincident_vertices(&self.positions, tolerance);
+        let kept_count = remap.iter().map(|&i| i as usize + 1).max().unwrap_or(0);
+        let mut kept = vec![Vec3::zeros(); kept_count];
+        for (p, &i) in self.positions.iter().zip(&remap).rev() {
+            kept[i as usize] = *p;
         }
         let merged = self.positions.len() - kept.len();
         self.positions = kept;
@@ -157,4 +127,49 @@ impl TriangleMesh {
         }
         merged
     }
+}
+
+/// Classes of coincident points: `class[i]` is the index (in order of first appearance)
+/// of the first earlier point within `tolerance` (absolute, model units) of point `i`,
+/// or a new class. Grid hashing (cells of `2 × tolerance`, the 27 neighbouring cells
+/// searched): expected linear time. Used to weld meshes and to find the linked vertices
+/// of assembled panels.
+pub fn coincident_vertices(positions: &[Vec3], tolerance: f64) -> Vec<u32> {
+    let cell = tolerance.max(f64::MIN_POSITIVE) * 2.0;
+    let key = |p: &Vec3| {
+        [
+            (p.x / cell).floor() as i64,
+            (p.y / cell).floor() as i64,
+            (p.z / cell).floor() as i64,
+        ]
+    };
+    let mut grid: rustc_hash::FxHashMap<[i64; 3], Vec<u32>> = rustc_hash::FxHashMap::default();
+    let mut remap: Vec<u32> = Vec::with_capacity(positions.len());
+    let mut kept: Vec<Vec3> = Vec::new();
+    for p in positions {
+        let k = key(p);
+        let mut found = None;
+        'search: for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    if let Some(list) = grid.get(&[k[0] + dx, k[1] + dy, k[2] + dz]) {
+                        for &i in list {
+                            if (kept[i as usize] - p).norm() <= tolerance {
+                                found = Some(i);
+                                break 'search;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        let index = found.unwrap_or_else(|| {
+            kept.push(*p);
+            let i = (kept.len() - 1) as u32;
+            grid.entry(k).or_default().push(i);
+            i
+        });
+        remap.push(index);
+    }
+    remap
 }

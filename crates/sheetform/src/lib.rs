@@ -8,6 +8,7 @@
 //! - [`mesh`]: [`mesh::SheetMesh`], the mesh that carries its own flat pattern;
 //! - [`bend`]: system A, sheets bent by geodesic control curves (Bo & Wang 2007);
 //! - [`slit`]: system B, furniture from one sheet with parallel slits (Tsuruta et al.);
+//! - [`ffd`]: system C, developability-preserving free-form deformation (Wang & Tang);
 //! - [`flatten`]: exact unfolding of developable meshes, distortion and overlap measures;
 //! - [`io`]: readers (OBJ, PLY, STL, OFF), exports (OBJ, GLB, STL, SVG), atomic writing;
 //! - [`pattern`]: cutting patterns as SVG, DXF and tiled true-scale PDF;
@@ -29,6 +30,7 @@ pub mod pipeline;
 pub mod report;
 
 pub use sheetform_bend as bend;
+pub use sheetform_ffd as ffd;
 pub use sheetform_flatten as flatten;
 pub use sheetform_geometry as geometry;
 pub use sheetform_io as io;

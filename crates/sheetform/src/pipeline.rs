@@ -1,10 +1,12 @@
 //! The pipelines every front end calls.
 
 use crate::report::{
-    AngleDefects, ChartReport, MouldReport, PatternReport, RegionReport, RegressionEntry, Report, SegmentationReport,
-    SlitReport, StripReport, Timings,
+    AngleDefects, ChartReport, FfdReport, FfdStepReport, MouldReport, PatternReport, RegionReport, RegressionEntry,
+    Report, SegmentationReport, SlitReport, StripReport, Timings,
 };
 use sheetform_bend::{bend, BendError, BendModel, BendScene, BentSheet};
+use sheetform_ffd::{run_design, FfdDesign, FfdError, FfdScene, ModelSource, SolverMethod};
+use sheetform_flatten::Chart;
 use sheetform_flatten::{
     arap, cut_into_charts, distortion, exact_unfold, lscm, ArapOptions, ChartOptions, ChartSet, Distortion,
     FlattenError, UnfoldOptions,
@@ -60,6 +62,9 @@ pub enum PipelineError {
     /// The slit-sheet model is invalid or cannot be built.
     #[error(transparent)]
     Slit(#[from] SlitError),
+    /// The FFD scene is invalid or the restoration failed.
+    #[error(transparent)]
+    Ffd(#[from] FfdError),
     /// The pattern files cannot be made.
     #[error(transparent)]
     Pattern(#[from] PatternError),
@@ -705,7 +710,7 @@ pub fn run_flatten(path: &Path, options: &FlattenOptions) -> Result<FlattenRun, 
             .pattern
             .tabs
             .map_or(0.0, |t| 2.5 * t.width_mm / (mm * options.pattern.scale));
-        let sheet = sheet_from_charts(&mesh, &set, &name, options.unit, tab_room);
+        let sheet = sheet_from_charts(&mesh, &set, &name, None, options.unit, tab_room);
         report.segmentation = Some(SegmentationReport {
             chart_count: set.charts.len(),
             initial_chart_count: set.initial_chart_count,
@@ -805,7 +810,14 @@ fn chart_report(name: &str, method: &str, face_count: usize, d: &Distortion) -> 
 /// (same 3D position, own flat position), one piece per chart, the charts' flat layouts
 /// set side by side in rows (`gap` apart plus `extra_gap`, model units) so that the
 /// pattern (and the OBJ `vt`) has no chart over another.
-fn sheet_from_charts(mesh: &TriangleMesh, set: &ChartSet, name: &str, unit: LengthUnit, extra_gap: f64) -> SheetMesh {
+fn sheet_from_charts(
+    mesh: &TriangleMesh,
+    set: &ChartSet,
+    name: &str,
+    piece_names: Option<&[String]>,
+    unit: LengthUnit,
+    extra_gap: f64,
+) -> SheetMesh {
     // Each chart turned to its smallest bounding rectangle, landscape.
     let turned: Vec<Vec<Vec2>> = set
         .charts
@@ -849,7 +861,7 @@ fn sheet_from_charts(mesh: &TriangleMesh, set: &ChartSet, name: &str, unit: Leng
             .face_pieces
             .extend(std::iter::repeat_n(c as u32, chart.triangles.len()));
         sheet.pieces.push(Piece {
-            name: format!("{name}-{:0digits$}", c + 1),
+            name: piece_names.map_or_else(|| format!("{name}-{:0digits$}", c + 1), |names| names[c].clone()),
             kind: PieceKind::Chart,
         });
     }
@@ -907,3 +919,229 @@ pub fn write_outputs(dir: &Path, files: &[(String, Vec<u8>)], report: &Report) -
     write_atomic(&dir.join("report.json"), &json)?;
     Ok(())
 }
+
+/// Knobs of `sheetform ffd`.
+#[derive(Debug, Clone, Default)]
+pub struct FfdRunOptions {
+    /// How the pattern is written.
+    pub pattern: PatternOutputOptions,
+    /// Input path, recorded in the report.
+    pub input: Option<String>,
+    /// Directory that a mesh path in the scene is relative to.
+    pub base_dir: Option<std::path::PathBuf>,
+    /// Overrides the scene's solver (`--solver`).
+    pub solver: Option<SolverMethod>,
+}
+
+/// A finished FFD run.
+#[derive(Debug)]
+pub struct FfdRun {
+    /// The design: panels, lattice, every deformation step.
+    pub design: FfdDesign,
+    /// The restored object with each panel's exact flat pattern (pieces = panels).
+    pub sheet: SheetMesh,
+    /// Rendered outputs `(file name, bytes)`, not yet written.
+    pub files: RenderedFiles,
+    /// The report.
+    pub report: Report,
+}
+
+/// Runs system C on a scene's JSON text: build (or read) the panels, embed them in the
+/// lattice, apply each deformation and restore developability, then unfold every panel
+/// exactly and write the plain and restored meshes, colour maps, the pattern and the
+/// report.
+///
+/// # Errors
+/// [`PipelineError::Ffd`] for invalid scenes (naming the field), vertices outside the
+/// lattice and solver failures; unreadable mesh files; panels that cannot be unfolded.
+pub fn run_ffd(scene_text: &str, options: &FfdRunOptions) -> Result<FfdRun, PipelineError> {
+    let start = Instant::now();
+    let mut scene = FfdScene::from_json(scene_text)?;
+    if let Some(method) = options.solver {
+        scene.solver.method = method;
+    }
+    let mesh = match &scene.model {
+        ModelSource::Procedural(model) => model.build(),
+        ModelSource::Mesh(path) => {
+            let full = options
+                .base_dir
+                .as_deref()
+                .map_or_else(|| Path::new(path).to_path_buf(), |d| d.join(path));
+            read_mesh(&full)?
+        }
+    };
+    let parsed = Instant::now();
+    let design = run_design(&scene, &mesh)?;
+    let solved = Instant::now();
+    let unit = scene.units;
+    let mm = unit.millimetres();
+    let name = scene.name.clone();
+    let assembly = &design.assembly;
+    let last = design.steps.last().expect("validated: at least one deformation");
+    let restored = assembly.mesh_at(&last.restored);
+    let deformed = assembly.mesh_at(&last.deformed);
+    // Each panel unfolded exactly (a panel is a disk: its seams are its boundary).
+    let panel_names: Vec<String> = assembly.panels.iter().map(|p| p.name.clone()).collect();
+    let charts = |positions: &[nalgebra::Vector3<f64>]| -> Result<ChartSet, PipelineError> {
+        let mut charts = Vec::with_capacity(assembly.panels.len());
+        for (k, panel) in assembly.panels.iter().enumerate() {
+            let panel_mesh = assembly.panel_mesh(k, positions);
+            let unfolding = exact_unfold(&panel_mesh, &UnfoldOptions::default()).map_err(|e| {
+                PipelineError::Ffd(FfdError::Panel {
+                    panel: panel.name.clone(),
+                    message: format!("cannot be unfolded: {e}"),
+                })
+            })?;
+            let d = distortion(&panel_mesh, &unfolding.flat);
+            charts.push(Chart {
+                faces: panel.faces.clone(),
+                vertices: panel.vertices.clone(),
+                triangles: panel_mesh.triangles.clone(),
+                flat: unfolding.flat,
+                distortion: d,
+                solver: unfolding.solver,
+            });
+        }
+        Ok(ChartSet {
+            face_chart: assembly.mesh.face_groups.clone(),
+            charts,
+            seam_edge_count: 0,
+            initial_chart_count: assembly.panels.len(),
+            split_count: 0,
+        })
+    };
+    let tab_room = options
+        .pattern
+        .tabs
+        .map_or(0.0, |t| 2.5 * t.width_mm / (mm * options.pattern.scale));
+    let restored_charts = charts(&last.restored)?;
+    let sheet = sheet_from_charts(&restored, &restored_charts, &name, Some(&panel_names), unit, tab_room);
+    let deformed_charts = charts(&last.deformed)?;
+    let deformed_sheet = sheet_from_charts(&deformed, &deformed_charts, &name, Some(&panel_names), unit, tab_room);
+    // Colour maps on one logarithmic scale, from 1e-8 rad (blue) to the largest defect
+    // before restoration (red), so the two maps compare directly (the paper's Fig. 4).
+    let topology = mesh_topology(&deformed);
+    let (before, before_vertices) = angle_defects(&deformed, &topology, FFD_DEFECT_TOLERANCE, mm);
+    let (after, after_vertices) = angle_defects(&restored, &topology, FFD_DEFECT_TOLERANCE, mm);
+    let top = before.angle_defect_max_rad.max(10.0 * FFD_DEFECT_TOLERANCE);
+    let span = (top / FFD_DEFECT_TOLERANCE).ln();
+    let colours = |v: &VertexDevelopability| -> Vec<[f32; 3]> {
+        v.angle_defect
+            .iter()
+            .map(|g| colour_ramp((g.abs().max(FFD_DEFECT_TOLERANCE) / FFD_DEFECT_TOLERANCE).ln() / span))
+            .collect()
+    };
+    let (colours_before, colours_after) = (colours(&before_vertices), colours(&after_vertices));
+    let mut files: RenderedFiles = vec![
+        ("model.obj".into(), obj_string(&sheet, &name).into_bytes()),
+        ("model.glb".into(), glb_bytes(&sheet, &name, None)),
+        ("model.stl".into(), stl_bytes(&sheet)),
+        (
+            "deformed.obj".into(),
+            obj_string(&deformed_sheet, &format!("{name} (plain FFD)")).into_bytes(),
+        ),
+        (
+            "deformed.glb".into(),
+            glb_bytes(&deformed_sheet, &format!("{name} (plain FFD)"), None),
+        ),
+        (
+            "developability-before.ply".into(),
+            ply_vertex_colours(
+                &deformed,
+                &colours_before,
+                &before_vertices.angle_defect,
+                "angle_defect",
+            )
+            .into_bytes(),
+        ),
+        (
+            "developability-before.glb".into(),
+            glb_vertex_colours(&deformed, &colours_before, mm / 1000.0, &name),
+        ),
+        (
+            "developability-after.ply".into(),
+            ply_vertex_colours(&restored, &colours_after, &after_vertices.angle_defect, "angle_defect").into_bytes(),
+        ),
+        (
+            "developability-after.glb".into(),
+            glb_vertex_colours(&restored, &colours_after, mm / 1000.0, &name),
+        ),
+    ];
+    let (pattern, pattern_report) = pattern_files(&sheet, &name, &options.pattern)?;
+    files.extend(pattern);
+    let exported = Instant::now();
+    let mut report = sheet_mesh_report("ffd", options.input.clone(), &sheet);
+    report.pattern = Some(pattern_report);
+    report.charts = restored_charts
+        .charts
+        .iter()
+        .zip(&panel_names)
+        .map(|(c, n)| chart_report(n, "exact", c.faces.len(), &c.distortion))
+        .collect();
+    // Linked copies must coincide: the largest distance between vertices of one node.
+    let node_positions = assembly.node_positions_of(&restored.positions);
+    let linked_gap = restored
+        .positions
+        .iter()
+        .zip(&assembly.vertex_node)
+        .map(|(p, &n)| (p - node_positions[n as usize]).norm())
+        .fold(0.0, f64::max);
+    let deformed_distortion = deformed_charts
+        .charts
+        .iter()
+        .map(|c| c.distortion.edge_length_max_relative)
+        .fold(0.0, f64::max);
+    report.ffd = Some(FfdReport {
+        solver: format!("{:?}", scene.solver.method).to_lowercase(),
+        panel_count: assembly.panels.len(),
+        node_count: assembly.node_count,
+        linked_node_count: assembly.linked_node_count(),
+        linked_vertex_gap_max_mm: linked_gap * mm,
+        linear_embedding: design.linear_embedding,
+        embedding_time_ms: design.embedding_time_ms,
+        lattice_counts: design.lattice.counts(),
+        lattice_degrees: design.lattice.degrees(),
+        angle_defects_before: before,
+        angle_defects_after: after,
+        deformed_pattern_edge_length_max_relative: deformed_distortion,
+        steps: design
+            .steps
+            .iter()
+            .map(|s| FfdStepReport {
+                name: s.name.clone(),
+                solver: s.info.solver.clone(),
+                iterations: s.info.iterations,
+                converged: s.info.converged,
+                variable_node_count: s.info.variable_node_count,
+                constraint_count: s.info.constraint_count,
+                developability_g_before_rad2: s.info.developability_g_before,
+                developability_g_after_rad2: s.info.developability_g_after,
+                angle_defect_max_before_rad: s.info.angle_defect_max_before_rad,
+                angle_defect_max_after_rad: s.info.angle_defect_max_after_rad,
+                spring_energy_mm2: s.info.spring_energy_after * mm * mm,
+                deviation_max_mm: s.deviation_max * mm,
+                edge_length_change_max_relative: s.edge_length_change_max_relative,
+                edge_length_change_mean_relative: s.edge_length_change_mean_relative,
+                time_ms: s.info.time_ms,
+            })
+            .collect(),
+    });
+    report.status = if design.steps.iter().all(|s| s.info.converged) {
+        "ok"
+    } else {
+        "not converged"
+    }
+    .into();
+    report.timings = Timings::from_stages(start, parsed, solved, exported);
+    report.outputs = output_names(&files);
+    Ok(FfdRun {
+        design,
+        sheet,
+        files,
+        report,
+    })
+}
+
+/// Angle defects below this count as developable in the FFD colour maps and `D[M]`
+/// (radians; the paper's `λ`).
+pub const FFD_DEFECT_TOLERANCE: f64 = 1e-8;

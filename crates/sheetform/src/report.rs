@@ -103,6 +103,73 @@ pub struct StripReport {
     pub time_ms: f64,
 }
 
+/// The developability-preserving FFD (`ffd`).
+#[derive(Debug, Clone, Serialize)]
+pub struct FfdReport {
+    /// `constrained`, `paper` or `none`.
+    pub solver: String,
+    /// Panels (mesh patches).
+    pub panel_count: usize,
+    /// Nodes (linked vertex sets): one parameter triple each.
+    pub node_count: usize,
+    /// Nodes shared by several vertices (seams between panels).
+    pub linked_node_count: usize,
+    /// Largest distance between linked copies after restoration (0: no crack).
+    pub linked_vertex_gap_max_mm: f64,
+    /// Whether the embedding was linear (box lattice) rather than Newton's method.
+    pub linear_embedding: bool,
+    /// Time to embed the vertices.
+    pub embedding_time_ms: f64,
+    /// Control points per direction.
+    pub lattice_counts: [usize; 3],
+    /// Degrees per direction.
+    pub lattice_degrees: [usize; 3],
+    /// Angle defects of the plain FFD (last step), `D[M]` and `G[X]` included.
+    pub angle_defects_before: AngleDefects,
+    /// Angle defects after restoration.
+    pub angle_defects_after: AngleDefects,
+    /// Largest edge-length error of the plain FFD's panels laid flat by least squares
+    /// (what cutting the undeveloped shape would cost).
+    pub deformed_pattern_edge_length_max_relative: f64,
+    /// Every deformation step.
+    pub steps: Vec<FfdStepReport>,
+}
+
+/// One deformation and its restoration (`ffd`).
+#[derive(Debug, Clone, Serialize)]
+pub struct FfdStepReport {
+    /// Name from the scene.
+    pub name: String,
+    /// Solver used.
+    pub solver: String,
+    /// Iterations (constrained) or penalty updates (paper).
+    pub iterations: usize,
+    /// Whether the solver met its stopping rule.
+    pub converged: bool,
+    /// Nodes optimised (the selective set).
+    pub variable_node_count: usize,
+    /// Constrained interior vertices.
+    pub constraint_count: usize,
+    /// `G[X₀]` over the constrained vertices (Eq. 2-5).
+    pub developability_g_before_rad2: f64,
+    /// `G[X*]`.
+    pub developability_g_after_rad2: f64,
+    /// Largest angle defect before.
+    pub angle_defect_max_before_rad: f64,
+    /// Largest angle defect after.
+    pub angle_defect_max_after_rad: f64,
+    /// Spring energy `E(X*)` (Eq. 2-2).
+    pub spring_energy_mm2: f64,
+    /// Largest vertex displacement from the plain FFD.
+    pub deviation_max_mm: f64,
+    /// Largest relative edge-length change from the plain FFD.
+    pub edge_length_change_max_relative: f64,
+    /// Mean relative edge-length change.
+    pub edge_length_change_mean_relative: f64,
+    /// Solver time.
+    pub time_ms: f64,
+}
+
 /// The slit-sheet design (`slit`).
 #[derive(Debug, Clone, Serialize)]
 pub struct SlitReport {
@@ -300,6 +367,9 @@ pub struct Report {
     /// `slit`: the strips, the gap and the mould.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub slit: Option<SlitReport>,
+    /// `ffd`: the deformation steps and their restoration.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ffd: Option<FfdReport>,
     /// Files written (relative to the output directory).
     pub outputs: Vec<String>,
     /// Stage times.
@@ -336,6 +406,7 @@ impl Report {
             segmentation: None,
             solver: None,
             slit: None,
+            ffd: None,
             outputs: vec![],
             timings: Timings::default(),
         }

@@ -1,0 +1,416 @@
+//! The default solver: constrained Gauss–Newton (SQP) on the embedded parameters.
+
+use crate::{DevelopabilityProblem, Evaluation, FfdError, RestorationInfo};
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymbolicCholesky, SymmetricOrdering};
+use faer::sparse::{Pair, SparseColMat, SymbolicSparseColMat};
+use faer::{Conj, MatMut, Par, Side};
+use std::time::Instant;
+
+/// Knobs of [`restore_constrained`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ConstrainedOptions {
+    /// Stop when every angle defect is at most this (radians).
+    pub tolerance: f64,
+    /// Weight `β` of the proximity term `½ β Σ |q_n − q′_n|² / l̄²` next to the springs
+    /// `½ Σ (|q_s − q_e| − l⁰)² / l̄²`. A departure from the paper (whose objective is the
+    /// springs alone): springs do not see motions that keep every edge length (rigid
+    /// motions, flexing of the mesh), and without this term the result could drift along
+    /// them. 0.01: small enough that edge lengths dominate.
+    pub position_weight: f64,
+    /// Most iterations.
+    pub max_iterations: usize,
+    /// Most refinement iterations after the defects are within tolerance (0: restore
+    /// only).
+    pub refine_iterations: usize,
+    /// Refinement stops when the objective falls by less than this fraction in one step.
+    pub objective_tolerance: f64,
+}
+
+impl Default for ConstrainedOptions {
+    fn default() -> Self {
+        Self {
+            tolerance: 1e-10,
+            position_weight: 0.01,
+            max_iterations: 60,
+            objective_tolerance: 1e-3,
+            refine_iterations: 0,
+        }
+    }
+}
+
+/// The KKT system's sparsity pattern, symbolic factorisation and workspace (computed once
+/// per problem) and the current numeric factorisation.
+struct KktSystem {
+    n: usize,
+    nc: usize,
+    w: f64,
+    beta: f64,
+    symbolic: SymbolicSparseColMat<usize>,
+    argsort: faer::sparse::Argsort<usize>,
+    cholesky: SymbolicCholesky<usize>,
+    pairs: Vec<Pair<usize, usize>>,
+    values: Vec<f64>,
+    l_values: Vec<f64>,
+    signs: Vec<i8>,
+    memory: MemBuffer,
+}
+
+impl KktSystem {
+    fn new(problem: &DevelopabilityProblem<'_>, e: &Evaluation, w: f64, beta: f64) -> Result<Self, FfdError> {
+        let n = problem.unknown_count();
+        let nc = problem.constraint_count();
+        let mut pairs = Vec::new();
+        let mut values = Vec::new();
+        assemble(problem, e, w, beta, Some(&mut pairs), &mut values);
+        let (symbolic, argsort) = SymbolicSparseColMat::try_new_from_indices(n + nc, n + nc, &pairs)
+            .map_err(|e| FfdError::Solver(format!("KKT pattern: {e:?}")))?;
+        let cholesky = factorize_symbolic_cholesky(
+            symbolic.as_ref(),
+            Side::Upper,
+            SymmetricOrdering::Amd,
+            Default::default(),
+        )
+        .map_err(|e| FfdError::Solver(format!("symbolic factorisation: {e:?}")))?;
+        let memory = MemBuffer::new(StackReq::any_of(&[
+            cholesky.factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default()),
+            cholesky.solve_in_place_scratch::<f64>(1, Par::Seq),
+        ]));
+        let l_values = vec![0.0; cholesky.len_val()];
+        Ok(Self {
+            n,
+            nc,
+            w,
+            beta,
+            symbolic,
+            argsort,
+            cholesky,
+            pairs,
+            values,
+            l_values,
+            signs: (0..n + nc).map(|i| if i < n { 1 } else { -1 }).collect(),
+            memory,
+        })
+    }
+
+    /// Assembles and factorises the KKT matrix at `e`; returns the objective's gradient.
+    fn factorise(&mut self, problem: &DevelopabilityProblem<'_>, e: &Evaluation) -> Result<Vec<f64>, FfdError> {
+        let (delta, gradient) = assemble(problem, e, self.w, self.beta, None, &mut self.values);
+        let matrix = SparseColMat::new_from_argsort(self.symbolic.clone(), &self.argsort, &self.values)
+            .map_err(|e| FfdError::Solver(format!("KKT matrix: {e:?}")))?;
+        let regularization = LdltRegularization {
+            dynamic_regularization_signs: Some(&self.signs),
+            dynamic_regularization_delta: delta,
+            dynamic_regularization_epsilon: delta * 1e-3,
+        };
+        self.cholesky
+            .factorize_numeric_ldlt(
+                &mut self.l_values,
+                matrix.as_ref(),
+                Side::Upper,
+                regularization,
+                Par::Seq,
+                MemStack::new(&mut self.memory),
+                Default::default(),
+            )
+            .map_err(|e| FfdError::Solver(format!("KKT factorisation: {e:?}")))?;
+        Ok(gradient)
+    }
+
+    /// Solves `K [p; λ] = rhs` in place with the current factorisation and two steps of
+    /// iterative refinement against the matrix without its `−δ` block.
+    fn solve(&mut self, rhs: &mut [f64]) {
+        let size = self.n + self.nc;
+        let ldlt = faer::sparse::linalg::cholesky::LdltRef::new(&self.cholesky, &self.l_values);
+        let original = rhs.to_vec();
+        ldlt.solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(rhs, size, 1),
+            Par::Seq,
+            MemStack::new(&mut self.memory),
+        );
+        for _ in 0..2 {
+            let product = kkt_product(&self.pairs, &self.values, self.n, rhs);
+            let mut residual: Vec<f64> = original.iter().zip(&product).map(|(b, a)| b - a).collect();
+            ldlt.solve_in_place_with_conj(
+                Conj::No,
+                MatMut::from_column_major_slice_mut(&mut residual, size, 1),
+                Par::Seq,
+                MemStack::new(&mut self.memory),
+            );
+            for (x, d) in rhs.iter_mut().zip(&residual) {
+                *x += d;
+            }
+        }
+    }
+
+    /// The step of least `H`-norm with `A p = −g`: `K [p; λ] = [0; −g]`.
+    fn projection(&mut self, defects: &[f64]) -> Vec<f64> {
+        let mut rhs: Vec<f64> = vec![0.0; self.n]
+            .into_iter()
+            .chain(defects.iter().map(|g| -g))
+            .collect();
+        self.solve(&mut rhs);
+        rhs.truncate(self.n);
+        rhs
+    }
+}
+
+/// Restores developability in two phases, both on the Gauss–Newton model
+/// `H = JᵀJ + μI` of
+///
+/// `f(X) = ½ Σ_j (|q_s − q_e| − l⁰_j)² / l̄² + ½ β Σ_n |q_n − q′_n|² / l̄²`
+///
+/// (`q_n = Q′(X_n)`, springs of Eq. 2-2 plus a small proximity term) with the exact
+/// Jacobian `A` of the defects `g(q_i(X))` (chain rule through `∂Q/∂(u,v,w)`,
+/// [`DevelopabilityProblem::defect_gradient`]):
+///
+/// 1. **Restoration** (Gauss–Newton projection onto `g = 0`): `p` of least `H`-norm with
+///    `A p = −g`, i.e. `[H Aᵀ; A −δI] [p; λ] = [0; −g]`, halved until the largest defect
+///    decreases (a sum-of-defects test accepted longer steps and converged in fewer
+///    iterations, but left edges changed by up to 37 % on the trousers instead of 10 %). Converges quadratically once close; ends when every `|g| ≤ tolerance`.
+/// 2. **Refinement** (SQP with a Gauss–Newton Hessian): `[H Aᵀ; A −δI] [p; λ] =
+///    [−∇f; 0]` moves along the constraint surface to lower `f`, followed by projection
+///    steps back onto `g = 0`; a step is kept only if `f` decreased and every defect is
+///    still within tolerance. Stops when `f` changes by less than `objective_tolerance`.
+///
+/// The linear systems are solved by a sparse LDLᵀ factorisation (faer; AMD ordering and
+/// symbolic analysis once per problem, numeric factorisation per iteration). The tiny
+/// `μ = 1e-9·mean diag H` and `δ` make the matrix quasi-definite; two steps of iterative
+/// refinement against the system without `δ` remove its effect.
+///
+/// Departures and why: the paper minimises `E + (ρ/2) G²` by conjugate gradients with
+/// finite-difference gradients (§3) and never reaches `G = 0` (Table 1). A full SQP
+/// iteration from the start was tried first: its Gauss–Newton Hessian lacks the
+/// constraints' curvature `Σ λ ∇²g`, which dominates in the direction normal to the
+/// surface (edge lengths change only to second order there), so its steps were cut
+/// by the line search and it crawled (60 iterations, defect 5e-5 on the duct).
+/// Projecting first and refining afterwards reaches `1e-12` in about ten iterations.
+///
+/// # Errors
+/// [`FfdError::Solver`] if the factorisation fails.
+pub fn restore_constrained(
+    problem: &DevelopabilityProblem<'_>,
+    options: &ConstrainedOptions,
+) -> Result<(Vec<nalgebra::Vector3<f64>>, RestorationInfo), FfdError> {
+    let start = Instant::now();
+    let mut y = problem.gather(&problem.start);
+    let mut e = problem.evaluate(&y);
+    let mut info = RestorationInfo::begin("constrained", problem, &e);
+    if problem.variables.is_empty() || max_abs(&e.defects) <= options.tolerance {
+        info.finish(problem, &e, 0, true, start);
+        return Ok((e.parameters, info));
+    }
+    let w = 1.0 / (problem.length_scale * problem.length_scale);
+    let beta = options.position_weight * w;
+    let mut kkt = KktSystem::new(problem, &e, w, beta)?;
+    let trace = std::env::var_os("SHEETFORM_TRACE").is_some();
+    let mut iterations = 0;
+    // Phase 1: restoration.
+    while iterations < options.max_iterations && max_abs(&e.defects) > options.tolerance {
+        iterations += 1;
+        kkt.factorise(problem, &e)?;
+        let step = kkt.projection(&e.defects);
+        let current = max_abs(&e.defects);
+        let mut alpha = 1.0;
+        let mut accepted = None;
+        for _ in 0..30 {
+            let trial_y: Vec<f64> = y.iter().zip(&step).map(|(a, p)| a + alpha * p).collect();
+            let trial = problem.evaluate(&trial_y);
+            if max_abs(&trial.defects) < current {
+                accepted = Some((trial_y, trial));
+                break;
+            }
+            alpha *= 0.5;
+        }
+        let Some((new_y, new_e)) = accepted else {
+            break;
+        };
+        if trace {
+            eprintln!(
+                "restore {iterations}: alpha {alpha} max defect {:.3e}",
+                max_abs(&new_e.defects)
+            );
+        }
+        y = new_y;
+        e = new_e;
+    }
+    let converged = max_abs(&e.defects) <= options.tolerance;
+    // Phase 2: refinement of the objective on the constraint surface.
+    let mut f = objective(problem, &e, w, beta);
+    let mut last_alpha: f64 = 1.0;
+    let mut refinements = 0;
+    while converged && iterations < options.max_iterations && refinements < options.refine_iterations {
+        refinements += 1;
+        iterations += 1;
+        let gradient = kkt.factorise(problem, &e)?;
+        let mut rhs: Vec<f64> = gradient
+            .iter()
+            .map(|g| -g)
+            .chain(std::iter::repeat_n(0.0, kkt.nc))
+            .collect();
+        kkt.solve(&mut rhs);
+        let step = rhs[..kkt.n].to_vec();
+        let mut alpha = (2.0 * last_alpha).min(1.0);
+        let mut accepted = None;
+        'halving: for _ in 0..12 {
+            let mut trial_y: Vec<f64> = y.iter().zip(&step).map(|(a, p)| a + alpha * p).collect();
+            let mut trial = problem.evaluate(&trial_y);
+            // Back onto g = 0 with the same factorisation.
+            for _ in 0..10 {
+                if max_abs(&trial.defects) <= options.tolerance || max_abs(&trial.defects) > 1e-2 {
+                    break;
+                }
+                let correction = kkt.projection(&trial.defects);
+                for (a, c) in trial_y.iter_mut().zip(&correction) {
+                    *a += c;
+                }
+                trial = problem.evaluate(&trial_y);
+            }
+            let trial_f = objective(problem, &trial, w, beta);
+            if max_abs(&trial.defects) <= options.tolerance && trial_f < f {
+                accepted = Some((trial_y, trial, trial_f));
+                break 'halving;
+            }
+            alpha *= 0.5;
+        }
+        let Some((new_y, new_e, new_f)) = accepted else {
+            break;
+        };
+        last_alpha = alpha;
+        let change = (f - new_f) / f.max(1e-300);
+        if trace {
+            eprintln!(
+                "refine {iterations}: alpha {alpha} f {new_f:.4e} max defect {:.3e}",
+                max_abs(&new_e.defects)
+            );
+        }
+        y = new_y;
+        e = new_e;
+        f = new_f;
+        if change < options.objective_tolerance {
+            break;
+        }
+    }
+    info.finish(problem, &e, iterations, converged, start);
+    Ok((e.parameters, info))
+}
+
+fn max_abs(values: &[f64]) -> f64 {
+    values.iter().fold(0.0, |m, v| m.max(v.abs()))
+}
+
+/// `f = ½ w Σ r_s² + ½ β Σ |q_n − q′_n|²` over the variable nodes.
+fn objective(problem: &DevelopabilityProblem<'_>, e: &Evaluation, w: f64, beta: f64) -> f64 {
+    let springs: f64 = e.spring_residuals.iter().map(|r| r * r).sum();
+    let positions: f64 = problem
+        .variables
+        .iter()
+        .map(|&m| (e.positions[m as usize] - problem.target[m as usize]).norm_squared())
+        .sum();
+    0.5 * w * springs + 0.5 * beta * positions
+}
+
+/// Fills the upper triangle of the KKT matrix (values in a fixed order; the index pairs
+/// too when `pairs` is given) and returns `δ` and the objective's gradient.
+fn assemble(
+    problem: &DevelopabilityProblem<'_>,
+    e: &Evaluation,
+    w: f64,
+    beta: f64,
+    mut pairs: Option<&mut Vec<Pair<usize, usize>>>,
+    values: &mut Vec<f64>,
+) -> (f64, Vec<f64>) {
+    let n = problem.unknown_count();
+    let nc = problem.constraint_count();
+    values.clear();
+    let mut gradient = vec![0.0; n];
+    let mut push = |row: usize, col: usize, value: f64, values: &mut Vec<f64>| {
+        let (r, c) = if row <= col { (row, col) } else { (col, row) };
+        if let Some(p) = pairs.as_deref_mut() {
+            p.push(Pair { row: r, col: c });
+        }
+        values.push(value);
+    };
+    // Springs: JᵀJ blocks and Jᵀr.
+    for s in 0..problem.springs.len() {
+        let parts = problem.spring_gradient(e, s);
+        let r = e.spring_residuals[s];
+        for (a, (va, ga)) in parts.iter().enumerate() {
+            if *va == u32::MAX {
+                continue;
+            }
+            for k in 0..3 {
+                gradient[3 * *va as usize + k] += w * r * ga[k];
+            }
+            for (vb, gb) in parts.iter().skip(a) {
+                if *vb == u32::MAX {
+                    continue;
+                }
+                for k in 0..3 {
+                    for l in 0..3 {
+                        let (row, col) = (3 * *va as usize + k, 3 * *vb as usize + l);
+                        if va == vb && l < k {
+                            continue;
+                        }
+                        push(row, col, w * ga[k] * gb[l], values);
+                    }
+                }
+            }
+        }
+    }
+    // Proximity term and damping: β JᵀJ per node, μ on the diagonal.
+    let mut diagonal_sum = 0.0;
+    for (v, &m) in problem.variables.iter().enumerate() {
+        let j = &e.jacobians[v];
+        let jtj = j.tr_mul(j) * beta;
+        let d = e.positions[m as usize] - problem.target[m as usize];
+        let g = j.tr_mul(&d) * beta;
+        for k in 0..3 {
+            gradient[3 * v + k] += g[k];
+            diagonal_sum += jtj[(k, k)];
+            for l in k..3 {
+                push(3 * v + k, 3 * v + l, jtj[(k, l)], values);
+            }
+        }
+    }
+    let mean_diagonal = (diagonal_sum / n.max(1) as f64).max(1e-300);
+    let mu = 1e-9 * mean_diagonal;
+    for i in 0..n {
+        push(i, i, mu, values);
+    }
+    // Constraint rows A (as the upper-right block Aᵀ) and the −δ block.
+    let mut row = Vec::new();
+    let mut a_norm = 0.0;
+    for c in 0..nc {
+        problem.defect_gradient(e, c, &mut row);
+        for (v, d) in &row {
+            for k in 0..3 {
+                a_norm += d[k] * d[k];
+                push(3 * *v as usize + k, n + c, d[k], values);
+            }
+        }
+    }
+    let delta = 1e-10 * (a_norm / nc.max(1) as f64) / mean_diagonal;
+    for c in 0..nc {
+        push(n + c, n + c, -delta, values);
+    }
+    (delta.max(1e-300), gradient)
+}
+
+/// `K x` for the symmetric matrix stored as upper-triangle pairs, leaving out the `−δ`
+/// diagonal of the constraint block (the last `nc` entries).
+fn kkt_product(pairs: &[Pair<usize, usize>], values: &[f64], n: usize, x: &[f64]) -> Vec<f64> {
+    let mut out = vec![0.0; x.len()];
+    for (p, &v) in pairs.iter().zip(values) {
+        if p.row == p.col && p.row >= n {
+            continue;
+        }
+        out[p.row] += v * x[p.col];
+        if p.row != p.col {
+            out[p.col] += v * x[p.row];
+        }
+    }
+    out
+}

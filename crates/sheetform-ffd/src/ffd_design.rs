@@ -1,0 +1,190 @@
+//! A whole FFD run: embed, deform step by step, restore developability.
+
+use crate::{
+    apply_edits, embed_points, restore_constrained, restore_paper, ConstrainedOptions, DevelopabilityProblem, FfdError,
+    FfdScene, NurbsVolume, PanelAssembly, PaperOptions, ProblemOptions, RestorationInfo, SolverMethod,
+};
+use nalgebra::Vector3;
+use rayon::prelude::*;
+use sheetform_mesh::TriangleMesh;
+use std::time::Instant;
+
+type Vec3 = Vector3<f64>;
+
+/// One deformation and its restoration.
+#[derive(Debug, Clone)]
+pub struct DeformationStep {
+    /// Name from the scene (or `deformation-N`).
+    pub name: String,
+    /// The lattice after the edits.
+    pub volume: NurbsVolume,
+    /// Node positions of the plain FFD `M′` (the previous parameters in the new lattice).
+    pub deformed: Vec<Vec3>,
+    /// Parameters after restoration.
+    pub parameters: Vec<Vec3>,
+    /// Node positions after restoration `M*`.
+    pub restored: Vec<Vec3>,
+    /// What the solver did.
+    pub info: RestorationInfo,
+    /// Largest `|q* − q′|` over the nodes (model units).
+    pub deviation_max: f64,
+    /// Largest relative edge-length change `|l* − l′| / l′`.
+    pub edge_length_change_max_relative: f64,
+    /// Mean relative edge-length change.
+    pub edge_length_change_mean_relative: f64,
+}
+
+/// The result of [`run_design`].
+#[derive(Debug, Clone)]
+pub struct FfdDesign {
+    /// The panels.
+    pub assembly: PanelAssembly,
+    /// The undeformed lattice.
+    pub lattice: NurbsVolume,
+    /// Parameters of the nodes in the undeformed lattice.
+    pub embedding: Vec<Vec3>,
+    /// Whether the embedding was linear (parallelepiped lattice).
+    pub linear_embedding: bool,
+    /// Time spent embedding (milliseconds).
+    pub embedding_time_ms: f64,
+    /// The deformations, in order.
+    pub steps: Vec<DeformationStep>,
+}
+
+impl FfdDesign {
+    /// Node positions after the last step.
+    pub fn final_positions(&self) -> &[Vec3] {
+        &self.steps.last().expect("at least one deformation").restored
+    }
+}
+
+/// Runs a scene on `mesh` (the panels, one group each): builds the assembly, embeds its
+/// nodes in the lattice, then applies each deformation to the lattice and restores
+/// developability from the previous step's parameters.
+///
+/// # Errors
+/// Bad panels, lattice or edits (naming the field), vertices outside the lattice, a
+/// failing solver.
+pub fn run_design(scene: &FfdScene, mesh: &TriangleMesh) -> Result<FfdDesign, FfdError> {
+    scene.validate()?;
+    let assembly = PanelAssembly::from_mesh(mesh)?;
+    let nodes = assembly.node_positions();
+    let lattice = scene.lattice(&nodes)?;
+    let start = Instant::now();
+    let embedding = embed_points(&lattice, &nodes).map_err(|e| match e {
+        FfdError::OutsideVolume {
+            vertex,
+            x,
+            y,
+            z,
+            distance,
+        } => {
+            // Report the first mesh vertex of the node.
+            let v = assembly
+                .vertex_node
+                .iter()
+                .position(|&n| n as usize == vertex)
+                .unwrap_or(vertex);
+            FfdError::OutsideVolume {
+                vertex: v,
+                x,
+                y,
+                z,
+                distance,
+            }
+        }
+        other => other,
+    })?;
+    let embedding_time_ms = start.elapsed().as_secs_f64() * 1e3;
+    let linear_embedding = lattice.affine_map().is_some();
+    let mut volume = lattice.clone();
+    let mut parameters = embedding.clone();
+    let mut steps = Vec::new();
+    let problem_options = ProblemOptions {
+        selection_threshold: scene.solver.selection_threshold_rad,
+    };
+    for (k, deformation) in scene.deformations.iter().enumerate() {
+        volume = apply_edits(&volume, &deformation.edits, &format!("deformations[{k}].edits"))?;
+        let problem = DevelopabilityProblem::new(&volume, &assembly, parameters.clone(), &problem_options);
+        let (new_parameters, info) = match scene.solver.method {
+            SolverMethod::Constrained => {
+                let mut options = ConstrainedOptions {
+                    tolerance: scene.solver.tolerance_rad,
+                    position_weight: scene.solver.position_weight,
+                    refine_iterations: scene.solver.refine_iterations,
+                    ..Default::default()
+                };
+                if let Some(m) = scene.solver.max_iterations {
+                    options.max_iterations = m;
+                }
+                restore_constrained(&problem, &options)?
+            }
+            SolverMethod::Paper => {
+                let mut options = PaperOptions::default();
+                if let Some(m) = scene.solver.max_iterations {
+                    options.max_steps = m;
+                }
+                restore_paper(&problem, &options)
+            }
+            SolverMethod::None => {
+                let mut info =
+                    RestorationInfo::begin("none", &problem, &problem.evaluate(&problem.gather(&parameters)));
+                info.developability_g_after = info.developability_g_before;
+                info.angle_defect_max_after_rad = info.angle_defect_max_before_rad;
+                (parameters.clone(), info)
+            }
+        };
+        let deformed = problem.target.clone();
+        let restored: Vec<Vec3> = new_parameters.par_iter().map(|&x| volume.point(x)).collect();
+        let deviation_max = deformed
+            .iter()
+            .zip(&restored)
+            .map(|(a, b)| (a - b).norm())
+            .fold(0.0, f64::max);
+        let (max, mean) = edge_length_change(&assembly, &deformed, &restored);
+        steps.push(DeformationStep {
+            name: deformation
+                .name
+                .clone()
+                .unwrap_or_else(|| format!("deformation-{}", k + 1)),
+            volume: volume.clone(),
+            deformed,
+            parameters: new_parameters.clone(),
+            restored,
+            info,
+            deviation_max,
+            edge_length_change_max_relative: max,
+            edge_length_change_mean_relative: mean,
+        });
+        parameters = new_parameters;
+    }
+    Ok(FfdDesign {
+        assembly,
+        lattice,
+        embedding,
+        linear_embedding,
+        embedding_time_ms,
+        steps,
+    })
+}
+
+/// `(max, mean)` of `|l_b − l_a| / l_a` over the mesh edges.
+fn edge_length_change(assembly: &PanelAssembly, a: &[Vec3], b: &[Vec3]) -> (f64, f64) {
+    let (mut max, mut sum, mut count) = (0.0f64, 0.0, 0usize);
+    for t in &assembly.mesh.triangles {
+        for k in 0..3 {
+            let (i, j) = (
+                assembly.vertex_node[t[k] as usize] as usize,
+                assembly.vertex_node[t[(k + 1) % 3] as usize] as usize,
+            );
+            let la = (a[i] - a[j]).norm();
+            if la > 0.0 {
+                let change = ((b[i] - b[j]).norm() - la).abs() / la;
+                max = max.max(change);
+                sum += change;
+                count += 1;
+            }
+        }
+    }
+    (max, if count > 0 { sum / count as f64 } else { 0.0 })
+}

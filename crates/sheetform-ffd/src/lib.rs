@@ -1,0 +1,47 @@
+//! System C: developability-preserving free-form deformation (Wang & Tang 2004).
+//!
+//! A designer deforms an object made of developable panels (a duct, a dress, trousers)
+//! with a NURBS lattice; the panels' vertices keep their lattice parameters `(u, v, w)`,
+//! and restoring developability moves those parameters (not the control points and not
+//! the vertices directly), so later deformations apply to the optimised shape without
+//! inverting the lattice again.
+//!
+//! - [`NurbsVolume`]: the trivariate NURBS volume `Q(u,v,w)` with its Jacobian;
+//! - [`lattice_edit`]: move, re-weight or transform control points;
+//! - [`embed_points`]: the parameters of the undeformed vertices (linear or Newton);
+//! - [`PanelAssembly`]: panels (OBJ groups) and their linked vertices;
+//! - [`corner_angle_gradient`]: the exact gradient of the angle defect;
+//! - [`DevelopabilityProblem`]: `min E(X)` subject to `g(q_i(X)) = 0` (Eq. 2-2 to 2-6);
+//! - [`restore_constrained`] (default) and [`restore_paper`] (§3): the solvers;
+//! - [`procedural_panels`]: the examples' developable panel assemblies;
+//! - [`scene`], [`ffd_design`]: the scene file and the whole run.
+
+#![warn(missing_docs)]
+
+mod constrained_gauss_newton;
+mod corner_angle;
+mod developability_problem;
+mod embedding;
+mod error;
+mod nurbs_volume;
+mod panel_assembly;
+mod penalty_conjugate_gradient;
+mod restoration_info;
+
+pub mod ffd_design;
+pub mod lattice_edit;
+pub mod procedural_panels;
+pub mod scene;
+
+pub use constrained_gauss_newton::{restore_constrained, ConstrainedOptions};
+pub use corner_angle::corner_angle_gradient;
+pub use developability_problem::{DevelopabilityProblem, Evaluation, ProblemOptions, Spring};
+pub use embedding::{embed_points, lattice_size, newton_inversion, EMBEDDING_TOLERANCE};
+pub use error::FfdError;
+pub use ffd_design::{run_design, DeformationStep, FfdDesign};
+pub use lattice_edit::{apply_edits, ControlPointSelection, LatticeEdit};
+pub use nurbs_volume::{NurbsVolume, DIRECTION_NAMES};
+pub use panel_assembly::{Panel, PanelAssembly, LINK_TOLERANCE};
+pub use penalty_conjugate_gradient::{restore_paper, PaperOptions};
+pub use restoration_info::RestorationInfo;
+pub use scene::*;

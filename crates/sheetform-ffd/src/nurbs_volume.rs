@@ -1,0 +1,408 @@
+//! The trivariate NURBS volume `Q(u, v, w)` that carries the free-form deformation.
+
+use crate::FfdError;
+use nalgebra::{Matrix3, Vector3};
+use sheetform_geometry::{BSplineBasis, GeometryError};
+
+type Vec3 = Vector3<f64>;
+
+/// A trivariate NURBS volume (Wang & Tang 2004 §2.1):
+///
+/// `Q(u,v,w) = Σ_ijk N_i(u) N_j(v) N_k(w) w_ijk P_ijk / Σ_ijk N_i(u) N_j(v) N_k(w) w_ijk`
+///
+/// with B-spline bases of any degrees over any knot vectors (evaluated by
+/// [`BSplineBasis`], Piegl & Tiller A2.3), control points `P_ijk` (model length units)
+/// and positive weights `w_ijk`. Control point `(i, j, k)` is stored at index
+/// `i + n_u (j + n_v k)`.
+///
+/// The parameter Jacobian comes from the quotient rule: with `A = Σ N w P` and
+/// `W = Σ N w`, `∂Q/∂u = (A_u − W_u Q) / W` (the same for `v`, `w`), in length units per
+/// parameter unit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NurbsVolume {
+    bases: [BSplineBasis; 3],
+    control_points: Vec<Vec3>,
+    weights: Vec<f64>,
+}
+
+/// The three parameter directions' names (for messages).
+pub const DIRECTION_NAMES: [&str; 3] = ["u", "v", "w"];
+
+impl NurbsVolume {
+    /// Builds a volume from its degrees, full knot vectors, control-point counts, control
+    /// points (in `i + n_u (j + n_v k)` order) and weights.
+    ///
+    /// # Errors
+    /// A field error naming `lattice.degrees`, `lattice.knots[d]`, `lattice.counts`,
+    /// `lattice.control_points[n]` or `lattice.weights[n]`: too few control points for
+    /// the degree, wrong knot counts, decreasing knots, non-finite points, weights that are
+    /// not positive and finite.
+    pub fn new(
+        degrees: [usize; 3],
+        knots: [Vec<f64>; 3],
+        counts: [usize; 3],
+        control_points: Vec<Vec3>,
+        weights: Vec<f64>,
+    ) -> Result<Self, FfdError> {
+        let mut bases = Vec::with_capacity(3);
+        for (d, knot_vector) in knots.into_iter().enumerate() {
+            let basis = BSplineBasis::new(degrees[d], knot_vector, counts[d]).map_err(|e| {
+                let field = match e {
+                    GeometryError::BadKnots { .. } => format!("lattice.knots[{d}]"),
+                    GeometryError::TooFewControlPoints { .. } => format!("lattice.counts[{d}]"),
+                    _ => format!("lattice.degrees[{d}]"),
+                };
+                FfdError::field(field, format!("direction {}: {e}", DIRECTION_NAMES[d]))
+            })?;
+            bases.push(basis);
+        }
+        let total = counts[0] * counts[1] * counts[2];
+        if control_points.len() != total {
+            return Err(FfdError::field(
+                "lattice.control_points",
+                format!(
+                    "{} × {} × {} lattice needs {total} control points, got {}",
+                    counts[0],
+                    counts[1],
+                    counts[2],
+                    control_points.len()
+                ),
+            ));
+        }
+        if let Some(n) = control_points.iter().position(|p| p.iter().any(|c| !c.is_finite())) {
+            return Err(FfdError::field(format!("lattice.control_points[{n}]"), "not finite"));
+        }
+        if weights.len() != total {
+            return Err(FfdError::field(
+                "lattice.weights",
+                format!("need one weight per control point ({total}), got {}", weights.len()),
+            ));
+        }
+        check_weights(&weights)?;
+        let bases: [BSplineBasis; 3] = bases.try_into().expect("three bases");
+        Ok(Self {
+            bases,
+            control_points,
+            weights,
+        })
+    }
+
+    /// A parallelepiped lattice: the given knots (default: clamped uniform), unit weights and control points at
+    /// `origin + Σ_d ξ_d axes[d]` with `ξ` the Greville abscissae, so that `Q` is the affine
+    /// map `origin + [axes] (u, v, w)` on `[0, 1]³` until a control point is moved.
+    ///
+    /// # Errors
+    /// As [`NurbsVolume::new`]; also degenerate (coplanar) axes.
+    pub fn parallelepiped(
+        origin: Vec3,
+        axes: [Vec3; 3],
+        degrees: [usize; 3],
+        counts: [usize; 3],
+        knots: Option<[Vec<f64>; 3]>,
+    ) -> Result<Self, FfdError> {
+        if Matrix3::from_columns(&axes).determinant().abs() <= 1e-12 * axes.iter().map(|a| a.norm()).product::<f64>() {
+            return Err(FfdError::field("lattice.box", "the lattice box has no volume"));
+        }
+        let bases = match knots {
+            Some(knots) => Self::new(
+                degrees,
+                knots,
+                counts,
+                vec![Vec3::zeros(); counts.iter().product()],
+                vec![1.0; counts.iter().product()],
+            )?
+            .bases
+            .to_vec(),
+            None => {
+                let mut bases = Vec::with_capacity(3);
+                for d in 0..3 {
+                    bases.push(BSplineBasis::clamped_uniform(degrees[d], counts[d]).map_err(|e| {
+                        FfdError::field(
+                            format!("lattice.counts[{d}]"),
+                            format!("direction {}: {e}", DIRECTION_NAMES[d]),
+                        )
+                    })?);
+                }
+                bases
+            }
+        };
+        let mut points = Vec::with_capacity(counts.iter().product());
+        for k in 0..counts[2] {
+            for j in 0..counts[1] {
+                for i in 0..counts[0] {
+                    let xi = [bases[0].greville(i), bases[1].greville(j), bases[2].greville(k)];
+                    points.push(origin + axes[0] * xi[0] + axes[1] * xi[1] + axes[2] * xi[2]);
+                }
+            }
+        }
+        let knots = [0, 1, 2].map(|d| bases[d].knots().to_vec());
+        let total = points.len();
+        Self::new(degrees, knots, counts, points, vec![1.0; total])
+    }
+
+    /// Control points per direction `(n_u, n_v, n_w)`.
+    pub fn counts(&self) -> [usize; 3] {
+        [0, 1, 2].map(|d| self.bases[d].count())
+    }
+
+    /// Degrees per direction.
+    pub fn degrees(&self) -> [usize; 3] {
+        [0, 1, 2].map(|d| self.bases[d].degree())
+    }
+
+    /// The basis of direction `d` (0 = u, 1 = v, 2 = w).
+    pub fn basis(&self, d: usize) -> &BSplineBasis {
+        &self.bases[d]
+    }
+
+    /// Parameter domain per direction.
+    pub fn domain(&self) -> [(f64, f64); 3] {
+        [0, 1, 2].map(|d| self.bases[d].domain())
+    }
+
+    /// Clamps a parameter triple into the domain.
+    pub fn clamp(&self, uvw: Vec3) -> Vec3 {
+        let dom = self.domain();
+        Vec3::new(
+            uvw.x.clamp(dom[0].0, dom[0].1),
+            uvw.y.clamp(dom[1].0, dom[1].1),
+            uvw.z.clamp(dom[2].0, dom[2].1),
+        )
+    }
+
+    /// Index of control point `(i, j, k)`.
+    pub fn index(&self, i: usize, j: usize, k: usize) -> usize {
+        let [nu, nv, _] = self.counts();
+        i + nu * (j + nv * k)
+    }
+
+    /// The control points.
+    pub fn control_points(&self) -> &[Vec3] {
+        &self.control_points
+    }
+
+    /// The weights.
+    pub fn weights(&self) -> &[f64] {
+        &self.weights
+    }
+
+    /// Replaces control points and weights (same lattice size), e.g. after edits.
+    ///
+    /// # Errors
+    /// Wrong sizes, non-finite points, weights that are not positive.
+    pub fn with_control_net(&self, control_points: Vec<Vec3>, weights: Vec<f64>) -> Result<Self, FfdError> {
+        Self::new(
+            self.degrees(),
+            [0, 1, 2].map(|d| self.bases[d].knots().to_vec()),
+            self.counts(),
+            control_points,
+            weights,
+        )
+    }
+
+    /// `Q(u, v, w)`.
+    pub fn point(&self, uvw: Vec3) -> Vec3 {
+        self.evaluate(uvw, false).0
+    }
+
+    /// `Q(u, v, w)` and its Jacobian `[∂Q/∂u ∂Q/∂v ∂Q/∂w]` (columns).
+    pub fn point_and_jacobian(&self, uvw: Vec3) -> (Vec3, Matrix3<f64>) {
+        self.evaluate(uvw, true)
+    }
+
+    // Index loops over the three bases' tables read best side by side.
+    #[allow(clippy::needless_range_loop)]
+    fn evaluate(&self, uvw: Vec3, derivatives: bool) -> (Vec3, Matrix3<f64>) {
+        let order = usize::from(derivatives);
+        let (su, nu) = self.bases[0].derivatives(uvw.x, order);
+        let (sv, nv) = self.bases[1].derivatives(uvw.y, order);
+        let (sw, nw) = self.bases[2].derivatives(uvw.z, order);
+        let [pu, pv, pw] = self.degrees();
+        let (mut a, mut w) = (Vec3::zeros(), 0.0);
+        let (mut a_d, mut w_d) = ([Vec3::zeros(); 3], [0.0; 3]);
+        for c in 0..=pw {
+            let k = sw - pw + c;
+            for b in 0..=pv {
+                let j = sv - pv + b;
+                for a_i in 0..=pu {
+                    let i = su - pu + a_i;
+                    let index = self.index(i, j, k);
+                    let weight = self.weights[index];
+                    let wp = self.control_points[index] * weight;
+                    let n = nu[0][a_i] * nv[0][b] * nw[0][c];
+                    a += wp * n;
+                    w += weight * n;
+                    if derivatives {
+                        let dn = [
+                            nu[1][a_i] * nv[0][b] * nw[0][c],
+                            nu[0][a_i] * nv[1][b] * nw[0][c],
+                            nu[0][a_i] * nv[0][b] * nw[1][c],
+                        ];
+                        for d in 0..3 {
+                            a_d[d] += wp * dn[d];
+                            w_d[d] += weight * dn[d];
+                        }
+                    }
+                }
+            }
+        }
+        let q = a / w;
+        let mut jacobian = Matrix3::zeros();
+        if derivatives {
+            for d in 0..3 {
+                jacobian.set_column(d, &((a_d[d] - q * w_d[d]) / w));
+            }
+        }
+        (q, jacobian)
+    }
+
+    /// The affine map `Q(x) = o + M x` when the volume is one: all weights equal and
+    /// every control point equal to `o + M ξ_ijk` (Greville abscissae) to rounding
+    /// (`1e-12` of the lattice size). Then embedding is one linear solve per vertex.
+    pub fn affine_map(&self) -> Option<(Vec3, Matrix3<f64>)> {
+        let w0 = self.weights[0];
+        if self.weights.iter().any(|&w| (w - w0).abs() > 1e-14 * w0) {
+            return None;
+        }
+        let [nu, nv, nw] = self.counts();
+        let origin = self.control_points[0];
+        let greville = |d: usize, i: usize| self.bases[d].greville(i);
+        let column = |d: usize| {
+            let (last, index) = match d {
+                0 => (nu - 1, self.index(nu - 1, 0, 0)),
+                1 => (nv - 1, self.index(0, nv - 1, 0)),
+                _ => (nw - 1, self.index(0, 0, nw - 1)),
+            };
+            (self.control_points[index] - origin) / (greville(d, last) - greville(d, 0))
+        };
+        let m = Matrix3::from_columns(&[column(0), column(1), column(2)]);
+        let offset = origin - m * Vec3::new(greville(0, 0), greville(1, 0), greville(2, 0));
+        let size = m.column_iter().map(|c| c.norm()).fold(0.0, f64::max);
+        for k in 0..nw {
+            for j in 0..nv {
+                for i in 0..nu {
+                    let expected = offset + m * Vec3::new(greville(0, i), greville(1, j), greville(2, k));
+                    if (self.control_points[self.index(i, j, k)] - expected).norm() > 1e-12 * size {
+                        return None;
+                    }
+                }
+            }
+        }
+        if m.determinant().abs() <= 1e-14 * size.powi(3) {
+            return None;
+        }
+        Some((offset, m))
+    }
+}
+
+/// Every weight positive and finite, or a field error naming the first bad one.
+pub(crate) fn check_weights(weights: &[f64]) -> Result<(), FfdError> {
+    if let Some(n) = weights.iter().position(|w| !(w.is_finite() && *w > 0.0)) {
+        return Err(FfdError::field(
+            format!("lattice.weights[{n}]"),
+            format!("weight {} must be positive and finite", weights[n]),
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bent_volume() -> NurbsVolume {
+        let mut v = NurbsVolume::parallelepiped(
+            Vec3::new(-1.0, -2.0, 0.5),
+            [
+                Vec3::new(3.0, 0.0, 0.0),
+                Vec3::new(0.5, 2.0, 0.0),
+                Vec3::new(0.0, 0.3, 4.0),
+            ],
+            [3, 2, 3],
+            [5, 4, 6],
+            None,
+        )
+        .unwrap();
+        let mut points = v.control_points().to_vec();
+        let mut weights = v.weights().to_vec();
+        for (n, p) in points.iter_mut().enumerate() {
+            p.x += 0.2 * ((n as f64) * 0.7).sin();
+            p.z += 0.1 * ((n as f64) * 1.3).cos();
+            weights[n] = 1.0 + 0.5 * ((n as f64) * 0.37).sin().abs();
+        }
+        v = v.with_control_net(points, weights).unwrap();
+        v
+    }
+
+    #[test]
+    fn parallelepiped_is_its_affine_map() {
+        let axes = [
+            Vec3::new(3.0, 0.0, 0.0),
+            Vec3::new(0.5, 2.0, 0.0),
+            Vec3::new(0.0, 0.3, 4.0),
+        ];
+        let origin = Vec3::new(-1.0, -2.0, 0.5);
+        let v = NurbsVolume::parallelepiped(origin, axes, [3, 2, 1], [5, 4, 2], None).unwrap();
+        let (o, m) = v.affine_map().expect("affine");
+        assert!((o - origin).norm() < 1e-12);
+        for x in [
+            Vec3::new(0.1, 0.2, 0.3),
+            Vec3::new(0.9, 0.5, 0.05),
+            Vec3::new(1.0, 1.0, 1.0),
+        ] {
+            let expected = origin + axes[0] * x.x + axes[1] * x.y + axes[2] * x.z;
+            assert!((v.point(x) - expected).norm() < 1e-12);
+            assert!((m * x + o - expected).norm() < 1e-12);
+        }
+        assert!(bent_volume().affine_map().is_none());
+    }
+
+    #[test]
+    fn jacobian_matches_finite_differences() {
+        let v = bent_volume();
+        let h = 1e-6;
+        for x in [
+            Vec3::new(0.13, 0.42, 0.77),
+            Vec3::new(0.61, 0.08, 0.35),
+            Vec3::new(0.5, 0.5, 0.5),
+        ] {
+            let (_, j) = v.point_and_jacobian(x);
+            for d in 0..3 {
+                let mut e = Vec3::zeros();
+                e[d] = h;
+                let fd = (v.point(x + e) - v.point(x - e)) / (2.0 * h);
+                assert!(
+                    (fd - j.column(d)).norm() < 1e-7 * (1.0 + fd.norm()),
+                    "{d}: {fd} vs {}",
+                    j.column(d)
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn rejects_bad_lattices() {
+        let p = vec![Vec3::zeros(); 8];
+        let knots = || {
+            [
+                vec![0.0, 0.0, 1.0, 1.0],
+                vec![0.0, 0.0, 1.0, 1.0],
+                vec![0.0, 0.0, 1.0, 1.0],
+            ]
+        };
+        assert!(NurbsVolume::new([1, 1, 1], knots(), [2, 2, 2], p.clone(), vec![1.0; 8]).is_ok());
+        let e = NurbsVolume::new([3, 1, 1], knots(), [2, 2, 2], p.clone(), vec![1.0; 8]).unwrap_err();
+        assert!(e.to_string().contains("lattice.counts[0]"), "{e}");
+        let mut k = knots();
+        k[1] = vec![0.0, 0.5, 0.2, 1.0];
+        let e = NurbsVolume::new([1, 1, 1], k, [2, 2, 2], p.clone(), vec![1.0; 8]).unwrap_err();
+        assert!(
+            e.to_string().contains("lattice.knots[1]") && e.to_string().contains("decrease"),
+            "{e}"
+        );
+        let mut w = vec![1.0; 8];
+        w[5] = 0.0;
+        let e = NurbsVolume::new([1, 1, 1], knots(), [2, 2, 2], p, w).unwrap_err();
+        assert!(e.to_string().contains("lattice.weights[5]"), "{e}");
+    }
+}

@@ -1,0 +1,307 @@
+//! The FFD scene file (`sheetform ffd SCENE.json`).
+
+use crate::procedural_panels::ProceduralModel;
+use crate::{FfdError, LatticeEdit, NurbsVolume};
+use nalgebra::Vector3;
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
+type Vec3 = Vector3<f64>;
+
+/// A developability-preserving FFD scene: panels, a lattice, and a list of
+/// deformations applied one after the other.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FfdScene {
+    /// Name of the design (output file names).
+    #[serde(default = "default_name")]
+    pub name: String,
+    /// Length unit of the model and of every length in the file (`mm`, `cm`, `m` or
+    /// `in`; default `mm`).
+    #[serde(default)]
+    #[schemars(with = "String")]
+    pub units: sheetform_mesh::LengthUnit,
+    /// The panels.
+    pub model: ModelSource,
+    /// The FFD lattice around the undeformed model.
+    #[serde(default)]
+    pub lattice: LatticeSpec,
+    /// Deformations, applied in order, each to the lattice the previous one left and to
+    /// the parameters its restoration found.
+    pub deformations: Vec<Deformation>,
+    /// How developability is restored.
+    #[serde(default)]
+    pub solver: SolverSpec,
+}
+
+fn default_name() -> String {
+    "ffd".into()
+}
+
+/// Where the panels come from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum ModelSource {
+    /// A mesh file (OBJ with one group or object per panel, PLY, STL, OFF), relative to
+    /// the scene file.
+    Mesh(String),
+    /// A panel assembly built by sheetform.
+    Procedural(ProceduralModel),
+}
+
+/// The lattice. Without `control_points` it is a box (`box_min`/`box_max`, default the
+/// model's bounding box grown by `margin`) with control points at the Greville abscissae,
+/// so the undeformed volume is the identity on the box and the embedding is linear.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LatticeSpec {
+    /// Degrees in u, v, w.
+    #[serde(default = "default_degrees")]
+    pub degrees: [usize; 3],
+    /// Control points in u, v, w.
+    #[serde(default = "default_counts")]
+    pub counts: [usize; 3],
+    /// Fraction of the model's size added on every side of the automatic box.
+    #[serde(default = "default_margin")]
+    pub margin: f64,
+    /// Lower corner of the box (model units).
+    #[serde(default)]
+    pub box_min: Option<[f64; 3]>,
+    /// Upper corner of the box (model units).
+    #[serde(default)]
+    pub box_max: Option<[f64; 3]>,
+    /// Full knot vectors per direction (default: clamped, uniform).
+    #[serde(default)]
+    pub knots: Option<[Vec<f64>; 3]>,
+    /// A general lattice: `n_u n_v n_w` control points, `i` fastest (the embedding is
+    /// then found by Newton's method).
+    #[serde(default)]
+    pub control_points: Option<Vec<[f64; 3]>>,
+    /// Weights (default 1).
+    #[serde(default)]
+    pub weights: Option<Vec<f64>>,
+}
+
+fn default_degrees() -> [usize; 3] {
+    [3, 3, 3]
+}
+fn default_counts() -> [usize; 3] {
+    [4, 4, 4]
+}
+fn default_margin() -> f64 {
+    0.05
+}
+
+impl Default for LatticeSpec {
+    fn default() -> Self {
+        Self {
+            degrees: default_degrees(),
+            counts: default_counts(),
+            margin: default_margin(),
+            box_min: None,
+            box_max: None,
+            knots: None,
+            control_points: None,
+            weights: None,
+        }
+    }
+}
+
+/// One deformation: lattice edits, then developability restoration.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Deformation {
+    /// Name (report).
+    #[serde(default)]
+    pub name: Option<String>,
+    /// The edits, in order.
+    pub edits: Vec<LatticeEdit>,
+}
+
+/// Which solver restores developability, and its knobs.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSpec {
+    /// `constrained` (default: constrained Gauss–Newton, exact gradients, sparse LDLᵀ) or
+    /// `paper` (the paper's penalty + conjugate gradients), or `none` (plain FFD).
+    #[serde(default)]
+    pub method: SolverMethod,
+    /// Largest angle defect accepted by the constrained solver (radians).
+    #[serde(default = "default_tolerance")]
+    pub tolerance_rad: f64,
+    /// `λ` of the selective set (radians).
+    #[serde(default = "default_selection")]
+    pub selection_threshold_rad: f64,
+    /// Weight of the proximity term of the constrained solver.
+    #[serde(default = "default_position_weight")]
+    pub position_weight: f64,
+    /// Most iterations (constrained) or penalty updates (paper, `N_max`).
+    #[serde(default)]
+    pub max_iterations: Option<usize>,
+    /// Refinement iterations of the constrained solver once the defects are within
+    /// tolerance (they lower the edge-length change and the deviation; 0: restore only).
+    #[serde(default = "default_refine")]
+    pub refine_iterations: usize,
+}
+
+/// The restoration method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum SolverMethod {
+    /// Constrained Gauss–Newton (default).
+    #[default]
+    Constrained,
+    /// The paper's penalty method with conjugate gradients.
+    Paper,
+    /// No restoration (plain FFD).
+    None,
+}
+
+fn default_tolerance() -> f64 {
+    1e-10
+}
+fn default_selection() -> f64 {
+    1e-8
+}
+fn default_refine() -> usize {
+    0
+}
+fn default_position_weight() -> f64 {
+    0.01
+}
+
+impl Default for SolverSpec {
+    fn default() -> Self {
+        Self {
+            method: SolverMethod::default(),
+            tolerance_rad: default_tolerance(),
+            selection_threshold_rad: default_selection(),
+            position_weight: default_position_weight(),
+            max_iterations: None,
+            refine_iterations: default_refine(),
+        }
+    }
+}
+
+impl FfdScene {
+    /// The JSON Schema of the scene format (`sheetform schema ffd`).
+    pub fn json_schema() -> serde_json::Value {
+        serde_json::to_value(schemars::schema_for!(FfdScene)).expect("schema serialises")
+    }
+
+    /// Parses a scene.
+    ///
+    /// # Errors
+    /// Malformed JSON or unknown fields, with line and column.
+    pub fn from_json(text: &str) -> Result<Self, FfdError> {
+        serde_json::from_str(text).map_err(|e| FfdError::field("(scene)", e.to_string()))
+    }
+
+    /// Checks the numbers that serde cannot.
+    ///
+    /// # Errors
+    /// A field error naming the field.
+    pub fn validate(&self) -> Result<(), FfdError> {
+        let s = &self.solver;
+        for (field, v) in [
+            ("solver.tolerance_rad", s.tolerance_rad),
+            ("solver.selection_threshold_rad", s.selection_threshold_rad),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(FfdError::field(field, format!("{v} must be positive")));
+            }
+        }
+        if !(s.position_weight.is_finite() && s.position_weight >= 0.0) {
+            return Err(FfdError::field("solver.position_weight", "must be zero or positive"));
+        }
+        if !(self.lattice.margin.is_finite() && self.lattice.margin >= 0.0) {
+            return Err(FfdError::field("lattice.margin", "must be zero or positive"));
+        }
+        if self.deformations.is_empty() {
+            return Err(FfdError::field("deformations", "give at least one deformation"));
+        }
+        Ok(())
+    }
+
+    /// The undeformed lattice around points `positions` (the model).
+    ///
+    /// # Errors
+    /// Bad degrees, counts, knots, weights or control points, or a box without volume,
+    /// named by field.
+    pub fn lattice(&self, positions: &[Vec3]) -> Result<NurbsVolume, FfdError> {
+        let l = &self.lattice;
+        for d in 0..3 {
+            if l.counts[d] <= l.degrees[d] {
+                return Err(FfdError::field(
+                    format!("lattice.counts[{d}]"),
+                    format!(
+                        "degree {} needs at least {} control points, got {}",
+                        l.degrees[d],
+                        l.degrees[d] + 1,
+                        l.counts[d]
+                    ),
+                ));
+            }
+        }
+        if let Some(points) = &l.control_points {
+            let total: usize = l.counts.iter().product();
+            let knots = match &l.knots {
+                Some(k) => k.clone(),
+                None => {
+                    let mut out: [Vec<f64>; 3] = Default::default();
+                    for (d, slot) in out.iter_mut().enumerate() {
+                        *slot = sheetform_geometry::BSplineBasis::clamped_uniform(l.degrees[d], l.counts[d])
+                            .map_err(|e| FfdError::field(format!("lattice.counts[{d}]"), e.to_string()))?
+                            .knots()
+                            .to_vec();
+                    }
+                    out
+                }
+            };
+            return NurbsVolume::new(
+                l.degrees,
+                knots,
+                l.counts,
+                points.iter().map(|p| Vec3::from(*p)).collect(),
+                l.weights.clone().unwrap_or_else(|| vec![1.0; total]),
+            );
+        }
+        let (lo, hi) = match (l.box_min, l.box_max) {
+            (Some(a), Some(b)) => (Vec3::from(a), Vec3::from(b)),
+            (None, None) => {
+                let mut lo = Vec3::repeat(f64::INFINITY);
+                let mut hi = Vec3::repeat(f64::NEG_INFINITY);
+                for p in positions {
+                    lo = lo.inf(p);
+                    hi = hi.sup(p);
+                }
+                let grow = (hi - lo).norm() * l.margin;
+                (lo - Vec3::repeat(grow), hi + Vec3::repeat(grow))
+            }
+            _ => {
+                return Err(FfdError::field(
+                    "lattice.box_min",
+                    "give both box_min and box_max, or neither",
+                ))
+            }
+        };
+        if (0..3).any(|d| hi[d] <= lo[d] || !(hi[d] - lo[d]).is_finite()) {
+            return Err(FfdError::field(
+                "lattice.box_max",
+                "the box must be larger than box_min in every direction",
+            ));
+        }
+        let size = hi - lo;
+        let volume = NurbsVolume::parallelepiped(
+            lo,
+            [Vec3::x() * size.x, Vec3::y() * size.y, Vec3::z() * size.z],
+            l.degrees,
+            l.counts,
+            l.knots.clone(),
+        )?;
+        match &l.weights {
+            Some(w) => volume.with_control_net(volume.control_points().to_vec(), w.clone()),
+            None => Ok(volume),
+        }
+    }
+}
