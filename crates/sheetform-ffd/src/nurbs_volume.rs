@@ -364,7 +364,8 @@ mod tests {
         for x in [
             Vec3::new(0.13, 0.42, 0.77),
             Vec3::new(0.61, 0.08, 0.35),
-            Vec3::new(0.5, 0.5, 0.5),
+            // Off the knots at 0.5 (central differences lose an order across a knot).
+            Vec3::new(0.47, 0.53, 0.49),
         ] {
             let (_, j) = v.point_and_jacobian(x);
             for d in 0..3 {
