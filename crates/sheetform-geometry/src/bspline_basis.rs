@@ -237,7 +237,7 @@ mod tests {
             let (span, d) = basis.derivatives(u, 2);
             assert!((d[0][..4].iter().sum::<f64>() - 1.0).abs() < 1e-14);
             assert!(d[1][..4].iter().sum::<f64>().abs() < 1e-11);
-            assert!(span >= 3 && span <= 6);
+            assert!((3..=6).contains(&span));
         }
         // Greville abscissae of a clamped basis start at 0 and end at 1.
         let clamped = BSplineBasis::clamped_uniform(2, 5).unwrap();
