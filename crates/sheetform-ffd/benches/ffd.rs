@@ -1,1 +1,37 @@
-fn main() {}
+//! Criterion benchmarks of developability restoration: both solvers on the examples at
+//! the paper's sizes. The 100k-vertex duct (`examples/ffd/duct-100k.json`) is not
+//! benchmarked yet: the constrained solver does not converge on it (see
+//! docs/benchmarks.md).
+//!
+//! `cargo bench -p sheetform-ffd --bench ffd`
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use sheetform_ffd::{run_design, FfdScene, ModelSource, SolverMethod};
+use std::hint::black_box;
+
+fn scene(name: &str) -> FfdScene {
+    let path = format!("{}/../../examples/ffd/{name}.json", env!("CARGO_MANIFEST_DIR"));
+    FfdScene::from_json(&std::fs::read_to_string(path).expect("example")).expect("scene")
+}
+
+fn restoration(c: &mut Criterion) {
+    let names = ["two-panels", "duct", "skirt", "trousers"];
+    let mut group = c.benchmark_group("ffd");
+    group.sample_size(10);
+    for name in names {
+        for method in [SolverMethod::Constrained, SolverMethod::Paper] {
+            let mut s = scene(name);
+            s.solver.method = method;
+            let ModelSource::Procedural(model) = &s.model else {
+                unreachable!("procedural examples")
+            };
+            let mesh = model.build();
+            let label = format!("{name}/{}", format!("{method:?}").to_lowercase());
+            group.bench_function(label, |b| b.iter(|| black_box(run_design(&s, &mesh).expect("design"))));
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, restoration);
+criterion_main!(benches);

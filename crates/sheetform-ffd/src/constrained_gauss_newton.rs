@@ -170,7 +170,8 @@ impl KktSystem {
 ///    `A p = −g`, i.e. `[H Aᵀ; A −δI] [p; λ] = [0; −g]`, halved until the largest defect
 ///    decreases (a sum-of-defects test accepted longer steps and converged in fewer
 ///    iterations, but left edges changed by up to 37 % on the trousers instead of 10 %). Converges quadratically once close; ends when every `|g| ≤ tolerance`.
-/// 2. **Refinement** (SQP with a Gauss–Newton Hessian): `[H Aᵀ; A −δI] [p; λ] =
+/// 2. **Refinement** (optional, `refine_iterations`, default 0; SQP with a Gauss–Newton
+///    Hessian): `[H Aᵀ; A −δI] [p; λ] =
 ///    [−∇f; 0]` moves along the constraint surface to lower `f`, followed by projection
 ///    steps back onto `g = 0`; a step is kept only if `f` decreased and every defect is
 ///    still within tolerance. Stops when `f` changes by less than `objective_tolerance`.
@@ -186,7 +187,10 @@ impl KktSystem {
 /// constraints' curvature `Σ λ ∇²g`, which dominates in the direction normal to the
 /// surface (edge lengths change only to second order there), so its steps were cut
 /// by the line search and it crawled (60 iterations, defect 5e-5 on the duct).
-/// Projecting first and refining afterwards reaches `1e-12` in about ten iterations.
+/// Projecting first reaches `1e-12` in about ten iterations (duct: 10 iterations,
+/// 20 ms); ten refinement iterations then lower the duct's deviation from 9.6 to 6.5 mm
+/// and its largest edge-length change from 4.9 % to 2.0 % but take 8× the time, so they
+/// are off by default.
 ///
 /// # Errors
 /// [`FfdError::Solver`] if the factorisation fails.

@@ -24,7 +24,7 @@ impl<const D: usize> BSpline<D> {
     /// at most `degree`).
     ///
     /// # Errors
-    /// Degree 0 or above [`MAX_BSPLINE_DEGREE`], too few control points, wrong knot count,
+    /// Degree 0 or above [`crate::MAX_BSPLINE_DEGREE`], too few control points, wrong knot count,
     /// decreasing or non-finite knots, an empty parameter domain, non-finite points.
     pub fn new(degree: usize, control_points: Vec<SVector<f64, D>>, knots: Vec<f64>) -> Result<Self, GeometryError> {
         for (index, p) in control_points.iter().enumerate() {
