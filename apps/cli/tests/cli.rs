@@ -1055,6 +1055,30 @@ fn ffd_examples_restore_developability_and_write_every_output() {
             "{name}"
         );
     }
+    // A mesh file as the model: the restored two panels (model.obj, one group per panel,
+    // seam vertices duplicated) deformed again; the seam is linked by position.
+    let first = tempfile::tempdir().unwrap();
+    let scene = repo().join("examples/ffd/two-panels.json");
+    assert!(
+        sheetform(&["ffd", scene.to_str().unwrap(), "-o", first.path().to_str().unwrap()])
+            .status
+            .success()
+    );
+    let again = first.path().join("again.json");
+    std::fs::write(
+        &again,
+        r#"{"model": {"mesh": "model.obj"}, "lattice": {"degrees": [2, 2, 2], "counts": [3, 3, 3]},
+            "deformations": [{"edits": [{"move": {"points": [[1, 1, 2]], "by": [10, 10, 10]}}]}]}"#,
+    )
+    .unwrap();
+    let out = first.path().join("again");
+    let o = sheetform(&["ffd", again.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let ffd = &report(&out)["ffd"];
+    assert_eq!(ffd["panel_count"], 2);
+    assert!(ffd["linked_node_count"].as_u64().unwrap() > 0, "the seam is linked");
+    assert!(ffd["angle_defects_before"]["angle_defect_max_rad"].as_f64().unwrap() > 1e-5);
+    assert!(ffd["angle_defects_after"]["angle_defect_max_rad"].as_f64().unwrap() <= 1e-8);
     // The paper's solver runs from the command line too and lowers G.
     let tmp = tempfile::tempdir().unwrap();
     let scene = repo().join("examples/ffd/two-panels.json");
