@@ -14,7 +14,7 @@ use sheetform::pipeline::{
     CheckOptions, FfdRunOptions, FlattenMethod, FlattenOptions, PatternOutputOptions, PipelineError, SlitRunOptions,
 };
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 // The pipeline allocates and frees arrays of a few hundred KB per run; glibc's malloc
@@ -431,6 +431,14 @@ fn progress_bar(quiet: bool) -> Option<ProgressBar> {
     Some(bar)
 }
 
+/// The scene file's text, or an error naming it.
+fn read_scene(scene: &Path) -> Result<String, PipelineError> {
+    std::fs::read_to_string(scene).map_err(|source| PipelineError::Read {
+        path: scene.display().to_string(),
+        source,
+    })
+}
+
 fn bend_command(
     scene: PathBuf,
     output: PathBuf,
@@ -438,10 +446,7 @@ fn bend_command(
     pattern: PatternArgs,
     quiet: bool,
 ) -> Result<ExitCode, PipelineError> {
-    let text = std::fs::read_to_string(&scene).map_err(|source| PipelineError::Read {
-        path: scene.display().to_string(),
-        source,
-    })?;
+    let text = read_scene(&scene)?;
     let bar = progress_bar(quiet);
     let options = BendRunOptions {
         pattern: pattern.into(),
@@ -502,10 +507,7 @@ fn bend_command(
 }
 
 fn slit_command(scene: PathBuf, output: PathBuf, pattern: PatternArgs, quiet: bool) -> Result<ExitCode, PipelineError> {
-    let text = std::fs::read_to_string(&scene).map_err(|source| PipelineError::Read {
-        path: scene.display().to_string(),
-        source,
-    })?;
+    let text = read_scene(&scene)?;
     let options = SlitRunOptions {
         pattern: pattern.into(),
         input: Some(scene.display().to_string()),
@@ -541,10 +543,7 @@ fn ffd_command(
     quiet: bool,
 ) -> Result<ExitCode, PipelineError> {
     use sheetform::ffd::SolverMethod;
-    let text = std::fs::read_to_string(&scene).map_err(|source| PipelineError::Read {
-        path: scene.display().to_string(),
-        source,
-    })?;
+    let text = read_scene(&scene)?;
     let options = FfdRunOptions {
         pattern: pattern.into(),
         input: Some(scene.display().to_string()),

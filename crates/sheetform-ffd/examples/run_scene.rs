@@ -46,11 +46,8 @@ fn main() {
             step.edge_length_change_max_relative,
             step.edge_length_change_mean_relative
         );
-        if scene.solver.method == SolverMethod::Constrained && std::env::var("NO_ASSERT").is_err() {
+        if scene.solver.method == SolverMethod::Constrained {
             assert!(i.angle_defect_max_after_rad <= 1e-8, "defect not restored");
         }
     }
 }
-
-#[allow(dead_code)]
-fn timing_probe() {}

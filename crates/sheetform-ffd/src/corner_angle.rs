@@ -4,6 +4,13 @@ use nalgebra::Vector3;
 
 type Vec3 = Vector3<f64>;
 
+/// The angle `θ = atan2(|u × v|, u · v)` at corner `a` of triangle `(a, b, c)`, with
+/// `u = b − a`, `v = c − a` (radians; accurate for every angle).
+pub fn corner_angle(a: Vec3, b: Vec3, c: Vec3) -> f64 {
+    let (u, v) = (b - a, c - a);
+    u.cross(&v).norm().atan2(u.dot(&v))
+}
+
 /// The angle `θ` at corner `a` of triangle `(a, b, c)` (radians) and its gradient with
 /// respect to `a`, `b` and `c` (radians per length unit).
 ///

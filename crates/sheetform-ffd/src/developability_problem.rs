@@ -1,6 +1,6 @@
 //! The constrained problem of Wang & Tang §2.3 on the embedded parameters.
 
-use crate::{corner_angle_gradient, NurbsVolume, PanelAssembly};
+use crate::{corner_angle, corner_angle_gradient, NurbsVolume, PanelAssembly};
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 use std::f64::consts::TAU;
@@ -105,7 +105,7 @@ impl<'a> DevelopabilityProblem<'a> {
         for (f, t) in mesh.triangles.iter().enumerate() {
             for k in 0..3 {
                 let p = [t[k], t[(k + 1) % 3], t[(k + 2) % 3]].map(|v| target[node(v) as usize]);
-                angle_sum[t[k] as usize] += corner_angle_gradient(p[0], p[1], p[2]).0;
+                angle_sum[t[k] as usize] += corner_angle(p[0], p[1], p[2]);
                 vertex_faces[t[k] as usize].push(f as u32);
             }
         }
@@ -210,7 +210,10 @@ impl<'a> DevelopabilityProblem<'a> {
     pub fn gather(&self, parameters: &[Vec3]) -> Vec<f64> {
         self.variables
             .iter()
-            .flat_map(|&n| parameters[n as usize].iter().copied().collect::<Vec<_>>())
+            .flat_map(|&n| {
+                let x = parameters[n as usize];
+                [x.x, x.y, x.z]
+            })
             .collect()
     }
 
@@ -249,7 +252,7 @@ impl<'a> DevelopabilityProblem<'a> {
                 let mut sum = 0.0;
                 for corner in &self.corners[self.corner_start[c]..self.corner_start[c + 1]] {
                     let p = corner.map(|m| positions[m as usize]);
-                    sum += corner_angle_gradient(p[0], p[1], p[2]).0;
+                    sum += corner_angle(p[0], p[1], p[2]);
                 }
                 TAU - sum
             })

@@ -34,7 +34,7 @@ pub mod procedural_panels;
 pub mod scene;
 
 pub use constrained_gauss_newton::{restore_constrained, ConstrainedOptions};
-pub use corner_angle::corner_angle_gradient;
+pub use corner_angle::{corner_angle, corner_angle_gradient};
 pub use developability_problem::{DevelopabilityProblem, Evaluation, ProblemOptions, Spring};
 pub use embedding::{embed_points, lattice_size, newton_inversion, EMBEDDING_TOLERANCE};
 pub use error::FfdError;

@@ -121,8 +121,8 @@ impl PanelAssembly {
             boundary.extend_from_slice(&topology.boundary_vertex);
             panels.push(Panel {
                 name,
-                faces: (0..faces.len() as u32)
-                    .map(|f| f + out.triangles.len() as u32 - faces.len() as u32)
+                faces: (out.triangles.len() - faces.len()..out.triangles.len())
+                    .map(|f| f as u32)
                     .collect(),
                 vertices: (offset..out.positions.len() as u32).collect(),
             });
@@ -141,11 +141,7 @@ impl PanelAssembly {
 
     /// One position per node (that of its first vertex).
     pub fn node_positions(&self) -> Vec<Vec3> {
-        let mut out = vec![Vec3::zeros(); self.node_count];
-        for (v, &n) in self.vertex_node.iter().enumerate().rev() {
-            out[n as usize] = self.mesh.positions[v];
-        }
-        out
+        self.node_positions_of(&self.mesh.positions)
     }
 
     /// One position per node taken from per-vertex positions (that of the node's first

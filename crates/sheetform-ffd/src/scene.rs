@@ -230,19 +230,6 @@ impl FfdScene {
     /// named by field.
     pub fn lattice(&self, positions: &[Vec3]) -> Result<NurbsVolume, FfdError> {
         let l = &self.lattice;
-        for d in 0..3 {
-            if l.counts[d] <= l.degrees[d] {
-                return Err(FfdError::field(
-                    format!("lattice.counts[{d}]"),
-                    format!(
-                        "degree {} needs at least {} control points, got {}",
-                        l.degrees[d],
-                        l.degrees[d] + 1,
-                        l.counts[d]
-                    ),
-                ));
-            }
-        }
         if let Some(points) = &l.control_points {
             let total: usize = l.counts.iter().product();
             let knots = match &l.knots {

@@ -404,6 +404,17 @@ pub fn run_slit(scene_text: &str, options: &SlitRunOptions) -> Result<SlitRun, P
     })
 }
 
+/// Developability colour map (the paper's Fig. 4): a logarithmic scale from `tolerance`
+/// (blue: developable) to `top` (red; at least 10 × the tolerance), so that typical
+/// defects show next to a few large ones (cone points).
+fn defect_colours(defects: &[f64], tolerance: f64, top: f64) -> Vec<[f32; 3]> {
+    let span = (top.max(10.0 * tolerance) / tolerance).ln();
+    defects
+        .iter()
+        .map(|g| colour_ramp((g.abs().max(tolerance) / tolerance).ln() / span))
+        .collect()
+}
+
 /// Angle-defect figures of a mesh, lengths converted to millimetres by `mm` per unit.
 fn angle_defects(
     mesh: &TriangleMesh,
@@ -569,15 +580,7 @@ pub fn run_check(path: &Path, options: &CheckOptions) -> Result<CheckRun, Pipeli
     let (defects, vertices) = angle_defects(&mesh, &topology, options.tolerance, mm);
     let stored = mesh.corner_uvs.as_ref().map(|uv| stored_flattening_error(&mesh, uv));
     let solved = Instant::now();
-    // Logarithmic scale from the tolerance (blue: developable) to the largest defect
-    // (red), so that typical defects show next to a few large ones (cone points).
-    let top = defects.angle_defect_max_rad.max(10.0 * options.tolerance);
-    let span = (top / options.tolerance).ln();
-    let colours: Vec<[f32; 3]> = vertices
-        .angle_defect
-        .iter()
-        .map(|g| colour_ramp((g.abs().max(options.tolerance) / options.tolerance).ln() / span))
-        .collect();
+    let colours = defect_colours(&vertices.angle_defect, options.tolerance, defects.angle_defect_max_rad);
     let name = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -1023,15 +1026,9 @@ pub fn run_ffd(scene_text: &str, options: &FfdRunOptions) -> Result<FfdRun, Pipe
     let topology = mesh_topology(&deformed);
     let (before, before_vertices) = angle_defects(&deformed, &topology, FFD_DEFECT_TOLERANCE, mm);
     let (after, after_vertices) = angle_defects(&restored, &topology, FFD_DEFECT_TOLERANCE, mm);
-    let top = before.angle_defect_max_rad.max(10.0 * FFD_DEFECT_TOLERANCE);
-    let span = (top / FFD_DEFECT_TOLERANCE).ln();
-    let colours = |v: &VertexDevelopability| -> Vec<[f32; 3]> {
-        v.angle_defect
-            .iter()
-            .map(|g| colour_ramp((g.abs().max(FFD_DEFECT_TOLERANCE) / FFD_DEFECT_TOLERANCE).ln() / span))
-            .collect()
-    };
-    let (colours_before, colours_after) = (colours(&before_vertices), colours(&after_vertices));
+    let top = before.angle_defect_max_rad;
+    let colours_before = defect_colours(&before_vertices.angle_defect, FFD_DEFECT_TOLERANCE, top);
+    let colours_after = defect_colours(&after_vertices.angle_defect, FFD_DEFECT_TOLERANCE, top);
     let mut files: RenderedFiles = vec![
         ("model.obj".into(), obj_string(&sheet, &name).into_bytes()),
         ("model.glb".into(), glb_bytes(&sheet, &name, None)),
