@@ -15,7 +15,7 @@ fn main() {
     let ms = started.elapsed().as_secs_f64() * 1e3;
     for s in &design.strips {
         println!(
-            "strip {} quads {} iterations {} F {:.3e} -> {:.3e} E {:.2e} converged {} {:.2} ms",
+            "strip {} quads {} iterations {} F {:.6e} -> {:.6e} E {:.2e} converged {} {:.2} ms",
             s.strip,
             s.quads,
             s.iterations,

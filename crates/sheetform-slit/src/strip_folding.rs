@@ -163,6 +163,86 @@ struct RidgeMotion {
     left_shift: Vec3,
     /// `∂/∂x_R,j`: angular part.
     right_spin: Vec3,
+    /// `R_j`: the frame of the quads before this ridge line.
+    frame: Matrix3<f64>,
+    /// `d_j` in strip coordinates.
+    axis: Vec3,
+    /// `θ_j`.
+    angle: f64,
+    /// `x_R,j − x_L,j`.
+    offset: f64,
+}
+
+/// The second derivatives of one ridge line's flat rotation `RF_j` with respect to its
+/// own parameters `(θ_j, x_L,j, x_R,j)`, in world coordinates: a point `q` after the ridge
+/// has `∂²q/∂a∂b = W_ab (q − a_j) + c_ab`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct RidgeCurvature {
+    /// `W_ab = R_j (∂²Q_j/∂a∂b) Q_jᵀ R_jᵀ`.
+    matrix: [[Matrix3<f64>; 3]; 3],
+    /// `c_ab = −R_j (∂Q_j/∂a e_x [b = x_L] + ∂Q_j/∂b e_x [a = x_L])`.
+    shift: [[Vec3; 3]; 3],
+}
+
+impl RidgeMotion {
+    /// `ω_a` of the ridge's parameters `(θ_j, x_L,j, x_R,j)`.
+    fn spins(&self) -> [Vec3; 3] {
+        [self.direction, self.left_spin, self.right_spin]
+    }
+
+    /// The ridge's own second derivatives (see [`RidgeCurvature`]).
+    ///
+    /// `Q = I + sin θ K + (1 − cos θ) K²`, `K = [d]×`, and `d` depends on
+    /// `δ = x_R − x_L` only: with `ℓ = √(δ² + w²)`, `d = (δ, w, 0)/ℓ`,
+    /// `d⊥ = (w, −δ, 0)/ℓ` and `κ = w/ℓ²`, `d′ = κ d⊥` and
+    /// `d″ = −(2δw/ℓ⁴) d⊥ − κ² d`. Then
+    /// `Q_θ = cos θ K + sin θ K²`, `Q_θθ = −sin θ K + cos θ K²`,
+    /// `Q_δ = sin θ K′ + (1 − cos θ)(K′K + KK′)`, `Q_θδ = cos θ K′ + sin θ (K′K + KK′)`,
+    /// `Q_δδ = sin θ K″ + (1 − cos θ)(K″K + 2K′K′ + KK″)`, and `∂/∂x_L = −∂/∂δ`,
+    /// `∂/∂x_R = ∂/∂δ`. Differentiating `RF(z) = Q (z − p_L) + p_L`, `p_L = (x_L, 0, 0)`,
+    /// twice gives `Q_ab (z − p_L) − Q_a ∂p_L/∂b − Q_b ∂p_L/∂a`; `z − p_L = Qᵀ R_jᵀ (q − a_j)`.
+    fn curvature(&self, width: f64) -> RidgeCurvature {
+        let d = self.axis;
+        let delta = self.offset;
+        let l2 = delta * delta + width * width;
+        let l = l2.sqrt();
+        let kappa = width / l2;
+        let perp = Vec3::new(width, -delta, 0.0) / l;
+        let d1 = perp * kappa;
+        let d2 = perp * (-2.0 * delta * width / (l2 * l2)) - d * (kappa * kappa);
+        let k0 = d.cross_matrix();
+        let k1 = d1.cross_matrix();
+        let k2 = d2.cross_matrix();
+        let (sin, cos) = self.angle.sin_cos();
+        let k0k0 = k0 * k0;
+        let sym1 = k1 * k0 + k0 * k1;
+        let q_t = k0 * cos + k0k0 * sin;
+        let q_tt = k0 * (-sin) + k0k0 * cos;
+        let q_d = k1 * sin + sym1 * (1.0 - cos);
+        let q_td = k1 * cos + sym1 * sin;
+        let q_dd = k2 * sin + (k2 * k0 + k1 * k1 * 2.0 + k0 * k2) * (1.0 - cos);
+        let first = [q_t, -q_d, q_d];
+        let second = [[q_tt, -q_td, q_td], [-q_td, q_dd, -q_dd], [q_td, -q_dd, q_dd]];
+        let rotation = Rotation3::from_axis_angle(&Unit::new_unchecked(d), self.angle).into_inner();
+        let back = rotation.transpose() * self.frame.transpose();
+        let ex = Vec3::x();
+        let mut matrix = [[Matrix3::zeros(); 3]; 3];
+        let mut shift = [[Vec3::zeros(); 3]; 3];
+        for a in 0..3 {
+            for b in 0..3 {
+                matrix[a][b] = self.frame * second[a][b] * back;
+                let mut c = Vec3::zeros();
+                if b == 1 {
+                    c -= first[a] * ex;
+                }
+                if a == 1 {
+                    c -= first[b] * ex;
+                }
+                shift[a][b] = self.frame * c;
+            }
+        }
+        RidgeCurvature { matrix, shift }
+    }
 }
 
 /// A folded half strip: its ridge-line end points in 3D and what is needed for their
@@ -176,6 +256,7 @@ pub struct FoldedStrip {
     /// World direction of the flat `+x` on quad `i` (`i = 0`: the side panel), `R_i e_x`.
     along: Vec<Vec3>,
     ridges: Vec<RidgeMotion>,
+    width: f64,
 }
 
 /// Which end of a ridge line.
@@ -221,6 +302,10 @@ pub fn fold_strip(start: &StripStart, state: &StripState) -> FoldedStrip {
             left_spin: spin(-dd),
             left_shift: rotation * (ex - q * ex),
             right_spin: spin(dd),
+            frame: rotation,
+            axis: d,
+            angle: theta,
+            offset: span.x,
         });
         shift += rotation * (pl - q * pl);
         rotation *= q;
@@ -230,6 +315,7 @@ pub fn fold_strip(start: &StripStart, state: &StripState) -> FoldedStrip {
         right,
         along,
         ridges,
+        width: w,
     }
 }
 
@@ -268,6 +354,87 @@ impl FoldedStrip {
             match end {
                 RidgeEnd::Left => out[left_variable(m, i)] = self.along[i],
                 RidgeEnd::Right => out[right_variable(m, i)] = self.along[i],
+            }
+        }
+    }
+
+    /// The unknowns of ridge line `j`, `(θ_j, x_L,j, x_R,j)`, as indices (`None` for the
+    /// fixed ends of `E_0`).
+    fn ridge_variables(&self, j: usize) -> [Option<usize>; 3] {
+        let m = self.quads();
+        if j == 0 {
+            [Some(angle_variable(0)), None, None]
+        } else {
+            [
+                Some(angle_variable(j)),
+                Some(left_variable(m, j)),
+                Some(right_variable(m, j)),
+            ]
+        }
+    }
+
+    /// Adds `Σ_a,b weight · ∂²v_end,i/∂a∂b` into `out` (at `(col0, col0)`; `D × D`).
+    ///
+    /// Parameters of different ridge lines: `a` of ridge `j`, `b` of a later ridge `k`
+    /// (or `b = x_end,i`, the vertex's own position on its ridge line) moves with the
+    /// rigid motion of `a`, so `∂²v/∂a∂b = ω_a × ∂v/∂b` (`ω_a` the angular part of
+    /// `∂v/∂a`; the twists of a chain of rigid motions: a later twist is transported
+    /// by an earlier one). Parameters of the same ridge: the ridge's own second
+    /// derivatives, [`RidgeMotion::curvature`]. `∂²v/∂x_end,i² = 0`.
+    pub fn add_weighted_vertex_hessian(
+        &self,
+        end: RidgeEnd,
+        i: usize,
+        weight: Vec3,
+        out: &mut nalgebra::DMatrix<f64>,
+        col0: usize,
+    ) {
+        let m = self.quads();
+        if i == 0 || weight == Vec3::zeros() {
+            return;
+        }
+        let n = 3 * m - 2;
+        let mut first = vec![Vec3::zeros(); n];
+        self.vertex_derivatives(end, i, &mut first);
+        // e_b = ∂v/∂b × weight, so weight · (ω_a × ∂v/∂b) = ω_a · e_b.
+        let crossed: Vec<Vec3> = first.iter().map(|d| d.cross(&weight)).collect();
+        let q = self.vertex(end, i);
+        let own = (i < m).then(|| match end {
+            RidgeEnd::Left => left_variable(m, i),
+            RidgeEnd::Right => right_variable(m, i),
+        });
+        let mut add = |a: usize, b: usize, value: f64| {
+            out[(col0 + a, col0 + b)] += value;
+            if a != b {
+                out[(col0 + b, col0 + a)] += value;
+            }
+        };
+        for j in 0..i {
+            let ridge = &self.ridges[j];
+            let vars = self.ridge_variables(j);
+            let spins = ridge.spins();
+            // With later ridges and with the vertex's own parameter.
+            for (pa, &va) in vars.iter().enumerate() {
+                let Some(va) = va else { continue };
+                for k in j + 1..i {
+                    for vb in self.ridge_variables(k).into_iter().flatten() {
+                        add(va, vb, spins[pa].dot(&crossed[vb]));
+                    }
+                }
+                if let Some(vb) = own {
+                    add(va, vb, spins[pa].dot(&crossed[vb]));
+                }
+            }
+            // Within the ridge.
+            let curvature = ridge.curvature(self.width);
+            let arm = q - ridge.point;
+            for (pa, &va) in vars.iter().enumerate() {
+                let Some(va) = va else { continue };
+                for (pb, &vb) in vars.iter().enumerate().skip(pa) {
+                    let Some(vb) = vb else { continue };
+                    let second = curvature.matrix[pa][pb] * arm + curvature.shift[pa][pb];
+                    add(va, vb, weight.dot(&second));
+                }
             }
         }
     }
@@ -358,6 +525,46 @@ mod tests {
                         (fd - exact).norm() <= 1e-6 * (1.0 + exact.norm()),
                         "{end:?} {i} var {k}: exact {exact:?} fd {fd:?}"
                     );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn vertex_second_derivatives_match_differences_of_the_exact_first() {
+        let m = 7;
+        let s = wavy(m);
+        let st = start();
+        let x0 = s.to_vector();
+        let n = x0.len();
+        let folded = |x: &[f64]| {
+            let mut t = s.clone();
+            t.set_vector(x);
+            fold_strip(&st, &t)
+        };
+        let weight = Vec3::new(0.3, -1.1, 0.7);
+        for end in [RidgeEnd::Left, RidgeEnd::Right] {
+            for i in 1..=m {
+                let mut exact = nalgebra::DMatrix::zeros(n, n);
+                folded(&x0).add_weighted_vertex_hessian(end, i, weight, &mut exact, 0);
+                let h = 1e-5;
+                let mut d = vec![Vec3::zeros(); n];
+                for k in 0..n {
+                    let mut xp = x0.clone();
+                    xp[k] += h;
+                    folded(&xp).vertex_derivatives(end, i, &mut d);
+                    let plus: Vec<f64> = d.iter().map(|v| v.dot(&weight)).collect();
+                    let mut xm = x0.clone();
+                    xm[k] -= h;
+                    folded(&xm).vertex_derivatives(end, i, &mut d);
+                    for a in 0..n {
+                        let fd = (plus[a] - d[a].dot(&weight)) / (2.0 * h);
+                        let e = exact[(a, k)];
+                        assert!(
+                            (fd - e).abs() <= 1e-5 * (1.0 + e.abs()),
+                            "{end:?} {i} ({a}, {k}): exact {e} fd {fd}"
+                        );
+                    }
                 }
             }
         }

@@ -27,7 +27,7 @@
 //! method of multipliers (see [`crate::strip_solver`]); with `s = 0` they are the paper's.
 
 use crate::point_cloud::ScanCloud;
-use crate::strip_folding::{fold_strip, left_variable, right_variable, RidgeEnd, StripStart, StripState};
+use crate::strip_folding::{fold_strip, left_variable, right_variable, FoldedStrip, RidgeEnd, StripStart, StripState};
 use crate::{SeatCurve, WeightsSpec};
 use nalgebra::{DMatrix, Vector2, Vector3};
 
@@ -104,13 +104,48 @@ impl<'a> StripTerms<'a> {
 
     /// The residuals at `x` (layout of [`StripState::to_vector`]) into `out`.
     pub fn residuals_into(&self, x: &[f64], out: &mut [f64]) {
-        self.evaluate(x, out, None);
+        self.evaluate(x, out, None, None);
     }
 
     /// The residuals and the Jacobian block (rows `row0..`, columns `col0..`).
     pub fn jacobian_into(&self, x: &[f64], jacobian: &mut DMatrix<f64>, row0: usize, col0: usize) {
         let mut r = vec![0.0; self.residual_count()];
-        self.evaluate(x, &mut r, Some((jacobian, row0, col0)));
+        self.evaluate(x, &mut r, Some((jacobian, row0, col0)), None);
+    }
+
+    /// The residuals' own curvature `Σ_i r_i ∇²r_i`, added into `out` at
+    /// `(col0, col0)`: the part of the penalty's Hessian the Gauss–Newton `JᵀJ` misses.
+    ///
+    /// Every row that depends on the folded shape is a linear function `gᵀ v` of one
+    /// ridge-line end point `v` (gap, end angle, anchors, scanned points), so
+    /// `Σ r_i ∇²r_i = Σ_v (Σ_i r_i g_i) · ∇²v` with the exact second derivatives of
+    /// [`crate::strip_folding::FoldedStrip::add_weighted_vertex_hessian`]. Two
+    /// approximations, both documented: the seat-curve rows take the projection onto
+    /// the polyline as locally straight (`g = (I − t tᵀ)` in the symmetry plane; a
+    /// polyline is straight between its vertices), and the scanned point nearest to a
+    /// vertex is held fixed (as in the Jacobian). The fairness rows add
+    /// [`StripTerms::fairness_curvature_into`].
+    pub fn residual_curvature_into(&self, x: &[f64], out: &mut DMatrix<f64>, col0: usize) {
+        let m = self.quads;
+        let mut r = vec![0.0; self.residual_count()];
+        let mut weights = vec![Vec3::zeros(); 2 * (m + 1)];
+        let folded = self.evaluate(x, &mut r, None, Some(&mut weights));
+        for i in 1..=m {
+            for (e, end) in [RidgeEnd::Left, RidgeEnd::Right].into_iter().enumerate() {
+                folded.add_weighted_vertex_hessian(end, i, weights[2 * i + e], out, col0);
+            }
+        }
+        self.fairness_curvature_into(x, out, col0);
+    }
+
+    /// The gap constraints' curvature `Σ_e λ_e ∇²g_e` (exact), added into `out` at
+    /// `(col0, col0)`.
+    pub fn gap_curvature_into(&self, x: &[f64], multipliers: [f64; 2], out: &mut DMatrix<f64>, col0: usize) {
+        let folded = fold_strip(&self.start, &self.state(x));
+        let m = self.quads;
+        for (e, end) in [RidgeEnd::Left, RidgeEnd::Right].into_iter().enumerate() {
+            folded.add_weighted_vertex_hessian(end, m, Vec3::x() * (multipliers[e] / self.length_scale), out, col0);
+        }
     }
 
     /// The gap rows' raw values `(v_L,M)_x / ℓ`, `(v_R,M)_x / ℓ`.
@@ -134,6 +169,45 @@ impl<'a> StripTerms<'a> {
         }
     }
 
+    /// The fairness rows' own curvature `Σ_i r_i ∇²r_i`, added into `out` at
+    /// `(col0, col0)`.
+    ///
+    /// A fairness row is `r = √w3 Δ^(−1/2)` with `Δ = (x_i − x_{i−1}) / ℓ`, so
+    /// `∇²r = ¾ √w3 Δ^(−5/2) / ℓ² · [1 −1; −1 1]` on `(x_i, x_{i−1})` and
+    /// `r ∇²r = ¾ w3 Δ^(−3) / ℓ² · [1 −1; −1 1]`: three times the Gauss–Newton part
+    /// `(∇r)(∇r)ᵀ = ¼ w3 Δ^(−3) / ℓ² · [..]`. These rows dominate `F` (Eq. 4 is never
+    /// small), so without this term every step is about four times too long.
+    pub fn fairness_curvature_into(&self, x: &[f64], out: &mut DMatrix<f64>, col0: usize) {
+        let m = self.quads;
+        let scale = 1.0 / self.length_scale;
+        let state = self.state(x);
+        let w = self.weights.fair;
+        for (xs, var) in [
+            (&state.left, left_variable as fn(usize, usize) -> usize),
+            (&state.right, right_variable),
+        ] {
+            for i in 1..=m {
+                let dx = (xs[i] - xs[i - 1]) * scale;
+                if dx <= 0.0 {
+                    continue;
+                }
+                let h = 0.75 * w * dx.powi(-3) * scale * scale;
+                let upper = (i < m).then(|| col0 + var(m, i));
+                let lower = (i > 1).then(|| col0 + var(m, i - 1));
+                if let Some(u) = upper {
+                    out[(u, u)] += h;
+                }
+                if let Some(l) = lower {
+                    out[(l, l)] += h;
+                }
+                if let (Some(u), Some(l)) = (upper, lower) {
+                    out[(u, l)] -= h;
+                    out[(l, u)] -= h;
+                }
+            }
+        }
+    }
+
     /// The paper's penalty `F` at `x` with the nominal weights and no shift, term by term.
     pub fn penalty(&self, x: &[f64]) -> PenaltyTerms {
         let plain = StripTerms {
@@ -142,7 +216,7 @@ impl<'a> StripTerms<'a> {
             ..self.clone()
         };
         let mut r = vec![0.0; self.residual_count()];
-        plain.evaluate(x, &mut r, None);
+        plain.evaluate(x, &mut r, None, None);
         let m = self.quads;
         let mut at = 0;
         let mut take = |n: usize| {
@@ -165,7 +239,17 @@ impl<'a> StripTerms<'a> {
         }
     }
 
-    fn evaluate(&self, x: &[f64], r: &mut [f64], mut jacobian: Option<(&mut DMatrix<f64>, usize, usize)>) {
+    /// Residuals into `r`; optionally the Jacobian block, and optionally, per ridge-line
+    /// end point `v_end,i` (index `2i + end`), `Σ r_k g_k` over the rows `r_k = g_kᵀ v + …`
+    /// that depend on it (for [`StripTerms::residual_curvature_into`]). Returns the
+    /// folded strip.
+    fn evaluate(
+        &self,
+        x: &[f64],
+        r: &mut [f64],
+        mut jacobian: Option<(&mut DMatrix<f64>, usize, usize)>,
+        mut weights: Option<&mut [Vec3]>,
+    ) -> FoldedStrip {
         let m = self.quads;
         let n = 3 * m - 2;
         let scale = 1.0 / self.length_scale;
@@ -173,6 +257,11 @@ impl<'a> StripTerms<'a> {
         let folded = fold_strip(&self.start, &state);
         let mut d = vec![Vec3::zeros(); n];
         let mut row = 0;
+        let mut weigh = |end: RidgeEnd, i: usize, w: Vec3| {
+            if let Some(ws) = weights.as_mut() {
+                ws[2 * i + end as usize] += w;
+            }
+        };
         // Writes one residual row that depends on vertex (end, i) through `g · v`.
         let vertex_row = |row: usize,
                           end: RidgeEnd,
@@ -193,6 +282,7 @@ impl<'a> StripTerms<'a> {
             let v = folded.vertex(end, m);
             r[row] = gw * (v.x * scale + self.gap_shift[e]);
             vertex_row(row, end, m, Vec3::x() * gw * scale, &mut jacobian, &mut d);
+            weigh(end, m, Vec3::x() * (gw * scale * r[row]));
             row += 1;
         }
         // Smoothness over θ_1..θ_{M−1} (Eq. 3).
@@ -211,6 +301,8 @@ impl<'a> StripTerms<'a> {
             let a = folded.vertex(end, m - 1);
             let b = folded.vertex(end, m);
             r[row] = sw * (a.y - b.y) * scale;
+            weigh(end, m - 1, Vec3::y() * (sw * scale * r[row]));
+            weigh(end, m, Vec3::y() * (-sw * scale * r[row]));
             if let Some((jac, r0, c0)) = jacobian.as_mut() {
                 folded.vertex_derivatives(end, m - 1, &mut d);
                 let mut e = vec![Vec3::zeros(); n];
@@ -254,6 +346,7 @@ impl<'a> StripTerms<'a> {
             for c in 0..3 {
                 r[row + c] = diff[c];
             }
+            weigh(a.end, a.ridge, diff * (uw * scale));
             if let Some((jac, r0, c0)) = jacobian.as_mut() {
                 folded.vertex_derivatives(a.end, a.ridge, &mut d);
                 for (k, dk) in d.iter().enumerate() {
@@ -273,6 +366,11 @@ impl<'a> StripTerms<'a> {
                 let diff = (p - hit.point) * (uw * scale);
                 r[row] = diff.x;
                 r[row + 1] = diff.y;
+                let g = match hit.tangent {
+                    Some(t) => diff - t * t.dot(&diff),
+                    None => diff,
+                } * (uw * scale);
+                weigh(end, m, Vec3::new(0.0, g.y, g.x));
                 if let Some((jac, r0, c0)) = jacobian.as_mut() {
                     folded.vertex_derivatives(end, m, &mut d);
                     for (k, dk) in d.iter().enumerate() {
@@ -298,6 +396,7 @@ impl<'a> StripTerms<'a> {
                     for c in 0..3 {
                         r[row + c] = diff[c];
                     }
+                    weigh(end, i, diff * (cw * scale));
                     if let Some((jac, r0, c0)) = jacobian.as_mut() {
                         folded.vertex_derivatives(end, i, &mut d);
                         for (k, dk) in d.iter().enumerate() {
@@ -311,5 +410,6 @@ impl<'a> StripTerms<'a> {
             }
         }
         debug_assert_eq!(row, self.residual_count());
+        folded
     }
 }

@@ -5,12 +5,21 @@
 //! **Gap as a constraint (default).** The gap rows `g_e = (v_·,M)_x / (L2 + L3)` are taken
 //! out of the penalty and imposed as equality constraints `g = 0`: each
 //! Levenberg–Marquardt step solves the damped KKT system of
-//! [`constrained_levenberg_marquardt`] (an SQP-type step with the Gauss–Newton Hessian
-//! of the other terms plus the constraints' curvature). At the solution the other terms
+//! [`constrained_levenberg_marquardt`] (an SQP-type step). At the solution the other terms
 //! are minimised *on* the set where the strips close, to `gap_tolerance`. A quadratic
 //! penalty (or the method of multipliers around it) was tried first: it needed 200–500
 //! iterations per strip because the Gauss–Newton model misses the constraint's curvature
 //! and the steps crawl along the curved valley.
+//!
+//! **The step's Hessian is the exact Hessian of the Lagrangian**:
+//! `JᵀJ + Σ r_i ∇²r_i + Σ λ_e ∇²g_e`, all analytic (second derivatives of the folded
+//! vertices in [`crate::strip_folding::FoldedStrip::add_weighted_vertex_hessian`]). The
+//! Gauss–Newton `JᵀJ` alone is a poor model here: `F` is dominated by the fairness rows
+//! `√w3 Δ^(−1/2)`, which are never small and whose own curvature is three times their
+//! Gauss–Newton part, so the steps were about four times too long, the damping settled
+//! near `μ ≈ 4` and the solver crept (45–316 iterations per strip on the chair, 30–45 ms
+//! for the chair). With the exact Hessian: 14–35 iterations, about 6 ms
+//! (`docs/benchmarks.md`).
 //!
 //! **Penalty** (`gap: penalty`): the paper's method, plain Levenberg–Marquardt on `F`
 //! with the fixed weight `w1`; some gap remains (the paper reports `E ≤ 1.5e-3`).
@@ -84,29 +93,6 @@ pub trait GapConstrained: ConstrainedLeastSquaresProblem {
     fn nominal_gap_weight(&self) -> f64;
 }
 
-/// `Σ_e λ_e ∇²g_e` by central differences of the *exact* constraint Jacobian (step
-/// `1e-6` per unknown): the only difference quotient in the solver, used for the
-/// constraint curvature in the step's Hessian, never for a Jacobian.
-fn curvature_by_differences(
-    problem: &impl ConstrainedLeastSquaresProblem,
-    x: &DVector<f64>,
-    multipliers: &DVector<f64>,
-) -> DMatrix<f64> {
-    let n = x.len();
-    let h = 1e-6;
-    let mut hessian = DMatrix::zeros(n, n);
-    let mut xp = x.clone();
-    for k in 0..n {
-        xp[k] = x[k] + h;
-        let plus = problem.constraint_jacobian(&xp).transpose() * multipliers;
-        xp[k] = x[k] - h;
-        let minus = problem.constraint_jacobian(&xp).transpose() * multipliers;
-        xp[k] = x[k];
-        hessian.set_column(k, &((plus - minus) / (2.0 * h)));
-    }
-    (&hessian + hessian.transpose()) * 0.5
-}
-
 /// One strip as a [`LeastSquaresProblem`].
 #[derive(Debug, Clone)]
 pub struct StripProblem<'a> {
@@ -138,7 +124,15 @@ impl ConstrainedLeastSquaresProblem for StripProblem<'_> {
         c
     }
     fn constraint_curvature(&self, x: &DVector<f64>, multipliers: &DVector<f64>) -> Option<DMatrix<f64>> {
-        Some(curvature_by_differences(self, x, multipliers))
+        let mut out = DMatrix::zeros(x.len(), x.len());
+        self.terms
+            .gap_curvature_into(x.as_slice(), [multipliers[0], multipliers[1]], &mut out, 0);
+        Some(out)
+    }
+    fn residual_curvature(&self, x: &DVector<f64>) -> Option<DMatrix<f64>> {
+        let mut out = DMatrix::zeros(x.len(), x.len());
+        self.terms.residual_curvature_into(x.as_slice(), &mut out, 0);
+        Some(out)
     }
 }
 
@@ -252,14 +246,21 @@ impl ConstrainedLeastSquaresProblem for JointProblem<'_> {
         let cols = self.columns();
         let mut out = DMatrix::zeros(x.len(), x.len());
         for (k, (s, &c)) in self.strips.iter().zip(&cols).enumerate() {
-            let n = 3 * s.quads - 2;
-            let one = StripProblem { terms: s.clone() };
-            let block = curvature_by_differences(
-                &one,
-                &x.rows(c, n).into_owned(),
-                &DVector::from_vec(vec![multipliers[2 * k], multipliers[2 * k + 1]]),
+            s.gap_curvature_into(
+                &x.as_slice()[c..c + 3 * s.quads - 2],
+                [multipliers[2 * k], multipliers[2 * k + 1]],
+                &mut out,
+                c,
             );
-            out.view_mut((c, c), (n, n)).copy_from(&block);
+        }
+        Some(out)
+    }
+    fn residual_curvature(&self, x: &DVector<f64>) -> Option<DMatrix<f64>> {
+        // The neighbour rows are linear: only the strips' own rows are curved.
+        let cols = self.columns();
+        let mut out = DMatrix::zeros(x.len(), x.len());
+        for (s, &c) in self.strips.iter().zip(&cols) {
+            s.residual_curvature_into(&x.as_slice()[c..c + 3 * s.quads - 2], &mut out, c);
         }
         Some(out)
     }

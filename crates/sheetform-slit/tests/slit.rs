@@ -50,24 +50,10 @@ fn chair_converges_from_the_initial_state_with_congruent_quads() {
 #[test]
 fn penalty_jacobian_matches_finite_differences() {
     let mut model = chair();
-    model
-        .add_anchor(AnchorSpec {
-            strip: 1,
-            ridge: 4,
-            side: StripSide::Right,
-            position: [150.0, 380.0, 90.0],
-        })
-        .unwrap();
-    let mut state = StripState::initial(10, model.layout.strip_length);
-    for i in 1..10 {
-        state.angles[i] = 0.2 * (i as f64).sin();
-        state.left[i] += 4.0 * (i as f64 * 0.8).cos();
-        state.right[i] -= 3.0 * (i as f64 * 0.5).sin();
-    }
+    let x = wavy_problem(&mut model);
     let mut terms = model.strip_terms(1, 0);
     terms.gap_shift = [0.01, -0.02];
     let problem = StripProblem { terms };
-    let x = DVector::from_vec(state.to_vector());
     let exact: DMatrix<f64> = problem.jacobian(&x);
     for k in 0..x.len() {
         let h = 1e-6;
@@ -82,6 +68,64 @@ fn penalty_jacobian_matches_finite_differences() {
                 "row {r} col {k}: exact {} fd {}",
                 exact[(r, k)],
                 fd[r]
+            );
+        }
+    }
+}
+
+/// A wavy state of strip 1 of the chair with an anchor: every kind of row is non-zero.
+fn wavy_problem(model: &mut SlitModel) -> DVector<f64> {
+    model
+        .add_anchor(AnchorSpec {
+            strip: 1,
+            ridge: 4,
+            side: StripSide::Right,
+            position: [150.0, 380.0, 90.0],
+        })
+        .unwrap();
+    let mut state = StripState::initial(10, model.layout.strip_length);
+    for i in 1..10 {
+        state.angles[i] = 0.2 * (i as f64).sin();
+        state.left[i] += 4.0 * (i as f64 * 0.8).cos();
+        state.right[i] -= 3.0 * (i as f64 * 0.5).sin();
+    }
+    DVector::from_vec(state.to_vector())
+}
+
+#[test]
+fn hessians_match_differences_of_the_exact_gradients() {
+    use sheetform_solve::ConstrainedLeastSquaresProblem;
+    let mut model = chair();
+    let x = wavy_problem(&mut model);
+    let mut terms = model.strip_terms(1, 0);
+    terms.gap_shift = [0.01, -0.02];
+    let problem = StripProblem { terms };
+    let n = x.len();
+    let gradient = |x: &DVector<f64>| problem.jacobian(x).transpose() * problem.residuals(x);
+    let multipliers = DVector::from_vec(vec![0.7, -1.3]);
+    let lagrangian = |x: &DVector<f64>| problem.constraint_jacobian(x).transpose() * &multipliers;
+    // The penalty's Hessian: JᵀJ + Σ r ∇²r; the constraints': Σ λ ∇²g.
+    let j = problem.jacobian(&x);
+    let penalty = j.transpose() * &j + problem.residual_curvature(&x).unwrap();
+    let constraint = problem.constraint_curvature(&x, &multipliers).unwrap();
+    assert!(penalty.norm() > 0.0 && constraint.norm() > 0.0);
+    let h = 1e-6;
+    for k in 0..n {
+        let (mut p, mut m) = (x.clone(), x.clone());
+        p[k] += h;
+        m[k] -= h;
+        let fd_penalty = (gradient(&p) - gradient(&m)) / (2.0 * h);
+        let fd_constraint = (lagrangian(&p) - lagrangian(&m)) / (2.0 * h);
+        for a in 0..n {
+            let (e, f) = (penalty[(a, k)], fd_penalty[a]);
+            assert!(
+                (e - f).abs() <= 1e-5 * (1.0 + e.abs()),
+                "penalty ({a}, {k}): exact {e} fd {f}"
+            );
+            let (e, f) = (constraint[(a, k)], fd_constraint[a]);
+            assert!(
+                (e - f).abs() <= 1e-5 * (1.0 + e.abs()),
+                "constraint ({a}, {k}): exact {e} fd {f}"
             );
         }
     }

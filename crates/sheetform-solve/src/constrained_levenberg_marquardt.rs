@@ -14,6 +14,14 @@ pub trait ConstrainedLeastSquaresProblem: LeastSquaresProblem {
         let _ = (x, multipliers);
         None
     }
+    /// The residuals' own curvature, `Σ_i r_i ∇²r_i(x)`, for the residuals where it is
+    /// known and matters (large residuals on curved functions), if any. The Gauss–Newton
+    /// Hessian `JᵀJ` leaves it out; when `F` is dominated by such residuals the steps are
+    /// systematically too long and the damping stalls the solver.
+    fn residual_curvature(&self, x: &DVector<f64>) -> Option<DMatrix<f64>> {
+        let _ = x;
+        None
+    }
 }
 
 /// Knobs of [`constrained_levenberg_marquardt`].
@@ -44,13 +52,44 @@ pub struct ConstrainedInfo {
     pub constraint_violation: f64,
 }
 
+/// An orthonormal basis `Z` (`n × (n − rank C)`) of the null space of the constraint
+/// Jacobian `C` (`m × n`): the tangent space of the constraints. Numerically redundant
+/// constraints count once.
+fn tangent_basis(cj: &DMatrix<f64>) -> DMatrix<f64> {
+    let (m, n) = cj.shape();
+    if m == 0 {
+        return DMatrix::identity(n, n);
+    }
+    let svd = cj.transpose().svd(true, false);
+    let u = svd.u.expect("U requested");
+    let largest = svd.singular_values.max();
+    let rank = svd.singular_values.iter().filter(|&&s| s > 1e-12 * largest).count();
+    // Householder QR of [U_r | I]: the first `rank` columns of Q span the range of Cᵀ,
+    // the rest its orthogonal complement.
+    let mut stacked = DMatrix::zeros(n, rank + n);
+    let mut at = 0;
+    for (k, &s) in svd.singular_values.iter().enumerate() {
+        if s > 1e-12 * largest {
+            stacked.set_column(at, &u.column(k));
+            at += 1;
+        }
+    }
+    stacked.view_mut((0, rank), (n, n)).fill_with_identity();
+    let q = stacked.qr().q();
+    q.columns(rank, n - rank).into_owned()
+}
+
 /// Levenberg–Marquardt with linearised equality constraints (an SQP-type step).
 ///
 /// Each step solves the damped KKT system
-/// `[H + μ diag(JᵀJ), Cᵀ; C, 0] [δ; λ] = [−Jᵀr; −τ c]`, `H = JᵀJ + Σ λ_i ∇²c_i` (the
-/// Gauss–Newton Hessian of the Lagrangian with the least-squares multipliers
-/// `λ = −(CCᵀ)⁻¹ C Jᵀr` of the current point; the curvature term only when the problem
-/// provides it),
+/// `[H + μ diag(JᵀJ), Cᵀ; C, 0] [δ; λ] = [−Jᵀr; −τ c]`,
+/// `H = JᵀJ + Σ_k r_k ∇²r_k + Σ_i λ_i ∇²c_i` (the Hessian of the Lagrangian with the
+/// least-squares multipliers `λ = −(CCᵀ)⁻¹ C Jᵀr` of the current point; each curvature
+/// term only when the problem provides it, otherwise the Gauss–Newton part alone). With
+/// curvature terms `H` can be indefinite on the constraints' tangent space (near a saddle
+/// or a maximum); then `μ` is raised until `Zᵀ(H + μD)Z` is positive definite (`Z` a
+/// basis of the tangent space: inertia control, N&W §16.2), and a stalled cost does not
+/// count as convergence there,
 /// (by LU, or by SVD when redundant constraints make it singular),
 /// so the step moves onto the linearised constraint (`τ = 1`; halved after a rejected
 /// step, reset after an accepted one) while the damping shortens only the part along it.
@@ -108,6 +147,8 @@ pub fn constrained_levenberg_marquardt(
     let mut merit_weight: f64 = 2.0 * multipliers.amax() + 1e-12;
     let gradient_limit = base.gradient_tolerance * gradient.max(1e-300);
     let violation = |c: &DVector<f64>| c.iter().fold(0.0f64, |v, e| v.max(e.abs()));
+    // `SHEETFORM_TRACE=1`: one line per iteration on stderr.
+    let trace = std::env::var_os("SHEETFORM_TRACE").is_some();
     for it in 0..base.max_iterations {
         info.solver.iterations = it;
         let feasible = violation(&c) <= options.constraint_tolerance;
@@ -115,13 +156,32 @@ pub fn constrained_levenberg_marquardt(
             info.solver.converged = true;
             break;
         }
-        let mut kkt = DMatrix::zeros(n + m, n + m);
-        kkt.view_mut((0, 0), (n, n)).copy_from(&a);
-        if let Some(curvature) = problem.constraint_curvature(&x, &multipliers) {
-            kkt.view_mut((0, 0), (n, n)).add_assign(&curvature);
+        let mut hessian = a.clone();
+        if let Some(curvature) = problem.residual_curvature(&x) {
+            hessian.add_assign(&curvature);
         }
+        if let Some(curvature) = problem.constraint_curvature(&x, &multipliers) {
+            hessian.add_assign(&curvature);
+        }
+        // Inertia control (N&W §16.2, §18.3): the step is a minimiser of the model only
+        // if the damped Hessian is positive definite on the constraints' tangent space;
+        // the exact Hessian of the Lagrangian need not be (near a saddle, e.g. a
+        // symmetric start), and Newton steps would then converge to the saddle. Raise μ
+        // until `Zᵀ(H + μD)Z` has a Cholesky factor.
+        let damping = DVector::from_iterator(n, (0..n).map(|i| a[(i, i)].max(1e-12 * max_diag)));
+        let tangent = tangent_basis(&cj);
+        let reduced = tangent.transpose() * &hessian * &tangent;
+        let reduced_damping = tangent.transpose() * DMatrix::from_diagonal(&damping) * &tangent;
+        let convex = (&reduced + &reduced_damping * (1e-12)).cholesky().is_some();
+        let mut raised = 0;
+        while (&reduced + &reduced_damping * mu).cholesky().is_none() && raised < 100 {
+            mu = (mu * 4.0).max(1e-12);
+            raised += 1;
+        }
+        let mut kkt = DMatrix::zeros(n + m, n + m);
+        kkt.view_mut((0, 0), (n, n)).copy_from(&hessian);
         for i in 0..n {
-            kkt[(i, i)] += mu * a[(i, i)].max(1e-12 * max_diag);
+            kkt[(i, i)] += mu * damping[i];
         }
         kkt.view_mut((n, 0), (m, n)).copy_from(&cj);
         kkt.view_mut((0, n), (n, m)).copy_from(&cj.transpose());
@@ -147,7 +207,7 @@ pub fn constrained_levenberg_marquardt(
         };
         let step = solution.rows(0, n).into_owned();
         let c1 = c.iter().map(|e| e.abs()).sum::<f64>();
-        let model_increase = step.dot(&g) + 0.5 * step.dot(&(&a * &step));
+        let model_increase = step.dot(&g) + 0.5 * step.dot(&(&hessian * &step));
         if c1 > 0.0 {
             // ν large enough that the step predicts a merit decrease (N&W Eq. 18.36).
             merit_weight = merit_weight.max(model_increase / (0.5 * tau * c1));
@@ -164,15 +224,20 @@ pub fn constrained_levenberg_marquardt(
         let mut trial = evaluate(&x + &step);
         // Second-order correction (N&W §15.6): the step's own constraint error, of second
         // order, is projected out along Cᵀ (in the diag(JᵀJ) metric) so the merit test sees
-        // the tangential progress instead of the constraint's curvature.
+        // the tangential progress instead of the constraint's curvature. Repeated (up to
+        // three times, with the same C) while it lowers the merit: on strongly curved
+        // constraints one projection leaves an error comparable to the progress.
         if m > 0 && trial.2.iter().all(|v| v.is_finite()) {
-            let weights = DVector::from_iterator(n, (0..n).map(|i| 1.0 / a[(i, i)].max(1e-12 * max_diag)));
-            let scaled = DMatrix::from_fn(n, m, |i, k| weights[i] * cj[(k, i)]);
+            let scaled = DMatrix::from_fn(n, m, |i, k| cj[(k, i)] / damping[i]);
             if let Some(ch) = (&cj * &scaled).cholesky() {
-                let correction = -(&scaled * ch.solve(&trial.2));
-                let corrected = evaluate(&trial.0 + correction);
-                if corrected.4 < trial.4 {
-                    trial = corrected;
+                for _ in 0..3 {
+                    let correction = -(&scaled * ch.solve(&trial.2));
+                    let corrected = evaluate(&trial.0 + correction);
+                    if corrected.4 < trial.4 {
+                        trial = corrected;
+                    } else {
+                        break;
+                    }
                 }
             }
         }
@@ -183,6 +248,14 @@ pub fn constrained_levenberg_marquardt(
             -1.0
         };
         info.solver.iterations = it + 1;
+        if trace {
+            eprintln!(
+                "constrained LM {it}: cost {cost:.6e} -> {cost_new:.6e}, max |c| {:.2e} -> {:.2e}, rho {rho:.3}, mu {mu:.2e}, tau {tau}, |step| {:.2e}, projected gradient {gradient:.2e}",
+                violation(&c),
+                violation(&c_new),
+                step.norm()
+            );
+        }
         if rho > 1e-4 && merit_new.is_finite() {
             let change = (cost - cost_new).abs() / cost.max(1e-300);
             let small_step = step.norm() <= base.step_tolerance * (x.norm() + base.step_tolerance);
@@ -199,8 +272,10 @@ pub fn constrained_levenberg_marquardt(
             mu *= (1.0f64 / 3.0).max(1.0 - (2.0 * rho - 1.0).powi(3));
             growth = 2.0;
             tau = 1.0;
+            // A stalled cost or step counts as converged only where the model was convex
+            // (not at a saddle, where the steps are short because the curvature is).
             if violation(&c) <= options.constraint_tolerance
-                && (gradient <= gradient_limit || change < base.cost_tolerance || small_step)
+                && (gradient <= gradient_limit || (convex && (change < base.cost_tolerance || small_step)))
             {
                 info.solver.converged = true;
                 break;
@@ -244,6 +319,44 @@ mod tests {
         fn constraint_curvature(&self, _: &DVector<f64>, l: &DVector<f64>) -> Option<DMatrix<f64>> {
             Some(DMatrix::identity(2, 2) * (2.0 * l[0]))
         }
+    }
+
+    /// `min ½(x² + ¼y²)` on the unit circle: the minima are `(0, ±1)`; `(±1, 0)` are
+    /// maxima on the circle, where the exact Hessian of the Lagrangian is negative along
+    /// the circle.
+    struct Ellipse;
+    impl LeastSquaresProblem for Ellipse {
+        fn residuals(&self, v: &DVector<f64>) -> DVector<f64> {
+            DVector::from_vec(vec![v[0], 0.5 * v[1]])
+        }
+        fn jacobian(&self, _: &DVector<f64>) -> DMatrix<f64> {
+            DMatrix::from_row_slice(2, 2, &[1.0, 0.0, 0.0, 0.5])
+        }
+    }
+    impl ConstrainedLeastSquaresProblem for Ellipse {
+        fn constraints(&self, v: &DVector<f64>) -> DVector<f64> {
+            DVector::from_vec(vec![v[0] * v[0] + v[1] * v[1] - 1.0])
+        }
+        fn constraint_jacobian(&self, v: &DVector<f64>) -> DMatrix<f64> {
+            DMatrix::from_row_slice(1, 2, &[2.0 * v[0], 2.0 * v[1]])
+        }
+        fn constraint_curvature(&self, _: &DVector<f64>, l: &DVector<f64>) -> Option<DMatrix<f64>> {
+            Some(DMatrix::identity(2, 2) * (2.0 * l[0]))
+        }
+    }
+
+    #[test]
+    fn leaves_a_maximum_on_the_constraint_for_a_minimum() {
+        // Started next to the maximum (1, 0): plain Newton steps on the KKT system would
+        // converge to it; inertia control turns them downhill.
+        let (x, info) = constrained_levenberg_marquardt(
+            &Ellipse,
+            DVector::from_vec(vec![1.0, 1e-3]),
+            &ConstrainedOptions::default(),
+        );
+        assert!(info.solver.converged, "{info:?}");
+        assert!(x[0].abs() < 1e-6 && (x[1].abs() - 1.0).abs() < 1e-9, "{x:?}");
+        assert!((info.solver.cost - 0.125).abs() < 1e-12, "{info:?}");
     }
 
     #[test]
