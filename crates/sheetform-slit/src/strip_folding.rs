@@ -373,69 +373,87 @@ impl FoldedStrip {
         }
     }
 
-    /// Adds `Σ_a,b weight · ∂²v_end,i/∂a∂b` into `out` (at `(col0, col0)`; `D × D`).
+    /// Adds `Σ_v w_v · ∂²v/∂a∂b` over every ridge-line end point `v = v_end,i` into `out`
+    /// (at `(col0, col0)`; `D × D`), with `weights[2i + end] = w_v` (length `2(M + 1)`).
+    /// This is the curvature part of any Hessian whose rows are linear in the vertices
+    /// (`Σ_k r_k ∇²r_k`, `Σ_e λ_e ∇²g_e`).
     ///
-    /// Parameters of different ridge lines: `a` of ridge `j`, `b` of a later ridge `k`
-    /// (or `b = x_end,i`, the vertex's own position on its ridge line) moves with the
-    /// rigid motion of `a`, so `∂²v/∂a∂b = ω_a × ∂v/∂b` (`ω_a` the angular part of
-    /// `∂v/∂a`; the twists of a chain of rigid motions: a later twist is transported
-    /// by an earlier one). Parameters of the same ridge: the ridge's own second
-    /// derivatives, [`RidgeMotion::curvature`]. `∂²v/∂x_end,i² = 0`.
-    pub fn add_weighted_vertex_hessian(
-        &self,
-        end: RidgeEnd,
-        i: usize,
-        weight: Vec3,
-        out: &mut nalgebra::DMatrix<f64>,
-        col0: usize,
-    ) {
+    /// Second derivatives of a vertex `v` after ridge lines `j < k`:
+    /// - `a` of ridge `j`, `b` of a later ridge `k` (or `b = x_end,i`, the vertex's own
+    ///   position on its ridge line): the twist of `b` is carried by the rigid motion of
+    ///   `a`, so `∂²v/∂a∂b = ω_a × ∂v/∂b` (`ω_a` the angular part of `∂v/∂a`), with
+    ///   `∂v/∂b = ω_b × (v − a_k) + s_b`;
+    /// - `a`, `b` of the same ridge: its own second derivatives, `W_ab (v − a_j) + c_ab`
+    ///   ([`RidgeMotion::curvature`]); `∂²v/∂x_end,i² = 0`.
+    ///
+    /// Summed over the vertices after ridge `k` with suffix sums `S = Σ w`,
+    /// `A = Σ v wᵀ` (`(u × w)` expanded by `(ω × p) × w = p (ω·w) − ω (p·w)`):
+    /// `Σ w·(ω_a × ∂v/∂b) = ω_a · [A ω_b − a_k (S·ω_b) − ω_b (tr A − a_k·S) + s_b × S]`
+    /// and `Σ w·(W (v − a_j) + c) = tr(W (A − a_j Sᵀ)) + c·S`, so the whole Hessian
+    /// costs `O(D²)`, not `O(M D²)`.
+    pub fn add_weighted_hessian(&self, weights: &[Vec3], out: &mut nalgebra::DMatrix<f64>, col0: usize) {
         let m = self.quads();
-        if i == 0 || weight == Vec3::zeros() {
-            return;
+        assert_eq!(weights.len(), 2 * (m + 1), "one weight per ridge-line end point");
+        // Suffix sums over the vertices of ridge lines t..=M.
+        let mut sum = vec![Vec3::zeros(); m + 2];
+        let mut outer = vec![Matrix3::zeros(); m + 2];
+        for i in (1..=m).rev() {
+            let (wl, wr) = (weights[2 * i], weights[2 * i + 1]);
+            sum[i] = sum[i + 1] + wl + wr;
+            outer[i] = outer[i + 1] + self.left[i] * wl.transpose() + self.right[i] * wr.transpose();
         }
-        let n = 3 * m - 2;
-        let mut first = vec![Vec3::zeros(); n];
-        self.vertex_derivatives(end, i, &mut first);
-        // e_b = ∂v/∂b × weight, so weight · (ω_a × ∂v/∂b) = ω_a · e_b.
-        let crossed: Vec<Vec3> = first.iter().map(|d| d.cross(&weight)).collect();
-        let q = self.vertex(end, i);
-        let own = (i < m).then(|| match end {
-            RidgeEnd::Left => left_variable(m, i),
-            RidgeEnd::Right => right_variable(m, i),
-        });
         let mut add = |a: usize, b: usize, value: f64| {
             out[(col0 + a, col0 + b)] += value;
             if a != b {
                 out[(col0 + b, col0 + a)] += value;
             }
         };
-        for j in 0..i {
-            let ridge = &self.ridges[j];
-            let vars = self.ridge_variables(j);
+        // e_b for every parameter b of ridge k, over the vertices after it (i ≥ k + 1).
+        let mut carried = vec![(0usize, Vec3::zeros()); 0];
+        for k in (0..m).rev() {
+            let ridge = &self.ridges[k];
+            let (s, a) = (sum[k + 1], outer[k + 1]);
+            let point = ridge.point;
             let spins = ridge.spins();
-            // With later ridges and with the vertex's own parameter.
-            for (pa, &va) in vars.iter().enumerate() {
-                let Some(va) = va else { continue };
-                for k in j + 1..i {
-                    for vb in self.ridge_variables(k).into_iter().flatten() {
-                        add(va, vb, spins[pa].dot(&crossed[vb]));
-                    }
+            let shifts = [Vec3::zeros(), ridge.left_shift, Vec3::zeros()];
+            let vars = self.ridge_variables(k);
+            let own: Vec<(usize, Vec3)> = vars
+                .iter()
+                .enumerate()
+                .filter_map(|(p, v)| v.map(|v| (p, v)))
+                .map(|(p, v)| {
+                    let w = spins[p];
+                    let e = a * w - point * s.dot(&w) - w * (a.trace() - point.dot(&s)) + shifts[p].cross(&s);
+                    (v, e)
+                })
+                .collect();
+            // Pairs with the parameters of later ridges (already in `carried`) and with
+            // the own positions of later vertices.
+            for (p, v) in vars.iter().enumerate() {
+                let Some(va) = *v else { continue };
+                for &(vb, e) in &carried {
+                    add(va, vb, spins[p].dot(&e));
                 }
-                if let Some(vb) = own {
-                    add(va, vb, spins[pa].dot(&crossed[vb]));
+                for i in k + 1..m {
+                    let along = self.along[i];
+                    let l = along.cross(&weights[2 * i]);
+                    let r = along.cross(&weights[2 * i + 1]);
+                    add(va, left_variable(m, i), spins[p].dot(&l));
+                    add(va, right_variable(m, i), spins[p].dot(&r));
                 }
             }
             // Within the ridge.
             let curvature = ridge.curvature(self.width);
-            let arm = q - ridge.point;
+            let moment = a - point * s.transpose();
             for (pa, &va) in vars.iter().enumerate() {
                 let Some(va) = va else { continue };
                 for (pb, &vb) in vars.iter().enumerate().skip(pa) {
                     let Some(vb) = vb else { continue };
-                    let second = curvature.matrix[pa][pb] * arm + curvature.shift[pa][pb];
-                    add(va, vb, weight.dot(&second));
+                    let value = (curvature.matrix[pa][pb] * moment).trace() + curvature.shift[pa][pb].dot(&s);
+                    add(va, vb, value);
                 }
             }
+            carried.extend(own);
         }
     }
 
@@ -531,7 +549,7 @@ mod tests {
     }
 
     #[test]
-    fn vertex_second_derivatives_match_differences_of_the_exact_first() {
+    fn weighted_second_derivatives_match_differences_of_the_exact_first() {
         let m = 7;
         let s = wavy(m);
         let st = start();
@@ -542,30 +560,44 @@ mod tests {
             t.set_vector(x);
             fold_strip(&st, &t)
         };
-        let weight = Vec3::new(0.3, -1.1, 0.7);
-        for end in [RidgeEnd::Left, RidgeEnd::Right] {
+        // A different weight on every vertex (E_0's are ignored: E_0 is fixed).
+        let weights: Vec<Vec3> = (0..2 * (m + 1))
+            .map(|k| {
+                let t = k as f64;
+                Vec3::new((0.7 * t).sin(), (1.3 * t).cos() - 0.4, 0.2 + 0.1 * t)
+            })
+            .collect();
+        let weighted_first = |x: &[f64]| {
+            let f = folded(x);
+            let mut total = vec![0.0; n];
+            let mut d = vec![Vec3::zeros(); n];
             for i in 1..=m {
-                let mut exact = nalgebra::DMatrix::zeros(n, n);
-                folded(&x0).add_weighted_vertex_hessian(end, i, weight, &mut exact, 0);
-                let h = 1e-5;
-                let mut d = vec![Vec3::zeros(); n];
-                for k in 0..n {
-                    let mut xp = x0.clone();
-                    xp[k] += h;
-                    folded(&xp).vertex_derivatives(end, i, &mut d);
-                    let plus: Vec<f64> = d.iter().map(|v| v.dot(&weight)).collect();
-                    let mut xm = x0.clone();
-                    xm[k] -= h;
-                    folded(&xm).vertex_derivatives(end, i, &mut d);
-                    for a in 0..n {
-                        let fd = (plus[a] - d[a].dot(&weight)) / (2.0 * h);
-                        let e = exact[(a, k)];
-                        assert!(
-                            (fd - e).abs() <= 1e-5 * (1.0 + e.abs()),
-                            "{end:?} {i} ({a}, {k}): exact {e} fd {fd}"
-                        );
+                for (e, end) in [RidgeEnd::Left, RidgeEnd::Right].into_iter().enumerate() {
+                    f.vertex_derivatives(end, i, &mut d);
+                    for (t, dk) in total.iter_mut().zip(&d) {
+                        *t += dk.dot(&weights[2 * i + e]);
                     }
                 }
+            }
+            total
+        };
+        let mut exact = nalgebra::DMatrix::zeros(n + 3, n + 3);
+        folded(&x0).add_weighted_hessian(&weights, &mut exact, 3);
+        assert!((&exact - exact.transpose()).norm() < 1e-9 * exact.norm());
+        let h = 1e-5;
+        for k in 0..n {
+            let mut xp = x0.clone();
+            xp[k] += h;
+            let mut xm = x0.clone();
+            xm[k] -= h;
+            let (plus, minus) = (weighted_first(&xp), weighted_first(&xm));
+            for a in 0..n {
+                let fd = (plus[a] - minus[a]) / (2.0 * h);
+                let e = exact[(3 + a, 3 + k)];
+                assert!(
+                    (fd - e).abs() <= 1e-5 * (1.0 + e.abs()),
+                    "({a}, {k}): exact {e} fd {fd}"
+                );
             }
         }
     }

@@ -119,7 +119,7 @@ impl<'a> StripTerms<'a> {
     /// Every row that depends on the folded shape is a linear function `gᵀ v` of one
     /// ridge-line end point `v` (gap, end angle, anchors, scanned points), so
     /// `Σ r_i ∇²r_i = Σ_v (Σ_i r_i g_i) · ∇²v` with the exact second derivatives of
-    /// [`crate::strip_folding::FoldedStrip::add_weighted_vertex_hessian`]. Two
+    /// [`crate::strip_folding::FoldedStrip::add_weighted_hessian`]. Two
     /// approximations, both documented: the seat-curve rows take the projection onto
     /// the polyline as locally straight (`g = (I − t tᵀ)` in the symmetry plane; a
     /// polyline is straight between its vertices), and the scanned point nearest to a
@@ -130,11 +130,7 @@ impl<'a> StripTerms<'a> {
         let mut r = vec![0.0; self.residual_count()];
         let mut weights = vec![Vec3::zeros(); 2 * (m + 1)];
         let folded = self.evaluate(x, &mut r, None, Some(&mut weights));
-        for i in 1..=m {
-            for (e, end) in [RidgeEnd::Left, RidgeEnd::Right].into_iter().enumerate() {
-                folded.add_weighted_vertex_hessian(end, i, weights[2 * i + e], out, col0);
-            }
-        }
+        folded.add_weighted_hessian(&weights, out, col0);
         self.fairness_curvature_into(x, out, col0);
     }
 
@@ -143,9 +139,11 @@ impl<'a> StripTerms<'a> {
     pub fn gap_curvature_into(&self, x: &[f64], multipliers: [f64; 2], out: &mut DMatrix<f64>, col0: usize) {
         let folded = fold_strip(&self.start, &self.state(x));
         let m = self.quads;
-        for (e, end) in [RidgeEnd::Left, RidgeEnd::Right].into_iter().enumerate() {
-            folded.add_weighted_vertex_hessian(end, m, Vec3::x() * (multipliers[e] / self.length_scale), out, col0);
+        let mut weights = vec![Vec3::zeros(); 2 * (m + 1)];
+        for e in 0..2 {
+            weights[2 * m + e] = Vec3::x() * (multipliers[e] / self.length_scale);
         }
+        folded.add_weighted_hessian(&weights, out, col0);
     }
 
     /// The gap rows' raw values `(v_L,M)_x / ℓ`, `(v_R,M)_x / ℓ`.

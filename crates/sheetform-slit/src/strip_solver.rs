@@ -13,7 +13,7 @@
 //!
 //! **The step's Hessian is the exact Hessian of the Lagrangian**:
 //! `JᵀJ + Σ r_i ∇²r_i + Σ λ_e ∇²g_e`, all analytic (second derivatives of the folded
-//! vertices in [`crate::strip_folding::FoldedStrip::add_weighted_vertex_hessian`]). The
+//! vertices in [`crate::strip_folding::FoldedStrip::add_weighted_hessian`]). The
 //! Gauss–Newton `JᵀJ` alone is a poor model here: `F` is dominated by the fairness rows
 //! `√w3 Δ^(−1/2)`, which are never small and whose own curvature is three times their
 //! Gauss–Newton part, so the steps were about four times too long, the damping settled

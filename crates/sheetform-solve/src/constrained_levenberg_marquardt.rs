@@ -52,31 +52,54 @@ pub struct ConstrainedInfo {
     pub constraint_violation: f64,
 }
 
-/// An orthonormal basis `Z` (`n × (n − rank C)`) of the null space of the constraint
-/// Jacobian `C` (`m × n`): the tangent space of the constraints. Numerically redundant
-/// constraints count once.
-fn tangent_basis(cj: &DMatrix<f64>) -> DMatrix<f64> {
+/// The matrices `Zᵀ M Z` for an orthonormal basis `Z` of the null space of the
+/// constraint Jacobian `C` (`m × n`), the constraints' tangent space.
+///
+/// `Z` is never formed: Householder reflections `P_1 … P_r` that bring `Cᵀ` to upper
+/// triangular form (`Q = P_1 ⋯ P_r`, whose first `r` columns span the range of `Cᵀ`) are
+/// applied to `M` from both sides, and `Zᵀ M Z` is the trailing `(n − r)` block of
+/// `Qᵀ M Q`: `O(m n²)` instead of the `O(n³)` of forming `Z`. Columns of `Cᵀ` that are
+/// numerically dependent on the previous ones (redundant constraints) are skipped, so
+/// `r = rank C`; their indices are returned with the blocks.
+fn tangent_blocks(cj: &DMatrix<f64>, matrices: &[&DMatrix<f64>]) -> (Vec<DMatrix<f64>>, Vec<usize>) {
     let (m, n) = cj.shape();
-    if m == 0 {
-        return DMatrix::identity(n, n);
-    }
-    let svd = cj.transpose().svd(true, false);
-    let u = svd.u.expect("U requested");
-    let largest = svd.singular_values.max();
-    let rank = svd.singular_values.iter().filter(|&&s| s > 1e-12 * largest).count();
-    // Householder QR of [U_r | I]: the first `rank` columns of Q span the range of Cᵀ,
-    // the rest its orthogonal complement.
-    let mut stacked = DMatrix::zeros(n, rank + n);
-    let mut at = 0;
-    for (k, &s) in svd.singular_values.iter().enumerate() {
-        if s > 1e-12 * largest {
-            stacked.set_column(at, &u.column(k));
-            at += 1;
+    let mut columns = cj.transpose();
+    let mut out: Vec<DMatrix<f64>> = matrices.iter().map(|&a| a.clone()).collect();
+    let scale = columns.norm().max(1e-300);
+    let mut rank = 0;
+    let mut independent = Vec::with_capacity(m);
+    for k in 0..m {
+        if rank == n {
+            break;
         }
+        let mut v = columns.view((rank, k), (n - rank, 1)).into_owned();
+        let norm = v.norm();
+        if norm <= 1e-12 * scale {
+            continue;
+        }
+        // v = x + sign(x_0) |x| e_0, reflection P = I − 2 v vᵀ / vᵀv.
+        v[0] += norm.copysign(v[0]);
+        let beta = 2.0 / v.norm_squared();
+        let reflect_rows = |a: &mut DMatrix<f64>, rows_from: usize| {
+            let mut block = a.rows_mut(rows_from, n - rows_from);
+            let w = block.tr_mul(&v) * beta;
+            block -= &v * w.transpose();
+        };
+        reflect_rows(&mut columns, rank);
+        for a in &mut out {
+            reflect_rows(a, rank);
+            let mut block = a.columns_mut(rank, n - rank);
+            let w = &block * &v * beta;
+            block -= w * v.transpose();
+        }
+        rank += 1;
+        independent.push(k);
     }
-    stacked.view_mut((0, rank), (n, n)).fill_with_identity();
-    let q = stacked.qr().q();
-    q.columns(rank, n - rank).into_owned()
+    let blocks = out
+        .into_iter()
+        .map(|a| a.view((rank, rank), (n - rank, n - rank)).into_owned())
+        .collect();
+    (blocks, independent)
 }
 
 /// Levenberg–Marquardt with linearised equality constraints (an SQP-type step).
@@ -169,33 +192,41 @@ pub fn constrained_levenberg_marquardt(
         // symmetric start), and Newton steps would then converge to the saddle. Raise μ
         // until `Zᵀ(H + μD)Z` has a Cholesky factor.
         let damping = DVector::from_iterator(n, (0..n).map(|i| a[(i, i)].max(1e-12 * max_diag)));
-        let tangent = tangent_basis(&cj);
-        let reduced = tangent.transpose() * &hessian * &tangent;
-        let reduced_damping = tangent.transpose() * DMatrix::from_diagonal(&damping) * &tangent;
+        let (blocks, independent) = tangent_blocks(&cj, &[&hessian, &DMatrix::from_diagonal(&damping)]);
+        let [reduced, reduced_damping]: [DMatrix<f64>; 2] = blocks.try_into().expect("two blocks");
         let convex = (&reduced + &reduced_damping * (1e-12)).cholesky().is_some();
         let mut raised = 0;
         while (&reduced + &reduced_damping * mu).cholesky().is_none() && raised < 100 {
             mu = (mu * 4.0).max(1e-12);
             raised += 1;
         }
-        let mut kkt = DMatrix::zeros(n + m, n + m);
+        // Only the linearly independent constraints enter the KKT system: redundant ones
+        // (e.g. two that coincide at a symmetric start) would make it singular.
+        let k = independent.len();
+        let mut kkt = DMatrix::zeros(n + k, n + k);
         kkt.view_mut((0, 0), (n, n)).copy_from(&hessian);
         for i in 0..n {
             kkt[(i, i)] += mu * damping[i];
         }
-        kkt.view_mut((n, 0), (m, n)).copy_from(&cj);
-        kkt.view_mut((0, n), (n, m)).copy_from(&cj.transpose());
-        let mut rhs = DVector::zeros(n + m);
+        let mut rhs = DVector::zeros(n + k);
         rhs.rows_mut(0, n).copy_from(&(-&g));
-        rhs.rows_mut(n, m).copy_from(&(-&c * tau));
-        // Redundant constraints (e.g. two that coincide at a symmetric start) make the
-        // KKT matrix singular: then the minimum-norm least-squares solution by SVD.
+        for (row, &e) in independent.iter().enumerate() {
+            for col in 0..n {
+                kkt[(n + row, col)] = cj[(e, col)];
+                kkt[(col, n + row)] = cj[(e, col)];
+            }
+            rhs[n + row] = -c[e] * tau;
+        }
+        // Should the system still be singular: the minimum-norm least-squares solution.
         let solution = kkt
             .clone()
             .lu()
             .solve(&rhs)
             .filter(|x| x.iter().all(|v| v.is_finite()))
             .or_else(|| {
+                if trace {
+                    eprintln!("svd fallback");
+                }
                 let svd = kkt.svd(true, true);
                 let tolerance = 1e-13 * svd.singular_values.max();
                 svd.solve(&rhs, tolerance).ok()
@@ -357,6 +388,42 @@ mod tests {
         assert!(info.solver.converged, "{info:?}");
         assert!(x[0].abs() < 1e-6 && (x[1].abs() - 1.0).abs() < 1e-9, "{x:?}");
         assert!((info.solver.cost - 0.125).abs() < 1e-12, "{info:?}");
+    }
+
+    #[test]
+    fn tangent_blocks_are_the_reduced_matrices() {
+        // C of rank 2 (the third row is twice the first); M symmetric positive definite.
+        // The eigenvalues of Zᵀ M Z are the non-zero eigenvalues of P M P, P the
+        // orthogonal projector onto the null space of C (built from an SVD).
+        let c = DMatrix::from_row_slice(3, 4, &[1.0, 2.0, 0.0, -1.0, 0.0, 1.0, 1.0, 0.0, 2.0, 4.0, 0.0, -2.0]);
+        let m = DMatrix::from_fn(4, 4, |i, j| {
+            1.0 / (1.0 + i as f64 + j as f64) + if i == j { 1.0 } else { 0.0 }
+        });
+        let (mut blocks, independent) = tangent_blocks(&c, &[&m]);
+        assert_eq!(independent, vec![0, 1]);
+        let reduced = blocks.remove(0);
+        assert_eq!(reduced.shape(), (2, 2));
+        let range = c.transpose().svd(true, false).u.unwrap().columns(0, 2).into_owned();
+        let projector = DMatrix::<f64>::identity(4, 4) - &range * range.transpose();
+        let projected = &projector * &m * &projector;
+        let sorted = |v: Vec<f64>| {
+            let mut v = v;
+            v.sort_by(f64::total_cmp);
+            v
+        };
+        let e1 = sorted(reduced.symmetric_eigenvalues().iter().copied().collect());
+        let e2 = sorted(
+            projected
+                .symmetric_eigenvalues()
+                .iter()
+                .copied()
+                .filter(|v| v.abs() > 1e-12)
+                .collect(),
+        );
+        assert_eq!(e1.len(), e2.len());
+        for (a, b) in e1.iter().zip(&e2) {
+            assert!((a - b).abs() < 1e-12, "{e1:?} vs {e2:?}");
+        }
     }
 
     #[test]
