@@ -409,7 +409,7 @@ impl FoldedStrip {
             }
         };
         // e_b for every parameter b of ridge k, over the vertices after it (i ≥ k + 1).
-        let mut carried = vec![(0usize, Vec3::zeros()); 0];
+        let mut carried: Vec<(usize, Vec3)> = Vec::with_capacity(3 * m);
         for k in (0..m).rev() {
             let ridge = &self.ridges[k];
             let (s, a) = (sum[k + 1], outer[k + 1]);
