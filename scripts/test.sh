@@ -11,3 +11,13 @@ if ! command -v pdftoppm >/dev/null; then
 fi
 cargo test --workspace --all-targets
 cargo test --workspace --doc
+# The examples assert their results: run them (dev profile, built by the tests above).
+examples_out=$(mktemp -d)
+trap 'rm -rf "$examples_out"' EXIT
+cargo run --quiet -p sheetform --example scan_fitted_chair -- "$examples_out/scan-fitted-chair"
+for scene in examples/slit/*.json; do
+  cargo run --quiet -p sheetform-slit --example solve_scene -- "$scene"
+done
+for name in two-panels duct skirt trousers; do
+  cargo run --quiet -p sheetform-ffd --example run_scene -- "examples/ffd/$name.json"
+done

@@ -922,6 +922,47 @@ fn flatten_with_lscm_handles_a_nearly_developable_mesh() {
     assert!(r["charts"][0]["edge_length_mean_relative"].as_f64().unwrap() < lscm_mean);
 }
 
+/// The chair's own vertices as a scan (`.xyz`), next to a scene with a rough, level seat:
+/// the fit pulls the strips onto the scan, and `report.json` says how close they are.
+fn slit_scan_fit(chair: &std::path::Path, chair_obj: &Obj) {
+    let tmp = tempfile::tempdir().unwrap();
+    let xyz: String = chair_obj
+        .v
+        .iter()
+        .map(|p| format!("{} {} {}\n", p[0], p[1], p[2]))
+        .collect();
+    std::fs::write(tmp.path().join("scan.xyz"), xyz).unwrap();
+    let mut scene: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(chair).unwrap()).unwrap();
+    scene["seat_curve"] = serde_json::json!({ "control_points": [[0, 330], [420, 330]] });
+    scene["scan"] = serde_json::json!({ "points": "scan.xyz" });
+    scene["weights"] = serde_json::json!({ "scan": 1.0 });
+    let path = tmp.path().join("fit.json");
+    std::fs::write(&path, scene.to_string()).unwrap();
+    let out = tmp.path().join("out");
+    let o = sheetform(&["slit", path.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(&out);
+    let fit = &r["slit"]["scan_fit"];
+    assert_eq!(fit["scanned_point_count"].as_u64().unwrap() as usize, chair_obj.v.len());
+    let (mean, max) = (
+        fit["distance_mean_mm"].as_f64().unwrap(),
+        fit["distance_max_mm"].as_f64().unwrap(),
+    );
+    assert!(mean < 0.5 && max < 4.0, "fitted to the scan: {fit}");
+    assert!(r["slit"]["normalised_error"].as_f64().unwrap() <= 1e-6);
+    // A missing cloud is an error naming the file.
+    std::fs::remove_file(tmp.path().join("scan.xyz")).unwrap();
+    let out = tmp.path().join("out2");
+    let o = sheetform(&["slit", path.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("scan.xyz"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(!out.exists());
+}
+
 #[test]
 fn slit_examples_write_model_pattern_mould_and_report() {
     for name in ["chair", "bench", "monument"] {
@@ -983,6 +1024,10 @@ fn slit_examples_write_model_pattern_mould_and_report() {
         if name != "monument" {
             assert_eq!(slit["mould"]["watertight"], true, "{name}");
             assert!(tmp.path().join("mould.stl").exists());
+        }
+        assert!(slit["scan_fit"].is_null(), "{name}: no scan, no fit");
+        if name == "chair" {
+            slit_scan_fit(&scene, &obj);
         }
     }
     let tmp = tempfile::tempdir().unwrap();

@@ -1,11 +1,12 @@
-//! Solves a slit scene and prints what the solver did per strip.
+//! Solves a slit scene, prints what the solver did per strip, and asserts that every
+//! strip converged and closed (E ≤ 1e-6).
 //!
-//! `cargo run --release -p sheetform-slit --example solve_scene -- examples/slit-chair.json`
+//! `cargo run --release -p sheetform-slit --example solve_scene -- examples/slit/chair.json`
 
 fn main() {
     let path = std::env::args()
         .nth(1)
-        .unwrap_or_else(|| "examples/slit-chair.json".into());
+        .unwrap_or_else(|| "examples/slit/chair.json".into());
     let text = std::fs::read_to_string(&path).expect("scene file");
     let scene = sheetform_slit::SlitScene::from_json(&text).expect("valid scene");
     let dir = std::path::Path::new(&path).parent().map(|p| p.to_path_buf());
@@ -31,4 +32,5 @@ fn main() {
         design.normalised_error, design.gap
     );
     assert!(design.normalised_error <= 1e-6, "the strips close");
+    assert!(design.strips.iter().all(|s| s.converged), "every strip converged");
 }

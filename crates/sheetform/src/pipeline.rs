@@ -2,7 +2,7 @@
 
 use crate::report::{
     AngleDefects, ChartReport, FfdReport, FfdStepReport, MouldReport, PatternReport, RegionReport, RegressionEntry,
-    Report, SegmentationReport, SlitReport, StripReport, Timings,
+    Report, ScanFitReport, SegmentationReport, SlitReport, StripReport, Timings,
 };
 use sheetform_bend::{bend, BendError, BendModel, BendScene, BentSheet};
 use sheetform_ffd::{run_design, FfdDesign, FfdError, FfdScene, ModelSource, SolverMethod};
@@ -392,6 +392,13 @@ pub fn run_slit(scene_text: &str, options: &SlitRunOptions) -> Result<SlitRun, P
             })
             .collect(),
         mould: mould_report,
+        scan_fit: design.scan_fit(&model).map(|f| ScanFitReport {
+            scanned_point_count: f.scanned_point_count,
+            fitted_point_count: f.fitted_point_count,
+            distance_mean_mm: f.distance_mean * mm,
+            distance_rms_mm: f.distance_rms * mm,
+            distance_max_mm: f.distance_max * mm,
+        }),
     });
     report.timings = Timings::from_stages(start, parsed, solved, exported);
     report.outputs = output_names(&files);

@@ -189,6 +189,24 @@ pub struct SlitReport {
     pub strips: Vec<StripReport>,
     /// The mould (`null` when disabled).
     pub mould: Option<MouldReport>,
+    /// Fit to the scanned points (`null` without a scan).
+    pub scan_fit: Option<ScanFitReport>,
+}
+
+/// How close the strips are to the scanned points (`slit` with a scan, §4.1): distance
+/// from every ridge-line end point to its nearest scanned point.
+#[derive(Debug, Clone, Serialize)]
+pub struct ScanFitReport {
+    /// Points in the scan.
+    pub scanned_point_count: usize,
+    /// Ridge-line end points measured (half model).
+    pub fitted_point_count: usize,
+    /// Mean distance.
+    pub distance_mean_mm: f64,
+    /// Root-mean-square distance.
+    pub distance_rms_mm: f64,
+    /// Largest distance.
+    pub distance_max_mm: f64,
 }
 
 /// The printable mould (`slit`).
