@@ -1,5 +1,5 @@
 //! Solves a slit scene, prints what the solver did per strip, and asserts that every
-//! strip converged and closed (E ≤ 1e-6).
+//! strip converged and, with the gap as a constraint (the default), closed (E ≤ 1e-6).
 //!
 //! `cargo run --release -p sheetform-slit --example solve_scene -- examples/slit/chair.json`
 
@@ -31,6 +31,8 @@ fn main() {
         "E = {:.3e}, G = {:.3e}, whole design {ms:.2} ms",
         design.normalised_error, design.gap
     );
-    assert!(design.normalised_error <= 1e-6, "the strips close");
+    if model.solver.gap == sheetform_slit::GapHandling::Exact {
+        assert!(design.normalised_error <= 1e-6, "the strips close");
+    }
     assert!(design.strips.iter().all(|s| s.converged), "every strip converged");
 }
