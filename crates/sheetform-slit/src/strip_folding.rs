@@ -383,8 +383,10 @@ impl FoldedStrip {
     ///   position on its ridge line): the twist of `b` is carried by the rigid motion of
     ///   `a`, so `∂²v/∂a∂b = ω_a × ∂v/∂b` (`ω_a` the angular part of `∂v/∂a`), with
     ///   `∂v/∂b = ω_b × (v − a_k) + s_b`;
-    /// - `a`, `b` of the same ridge: its own second derivatives, `W_ab (v − a_j) + c_ab`
-    ///   ([`RidgeMotion::curvature`]); `∂²v/∂x_end,i² = 0`.
+    /// - `a`, `b` of the same ridge: `W_ab (v − a_j) + c_ab`, from the second derivatives
+    ///   of Rodrigues' formula `Q = I + sin θ K + (1 − cos θ) K²` in `θ` and in the
+    ///   ridge's direction (which depends on `x_R − x_L`; derivation at the private
+    ///   `RidgeMotion::curvature`); `∂²v/∂x_end,i² = 0`.
     ///
     /// Summed over the vertices after ridge `k` with suffix sums `S = Σ w`,
     /// `A = Σ v wᵀ` (`(u × w)` expanded by `(ω × p) × w = p (ω·w) − ω (p·w)`):
