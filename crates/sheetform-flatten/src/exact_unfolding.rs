@@ -5,8 +5,7 @@ use faer::prelude::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Col, Side};
-use rustc_hash::FxHashMap as HashMap;
-use sheetform_mesh::{mesh_topology, TriangleMesh};
+use sheetform_mesh::{mesh_topology, EdgeTable, TriangleMesh};
 use sheetform_solve::SolverInfo;
 use std::collections::VecDeque;
 
@@ -79,27 +78,11 @@ pub fn exact_unfold(mesh: &TriangleMesh, options: &UnfoldOptions) -> Result<Unfo
     }
     let nf = mesh.triangles.len();
     let nv = mesh.positions.len();
-    // Face adjacency across edges.
-    let mut edge_faces: HashMap<[u32; 2], Vec<u32>> = HashMap::with_capacity_and_hasher(nf * 2, Default::default());
-    for (f, t) in mesh.triangles.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            edge_faces
-                .entry(if a < b { [a, b] } else { [b, a] })
-                .or_default()
-                .push(f as u32);
-        }
-    }
-    // Built in face order (not hash order), so that the layout is reproducible.
-    let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); nf];
-    for (f, t) in mesh.triangles.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            if let [g, h] = edge_faces[&if a < b { [a, b] } else { [b, a] }][..] {
-                neighbours[f].push(if g as usize == f { h } else { g });
-            }
-        }
-    }
+    // Face adjacency across edges (edge table: counting sort, linear in the mesh).
+    let table = EdgeTable::new(&mesh.triangles, nv);
+    let neighbours: Vec<[u32; 3]> = (0..nf)
+        .map(|f| [0, 1, 2].map(|k| table.opposite(f, k).unwrap_or(u32::MAX)))
+        .collect();
     let bfs = |start: usize| {
         let mut dist = vec![usize::MAX; nf];
         let mut queue = VecDeque::from([start]);
@@ -108,7 +91,7 @@ pub fn exact_unfold(mesh: &TriangleMesh, options: &UnfoldOptions) -> Result<Unfo
         while let Some(f) = queue.pop_front() {
             order.push(f);
             for &g in &neighbours[f] {
-                if dist[g as usize] == usize::MAX {
+                if g != u32::MAX && dist[g as usize] == usize::MAX {
                     dist[g as usize] = dist[f] + 1;
                     queue.push_back(g as usize);
                 }
@@ -149,8 +132,8 @@ pub fn exact_unfold(mesh: &TriangleMesh, options: &UnfoldOptions) -> Result<Unfo
     }
 
     // 2. Global Gauss–Newton over all edges.
-    let mut edges: Vec<([u32; 2], f64)> = edge_faces.keys().map(|&[i, j]| ([i, j], length(i, j))).collect();
-    edges.sort_unstable_by_key(|e| e.0);
+    // The table's edges are already sorted by vertex pair.
+    let edges: Vec<([u32; 2], f64)> = table.edges.iter().map(|&[i, j]| ([i, j], length(i, j))).collect();
     // Unknowns: all coordinates except a.x, a.y, b.y (gauge).
     let mut column = vec![[usize::MAX; 2]; nv];
     let mut unknowns = 0;

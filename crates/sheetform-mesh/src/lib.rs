@@ -6,6 +6,7 @@
 //! developability measures (angle defects, Gaussian curvature, Wang & Tang's `D[M]`, `G[X]`).
 
 mod developability;
+mod edge_table;
 mod error;
 mod metrics;
 mod sheet_mesh;
@@ -14,6 +15,7 @@ mod triangle_mesh;
 mod unit;
 
 pub use developability::{developability_summary, vertex_developability, DevelopabilitySummary, VertexDevelopability};
+pub use edge_table::{EdgeSide, EdgeTable};
 pub use error::MeshError;
 pub use metrics::{developability_error, isometry_error, IsometryError, RulingNormalError};
 pub use sheet_mesh::{Piece, PieceKind, Ruling, SheetMesh};

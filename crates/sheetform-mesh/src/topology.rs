@@ -1,5 +1,5 @@
+use crate::EdgeTable;
 use crate::TriangleMesh;
-use rustc_hash::FxHashMap as HashMap;
 
 /// The combinatorial structure of a triangle mesh and everything wrong with it.
 ///
@@ -45,82 +45,77 @@ impl MeshTopology {
 
 /// Analyses the topology of `mesh`. Degenerate faces are those with a repeated vertex or
 /// an area below `1e-14 · scale²`.
+///
+/// Linear in the size of the mesh: the edges come from an [`EdgeTable`] (a counting sort,
+/// no hash map), faces around a vertex from a counting sort as well, and boundary loops
+/// from a union–find over the boundary edges.
 pub fn mesh_topology(mesh: &TriangleMesh) -> MeshTopology {
     let nv = mesh.positions.len();
+    let nf = mesh.triangles.len();
     let scale = mesh.scale();
     let mut out = MeshTopology {
         boundary_vertex: vec![false; nv],
         ..Default::default()
     };
-    // Directed edge → face, undirected edge → faces.
-    let mut edges: HashMap<[u32; 2], Vec<(u32, bool)>> =
-        HashMap::with_capacity_and_hasher(mesh.triangles.len() * 2, Default::default());
+    let table = EdgeTable::new(&mesh.triangles, nv);
     let mut used = vec![false; nv];
     for (f, t) in mesh.triangles.iter().enumerate() {
         if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || mesh.face_area(f) <= 1e-14 * scale * scale {
             out.degenerate_faces.push(f as u32);
         }
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            used[a as usize] = true;
-            if a == b {
-                continue;
-            }
-            let (key, forward) = if a < b { ([a, b], true) } else { ([b, a], false) };
-            edges.entry(key).or_default().push((f as u32, forward));
-        }
-    }
-    let mut vertex_faces: Vec<Vec<u32>> = vec![Vec::new(); nv];
-    for (f, t) in mesh.triangles.iter().enumerate() {
         for &v in t {
-            if vertex_faces[v as usize].last() != Some(&(f as u32)) {
-                vertex_faces[v as usize].push(f as u32);
-            }
+            used[v as usize] = true;
         }
     }
     out.isolated_vertices = (0..nv as u32).filter(|&v| !used[v as usize]).collect();
-    // Face adjacency through manifold edges; orientation by BFS.
-    let nf = mesh.triangles.len();
-    let mut neighbours: Vec<Vec<(u32, bool)>> = vec![Vec::new(); nf];
+    // Face adjacency through manifold edges (at most one neighbour per edge), and whether
+    // the two faces on each such edge traverse it in the same direction.
+    const NONE: u32 = u32::MAX;
+    let mut neighbours = vec![[(NONE, false); 3]; nf];
     let mut consistent = true;
-    let mut boundary_next: HashMap<u32, Vec<u32>> = HashMap::default();
-    for (key, faces) in &edges {
-        match faces.len() {
-            1 => {
+    let mut boundary = UnionFind::new(nv);
+    for (e, &[a, b]) in table.edges.iter().enumerate() {
+        match table.sides(e) {
+            [_] => {
                 out.boundary_edge_count += 1;
-                out.boundary_vertex[key[0] as usize] = true;
-                out.boundary_vertex[key[1] as usize] = true;
-                boundary_next.entry(key[0]).or_default().push(key[1]);
-                boundary_next.entry(key[1]).or_default().push(key[0]);
+                out.boundary_vertex[a as usize] = true;
+                out.boundary_vertex[b as usize] = true;
+                boundary.union(a, b);
             }
-            2 => {
-                let ((f0, d0), (f1, d1)) = (faces[0], faces[1]);
+            [s0, s1] => {
                 // Consistent orientation: the two faces use the edge in opposite directions.
-                let same = d0 == d1;
+                let same = s0.forward == s1.forward;
                 if same {
                     consistent = false;
                 }
-                neighbours[f0 as usize].push((f1, same));
-                neighbours[f1 as usize].push((f0, same));
+                for (s, other) in [(s0, s1), (s1, s0)] {
+                    let k = (0..3)
+                        .find(|&k| table.face_edges[s.face as usize][k] == e as u32)
+                        .expect("the face has this edge");
+                    neighbours[s.face as usize][k] = (other.face, same);
+                }
             }
-            _ => out.non_manifold_edges.push(*key),
+            _ => out.non_manifold_edges.push([a, b]),
         }
     }
-    out.non_manifold_edges.sort_unstable();
     out.consistently_oriented = consistent;
     // Orientability: 2-colour the "flip" relation.
     let mut flip: Vec<Option<bool>> = vec![None; nf];
     out.orientable = true;
+    let mut stack = Vec::new();
     for start in 0..nf {
         if flip[start].is_some() {
             continue;
         }
         out.component_count += 1;
         flip[start] = Some(false);
-        let mut stack = vec![start];
+        stack.push(start);
         while let Some(f) = stack.pop() {
             let ff = flip[f].expect("set");
             for &(g, same) in &neighbours[f] {
+                if g == NONE {
+                    continue;
+                }
                 let want = ff ^ same;
                 match flip[g as usize] {
                     None => {
@@ -133,22 +128,47 @@ pub fn mesh_topology(mesh: &TriangleMesh) -> MeshTopology {
             }
         }
     }
+    // Faces around each vertex (counting sort), each face once per vertex.
+    let mut fan_start = vec![0u32; nv + 1];
+    for t in &mesh.triangles {
+        for (k, &v) in t.iter().enumerate() {
+            if !t[..k].contains(&v) {
+                fan_start[v as usize + 1] += 1;
+            }
+        }
+    }
+    for v in 0..nv {
+        fan_start[v + 1] += fan_start[v];
+    }
+    let mut fan = vec![0u32; fan_start[nv] as usize];
+    let mut fill = fan_start.clone();
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for (k, &v) in t.iter().enumerate() {
+            if !t[..k].contains(&v) {
+                fan[fill[v as usize] as usize] = f as u32;
+                fill[v as usize] += 1;
+            }
+        }
+    }
     // Non-manifold vertices: the faces around a vertex must form one fan (connected
     // through edges at that vertex).
-    for (v, faces) in vertex_faces.iter().enumerate() {
+    let mut seen = Vec::new();
+    let mut stack = Vec::new();
+    for v in 0..nv {
+        let faces = &fan[fan_start[v] as usize..fan_start[v + 1] as usize];
         if faces.len() < 2 {
             continue;
         }
-        let mut seen = vec![false; faces.len()];
-        let mut stack = vec![0usize];
+        seen.clear();
+        seen.resize(faces.len(), false);
         seen[0] = true;
+        stack.push(0usize);
         while let Some(i) = stack.pop() {
             let ti = mesh.triangles[faces[i] as usize];
             for (j, &g) in faces.iter().enumerate() {
                 if !seen[j] {
                     let tj = mesh.triangles[g as usize];
-                    let shared = ti.iter().filter(|&&a| a != v as u32 && tj.contains(&a)).count();
-                    if shared > 0 {
+                    if ti.iter().any(|&a| a != v as u32 && tj.contains(&a)) {
                         seen[j] = true;
                         stack.push(j);
                     }
@@ -159,24 +179,49 @@ pub fn mesh_topology(mesh: &TriangleMesh) -> MeshTopology {
             out.non_manifold_vertices.push(v as u32);
         }
     }
-    // Boundary loops (count components of the boundary graph).
-    let mut visited: std::collections::HashSet<u32> = std::collections::HashSet::new();
-    for &v in boundary_next.keys() {
-        if visited.insert(v) {
-            out.boundary_loop_count += 1;
-            let mut stack = vec![v];
-            while let Some(x) = stack.pop() {
-                for &y in &boundary_next[&x] {
-                    if visited.insert(y) {
-                        stack.push(y);
-                    }
-                }
-            }
+    // Boundary loops: components of the boundary graph.
+    out.boundary_loop_count = (0..nv as u32)
+        .filter(|&v| out.boundary_vertex[v as usize] && boundary.find(v) == v)
+        .count();
+    let used_count = used.iter().filter(|&&u| u).count() as i64;
+    out.euler_characteristic = used_count - table.len() as i64 + nf as i64;
+    out
+}
+
+/// Disjoint sets of vertices (union by size, path halving).
+struct UnionFind {
+    parent: Vec<u32>,
+    size: Vec<u32>,
+}
+
+impl UnionFind {
+    fn new(n: usize) -> Self {
+        Self {
+            parent: (0..n as u32).collect(),
+            size: vec![1; n],
         }
     }
-    let used_count = used.iter().filter(|&&u| u).count() as i64;
-    out.euler_characteristic = used_count - edges.len() as i64 + nf as i64;
-    out
+
+    fn find(&mut self, mut x: u32) -> u32 {
+        while self.parent[x as usize] != x {
+            let grand = self.parent[self.parent[x as usize] as usize];
+            self.parent[x as usize] = grand;
+            x = grand;
+        }
+        x
+    }
+
+    fn union(&mut self, a: u32, b: u32) {
+        let (mut a, mut b) = (self.find(a), self.find(b));
+        if a == b {
+            return;
+        }
+        if self.size[a as usize] < self.size[b as usize] {
+            std::mem::swap(&mut a, &mut b);
+        }
+        self.parent[b as usize] = a;
+        self.size[a as usize] += self.size[b as usize];
+    }
 }
 
 #[cfg(test)]
