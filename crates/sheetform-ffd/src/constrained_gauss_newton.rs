@@ -219,10 +219,11 @@ pub fn restore_constrained(
         let current = max_abs(&e.defects);
         let mut alpha = 1.0;
         let mut accepted = None;
+        // Trials compare defects only; the accepted point is evaluated in full once.
         for _ in 0..30 {
             let trial_y: Vec<f64> = y.iter().zip(&step).map(|(a, p)| a + alpha * p).collect();
-            let trial = problem.evaluate(&trial_y);
-            if max_abs(&trial.defects) < current {
+            if max_abs(&problem.evaluate_defects(&trial_y)) < current {
+                let trial = problem.evaluate(&trial_y);
                 accepted = Some((trial_y, trial));
                 break;
             }

@@ -246,7 +246,36 @@ impl<'a> DevelopabilityProblem<'a> {
             .par_iter()
             .map(|s| (positions[s.a as usize] - positions[s.b as usize]).norm() - s.rest_length)
             .collect();
-        let defects = (0..self.constraint_nodes.len())
+        let defects = self.defects_at(&positions);
+        Evaluation {
+            parameters,
+            positions,
+            jacobians,
+            spring_residuals,
+            defects,
+        }
+    }
+
+    /// The defects `g` alone at the gathered unknowns `y`: node positions without their
+    /// Jacobians and no spring residuals, for line searches that only compare defects
+    /// (the accepted point is then evaluated in full once).
+    pub fn evaluate_defects(&self, y: &[f64]) -> Vec<f64> {
+        let parameters = self.scatter(y);
+        let mut positions = self.target.clone();
+        let evaluated: Vec<Vec3> = self
+            .variables
+            .par_iter()
+            .map(|&n| self.volume.point(parameters[n as usize]))
+            .collect();
+        for (&n, q) in self.variables.iter().zip(evaluated) {
+            positions[n as usize] = q;
+        }
+        self.defects_at(&positions)
+    }
+
+    /// `g = 2π − Σ θ` at every constrained vertex, from node positions.
+    fn defects_at(&self, positions: &[Vec3]) -> Vec<f64> {
+        (0..self.constraint_nodes.len())
             .into_par_iter()
             .map(|c| {
                 let mut sum = 0.0;
@@ -256,14 +285,7 @@ impl<'a> DevelopabilityProblem<'a> {
                 }
                 TAU - sum
             })
-            .collect();
-        Evaluation {
-            parameters,
-            positions,
-            jacobians,
-            spring_residuals,
-            defects,
-        }
+            .collect()
     }
 
     /// The spring energy `E(X) = Σ_j (|q_s − q_e| − l⁰_j)²` (Eq. 2-2, model units²).
