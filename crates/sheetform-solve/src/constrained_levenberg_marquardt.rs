@@ -225,7 +225,7 @@ pub fn constrained_levenberg_marquardt(
             .filter(|x| x.iter().all(|v| v.is_finite()))
             .or_else(|| {
                 if trace {
-                    eprintln!("svd fallback");
+                    eprintln!("constrained LM: singular KKT system, minimum-norm step by SVD");
                 }
                 let svd = kkt.svd(true, true);
                 let tolerance = 1e-13 * svd.singular_values.max();
