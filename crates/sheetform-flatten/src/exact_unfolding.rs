@@ -5,7 +5,7 @@ use faer::prelude::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Col, Side};
-use sheetform_mesh::{mesh_topology, EdgeTable, TriangleMesh};
+use sheetform_mesh::{mesh_topology_with_edges, TriangleMesh};
 use sheetform_solve::SolverInfo;
 use std::collections::VecDeque;
 
@@ -62,7 +62,7 @@ pub struct Unfolding {
 /// Non-manifold, degenerate or non-orientable meshes; meshes that are not a single disk
 /// (closed surfaces and annuli must be cut first); a failing factorisation.
 pub fn exact_unfold(mesh: &TriangleMesh, options: &UnfoldOptions) -> Result<Unfolding, FlattenError> {
-    let topology = mesh_topology(mesh);
+    let (topology, table) = mesh_topology_with_edges(mesh);
     let problems = topology_problems(&topology);
     if !problems.is_empty() {
         return Err(FlattenError::Topology {
@@ -78,8 +78,7 @@ pub fn exact_unfold(mesh: &TriangleMesh, options: &UnfoldOptions) -> Result<Unfo
     }
     let nf = mesh.triangles.len();
     let nv = mesh.positions.len();
-    // Face adjacency across edges (edge table: counting sort, linear in the mesh).
-    let table = EdgeTable::new(&mesh.triangles, nv);
+    // Face adjacency across edges (the topology check's edge table).
     let neighbours: Vec<[u32; 3]> = (0..nf)
         .map(|f| [0, 1, 2].map(|k| table.opposite(f, k).unwrap_or(u32::MAX)))
         .collect();

@@ -19,6 +19,6 @@ pub use edge_table::{EdgeSide, EdgeTable};
 pub use error::MeshError;
 pub use metrics::{developability_error, isometry_error, IsometryError, RulingNormalError};
 pub use sheet_mesh::{Piece, PieceKind, Ruling, SheetMesh};
-pub use topology::{mesh_topology, MeshTopology};
+pub use topology::{mesh_topology, mesh_topology_with_edges, MeshTopology};
 pub use triangle_mesh::{coincident_vertices, TriangleMesh};
 pub use unit::LengthUnit;

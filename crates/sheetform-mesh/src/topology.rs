@@ -50,6 +50,12 @@ impl MeshTopology {
 /// no hash map), faces around a vertex from a counting sort as well, and boundary loops
 /// from a union–find over the boundary edges.
 pub fn mesh_topology(mesh: &TriangleMesh) -> MeshTopology {
+    mesh_topology_with_edges(mesh).0
+}
+
+/// [`mesh_topology`] and the [`EdgeTable`] it was computed from, for callers that need
+/// the edges too (exact unfolding), so the table is built once.
+pub fn mesh_topology_with_edges(mesh: &TriangleMesh) -> (MeshTopology, EdgeTable) {
     let nv = mesh.positions.len();
     let nf = mesh.triangles.len();
     let scale = mesh.scale();
@@ -185,7 +191,7 @@ pub fn mesh_topology(mesh: &TriangleMesh) -> MeshTopology {
         .count();
     let used_count = used.iter().filter(|&&u| u).count() as i64;
     out.euler_characteristic = used_count - table.len() as i64 + nf as i64;
-    out
+    (out, table)
 }
 
 /// Disjoint sets of vertices (union by size, path halving).

@@ -176,34 +176,47 @@ impl<'a> StripTerms<'a> {
     /// `(∇r)(∇r)ᵀ = ¼ w3 Δ^(−3) / ℓ² · [..]`. These rows dominate `F` (Eq. 4 is never
     /// small), so without this term every step is about four times too long.
     pub fn fairness_curvature_into(&self, x: &[f64], out: &mut DMatrix<f64>, col0: usize) {
+        let scale = 1.0 / self.length_scale;
+        let w = self.weights.fair;
+        for (dx, upper, lower) in self.fairness_spans(&self.state(x)) {
+            if dx <= 0.0 {
+                continue;
+            }
+            let h = 0.75 * w * dx.powi(-3) * scale * scale;
+            let (upper, lower) = (upper.map(|u| col0 + u), lower.map(|l| col0 + l));
+            if let Some(u) = upper {
+                out[(u, u)] += h;
+            }
+            if let Some(l) = lower {
+                out[(l, l)] += h;
+            }
+            if let (Some(u), Some(l)) = (upper, lower) {
+                out[(u, l)] -= h;
+                out[(l, u)] -= h;
+            }
+        }
+    }
+
+    /// The fairness rows' spans in row order (left edge `i = 1..=M`, then right): the
+    /// normalised length `Δ = (x_i − x_{i−1}) / ℓ` and the unknowns of its two ends
+    /// (`None` for the fixed `x_0` and `x_M`).
+    fn fairness_spans(&self, state: &StripState) -> Vec<(f64, Option<usize>, Option<usize>)> {
         let m = self.quads;
         let scale = 1.0 / self.length_scale;
-        let state = self.state(x);
-        let w = self.weights.fair;
+        let mut spans = Vec::with_capacity(2 * m);
         for (xs, var) in [
             (&state.left, left_variable as fn(usize, usize) -> usize),
             (&state.right, right_variable),
         ] {
             for i in 1..=m {
-                let dx = (xs[i] - xs[i - 1]) * scale;
-                if dx <= 0.0 {
-                    continue;
-                }
-                let h = 0.75 * w * dx.powi(-3) * scale * scale;
-                let upper = (i < m).then(|| col0 + var(m, i));
-                let lower = (i > 1).then(|| col0 + var(m, i - 1));
-                if let Some(u) = upper {
-                    out[(u, u)] += h;
-                }
-                if let Some(l) = lower {
-                    out[(l, l)] += h;
-                }
-                if let (Some(u), Some(l)) = (upper, lower) {
-                    out[(u, l)] -= h;
-                    out[(l, u)] -= h;
-                }
+                spans.push((
+                    (xs[i] - xs[i - 1]) * scale,
+                    (i < m).then(|| var(m, i)),
+                    (i > 1).then(|| var(m, i - 1)),
+                ));
             }
         }
+        spans
     }
 
     /// The paper's penalty `F` at `x` with the nominal weights and no shift, term by term.
@@ -313,28 +326,22 @@ impl<'a> StripTerms<'a> {
         }
         // Fairness (Eq. 4).
         let fw = self.weights.fair.sqrt();
-        for (xs, var) in [
-            (&state.left, left_variable as fn(usize, usize) -> usize),
-            (&state.right, right_variable),
-        ] {
-            for i in 1..=m {
-                let dx = (xs[i] - xs[i - 1]) * scale;
-                if dx <= 0.0 {
-                    r[row] = f64::INFINITY;
-                } else {
-                    r[row] = fw / dx.sqrt();
-                    if let Some((jac, r0, c0)) = jacobian.as_mut() {
-                        let g = -0.5 * fw * dx.powf(-1.5) * scale;
-                        if i < m {
-                            jac[(*r0 + row, *c0 + var(m, i))] = g;
-                        }
-                        if i > 1 {
-                            jac[(*r0 + row, *c0 + var(m, i - 1))] = -g;
-                        }
+        for (dx, upper, lower) in self.fairness_spans(&state) {
+            if dx <= 0.0 {
+                r[row] = f64::INFINITY;
+            } else {
+                r[row] = fw / dx.sqrt();
+                if let Some((jac, r0, c0)) = jacobian.as_mut() {
+                    let g = -0.5 * fw * dx.powf(-1.5) * scale;
+                    if let Some(u) = upper {
+                        jac[(*r0 + row, *c0 + u)] = g;
+                    }
+                    if let Some(l) = lower {
+                        jac[(*r0 + row, *c0 + l)] = -g;
                     }
                 }
-                row += 1;
             }
+            row += 1;
         }
         // Position anchors (Eq. 5).
         let uw = self.weights.user_control.sqrt();

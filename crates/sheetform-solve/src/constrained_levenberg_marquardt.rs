@@ -330,17 +330,20 @@ pub fn constrained_levenberg_marquardt(
 mod tests {
     use super::*;
 
-    /// Nearest point to (2, 1) on the unit circle: (2, 1)/√5.
-    struct CirclePoint;
-    impl LeastSquaresProblem for CirclePoint {
+    /// `min ½ |W (v − t)|²` on the unit circle, `W = diag(weights)`.
+    struct OnCircle {
+        weights: [f64; 2],
+        target: [f64; 2],
+    }
+    impl LeastSquaresProblem for OnCircle {
         fn residuals(&self, v: &DVector<f64>) -> DVector<f64> {
-            DVector::from_vec(vec![v[0] - 2.0, v[1] - 1.0])
+            DVector::from_fn(2, |i, _| self.weights[i] * (v[i] - self.target[i]))
         }
         fn jacobian(&self, _: &DVector<f64>) -> DMatrix<f64> {
-            DMatrix::identity(2, 2)
+            DMatrix::from_diagonal(&DVector::from_row_slice(&self.weights))
         }
     }
-    impl ConstrainedLeastSquaresProblem for CirclePoint {
+    impl ConstrainedLeastSquaresProblem for OnCircle {
         fn constraints(&self, v: &DVector<f64>) -> DVector<f64> {
             DVector::from_vec(vec![v[0] * v[0] + v[1] * v[1] - 1.0])
         }
@@ -352,36 +355,26 @@ mod tests {
         }
     }
 
+    /// The nearest point to (2, 1) on the unit circle: (2, 1)/√5.
+    const NEAREST_POINT: OnCircle = OnCircle {
+        weights: [1.0, 1.0],
+        target: [2.0, 1.0],
+    };
+
     /// `min ½(x² + ¼y²)` on the unit circle: the minima are `(0, ±1)`; `(±1, 0)` are
     /// maxima on the circle, where the exact Hessian of the Lagrangian is negative along
     /// the circle.
-    struct Ellipse;
-    impl LeastSquaresProblem for Ellipse {
-        fn residuals(&self, v: &DVector<f64>) -> DVector<f64> {
-            DVector::from_vec(vec![v[0], 0.5 * v[1]])
-        }
-        fn jacobian(&self, _: &DVector<f64>) -> DMatrix<f64> {
-            DMatrix::from_row_slice(2, 2, &[1.0, 0.0, 0.0, 0.5])
-        }
-    }
-    impl ConstrainedLeastSquaresProblem for Ellipse {
-        fn constraints(&self, v: &DVector<f64>) -> DVector<f64> {
-            DVector::from_vec(vec![v[0] * v[0] + v[1] * v[1] - 1.0])
-        }
-        fn constraint_jacobian(&self, v: &DVector<f64>) -> DMatrix<f64> {
-            DMatrix::from_row_slice(1, 2, &[2.0 * v[0], 2.0 * v[1]])
-        }
-        fn constraint_curvature(&self, _: &DVector<f64>, l: &DVector<f64>) -> Option<DMatrix<f64>> {
-            Some(DMatrix::identity(2, 2) * (2.0 * l[0]))
-        }
-    }
+    const ELLIPSE: OnCircle = OnCircle {
+        weights: [1.0, 0.5],
+        target: [0.0, 0.0],
+    };
 
     #[test]
     fn leaves_a_maximum_on_the_constraint_for_a_minimum() {
         // Started next to the maximum (1, 0): plain Newton steps on the KKT system would
         // converge to it; inertia control turns them downhill.
         let (x, info) = constrained_levenberg_marquardt(
-            &Ellipse,
+            &ELLIPSE,
             DVector::from_vec(vec![1.0, 1e-3]),
             &ConstrainedOptions::default(),
         );
@@ -429,7 +422,7 @@ mod tests {
     #[test]
     fn finds_the_nearest_point_on_a_circle() {
         let (x, info) = constrained_levenberg_marquardt(
-            &CirclePoint,
+            &NEAREST_POINT,
             DVector::from_vec(vec![-0.3, 2.0]),
             &ConstrainedOptions {
                 base: LevenbergMarquardtOptions {
