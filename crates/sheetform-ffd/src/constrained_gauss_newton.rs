@@ -1,11 +1,8 @@
 //! The default solver: constrained Gauss–Newton (SQP) on the embedded parameters.
 
+use crate::kkt_system::KktSystem;
 use crate::{DevelopabilityProblem, Evaluation, FfdError, RestorationInfo};
-use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
-use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
-use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymbolicCholesky, SymmetricOrdering};
-use faer::sparse::{Pair, SparseColMat, SymbolicSparseColMat};
-use faer::{Conj, MatMut, Par, Side};
+use faer::sparse::Pair;
 use std::time::Instant;
 
 /// Knobs of [`restore_constrained`].
@@ -40,121 +37,18 @@ impl Default for ConstrainedOptions {
     }
 }
 
-/// The KKT system's sparsity pattern, symbolic factorisation and workspace (computed once
-/// per problem) and the current numeric factorisation.
-struct KktSystem {
-    n: usize,
-    nc: usize,
+/// Assembles `[H Aᵀ; A −δI]` at `e` into `kkt` and factorises it; returns the
+/// objective's gradient.
+fn factorise(
+    kkt: &mut KktSystem,
+    problem: &DevelopabilityProblem<'_>,
+    e: &Evaluation,
     w: f64,
     beta: f64,
-    symbolic: SymbolicSparseColMat<usize>,
-    argsort: faer::sparse::Argsort<usize>,
-    cholesky: SymbolicCholesky<usize>,
-    pairs: Vec<Pair<usize, usize>>,
-    values: Vec<f64>,
-    l_values: Vec<f64>,
-    signs: Vec<i8>,
-    memory: MemBuffer,
-}
-
-impl KktSystem {
-    fn new(problem: &DevelopabilityProblem<'_>, e: &Evaluation, w: f64, beta: f64) -> Result<Self, FfdError> {
-        let n = problem.unknown_count();
-        let nc = problem.constraint_count();
-        let mut pairs = Vec::new();
-        let mut values = Vec::new();
-        assemble(problem, e, w, beta, Some(&mut pairs), &mut values);
-        let (symbolic, argsort) = SymbolicSparseColMat::try_new_from_indices(n + nc, n + nc, &pairs)
-            .map_err(|e| FfdError::Solver(format!("KKT pattern: {e:?}")))?;
-        let cholesky = factorize_symbolic_cholesky(
-            symbolic.as_ref(),
-            Side::Upper,
-            SymmetricOrdering::Amd,
-            Default::default(),
-        )
-        .map_err(|e| FfdError::Solver(format!("symbolic factorisation: {e:?}")))?;
-        let memory = MemBuffer::new(StackReq::any_of(&[
-            cholesky.factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default()),
-            cholesky.solve_in_place_scratch::<f64>(1, Par::Seq),
-        ]));
-        let l_values = vec![0.0; cholesky.len_val()];
-        Ok(Self {
-            n,
-            nc,
-            w,
-            beta,
-            symbolic,
-            argsort,
-            cholesky,
-            pairs,
-            values,
-            l_values,
-            signs: (0..n + nc).map(|i| if i < n { 1 } else { -1 }).collect(),
-            memory,
-        })
-    }
-
-    /// Assembles and factorises the KKT matrix at `e`; returns the objective's gradient.
-    fn factorise(&mut self, problem: &DevelopabilityProblem<'_>, e: &Evaluation) -> Result<Vec<f64>, FfdError> {
-        let (delta, gradient) = assemble(problem, e, self.w, self.beta, None, &mut self.values);
-        let matrix = SparseColMat::new_from_argsort(self.symbolic.clone(), &self.argsort, &self.values)
-            .map_err(|e| FfdError::Solver(format!("KKT matrix: {e:?}")))?;
-        let regularization = LdltRegularization {
-            dynamic_regularization_signs: Some(&self.signs),
-            dynamic_regularization_delta: delta,
-            dynamic_regularization_epsilon: delta * 1e-3,
-        };
-        self.cholesky
-            .factorize_numeric_ldlt(
-                &mut self.l_values,
-                matrix.as_ref(),
-                Side::Upper,
-                regularization,
-                Par::Seq,
-                MemStack::new(&mut self.memory),
-                Default::default(),
-            )
-            .map_err(|e| FfdError::Solver(format!("KKT factorisation: {e:?}")))?;
-        Ok(gradient)
-    }
-
-    /// Solves `K [p; λ] = rhs` in place with the current factorisation and two steps of
-    /// iterative refinement against the matrix without its `−δ` block.
-    fn solve(&mut self, rhs: &mut [f64]) {
-        let size = self.n + self.nc;
-        let ldlt = faer::sparse::linalg::cholesky::LdltRef::new(&self.cholesky, &self.l_values);
-        let original = rhs.to_vec();
-        ldlt.solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(rhs, size, 1),
-            Par::Seq,
-            MemStack::new(&mut self.memory),
-        );
-        for _ in 0..2 {
-            let product = kkt_product(&self.pairs, &self.values, self.n, rhs);
-            let mut residual: Vec<f64> = original.iter().zip(&product).map(|(b, a)| b - a).collect();
-            ldlt.solve_in_place_with_conj(
-                Conj::No,
-                MatMut::from_column_major_slice_mut(&mut residual, size, 1),
-                Par::Seq,
-                MemStack::new(&mut self.memory),
-            );
-            for (x, d) in rhs.iter_mut().zip(&residual) {
-                *x += d;
-            }
-        }
-    }
-
-    /// The step of least `H`-norm with `A p = −g`: `K [p; λ] = [0; −g]`.
-    fn projection(&mut self, defects: &[f64]) -> Vec<f64> {
-        let mut rhs: Vec<f64> = vec![0.0; self.n]
-            .into_iter()
-            .chain(defects.iter().map(|g| -g))
-            .collect();
-        self.solve(&mut rhs);
-        rhs.truncate(self.n);
-        rhs
-    }
+) -> Result<Vec<f64>, FfdError> {
+    let (delta, gradient) = assemble(problem, e, w, beta, None, &mut kkt.values);
+    kkt.factorise(delta)?;
+    Ok(gradient)
 }
 
 /// Restores developability in two phases, both on the Gauss–Newton model
@@ -208,13 +102,16 @@ pub fn restore_constrained(
     }
     let w = 1.0 / (problem.length_scale * problem.length_scale);
     let beta = options.position_weight * w;
-    let mut kkt = KktSystem::new(problem, &e, w, beta)?;
+    let mut pairs = Vec::new();
+    let mut values = Vec::new();
+    assemble(problem, &e, w, beta, Some(&mut pairs), &mut values);
+    let mut kkt = KktSystem::new(problem.unknown_count(), problem.constraint_count(), pairs)?;
     let trace = std::env::var_os("SHEETFORM_TRACE").is_some();
     let mut iterations = 0;
     // Phase 1: restoration.
     while iterations < options.max_iterations && max_abs(&e.defects) > options.tolerance {
         iterations += 1;
-        kkt.factorise(problem, &e)?;
+        factorise(&mut kkt, problem, &e, w, beta)?;
         let step = kkt.projection(&e.defects);
         let current = max_abs(&e.defects);
         let mut alpha = 1.0;
@@ -243,13 +140,13 @@ pub fn restore_constrained(
     }
     let converged = max_abs(&e.defects) <= options.tolerance;
     // Phase 2: refinement of the objective on the constraint surface.
-    let mut f = objective(problem, &e, w, beta);
+    let mut f = problem.restoration_objective(&e.positions, options.position_weight);
     let mut last_alpha: f64 = 1.0;
     let mut refinements = 0;
     while converged && iterations < options.max_iterations && refinements < options.refine_iterations {
         refinements += 1;
         iterations += 1;
-        let gradient = kkt.factorise(problem, &e)?;
+        let gradient = factorise(&mut kkt, problem, &e, w, beta)?;
         let mut rhs: Vec<f64> = gradient
             .iter()
             .map(|g| -g)
@@ -273,7 +170,7 @@ pub fn restore_constrained(
                 }
                 trial = problem.evaluate(&trial_y);
             }
-            let trial_f = objective(problem, &trial, w, beta);
+            let trial_f = problem.restoration_objective(&trial.positions, options.position_weight);
             if max_abs(&trial.defects) <= options.tolerance && trial_f < f {
                 accepted = Some((trial_y, trial, trial_f));
                 break 'halving;
@@ -304,17 +201,6 @@ pub fn restore_constrained(
 
 fn max_abs(values: &[f64]) -> f64 {
     values.iter().fold(0.0, |m, v| m.max(v.abs()))
-}
-
-/// `f = ½ w Σ r_s² + ½ β Σ |q_n − q′_n|²` over the variable nodes.
-fn objective(problem: &DevelopabilityProblem<'_>, e: &Evaluation, w: f64, beta: f64) -> f64 {
-    let springs: f64 = e.spring_residuals.iter().map(|r| r * r).sum();
-    let positions: f64 = problem
-        .variables
-        .iter()
-        .map(|&m| (e.positions[m as usize] - problem.target[m as usize]).norm_squared())
-        .sum();
-    0.5 * w * springs + 0.5 * beta * positions
 }
 
 /// Fills the upper triangle of the KKT matrix (values in a fixed order; the index pairs
@@ -402,20 +288,4 @@ fn assemble(
         push(n + c, n + c, -delta, values);
     }
     (delta.max(1e-300), gradient)
-}
-
-/// `K x` for the symmetric matrix stored as upper-triangle pairs, leaving out the `−δ`
-/// diagonal of the constraint block (the last `nc` entries).
-fn kkt_product(pairs: &[Pair<usize, usize>], values: &[f64], n: usize, x: &[f64]) -> Vec<f64> {
-    let mut out = vec![0.0; x.len()];
-    for (p, &v) in pairs.iter().zip(values) {
-        if p.row == p.col && p.row >= n {
-            continue;
-        }
-        out[p.row] += v * x[p.col];
-        if p.row != p.col {
-            out[p.col] += v * x[p.row];
-        }
-    }
-    out
 }

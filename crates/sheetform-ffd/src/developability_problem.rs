@@ -260,6 +260,11 @@ impl<'a> DevelopabilityProblem<'a> {
     /// Jacobians and no spring residuals, for line searches that only compare defects
     /// (the accepted point is then evaluated in full once).
     pub fn evaluate_defects(&self, y: &[f64]) -> Vec<f64> {
+        self.defects_at(&self.positions_at(y))
+    }
+
+    /// Every node's position at the gathered unknowns `y` (no Jacobians).
+    pub fn positions_at(&self, y: &[f64]) -> Vec<Vec3> {
         let parameters = self.scatter(y);
         let mut positions = self.target.clone();
         let evaluated: Vec<Vec3> = self
@@ -270,7 +275,24 @@ impl<'a> DevelopabilityProblem<'a> {
         for (&n, q) in self.variables.iter().zip(evaluated) {
             positions[n as usize] = q;
         }
-        self.defects_at(&positions)
+        positions
+    }
+
+    /// The objective both constrained solvers minimise, from node positions:
+    /// `f = ½ Σ_j (|q_s − q_e| − l⁰_j)² / l̄² + ½ β Σ_n |q_n − q′_n|² / l̄²` over the
+    /// springs and the variable nodes (`β` = `position_weight`; dimensionless).
+    pub fn restoration_objective(&self, positions: &[Vec3], position_weight: f64) -> f64 {
+        let springs: f64 = self
+            .springs
+            .iter()
+            .map(|s| ((positions[s.a as usize] - positions[s.b as usize]).norm() - s.rest_length).powi(2))
+            .sum();
+        let proximity: f64 = self
+            .variables
+            .iter()
+            .map(|&m| (positions[m as usize] - self.target[m as usize]).norm_squared())
+            .sum();
+        0.5 * (springs + position_weight * proximity) / (self.length_scale * self.length_scale)
     }
 
     /// `g = 2π − Σ θ` at every constrained vertex, from node positions.

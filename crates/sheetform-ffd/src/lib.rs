@@ -10,7 +10,8 @@
 //! - [`lattice_edit`]: move, re-weight or transform control points;
 //! - [`embed_points`]: the parameters of the undeformed vertices (linear or Newton);
 //! - [`PanelAssembly`]: panels (OBJ groups) and their linked vertices;
-//! - [`corner_angle_gradient`]: the exact gradient of the angle defect;
+//! - [`corner_angle_gradient`], [`corner_angle_hessian`]: a corner angle's exact first
+//!   and second derivatives;
 //! - [`DevelopabilityProblem`]: `min E(X)` subject to `g(q_i(X)) = 0` (Eq. 2-2 to 2-6);
 //! - [`restore_constrained`] (default) and [`restore_paper`] (§3): the solvers;
 //! - [`procedural_panels`]: the examples' developable panel assemblies;
@@ -23,6 +24,7 @@ mod corner_angle;
 mod developability_problem;
 mod embedding;
 mod error;
+mod kkt_system;
 mod nurbs_volume;
 mod panel_assembly;
 mod penalty_conjugate_gradient;
@@ -34,7 +36,7 @@ pub mod procedural_panels;
 pub mod scene;
 
 pub use constrained_gauss_newton::{restore_constrained, ConstrainedOptions};
-pub use corner_angle::{corner_angle, corner_angle_gradient};
+pub use corner_angle::{corner_angle, corner_angle_gradient, corner_angle_hessian};
 pub use developability_problem::{DevelopabilityProblem, Evaluation, ProblemOptions, Spring};
 pub use embedding::{embed_points, lattice_size, newton_inversion, EMBEDDING_TOLERANCE};
 pub use error::FfdError;

@@ -202,24 +202,33 @@ impl NurbsVolume {
 
     /// `Q(u, v, w)`.
     pub fn point(&self, uvw: Vec3) -> Vec3 {
-        self.evaluate(uvw, false).0
+        self.evaluate(uvw, 0).0
     }
 
     /// `Q(u, v, w)` and its Jacobian `[∂Q/∂u ∂Q/∂v ∂Q/∂w]` (columns).
     pub fn point_and_jacobian(&self, uvw: Vec3) -> (Vec3, Matrix3<f64>) {
-        self.evaluate(uvw, true)
+        let (q, jacobian, _) = self.evaluate(uvw, 1);
+        (q, jacobian)
+    }
+
+    /// `Q`, its Jacobian and its second derivatives `second[i][j] = ∂²Q/∂x_i∂x_j`
+    /// (`x = (u, v, w)`, length units per parameter unit²), by the quotient rule on
+    /// `Q = A / W`: `Q_ij = (A_ij − W_ij Q − W_i Q_j − W_j Q_i) / W` (for the chain rule
+    /// of second derivatives with respect to the embedded parameters).
+    pub fn point_jacobian_and_second_derivatives(&self, uvw: Vec3) -> (Vec3, Matrix3<f64>, [[Vec3; 3]; 3]) {
+        self.evaluate(uvw, 2)
     }
 
     // Index loops over the three bases' tables read best side by side.
     #[allow(clippy::needless_range_loop)]
-    fn evaluate(&self, uvw: Vec3, derivatives: bool) -> (Vec3, Matrix3<f64>) {
-        let order = usize::from(derivatives);
+    fn evaluate(&self, uvw: Vec3, order: usize) -> (Vec3, Matrix3<f64>, [[Vec3; 3]; 3]) {
         let (su, nu) = self.bases[0].derivatives(uvw.x, order);
         let (sv, nv) = self.bases[1].derivatives(uvw.y, order);
         let (sw, nw) = self.bases[2].derivatives(uvw.z, order);
         let [pu, pv, pw] = self.degrees();
         let (mut a, mut w) = (Vec3::zeros(), 0.0);
         let (mut a_d, mut w_d) = ([Vec3::zeros(); 3], [0.0; 3]);
+        let (mut a_dd, mut w_dd) = ([[Vec3::zeros(); 3]; 3], [[0.0; 3]; 3]);
         for c in 0..=pw {
             let k = sw - pw + c;
             for b in 0..=pv {
@@ -232,7 +241,7 @@ impl NurbsVolume {
                     let n = nu[0][a_i] * nv[0][b] * nw[0][c];
                     a += wp * n;
                     w += weight * n;
-                    if derivatives {
+                    if order >= 1 {
                         let dn = [
                             nu[1][a_i] * nv[0][b] * nw[0][c],
                             nu[0][a_i] * nv[1][b] * nw[0][c],
@@ -243,17 +252,43 @@ impl NurbsVolume {
                             w_d[d] += weight * dn[d];
                         }
                     }
+                    if order >= 2 {
+                        // Orders of the u, v, w factors for each (d, e) with d <= e.
+                        let table = [&nu, &nv, &nw];
+                        let index_of = [a_i, b, c];
+                        for d in 0..3 {
+                            for e in d..3 {
+                                let mut orders = [0usize; 3];
+                                orders[d] += 1;
+                                orders[e] += 1;
+                                let dn = (0..3).map(|t| table[t][orders[t]][index_of[t]]).product::<f64>();
+                                a_dd[d][e] += wp * dn;
+                                w_dd[d][e] += weight * dn;
+                            }
+                        }
+                    }
                 }
             }
         }
         let q = a / w;
         let mut jacobian = Matrix3::zeros();
-        if derivatives {
+        let mut second = [[Vec3::zeros(); 3]; 3];
+        if order >= 1 {
             for d in 0..3 {
                 jacobian.set_column(d, &((a_d[d] - q * w_d[d]) / w));
             }
         }
-        (q, jacobian)
+        if order >= 2 {
+            for d in 0..3 {
+                for e in d..3 {
+                    let value =
+                        (a_dd[d][e] - q * w_dd[d][e] - jacobian.column(e) * w_d[d] - jacobian.column(d) * w_d[e]) / w;
+                    second[d][e] = value;
+                    second[e][d] = value;
+                }
+            }
+        }
+        (q, jacobian, second)
     }
 
     /// The affine map `Q(x) = o + M x` when the volume is one: all weights equal and
@@ -376,6 +411,31 @@ mod tests {
                     (fd - j.column(d)).norm() < 1e-7 * (1.0 + fd.norm()),
                     "{d}: {fd} vs {}",
                     j.column(d)
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn second_derivatives_match_finite_differences_of_the_jacobian() {
+        let volume = bent_volume();
+        let x = Vec3::new(0.37, 0.52, 0.61);
+        let (q, jacobian, second) = volume.point_jacobian_and_second_derivatives(x);
+        let (expected_q, expected_jacobian) = volume.point_and_jacobian(x);
+        assert!((q - expected_q).norm() < 1e-14);
+        assert!((jacobian - expected_jacobian).norm() < 1e-12);
+        let h = 1e-6;
+        for e in 0..3 {
+            let mut step = Vec3::zeros();
+            step[e] = h;
+            let difference =
+                (volume.point_and_jacobian(x + step).1 - volume.point_and_jacobian(x - step).1) / (2.0 * h);
+            for (d, row) in second.iter().enumerate() {
+                let fd = difference.column(d);
+                assert!(
+                    (fd - row[e]).norm() < 1e-6 * (1.0 + fd.norm()),
+                    "∂²Q/∂{d}∂{e}: {fd} vs {}",
+                    row[e]
                 );
             }
         }
