@@ -140,7 +140,7 @@ pub fn restore_constrained(
     }
     let converged = max_abs(&e.defects) <= options.tolerance;
     // Phase 2: refinement of the objective on the constraint surface.
-    let mut f = problem.restoration_objective(&e.positions, options.position_weight);
+    let mut f = problem.restoration_objective(&e, options.position_weight);
     let mut last_alpha: f64 = 1.0;
     let mut refinements = 0;
     while converged && iterations < options.max_iterations && refinements < options.refine_iterations {
@@ -170,7 +170,7 @@ pub fn restore_constrained(
                 }
                 trial = problem.evaluate(&trial_y);
             }
-            let trial_f = problem.restoration_objective(&trial.positions, options.position_weight);
+            let trial_f = problem.restoration_objective(&trial, options.position_weight);
             if max_abs(&trial.defects) <= options.tolerance && trial_f < f {
                 accepted = Some((trial_y, trial, trial_f));
                 break 'halving;

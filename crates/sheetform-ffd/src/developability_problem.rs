@@ -264,7 +264,7 @@ impl<'a> DevelopabilityProblem<'a> {
     }
 
     /// Every node's position at the gathered unknowns `y` (no Jacobians).
-    pub fn positions_at(&self, y: &[f64]) -> Vec<Vec3> {
+    fn positions_at(&self, y: &[f64]) -> Vec<Vec3> {
         let parameters = self.scatter(y);
         let mut positions = self.target.clone();
         let evaluated: Vec<Vec3> = self
@@ -278,19 +278,15 @@ impl<'a> DevelopabilityProblem<'a> {
         positions
     }
 
-    /// The objective both constrained solvers minimise, from node positions:
+    /// The objective of [`crate::restore_constrained`]'s refinement, at an evaluation:
     /// `f = ½ Σ_j (|q_s − q_e| − l⁰_j)² / l̄² + ½ β Σ_n |q_n − q′_n|² / l̄²` over the
     /// springs and the variable nodes (`β` = `position_weight`; dimensionless).
-    pub fn restoration_objective(&self, positions: &[Vec3], position_weight: f64) -> f64 {
-        let springs: f64 = self
-            .springs
-            .iter()
-            .map(|s| ((positions[s.a as usize] - positions[s.b as usize]).norm() - s.rest_length).powi(2))
-            .sum();
+    pub fn restoration_objective(&self, e: &Evaluation, position_weight: f64) -> f64 {
+        let springs: f64 = e.spring_residuals.iter().map(|r| r * r).sum();
         let proximity: f64 = self
             .variables
             .iter()
-            .map(|&m| (positions[m as usize] - self.target[m as usize]).norm_squared())
+            .map(|&m| (e.positions[m as usize] - self.target[m as usize]).norm_squared())
             .sum();
         0.5 * (springs + position_weight * proximity) / (self.length_scale * self.length_scale)
     }
