@@ -29,6 +29,16 @@ fn restoration(c: &mut Criterion) {
             let label = format!("{name}/{}", format!("{method:?}").to_lowercase());
             group.bench_function(label, |b| b.iter(|| black_box(run_design(&s, &mesh).expect("design"))));
         }
+        // The constrained solver with the bending term in its step metric (a preview).
+        let mut s = scene(name);
+        s.solver.bending_weight = 0.1;
+        let ModelSource::Procedural(model) = &s.model else {
+            unreachable!("procedural examples")
+        };
+        let mesh = model.build();
+        group.bench_function(format!("{name}/constrained-bending"), |b| {
+            b.iter(|| black_box(run_design(&s, &mesh).expect("design")))
+        });
     }
     group.finish();
 }

@@ -112,6 +112,7 @@ pub fn run_design(scene: &FfdScene, mesh: &TriangleMesh) -> Result<FfdDesign, Ff
                     tolerance: scene.solver.tolerance_rad,
                     position_weight: scene.solver.position_weight,
                     refine_iterations: scene.solver.refine_iterations,
+                    bending_weight: scene.solver.bending_weight,
                     ..Default::default()
                 };
                 if let Some(m) = scene.solver.max_iterations {

@@ -19,6 +19,7 @@
 
 #![warn(missing_docs)]
 
+mod bending_metric;
 mod constrained_gauss_newton;
 mod corner_angle;
 mod developability_problem;

@@ -69,6 +69,35 @@ fn successive_deformations_start_from_the_restored_parameters() {
 }
 
 #[test]
+fn the_bending_metric_restores_in_fewer_full_steps() {
+    for name in ["skirt", "trousers"] {
+        let mut scene = example(name);
+        let springs_only = run_design(&scene, &mesh_of(&scene)).unwrap();
+        scene.solver.bending_weight = 0.1;
+        let design = run_design(&scene, &mesh_of(&scene)).unwrap();
+        let (plain, bent) = (&springs_only.steps[0], &design.steps[0]);
+        assert!(bent.info.converged, "{name}");
+        assert!(max_defect(&design, &bent.restored) <= 1e-8, "{name}");
+        // Far fewer iterations (skirt 38 -> 7, trousers 32 -> 9) ...
+        assert!(
+            3 * bent.info.iterations <= plain.info.iterations,
+            "{name}: {} vs {} iterations",
+            bent.info.iterations,
+            plain.info.iterations
+        );
+        // ... at the price of larger edge-length changes, which stay bounded (skirt 9.1 %
+        // vs 3.6 %, trousers 20.9 % vs 10.0 %); the deviation is about the same.
+        assert!(bent.edge_length_change_max_relative > plain.edge_length_change_max_relative);
+        assert!(bent.edge_length_change_max_relative < 0.25, "{name}");
+        assert!(bent.deviation_max < 1.2 * plain.deviation_max, "{name}");
+    }
+    let mut scene = example("two-panels");
+    scene.solver.bending_weight = -0.1;
+    let error = run_design(&scene, &mesh_of(&scene)).unwrap_err().to_string();
+    assert!(error.contains("solver.bending_weight"), "{error}");
+}
+
+#[test]
 fn a_developable_object_under_an_affine_lattice_needs_no_optimisation() {
     // Shear, rotate and scale the whole lattice: an affine map keeps rulings straight and
     // strips planar, so every angle sum stays 2π.
