@@ -127,12 +127,24 @@ pub fn restore_constrained(
     assemble(problem, &e, &metric, Some(&mut pairs), &mut values);
     let mut kkt = KktSystem::new(problem.unknown_count(), problem.constraint_count(), pairs)?;
     let trace = std::env::var_os("SHEETFORM_TRACE").is_some();
+    if trace {
+        eprintln!(
+            "set-up {:.2} ms (evaluation, pattern, symbolic analysis): KKT {} + {} rows, {} values in L",
+            start.elapsed().as_secs_f64() * 1e3,
+            kkt.n,
+            kkt.nc,
+            kkt.factor_size()
+        );
+    }
     let mut iterations = 0;
     // Phase 1: restoration.
     while iterations < options.max_iterations && max_abs(&e.defects) > options.tolerance {
         iterations += 1;
+        let clock = Instant::now();
         factorise(&mut kkt, problem, &e, &metric)?;
+        let factorised = clock.elapsed();
         let step = kkt.projection(&e.defects);
+        let solved = clock.elapsed();
         let current = max_abs(&e.defects);
         let mut alpha = 1.0;
         let mut accepted = None;
@@ -150,9 +162,13 @@ pub fn restore_constrained(
             break;
         };
         if trace {
+            let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
             eprintln!(
-                "restore {iterations}: alpha {alpha} max defect {:.3e}",
-                max_abs(&new_e.defects)
+                "restore {iterations}: alpha {alpha} max defect {:.3e} (assemble + factorise {:.2} ms, solve {:.2} ms, line search {:.2} ms)",
+                max_abs(&new_e.defects),
+                ms(factorised),
+                ms(solved - factorised),
+                ms(clock.elapsed() - solved)
             );
         }
         y = new_y;

@@ -83,6 +83,11 @@ impl KktSystem {
         Ok(())
     }
 
+    /// Values in the factor `L`.
+    pub fn factor_size(&self) -> usize {
+        self.l_values.len()
+    }
+
     /// Solves `K x = rhs` in place with the current factorisation and two steps of
     /// iterative refinement against the matrix without its `−δ` block.
     pub fn solve(&mut self, rhs: &mut [f64]) {
