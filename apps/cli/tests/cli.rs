@@ -1046,7 +1046,7 @@ fn slit_examples_write_model_pattern_mould_and_report() {
 
 #[test]
 fn ffd_examples_restore_developability_and_write_every_output() {
-    for name in ["two-panels", "duct"] {
+    for name in ["two-panels", "duct", "skirt-preview"] {
         let tmp = tempfile::tempdir().unwrap();
         let scene = repo().join("examples/ffd").join(format!("{name}.json"));
         let o = sheetform(&["ffd", scene.to_str().unwrap(), "-o", tmp.path().to_str().unwrap()]);
@@ -1055,6 +1055,8 @@ fn ffd_examples_restore_developability_and_write_every_output() {
         assert_eq!(r["command"], "ffd");
         assert_eq!(r["status"], "ok");
         let ffd = &r["ffd"];
+        let bending = if name == "skirt-preview" { 0.1 } else { 0.0 };
+        assert_eq!(ffd["bending_weight"].as_f64().unwrap(), bending, "{name}");
         let before = ffd["angle_defects_before"]["angle_defect_max_rad"].as_f64().unwrap();
         let after = ffd["angle_defects_after"]["angle_defect_max_rad"].as_f64().unwrap();
         assert!(before > 1e-3 && after <= 1e-8, "{name}: {before} -> {after}");

@@ -1097,6 +1097,7 @@ pub fn run_ffd(scene_text: &str, options: &FfdRunOptions) -> Result<FfdRun, Pipe
         .fold(0.0, f64::max);
     report.ffd = Some(FfdReport {
         solver: format!("{:?}", scene.solver.method).to_lowercase(),
+        bending_weight: scene.solver.bending_weight,
         panel_count: assembly.panels.len(),
         node_count: assembly.node_count,
         linked_node_count: assembly.linked_node_count(),

@@ -108,6 +108,9 @@ pub struct StripReport {
 pub struct FfdReport {
     /// `constrained`, `paper` or `none`.
     pub solver: String,
+    /// The constrained solver's bending weight (`solver.bending_weight`; 0: off, the
+    /// default; > 0: the faster preview mode).
+    pub bending_weight: f64,
     /// Panels (mesh patches).
     pub panel_count: usize,
     /// Nodes (linked vertex sets): one parameter triple each.
