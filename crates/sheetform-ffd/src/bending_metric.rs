@@ -23,11 +23,13 @@ type Vec3 = Vector3<f64>;
 /// nodes along the normal, a discrete `|Δw|²` of the normal displacement `w`.
 ///
 /// Why: with springs alone, moving a node along the normal changes edge lengths only to
-/// second order, so the least-`H`-norm projection uses large single-node normal moves,
-/// above all at panel boundaries where no defect constrains them. Those moves change the
-/// defects to second order as well, so the linearisation is poor and the line search cuts
-/// the steps to `1/16`–`1/32` for tens of iterations (skirt: 38 iterations). With
-/// `γ = 0.1` the same example takes 7 full steps. The term is part of the metric only, not
+/// second order, so the least-`H`-norm projection uses large single-node normal moves.
+/// Those moves change the defects to second order as well, so the linearisation is poor
+/// and the line search cuts the steps to `1/16`–`1/32` for tens of iterations (skirt: 38
+/// iterations). With `γ = 0.1` the same example takes 7 full steps; the rows of boundary
+/// and seam nodes alone (which no defect constrains) give 21, those of interior nodes
+/// alone 31, so every variable node has a row. The normals are those of the current
+/// iterate. The term is part of the metric only, not
 /// of the objective the solver reports; it changes which developable shape the projection
 /// reaches: the edge lengths change more (docs/benchmarks.md has the figures). Not in the
 /// paper (§3 has no step metric).
