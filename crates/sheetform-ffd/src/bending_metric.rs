@@ -37,6 +37,11 @@ type Vec3 = Vector3<f64>;
 pub(crate) struct BendingMetric {
     /// `(node, [(variable, coefficient)])` per variable node.
     rows: Vec<(u32, Vec<(u32, f64)>)>,
+    /// The distinct 3×3 blocks `(a, b)`, `a ≤ b`, that the rows touch.
+    blocks: Vec<(u32, u32)>,
+    /// Per row, the block of each pair `(i, j)`, `i ≤ j`, of its entries, in the order
+    /// `(0,0), (0,1), …, (1,1), …`.
+    row_blocks: Vec<Vec<u32>>,
 }
 
 impl BendingMetric {
@@ -63,13 +68,37 @@ impl BendingMetric {
                 row.push((v as u32, -(around.len() as f64)));
                 (node, row)
             })
+            .collect::<Vec<(u32, Vec<(u32, f64)>)>>();
+        let mut index = std::collections::HashMap::new();
+        let mut blocks = Vec::new();
+        let row_blocks = rows
+            .iter()
+            .map(|(_, row)| {
+                let mut ids = Vec::with_capacity(row.len() * (row.len() + 1) / 2);
+                for (i, &(a, _)) in row.iter().enumerate() {
+                    for &(b, _) in &row[i..] {
+                        let key = (a.min(b), a.max(b));
+                        let id = *index.entry(key).or_insert_with(|| {
+                            blocks.push(key);
+                            blocks.len() as u32 - 1
+                        });
+                        ids.push(id);
+                    }
+                }
+                ids
+            })
             .collect();
-        Self { rows }
+        Self {
+            rows,
+            blocks,
+            row_blocks,
+        }
     }
 
     /// Calls `push(row, column, value)` for the upper triangle of `γ/l̄² · Σ_v r_vᵀ r_v`,
-    /// `r_v = Σ_u c_vu n_vᵀ J_u` (3 columns per variable), at evaluation `e`. The sequence
-    /// of `(row, column)` pairs depends only on the problem, not on `e`.
+    /// `r_v = Σ_u c_vu n_vᵀ J_u` (3 columns per variable), at evaluation `e`, one entry
+    /// per distinct position. The sequence of `(row, column)` pairs depends only on the
+    /// problem, not on `e`.
     pub fn push_upper(
         &self,
         problem: &DevelopabilityProblem<'_>,
@@ -78,31 +107,38 @@ impl BendingMetric {
         mut push: impl FnMut(usize, usize, f64),
     ) {
         let normals = node_normals(problem, &e.positions);
-        let mut parts: Vec<(usize, Vec3)> = Vec::new();
-        for (node, row) in &self.rows {
+        let mut sums = vec![nalgebra::Matrix3::<f64>::zeros(); self.blocks.len()];
+        let mut parts: Vec<(u32, Vec3)> = Vec::new();
+        for ((node, row), ids) in self.rows.iter().zip(&self.row_blocks) {
             let normal = normals[*node as usize];
             parts.clear();
             parts.extend(
                 row.iter()
-                    .map(|&(u, c)| (u as usize, e.jacobians[u as usize].tr_mul(&normal) * c)),
+                    .map(|&(u, c)| (u, e.jacobians[u as usize].tr_mul(&normal) * c)),
             );
-            for (a, &(va, ra)) in parts.iter().enumerate() {
-                for &(vb, rb) in &parts[a..] {
-                    let ((va, ra), (vb, rb)) = if va <= vb {
-                        ((va, ra), (vb, rb))
+            let mut id = ids.iter();
+            for (i, &(a, ra)) in parts.iter().enumerate() {
+                for &(b, rb) in &parts[i..] {
+                    let block = &mut sums[*id.next().expect("one block per pair") as usize];
+                    // The block (min, max) of r_vᵀ r_v: ra rbᵀ, or its transpose.
+                    *block += if a <= b {
+                        ra * rb.transpose()
                     } else {
-                        ((vb, rb), (va, ra))
+                        rb * ra.transpose()
                     };
-                    for k in 0..3 {
-                        for l in 0..3 {
-                            if va == vb && l < k {
-                                continue;
-                            }
-                            // A diagonal block of r_vᵀ r_v is ra raᵀ; an off-diagonal pair
-                            // (a, b) appears once here, as the upper block ra rbᵀ.
-                            push(3 * va + k, 3 * vb + l, weight * ra[k] * rb[l]);
-                        }
+                }
+            }
+        }
+        for (&(a, b), block) in self.blocks.iter().zip(&sums) {
+            let (a, b) = (a as usize, b as usize);
+            for k in 0..3 {
+                for l in 0..3 {
+                    if a == b && l < k {
+                        continue;
                     }
+                    // A diagonal block gets ra raᵀ (symmetric) from each row; an
+                    // off-diagonal pair appears once per row, as the upper block.
+                    push(3 * a + k, 3 * b + l, weight * block[(k, l)]);
                 }
             }
         }
