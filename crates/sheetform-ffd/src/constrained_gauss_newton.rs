@@ -27,7 +27,7 @@ pub struct ConstrainedOptions {
     /// Weight `γ` of the bending term `½ γ Σ_v (n_vᵀ Σ_{u∈N(v)} (δq_u − δq_v))² / l̄²`
     /// added to the metric of the steps (not to the objective); 0 (default): off. With
     /// `γ = 0.1` the skirt and the trousers are restored in 7 and 9 full steps instead
-    /// of 38 and 32 mostly cut ones (3.4× and 1.9× faster; the duct and the two panels,
+    /// of 38 and 32 mostly cut ones (several times faster; the duct and the two panels,
     /// which already took full steps, get slower), but the projection then reaches
     /// shapes whose edge lengths change about twice as much (skirt: 9.1 % instead of
     /// 3.6 %); docs/benchmarks.md has the tables. A quick preview while editing, not the
