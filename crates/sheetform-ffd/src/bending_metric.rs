@@ -3,6 +3,7 @@
 
 use crate::{DevelopabilityProblem, Evaluation};
 use nalgebra::Vector3;
+use sheetform_mesh::area_weighted_normals;
 
 type Vec3 = Vector3<f64>;
 
@@ -29,10 +30,10 @@ type Vec3 = Vector3<f64>;
 /// iterations). With `γ = 0.1` the same example takes 7 full steps; the rows of boundary
 /// and seam nodes alone (which no defect constrains) give 21, those of interior nodes
 /// alone 31, so every variable node has a row. The normals are those of the current
-/// iterate. The term is part of the metric only, not
-/// of the objective the solver reports; it changes which developable shape the projection
-/// reaches: the edge lengths change more (docs/benchmarks.md has the figures). Not in the
-/// paper (§3 has no step metric).
+/// iterate. The term is part of the metric only, not of the objective the solver
+/// reports; it changes which developable shape the projection reaches: the edge lengths
+/// change more (docs/benchmarks.md has the figures). Not in the paper (§3 has no step
+/// metric).
 #[derive(Debug, Clone)]
 pub(crate) struct BendingMetric {
     /// `(node, [(variable, coefficient)])` per variable node.
@@ -42,6 +43,8 @@ pub(crate) struct BendingMetric {
     /// Per row, the block of each pair `(i, j)`, `i ≤ j`, of its entries, in the order
     /// `(0,0), (0,1), …, (1,1), …`.
     row_blocks: Vec<Vec<u32>>,
+    /// The panels' triangles in node indices (for the nodes' normals).
+    node_triangles: Vec<[u32; 3]>,
 }
 
 impl BendingMetric {
@@ -88,10 +91,18 @@ impl BendingMetric {
                 ids
             })
             .collect();
+        let assembly = problem.assembly;
+        let node_triangles = assembly
+            .mesh
+            .triangles
+            .iter()
+            .map(|t| t.map(|v| assembly.vertex_node[v as usize]))
+            .collect();
         Self {
             rows,
             blocks,
             row_blocks,
+            node_triangles,
         }
     }
 
@@ -99,14 +110,8 @@ impl BendingMetric {
     /// `r_v = Σ_u c_vu n_vᵀ J_u` (3 columns per variable), at evaluation `e`, one entry
     /// per distinct position. The sequence of `(row, column)` pairs depends only on the
     /// problem, not on `e`.
-    pub fn push_upper(
-        &self,
-        problem: &DevelopabilityProblem<'_>,
-        e: &Evaluation,
-        weight: f64,
-        mut push: impl FnMut(usize, usize, f64),
-    ) {
-        let normals = node_normals(problem, &e.positions);
+    pub fn push_upper(&self, e: &Evaluation, weight: f64, mut push: impl FnMut(usize, usize, f64)) {
+        let normals = area_weighted_normals(&e.positions, &self.node_triangles);
         let mut sums = vec![nalgebra::Matrix3::<f64>::zeros(); self.blocks.len()];
         let mut parts: Vec<(u32, Vec3)> = Vec::new();
         for ((node, row), ids) in self.rows.iter().zip(&self.row_blocks) {
@@ -136,32 +141,12 @@ impl BendingMetric {
                     if a == b && l < k {
                         continue;
                     }
-                    // A diagonal block gets ra raᵀ (symmetric) from each row; an
-                    // off-diagonal pair appears once per row, as the upper block.
+                    // Diagonal blocks are symmetric: their upper triangle only.
                     push(3 * a + k, 3 * b + l, weight * block[(k, l)]);
                 }
             }
         }
     }
-}
-
-/// Area-weighted unit normals of every node (sum of the incident triangles' cross
-/// products over every panel the node belongs to, normalised; zero for an isolated node).
-fn node_normals(problem: &DevelopabilityProblem<'_>, positions: &[Vec3]) -> Vec<Vec3> {
-    let assembly = problem.assembly;
-    let mut normals = vec![Vec3::zeros(); positions.len()];
-    for t in &assembly.mesh.triangles {
-        let nodes = t.map(|v| assembly.vertex_node[v as usize] as usize);
-        let q = nodes.map(|n| positions[n]);
-        let normal = (q[1] - q[0]).cross(&(q[2] - q[0]));
-        for n in nodes {
-            normals[n] += normal;
-        }
-    }
-    for n in &mut normals {
-        *n = n.try_normalize(1e-300).unwrap_or_else(Vec3::zeros);
-    }
-    normals
 }
 
 #[cfg(test)]
@@ -194,7 +179,8 @@ mod tests {
         let step: Vec<f64> = (0..problem.unknown_count()).map(|i| (i as f64 * 0.61).sin()).collect();
         let gamma = 0.37;
         let mut form = 0.0;
-        BendingMetric::new(&problem).push_upper(&problem, &e, gamma, |r, c, v| {
+        let metric = BendingMetric::new(&problem);
+        metric.push_upper(&e, gamma, |r, c, v| {
             form += if r == c {
                 v * step[r] * step[r]
             } else {
@@ -206,7 +192,7 @@ mod tests {
         for (v, &node) in problem.variables.iter().enumerate() {
             moved[node as usize] = e.jacobians[v] * Vec3::new(step[3 * v], step[3 * v + 1], step[3 * v + 2]);
         }
-        let normals = node_normals(&problem, &e.positions);
+        let normals = area_weighted_normals(&e.positions, &metric.node_triangles);
         let mut laplacian = vec![Vec3::zeros(); assembly.node_count];
         for s in &problem.springs {
             let (a, b) = (s.a as usize, s.b as usize);

@@ -312,7 +312,7 @@ fn assemble(
         }
     }
     if let Some((bending, weight)) = metric.bending {
-        bending.push_upper(problem, e, weight, |row, col, value| push(row, col, value, values));
+        bending.push_upper(e, weight, |row, col, value| push(row, col, value, values));
     }
     let mean_diagonal = (diagonal_sum / n.max(1) as f64).max(1e-300);
     let mu = 1e-9 * mean_diagonal;

@@ -13,6 +13,7 @@ mod sheet_mesh;
 mod topology;
 mod triangle_mesh;
 mod unit;
+mod vertex_normals;
 
 pub use developability::{developability_summary, vertex_developability, DevelopabilitySummary, VertexDevelopability};
 pub use edge_table::{EdgeSide, EdgeTable};
@@ -22,3 +23,4 @@ pub use sheet_mesh::{Piece, PieceKind, Ruling, SheetMesh};
 pub use topology::{mesh_topology, mesh_topology_with_edges, MeshTopology};
 pub use triangle_mesh::{coincident_vertices, TriangleMesh};
 pub use unit::LengthUnit;
+pub use vertex_normals::area_weighted_normals;

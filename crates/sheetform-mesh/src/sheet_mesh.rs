@@ -138,21 +138,7 @@ impl SheetMesh {
 
     /// Area-weighted vertex normals in 3D.
     pub fn vertex_normals(&self) -> Vec<Vec3> {
-        let mut normals = vec![Vec3::zeros(); self.positions.len()];
-        for t in &self.triangles {
-            let [a, b, c] = t.map(|i| self.positions[i as usize]);
-            let n = (b - a).cross(&(c - a));
-            for &i in t {
-                normals[i as usize] += n;
-            }
-        }
-        for n in &mut normals {
-            let len = n.norm();
-            if len > 0.0 {
-                *n /= len;
-            }
-        }
-        normals
+        crate::area_weighted_normals(&self.positions, &self.triangles)
     }
 
     /// Every undirected edge once, as `[smaller, larger]` vertex index.
