@@ -1057,6 +1057,7 @@ fn ffd_examples_restore_developability_and_write_every_output() {
         let ffd = &r["ffd"];
         let bending = if name == "skirt-preview" { 0.1 } else { 0.0 };
         assert_eq!(ffd["bending_weight"].as_f64().unwrap(), bending, "{name}");
+        assert_eq!(ffd["line_search_memory"].as_u64().unwrap(), 12, "{name}");
         let before = ffd["angle_defects_before"]["angle_defect_max_rad"].as_f64().unwrap();
         let after = ffd["angle_defects_after"]["angle_defect_max_rad"].as_f64().unwrap();
         assert!(before > 1e-3 && after <= 1e-8, "{name}: {before} -> {after}");

@@ -113,6 +113,7 @@ pub fn run_design(scene: &FfdScene, mesh: &TriangleMesh) -> Result<FfdDesign, Ff
                     position_weight: scene.solver.position_weight,
                     refine_iterations: scene.solver.refine_iterations,
                     bending_weight: scene.solver.bending_weight,
+                    line_search_memory: scene.solver.line_search_memory,
                     ..Default::default()
                 };
                 if let Some(m) = scene.solver.max_iterations {

@@ -147,6 +147,13 @@ pub struct SolverSpec {
     /// as much).
     #[serde(default)]
     pub bending_weight: f64,
+    /// Memory of the constrained solver's non-monotone line search: a step is accepted
+    /// when the largest defect falls below the largest of the last this many iterates'
+    /// (1: a monotone search; default 12, about a third fewer iterations on the skirt
+    /// and the trousers with the same result quality).
+    #[serde(default = "default_line_search_memory")]
+    #[schemars(range(min = 1))]
+    pub line_search_memory: usize,
 }
 
 /// The restoration method.
@@ -174,6 +181,9 @@ fn default_refine() -> usize {
 fn default_position_weight() -> f64 {
     0.01
 }
+fn default_line_search_memory() -> usize {
+    crate::ConstrainedOptions::default().line_search_memory
+}
 
 impl Default for SolverSpec {
     fn default() -> Self {
@@ -185,6 +195,7 @@ impl Default for SolverSpec {
             max_iterations: None,
             refine_iterations: default_refine(),
             bending_weight: 0.0,
+            line_search_memory: default_line_search_memory(),
         }
     }
 }
@@ -222,6 +233,12 @@ impl FfdScene {
         }
         if !(s.bending_weight.is_finite() && s.bending_weight >= 0.0) {
             return Err(FfdError::field("solver.bending_weight", "must be zero or positive"));
+        }
+        if s.line_search_memory == 0 {
+            return Err(FfdError::field(
+                "solver.line_search_memory",
+                "must be at least 1 (1: monotone)",
+            ));
         }
         if !(self.lattice.margin.is_finite() && self.lattice.margin >= 0.0) {
             return Err(FfdError::field("lattice.margin", "must be zero or positive"));

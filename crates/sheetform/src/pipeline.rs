@@ -1098,6 +1098,7 @@ pub fn run_ffd(scene_text: &str, options: &FfdRunOptions) -> Result<FfdRun, Pipe
     report.ffd = Some(FfdReport {
         solver: format!("{:?}", scene.solver.method).to_lowercase(),
         bending_weight: scene.solver.bending_weight,
+        line_search_memory: scene.solver.line_search_memory,
         panel_count: assembly.panels.len(),
         node_count: assembly.node_count,
         linked_node_count: assembly.linked_node_count(),

@@ -111,6 +111,9 @@ pub struct FfdReport {
     /// The constrained solver's bending weight (`solver.bending_weight`; 0: off, the
     /// default; > 0: the faster preview mode).
     pub bending_weight: f64,
+    /// The constrained solver's line-search memory (`solver.line_search_memory`; 1:
+    /// monotone, default 12).
+    pub line_search_memory: usize,
     /// Panels (mesh patches).
     pub panel_count: usize,
     /// Nodes (linked vertex sets): one parameter triple each.
