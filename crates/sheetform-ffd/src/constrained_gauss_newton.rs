@@ -99,8 +99,9 @@ fn factorise(
 /// unchanged, the steps are not cut and far fewer are needed, but they reach a
 /// developable shape with larger edge-length changes.
 ///
-/// The linear systems are solved by a sparse LDLᵀ factorisation (faer; AMD ordering and
-/// symbolic analysis once per problem, numeric factorisation per iteration). The tiny
+/// The linear systems are solved by a sparse LDLᵀ factorisation (faer; ordering, AMD
+/// or nested dissection, whichever fills less (see `KktSystem::new`), and symbolic
+/// analysis once per problem, numeric factorisation per iteration). The tiny
 /// `μ = 1e-9·mean diag H` and `δ` make the matrix quasi-definite; two steps of iterative
 /// refinement against the system without `δ` remove its effect.
 ///
@@ -139,15 +140,24 @@ pub fn restore_constrained(
     let mut pairs = Vec::new();
     let mut values = Vec::new();
     assemble(problem, &e, &metric, Some(&mut pairs), &mut values);
-    let mut kkt = KktSystem::new(problem.unknown_count(), problem.constraint_count(), pairs)?;
+    // Where each unknown lives, for the nested-dissection ordering: a parameter triple at
+    // its node, a defect at its vertex's node.
+    let coordinates: Vec<nalgebra::Vector3<f64>> = problem
+        .variables
+        .iter()
+        .flat_map(|&m| [e.positions[m as usize]; 3])
+        .chain(problem.constraint_nodes.iter().map(|&m| e.positions[m as usize]))
+        .collect();
+    let mut kkt = KktSystem::new(problem.unknown_count(), problem.constraint_count(), pairs, &coordinates)?;
     let trace = std::env::var_os("SHEETFORM_TRACE").is_some();
     if trace {
         eprintln!(
-            "set-up {:.2} ms (evaluation, pattern, symbolic analysis): KKT {} + {} rows, {} values in L",
+            "set-up {:.2} ms (evaluation, pattern, ordering, symbolic analysis): KKT {} + {} rows, {} values in L ({})",
             start.elapsed().as_secs_f64() * 1e3,
             kkt.n,
             kkt.nc,
-            kkt.factor_size()
+            kkt.factor_size(),
+            kkt.ordering
         );
     }
     let mut iterations = 0;

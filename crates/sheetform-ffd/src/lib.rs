@@ -26,6 +26,7 @@ mod developability_problem;
 mod embedding;
 mod error;
 mod kkt_system;
+mod nested_dissection;
 mod nurbs_volume;
 mod panel_assembly;
 mod penalty_conjugate_gradient;
