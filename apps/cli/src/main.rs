@@ -431,6 +431,23 @@ fn progress_bar(quiet: bool) -> Option<ProgressBar> {
     Some(bar)
 }
 
+/// Runs `job` with a progress callback that drives a bar on a terminal (nothing when
+/// `quiet` or not a terminal), then clears the bar.
+fn with_progress_bar<T>(quiet: bool, job: impl FnOnce(&mut dyn FnMut(&str, f64)) -> T) -> T {
+    let bar = progress_bar(quiet);
+    let result = job(&mut |stage, fraction| {
+        if let Some(b) = &bar {
+            // Position first: setting the message may redraw the bar.
+            b.set_position((fraction * 1000.0) as u64);
+            b.set_message(stage.to_string());
+        }
+    });
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    result
+}
+
 /// The scene file's text, or an error naming it.
 fn read_scene(scene: &Path) -> Result<String, PipelineError> {
     std::fs::read_to_string(scene).map_err(|source| PipelineError::Read {
@@ -447,22 +464,13 @@ fn bend_command(
     quiet: bool,
 ) -> Result<ExitCode, PipelineError> {
     let text = read_scene(&scene)?;
-    let bar = progress_bar(quiet);
     let options = BendRunOptions {
         pattern: pattern.into(),
         animate_frames: animate,
         input: Some(scene.display().to_string()),
         base_dir: scene.parent().map(|p| p.to_path_buf()),
     };
-    let result = run_bend(&text, &options, &mut |stage, fraction| {
-        if let Some(b) = &bar {
-            b.set_message(stage.to_string());
-            b.set_position((fraction * 1000.0) as u64);
-        }
-    });
-    if let Some(b) = &bar {
-        b.finish_and_clear();
-    }
+    let result = with_progress_bar(quiet, |progress| run_bend(&text, &options, progress));
     match result {
         Ok(run) => {
             write_outputs(&output, &run.files, &run.report)?;
@@ -554,7 +562,7 @@ fn ffd_command(
             SolverArg::None => SolverMethod::None,
         }),
     };
-    let run = run_ffd(&text, &options)?;
+    let run = with_progress_bar(quiet, |progress| run_ffd(&text, &options, progress))?;
     write_outputs(&output, &run.files, &run.report)?;
     if !quiet {
         let ffd = run.report.ffd.as_ref().expect("ffd report");

@@ -30,7 +30,7 @@ fn main() {
     for step in &design.steps {
         let i = &step.info;
         println!(
-            "  {} [{}]: G {:.4e} -> {:.4e}, max defect {:.3e} -> {:.3e} rad, {} iterations, converged {}, {:.1} ms, {} variables, {} constraints, deviation {:.3e}, edge change max {:.3e} mean {:.3e}",
+            "  {} [{}]: G {:.4e} -> {:.4e}, max defect {:.3e} -> {:.3e} rad, {} iterations, converged {}, {:.1} ms, {} variables, {} constraints, deviation {:.3e}, edge change max {:.3e} mean {:.3e}, fold angle {:.3} -> {:.3} rad",
             step.name,
             i.solver,
             i.developability_g_before,
@@ -44,7 +44,9 @@ fn main() {
             i.constraint_count,
             step.deviation_max,
             step.edge_length_change_max_relative,
-            step.edge_length_change_mean_relative
+            step.edge_length_change_mean_relative,
+            step.fold_angle_max_before,
+            step.fold_angle_max_after
         );
         if scene.solver.method == SolverMethod::Constrained {
             assert!(i.angle_defect_max_after_rad <= 1e-8, "defect not restored");

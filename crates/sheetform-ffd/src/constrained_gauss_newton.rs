@@ -17,7 +17,9 @@ pub struct ConstrainedOptions {
     /// motions, flexing of the mesh), and without this term the result could drift along
     /// them. 0.01: small enough that edge lengths dominate.
     pub position_weight: f64,
-    /// Most iterations.
+    /// Most iterations (default 100: with the default bending term the examples need at
+    /// most 11 and a 40k-vertex duct 15; with the springs alone the paper's sizes need up
+    /// to 27 and a 6 300-node duct 67 with the stall fallback).
     pub max_iterations: usize,
     /// Memory `M` of the restoration's non-monotone line search: a trial step is accepted
     /// when its largest defect is below the largest of the last `M` iterates' (1: below
@@ -30,15 +32,34 @@ pub struct ConstrainedOptions {
     pub refine_iterations: usize,
     /// Refinement stops when the objective falls by less than this fraction in one step.
     pub objective_tolerance: f64,
-    /// Weight `γ` of the bending term `½ γ Σ_v (n_vᵀ Σ_{u∈N(v)} (δq_u − δq_v))² / l̄²`
-    /// added to the metric of the steps (not to the objective); 0 (default): off. With
-    /// `γ = 0.1` the skirt and the trousers are restored in 7 and 9 full steps instead
-    /// of 38 and 32 mostly cut ones (several times faster; the duct and the two panels,
-    /// which already took full steps, get slower), but the projection then reaches
-    /// shapes whose edge lengths change about twice as much (skirt: 9.1 % instead of
-    /// 3.6 %); docs/benchmarks.md has the tables. A quick preview while editing, not the
-    /// final pattern.
+    /// Weight `γ` of the bending term `½ γ (A/l̄²) Σ_e w_e (δθ_e)²` added to the metric of
+    /// the steps (not to the objective; `δθ_e` a step's change of the dihedral angle at
+    /// interior edge `e`, `w_e = |e|²/(A₁ + A₂)`, `A` the panels' area, `l̄` their mean
+    /// edge length; see `BendingMetric`). Default 3e-3. With the springs alone (`γ = 0`,
+    /// the paper's energy) the least-norm steps move single nodes along the normal; the
+    /// line search cuts them for tens of iterations (skirt 27, trousers 25) and the
+    /// restoration reaches zero defect by folding the panels into node-scale zig-zags:
+    /// the largest fold angle goes from 0.09 to 0.56 rad on the skirt and from 0.19 to
+    /// 0.79 rad on the trousers, crinkles that the edge-length change and the deviation
+    /// do not see (the springs alone change edge lengths less: skirt 3.8 % against
+    /// 13 %). With the default the skirt takes 4 full steps and ends at 0.088 rad, the
+    /// trousers 4 and 0.187 rad. The factor `A/l̄²` (about the number of triangles)
+    /// keeps the ratio of bending to springs fixed when a mesh is refined (the springs'
+    /// sum over edges grows like `1/h²` for the same strain, the bending sum does not):
+    /// ducts of 2.5k to 40k vertices take 5 to 9 steps. Larger `γ`: fewer steps, lower
+    /// deviation, larger edge-length changes (docs/benchmarks.md has the sweep).
     pub bending_weight: f64,
+    /// The bending weight switched on when the restoration stalls with `bending_weight`
+    /// 0: after five steps in a row cut to `α ≤ 1/64` (0: never; default 3e-3). On fine
+    /// meshes the springs' least-norm steps are dominated by node-scale normal
+    /// oscillations, and with springs alone the restoration crawls without converging
+    /// (a 16k-vertex duct, before this fallback existed: max defect 2.1e-4 → 2.3e-4 in
+    /// 60 iterations); the term damps them.
+    /// [`RestorationInfo::bending_fallback_iteration`] says when it happened. A
+    /// restoration that stalls with nothing left to switch on (the term already on, or
+    /// this weight 0) stops there, not converged, instead of crawling on to
+    /// `max_iterations`.
+    pub stall_bending_weight: f64,
 }
 
 impl Default for ConstrainedOptions {
@@ -46,39 +67,86 @@ impl Default for ConstrainedOptions {
         Self {
             tolerance: 1e-10,
             position_weight: 0.01,
-            max_iterations: 60,
+            max_iterations: 100,
             line_search_memory: 12,
             objective_tolerance: 1e-3,
             refine_iterations: 0,
-            bending_weight: 0.0,
+            bending_weight: 3e-3,
+            stall_bending_weight: 3e-3,
         }
     }
 }
 
+/// A step cut to at most this fraction counts as stalled. 1/64: with the springs alone
+/// the examples at the paper's sizes never take five such steps in a row; a 6 300-node
+/// duct does after 29 iterations (it crawls at 1/64–1/128 without converging).
+const STALL_STEP: f64 = 1.0 / 64.0;
+/// Stalled steps in a row before the bending term is switched on.
+const STALL_ITERATIONS: usize = 5;
+
+/// The KKT system's pattern at `e` for `metric`, ordered and analysed.
+fn kkt_system_at(
+    problem: &DevelopabilityProblem<'_>,
+    e: &Evaluation,
+    metric: &Metric<'_>,
+) -> Result<KktSystem, FfdError> {
+    let mut pairs = Vec::new();
+    let mut values = Vec::new();
+    assemble(problem, e, metric, Some(&mut pairs), &mut values);
+    // Blocks (see `KktSystem::new`): a variable node's parameter triple and the defect at
+    // that node; a defect whose node is fixed forms a block of its own.
+    let mut block_coordinates: Vec<nalgebra::Vector3<f64>> =
+        problem.variables.iter().map(|&m| e.positions[m as usize]).collect();
+    let mut blocks: Vec<usize> = (0..problem.unknown_count()).map(|i| i / 3).collect();
+    for &m in &problem.constraint_nodes {
+        let v = problem.variable_of_node[m as usize];
+        blocks.push(if v == u32::MAX {
+            block_coordinates.push(e.positions[m as usize]);
+            block_coordinates.len() - 1
+        } else {
+            v as usize
+        });
+    }
+    // With the bending term AMD fills less at every size compared (see `KktSystem::new`).
+    let amd_when_small = metric.bending.is_some();
+    KktSystem::new(
+        problem.unknown_count(),
+        problem.constraint_count(),
+        pairs,
+        &blocks,
+        &block_coordinates,
+        amd_when_small,
+    )
+}
+
 /// Assembles `[H Aᵀ; A −δI]` at `e` into `kkt` and factorises it; returns the
-/// objective's gradient.
+/// objective's gradient and the assembly's share of the time.
 fn factorise(
     kkt: &mut KktSystem,
     problem: &DevelopabilityProblem<'_>,
     e: &Evaluation,
     metric: &Metric<'_>,
-) -> Result<Vec<f64>, FfdError> {
+) -> Result<(Vec<f64>, std::time::Duration), FfdError> {
+    let clock = Instant::now();
     let (delta, gradient) = assemble(problem, e, metric, None, &mut kkt.values);
+    let assembled = clock.elapsed();
     kkt.factorise(delta)?;
-    Ok(gradient)
+    Ok((gradient, assembled))
 }
 
-/// Restores developability in two phases, both on the Gauss–Newton model
-/// `H = JᵀJ + μI` of
+/// Restores developability in two phases, both with the step metric `H + B`: `H = JᵀJ + μI`
+/// the Gauss–Newton model of
 ///
 /// `f(X) = ½ Σ_j (|q_s − q_e| − l⁰_j)² / l̄² + ½ β Σ_n |q_n − q′_n|² / l̄²`
 ///
-/// (`q_n = Q′(X_n)`, springs of Eq. 2-2 plus a small proximity term) with the exact
-/// Jacobian `A` of the defects `g(q_i(X))` (chain rule through `∂Q/∂(u,v,w)`,
-/// [`DevelopabilityProblem::defect_gradient`]):
+/// (`q_n = Q′(X_n)`, springs of Eq. 2-2 plus a small proximity term), `B` the
+/// Gauss–Newton matrix of a bending term on the step's normal displacements
+/// (`bending_weight`, see `BendingMetric` in `bending_metric.rs`; `B = 0` when the
+/// weight is 0), with the exact Jacobian `A` of the defects `g(q_i(X))` (chain rule
+/// through `∂Q/∂(u,v,w)`, [`DevelopabilityProblem::defect_gradient`]):
 ///
-/// 1. **Restoration** (Gauss–Newton projection onto `g = 0`): `p` of least `H`-norm with
-///    `A p = −g`, i.e. `[H Aᵀ; A −δI] [p; λ] = [0; −g]`, halved until the largest defect
+/// 1. **Restoration** (Gauss–Newton projection onto `g = 0`): `p` of least `(H + B)`-norm
+///    with `A p = −g`, i.e. `[H + B  Aᵀ; A −δI] [p; λ] = [0; −g]`, halved until the largest defect
 ///    falls below the largest of the last `line_search_memory` iterates' (a non-monotone
 ///    test in the manner of Grippo, Lampariello & Lucidi, SIAM J. Numer. Anal. 23(4),
 ///    1986; the reference value never increases, so the largest defect still falls
@@ -93,17 +161,24 @@ fn factorise(
 ///    steps back onto `g = 0`; a step is kept only if `f` decreased and every defect is
 ///    still within tolerance. Stops when `f` changes by less than `objective_tolerance`.
 ///
-/// With `bending_weight` `γ > 0` the metric of both phases is `H + B`, `B` the
-/// Gauss–Newton matrix of a bending term on the step's normal displacements (see
-/// `BendingMetric` in `bending_metric.rs`): the objective and the constraints are
-/// unchanged, the steps are not cut and far fewer are needed, but they reach a
-/// developable shape with larger edge-length changes.
+/// **Bending term** (default on): with the springs alone (`bending_weight` 0) the
+/// least-norm steps move single nodes along the normal, the line search cuts them for
+/// tens of iterations, and the shape reached is crinkled (node-scale zig-zag folds, see
+/// [`crate::fold_angle_max`]); the term makes the steps smooth, so they are taken in
+/// full (skirt: 4 instead of 27) and the result is fair, with larger edge-length changes
+/// (skirt 13 % instead of 3.8 %) but the same deviation (20.4 mm).
+///
+/// **Stall fallback**: when steps with the springs alone are cut to `α ≤ 1/64` five
+/// times in a row (fine meshes), the bending term is switched on with
+/// `stall_bending_weight` and the KKT pattern rebuilt. A second stall, or a stall with
+/// the term already on, ends the restoration unconverged.
 ///
 /// The linear systems are solved by a sparse LDLᵀ factorisation (faer; ordering, AMD
-/// or nested dissection, whichever fills less (see `KktSystem::new`), and symbolic
-/// analysis once per problem, numeric factorisation per iteration). The tiny
-/// `μ = 1e-9·mean diag H` and `δ` make the matrix quasi-definite; two steps of iterative
-/// refinement against the system without `δ` remove its effect.
+/// or nested dissection on the graph of nodes, each node's parameters eliminated just
+/// before the defect at that node (see `KktSystem::new`), and symbolic analysis once
+/// per problem, numeric factorisation per iteration). The tiny
+/// `μ = 1e-9·mean diag (H + B)` and `δ` make the matrix quasi-definite; iterative
+/// refinement against the system without `δ` removes its effect (see `KktSystem::solve`).
 ///
 /// Departures and why: the paper minimises `E + (ρ/2) G²` by conjugate gradients with
 /// finite-difference gradients (§3) and never reaches `G = 0` (Table 1). A full SQP
@@ -122,53 +197,76 @@ pub fn restore_constrained(
     problem: &DevelopabilityProblem<'_>,
     options: &ConstrainedOptions,
 ) -> Result<(Vec<nalgebra::Vector3<f64>>, RestorationInfo), FfdError> {
+    restore_constrained_with_progress(problem, options, &mut |_, _| {})
+}
+
+/// [`restore_constrained`], calling `progress(iteration, largest |defect|)` at the start
+/// (iteration 0) and after each iteration (both phases).
+///
+/// # Errors
+/// As [`restore_constrained`].
+pub fn restore_constrained_with_progress(
+    problem: &DevelopabilityProblem<'_>,
+    options: &ConstrainedOptions,
+    progress: &mut dyn FnMut(usize, f64),
+) -> Result<(Vec<nalgebra::Vector3<f64>>, RestorationInfo), FfdError> {
     let start = Instant::now();
     let mut y = problem.gather(&problem.start);
     let mut e = problem.evaluate(&y);
     let mut info = RestorationInfo::begin("constrained", problem, &e);
+    progress(0, max_abs(&e.defects));
     if problem.variables.is_empty() || max_abs(&e.defects) <= options.tolerance {
         info.finish(problem, &e, 0, true, start);
         return Ok((e.parameters, info));
     }
-    let w = 1.0 / (problem.length_scale * problem.length_scale);
-    let bending = (options.bending_weight > 0.0).then(|| BendingMetric::new(problem));
-    let metric = Metric {
-        springs: w,
-        proximity: options.position_weight * w,
-        bending: bending.as_ref().map(|b| (b, options.bending_weight * w)),
-    };
-    let mut pairs = Vec::new();
-    let mut values = Vec::new();
-    assemble(problem, &e, &metric, Some(&mut pairs), &mut values);
-    // Where each unknown lives, for the nested-dissection ordering: a parameter triple at
-    // its node, a defect at its vertex's node.
-    let coordinates: Vec<nalgebra::Vector3<f64>> = problem
-        .variables
-        .iter()
-        .flat_map(|&m| [e.positions[m as usize]; 3])
-        .chain(problem.constraint_nodes.iter().map(|&m| e.positions[m as usize]))
-        .collect();
-    let mut kkt = KktSystem::new(problem.unknown_count(), problem.constraint_count(), pairs, &coordinates)?;
+    // The bending term of the metric and its weight γ, when on.
+    let mut bending = (options.bending_weight > 0.0).then(|| (BendingMetric::new(problem), options.bending_weight));
     let trace = std::env::var_os("SHEETFORM_TRACE").is_some();
+    let mut kkt = kkt_system_at(problem, &e, &Metric::new(problem, options, bending.as_ref()))?;
     if trace {
         eprintln!(
-            "set-up {:.2} ms (evaluation, pattern, ordering, symbolic analysis): KKT {} + {} rows, {} values in L ({})",
+            "set-up {:.2} ms (evaluation, pattern, ordering, symbolic analysis): KKT {} + {} rows, {} entries assembled, {} values in L ({})",
             start.elapsed().as_secs_f64() * 1e3,
             kkt.n,
             kkt.nc,
+            kkt.values.len(),
             kkt.factor_size(),
-            kkt.ordering
+            match kkt.compared_factor_sizes {
+                Some((amd, dissected)) => format!("{}; AMD {amd}, nested dissection {dissected}", kkt.ordering),
+                None => kkt.ordering.to_string(),
+            }
         );
     }
+    // Consecutive steps cut to `α ≤ STALL_STEP` (see `ConstrainedOptions::stall_bending_weight`).
+    let mut stalled = 0;
     let mut iterations = 0;
     // The largest defect of every iterate so far, for the non-monotone test.
     let mut largest_defects = vec![max_abs(&e.defects)];
     let memory = options.line_search_memory.max(1);
     // Phase 1: restoration.
     while iterations < options.max_iterations && max_abs(&e.defects) > options.tolerance {
+        if stalled >= STALL_ITERATIONS {
+            if bending.is_some() || options.stall_bending_weight <= 0.0 {
+                // Nothing left to switch on: stop instead of crawling to `max_iterations`.
+                if trace {
+                    eprintln!("stalled: stopping after {iterations} iterations");
+                }
+                break;
+            }
+            bending = Some((BendingMetric::new(problem), options.stall_bending_weight));
+            kkt = kkt_system_at(problem, &e, &Metric::new(problem, options, bending.as_ref()))?;
+            info.bending_fallback_iteration = Some(iterations);
+            stalled = 0;
+            if trace {
+                eprintln!(
+                    "stalled: bending term switched on (weight {})",
+                    options.stall_bending_weight
+                );
+            }
+        }
         iterations += 1;
         let clock = Instant::now();
-        factorise(&mut kkt, problem, &e, &metric)?;
+        let (_, assembled) = factorise(&mut kkt, problem, &e, &Metric::new(problem, options, bending.as_ref()))?;
         let factorised = clock.elapsed();
         let step = kkt.projection(&e.defects);
         let solved = clock.elapsed();
@@ -179,11 +277,18 @@ pub fn restore_constrained(
             .fold(0.0, |m: f64, d| m.max(*d));
         let mut alpha = 1.0;
         let mut accepted = None;
-        // Trials compare defects only; the accepted point is evaluated in full once.
-        for _ in 0..30 {
+        // The full step is evaluated in full (with the default metric it is nearly always
+        // taken); shorter trials compare defects only, and the accepted one is then
+        // evaluated in full once.
+        for trial_index in 0..30 {
             let trial_y: Vec<f64> = y.iter().zip(&step).map(|(a, p)| a + alpha * p).collect();
-            if max_abs(&problem.evaluate_defects(&trial_y)) < reference {
-                let trial = problem.evaluate(&trial_y);
+            let full = (trial_index == 0).then(|| problem.evaluate(&trial_y));
+            let defects = match &full {
+                Some(trial) => max_abs(&trial.defects),
+                None => max_abs(&problem.evaluate_defects(&trial_y)),
+            };
+            if defects < reference {
+                let trial = full.unwrap_or_else(|| problem.evaluate(&trial_y));
                 accepted = Some((trial_y, trial));
                 break;
             }
@@ -192,21 +297,28 @@ pub fn restore_constrained(
         let Some((new_y, new_e)) = accepted else {
             break;
         };
+        stalled = if alpha <= STALL_STEP { stalled + 1 } else { 0 };
         if trace {
             let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
             eprintln!(
-                "restore {iterations}: alpha {alpha} max defect {:.3e} (assemble + factorise {:.2} ms, solve {:.2} ms, line search {:.2} ms)",
+                "restore {iterations}: alpha {alpha} max defect {:.3e} (assemble {:.2} ms, factorise {:.2} ms; solve {:.2} ms, {} triangular solves, backward error {:.1e}; line search {:.2} ms)",
                 max_abs(&new_e.defects),
-                ms(factorised),
+                ms(assembled),
+                ms(factorised - assembled),
                 ms(solved - factorised),
+                kkt.last_solve.0,
+                kkt.last_solve.1,
                 ms(clock.elapsed() - solved)
             );
         }
         y = new_y;
         e = new_e;
         largest_defects.push(max_abs(&e.defects));
+        progress(iterations, max_abs(&e.defects));
     }
     let converged = max_abs(&e.defects) <= options.tolerance;
+    info.bending_weight = bending.as_ref().map_or(0.0, |(_, weight)| *weight);
+    let metric = Metric::new(problem, options, bending.as_ref());
     // Phase 2: refinement of the objective on the constraint surface.
     let mut f = problem.restoration_objective(&e, options.position_weight);
     let mut last_alpha: f64 = 1.0;
@@ -214,7 +326,7 @@ pub fn restore_constrained(
     while converged && iterations < options.max_iterations && refinements < options.refine_iterations {
         refinements += 1;
         iterations += 1;
-        let gradient = factorise(&mut kkt, problem, &e, &metric)?;
+        let (gradient, _) = factorise(&mut kkt, problem, &e, &metric)?;
         let mut rhs: Vec<f64> = gradient
             .iter()
             .map(|g| -g)
@@ -259,6 +371,7 @@ pub fn restore_constrained(
         y = new_y;
         e = new_e;
         f = new_f;
+        progress(iterations, max_abs(&e.defects));
         if change < options.objective_tolerance {
             break;
         }
@@ -272,12 +385,33 @@ fn max_abs(values: &[f64]) -> f64 {
 }
 
 /// The weights of the metric `H`: springs and proximity (the objective's Gauss–Newton
-/// matrix), and the optional bending term with its weight `γ/l̄²`.
+/// matrix), and the optional bending term with its weight `γ A/l̄²`.
 struct Metric<'a> {
     springs: f64,
     proximity: f64,
     bending: Option<(&'a BendingMetric, f64)>,
 }
+
+impl<'a> Metric<'a> {
+    /// Springs `1/l̄²`, proximity `β/l̄²` and, when given (with its `γ`), the bending term
+    /// with weight `γ A/l̄²` (`A/l̄²`: [`BendingMetric::resolution`]; the term's sum of
+    /// squared angle changes is dimensionless).
+    fn new(
+        problem: &DevelopabilityProblem<'_>,
+        options: &ConstrainedOptions,
+        bending: Option<&'a (BendingMetric, f64)>,
+    ) -> Self {
+        let w = 1.0 / (problem.length_scale * problem.length_scale);
+        Self {
+            springs: w,
+            proximity: options.position_weight * w,
+            bending: bending.map(|(b, weight)| (b, weight * b.resolution)),
+        }
+    }
+}
+
+/// Where entry `(k, l)`, `k ≤ l`, of a symmetric 3×3 block is kept in six numbers.
+const DIAGONAL_SLOT: [[usize; 3]; 3] = [[0, 1, 2], [1, 3, 4], [2, 4, 5]];
 
 /// Fills the upper triangle of the KKT matrix (values in a fixed order; the index pairs
 /// too when `pairs` is given) and returns `δ` and the objective's gradient.
@@ -293,12 +427,26 @@ fn assemble(
     let nc = problem.constraint_count();
     values.clear();
     let mut gradient = vec![0.0; n];
-    let mut push = |row: usize, col: usize, value: f64, values: &mut Vec<f64>| {
+    // Each variable's 3×3 diagonal block of the metric (upper triangle, `(k, l)` at
+    // `DIAGONAL_SLOT[k][l]`), summed over springs, proximity and bending before it is
+    // pushed once with `μ`: every node's block gets contributions from each of its
+    // springs and hinges, and pushing them one by one doubled the entries the pattern
+    // and every factorisation had to sum.
+    let mut diagonal = vec![[0.0f64; 6]; n / 3];
+    let mut push_entry = |row: usize, col: usize, value: f64, values: &mut Vec<f64>| {
         let (r, c) = if row <= col { (row, col) } else { (col, row) };
         if let Some(p) = pairs.as_deref_mut() {
             p.push(Pair { row: r, col: c });
         }
         values.push(value);
+    };
+    let mut push = |row: usize, col: usize, value: f64, values: &mut Vec<f64>| {
+        if row < n && col < n && row / 3 == col / 3 {
+            let (k, l) = (row % 3, col % 3);
+            diagonal[row / 3][DIAGONAL_SLOT[k.min(l)][k.max(l)]] += value;
+        } else {
+            push_entry(row, col, value, values);
+        }
     };
     // Springs: JᵀJ blocks and Jᵀr.
     for s in 0..problem.springs.len() {
@@ -328,7 +476,6 @@ fn assemble(
         }
     }
     // Proximity term and damping: β JᵀJ per node, μ on the diagonal.
-    let mut diagonal_sum = 0.0;
     for (v, &m) in problem.variables.iter().enumerate() {
         let j = &e.jacobians[v];
         let jtj = j.tr_mul(j) * beta;
@@ -336,7 +483,6 @@ fn assemble(
         let g = j.tr_mul(&d) * beta;
         for k in 0..3 {
             gradient[3 * v + k] += g[k];
-            diagonal_sum += jtj[(k, k)];
             for l in k..3 {
                 push(3 * v + k, 3 * v + l, jtj[(k, l)], values);
             }
@@ -345,10 +491,16 @@ fn assemble(
     if let Some((bending, weight)) = metric.bending {
         bending.push_upper(e, weight, |row, col, value| push(row, col, value, values));
     }
+    let diagonal_sum: f64 = diagonal.iter().map(|b| b[0] + b[3] + b[5]).sum();
     let mean_diagonal = (diagonal_sum / n.max(1) as f64).max(1e-300);
     let mu = 1e-9 * mean_diagonal;
-    for i in 0..n {
-        push(i, i, mu, values);
+    for (v, block) in diagonal.iter().enumerate() {
+        for k in 0..3 {
+            for l in k..3 {
+                let value = block[DIAGONAL_SLOT[k][l]] + if k == l { mu } else { 0.0 };
+                push_entry(3 * v + k, 3 * v + l, value, values);
+            }
+        }
     }
     // Constraint rows A (as the upper-right block Aᵀ) and the −δ block.
     let mut row = Vec::new();
@@ -358,13 +510,13 @@ fn assemble(
         for (v, d) in &row {
             for k in 0..3 {
                 a_norm += d[k] * d[k];
-                push(3 * *v as usize + k, n + c, d[k], values);
+                push_entry(3 * *v as usize + k, n + c, d[k], values);
             }
         }
     }
     let delta = 1e-10 * (a_norm / nc.max(1) as f64) / mean_diagonal;
     for c in 0..nc {
-        push(n + c, n + c, -delta, values);
+        push_entry(n + c, n + c, -delta, values);
     }
     (delta.max(1e-300), gradient)
 }

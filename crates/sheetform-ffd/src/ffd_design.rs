@@ -1,8 +1,9 @@
 //! A whole FFD run: embed, deform step by step, restore developability.
 
 use crate::{
-    apply_edits, embed_points, restore_constrained, restore_paper, ConstrainedOptions, DevelopabilityProblem, FfdError,
-    FfdScene, NurbsVolume, PanelAssembly, PaperOptions, ProblemOptions, RestorationInfo, SolverMethod,
+    apply_edits, embed_points, fold_angle_max, restore_constrained_with_progress, restore_paper_with_progress,
+    ConstrainedOptions, DevelopabilityProblem, FfdError, FfdScene, NurbsVolume, PanelAssembly, PaperOptions,
+    ProblemOptions, RestorationInfo, RestorationProgress, SolverMethod,
 };
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -32,6 +33,11 @@ pub struct DeformationStep {
     pub edge_length_change_max_relative: f64,
     /// Mean relative edge-length change.
     pub edge_length_change_mean_relative: f64,
+    /// Largest fold angle of the plain FFD `M′` (radians, see [`fold_angle_max`]).
+    pub fold_angle_max_before: f64,
+    /// Largest fold angle after restoration `M*` (radians): far above
+    /// `fold_angle_max_before` when the restoration crinkled the panels.
+    pub fold_angle_max_after: f64,
 }
 
 /// The result of [`run_design`].
@@ -66,6 +72,19 @@ impl FfdDesign {
 /// Bad panels, lattice or edits (naming the field), vertices outside the lattice, a
 /// failing solver.
 pub fn run_design(scene: &FfdScene, mesh: &TriangleMesh) -> Result<FfdDesign, FfdError> {
+    run_design_with_progress(scene, mesh, &mut |_| {})
+}
+
+/// [`run_design`], calling `progress` after each iteration of each restoration (a
+/// 100k-vertex duct takes minutes; the CLI shows these as a progress bar).
+///
+/// # Errors
+/// As [`run_design`].
+pub fn run_design_with_progress(
+    scene: &FfdScene,
+    mesh: &TriangleMesh,
+    progress: &mut dyn FnMut(&RestorationProgress),
+) -> Result<FfdDesign, FfdError> {
     scene.validate()?;
     let assembly = PanelAssembly::from_mesh(mesh)?;
     let nodes = assembly.node_positions();
@@ -100,12 +119,37 @@ pub fn run_design(scene: &FfdScene, mesh: &TriangleMesh) -> Result<FfdDesign, Ff
     let mut volume = lattice.clone();
     let mut parameters = embedding.clone();
     let mut steps = Vec::new();
+    let fold_angle = |nodes: &[Vec3]| {
+        fold_angle_max(&assembly.mesh.triangles, &assembly.edges, |v| {
+            nodes[assembly.vertex_node[v as usize] as usize]
+        })
+    };
     let problem_options = ProblemOptions {
         selection_threshold: scene.solver.selection_threshold_rad,
     };
     for (k, deformation) in scene.deformations.iter().enumerate() {
         volume = apply_edits(&volume, &deformation.edits, &format!("deformations[{k}].edits"))?;
         let problem = DevelopabilityProblem::new(&volume, &assembly, parameters.clone(), &problem_options);
+        let deformation_count = scene.deformations.len();
+        // The solvers report iteration 0 (the start) first.
+        let mut angle_defect_max_start_rad = 0.0;
+        let tolerance_rad = match scene.solver.method {
+            SolverMethod::Constrained => scene.solver.tolerance_rad,
+            _ => 0.0,
+        };
+        let mut report = |iteration: usize, angle_defect_max_rad: f64| {
+            if iteration == 0 {
+                angle_defect_max_start_rad = angle_defect_max_rad;
+            }
+            progress(&RestorationProgress {
+                deformation: k,
+                deformation_count,
+                iteration,
+                angle_defect_max_start_rad,
+                angle_defect_max_rad,
+                tolerance_rad,
+            })
+        };
         let (new_parameters, info) = match scene.solver.method {
             SolverMethod::Constrained => {
                 let mut options = ConstrainedOptions {
@@ -114,19 +158,20 @@ pub fn run_design(scene: &FfdScene, mesh: &TriangleMesh) -> Result<FfdDesign, Ff
                     refine_iterations: scene.solver.refine_iterations,
                     bending_weight: scene.solver.bending_weight,
                     line_search_memory: scene.solver.line_search_memory,
+                    stall_bending_weight: scene.solver.stall_bending_weight,
                     ..Default::default()
                 };
                 if let Some(m) = scene.solver.max_iterations {
                     options.max_iterations = m;
                 }
-                restore_constrained(&problem, &options)?
+                restore_constrained_with_progress(&problem, &options, &mut report)?
             }
             SolverMethod::Paper => {
                 let mut options = PaperOptions::default();
                 if let Some(m) = scene.solver.max_iterations {
                     options.max_steps = m;
                 }
-                restore_paper(&problem, &options)
+                restore_paper_with_progress(&problem, &options, &mut report)
             }
             SolverMethod::None => {
                 let mut info =
@@ -144,6 +189,7 @@ pub fn run_design(scene: &FfdScene, mesh: &TriangleMesh) -> Result<FfdDesign, Ff
             .map(|(a, b)| (a - b).norm())
             .fold(0.0, f64::max);
         let (max, mean) = edge_length_change(&assembly, &deformed, &restored);
+        let (fold_angle_max_before, fold_angle_max_after) = (fold_angle(&deformed), fold_angle(&restored));
         steps.push(DeformationStep {
             name: deformation
                 .name
@@ -157,6 +203,8 @@ pub fn run_design(scene: &FfdScene, mesh: &TriangleMesh) -> Result<FfdDesign, Ff
             deviation_max,
             edge_length_change_max_relative: max,
             edge_length_change_mean_relative: mean,
+            fold_angle_max_before,
+            fold_angle_max_after,
         });
         parameters = new_parameters;
     }

@@ -15,6 +15,7 @@
 //! - [`DevelopabilityProblem`]: `min E(X)` subject to `g(q_i(X)) = 0` (Eq. 2-2 to 2-6);
 //! - [`restore_constrained`] (default) and [`restore_paper`] (§3): the solvers;
 //! - [`procedural_panels`]: the examples' developable panel assemblies;
+//! - [`fold_angle_max`]: the fairness of a result (crinkles show as large fold angles);
 //! - [`scene`], [`ffd_design`]: the scene file and the whole run.
 
 #![warn(missing_docs)]
@@ -25,6 +26,7 @@ mod corner_angle;
 mod developability_problem;
 mod embedding;
 mod error;
+mod fold_angle;
 mod kkt_system;
 mod nested_dissection;
 mod nurbs_volume;
@@ -37,15 +39,16 @@ pub mod lattice_edit;
 pub mod procedural_panels;
 pub mod scene;
 
-pub use constrained_gauss_newton::{restore_constrained, ConstrainedOptions};
+pub use constrained_gauss_newton::{restore_constrained, restore_constrained_with_progress, ConstrainedOptions};
 pub use corner_angle::{corner_angle, corner_angle_gradient, corner_angle_hessian};
 pub use developability_problem::{DevelopabilityProblem, Evaluation, ProblemOptions, Spring};
 pub use embedding::{embed_points, lattice_size, newton_inversion, EMBEDDING_TOLERANCE};
 pub use error::FfdError;
-pub use ffd_design::{run_design, DeformationStep, FfdDesign};
+pub use ffd_design::{run_design, run_design_with_progress, DeformationStep, FfdDesign};
+pub use fold_angle::fold_angle_max;
 pub use lattice_edit::{apply_edits, ControlPointSelection, LatticeEdit};
 pub use nurbs_volume::{NurbsVolume, DIRECTION_NAMES};
 pub use panel_assembly::{Panel, PanelAssembly, LINK_TOLERANCE};
-pub use penalty_conjugate_gradient::{restore_paper, PaperOptions};
-pub use restoration_info::RestorationInfo;
+pub use penalty_conjugate_gradient::{restore_paper, restore_paper_with_progress, PaperOptions};
+pub use restoration_info::{RestorationInfo, RestorationProgress};
 pub use scene::*;

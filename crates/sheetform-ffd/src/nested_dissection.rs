@@ -24,10 +24,10 @@ const LEAF_SIZE: usize = 32;
 /// nested dissection (the METIS bindings need a C toolchain). On the FFD's meshes the
 /// sheet is a surface, so a plane cut by coordinates gives short separators. Measured
 /// (docs/benchmarks.md, eighth session): on the 100k-vertex duct the factor `L` has
-/// 94 M values instead of AMD's 201 M and the numeric factorisation takes 2.5–3 s
-/// instead of 10–12 s; on a 2 400-vertex duct 1.37 M instead of 2.0 M; on the skirt
-/// (1 080 nodes) AMD is 7 % smaller, which is why [`crate::kkt_system`] keeps whichever
-/// is smaller below 20 000 unknowns.
+/// 95.6 M values instead of AMD's 201 M and the numeric factorisation takes 2.0–2.6 s
+/// instead of 10–12 s; on a 2 501-vertex duct 1.36 M instead of 2.0 M; on the skirt
+/// (1 080 nodes) AMD is 7 % smaller, which is why the KKT system keeps whichever is
+/// smaller below 20 000 unknowns.
 pub(crate) fn nested_dissection(adjacency: &[Vec<usize>], coordinates: &[Vector3<f64>]) -> Vec<usize> {
     debug_assert_eq!(adjacency.len(), coordinates.len());
     let mut order = Vec::with_capacity(adjacency.len());

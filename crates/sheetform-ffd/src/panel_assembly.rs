@@ -2,7 +2,7 @@
 
 use crate::FfdError;
 use nalgebra::Vector3;
-use sheetform_mesh::{coincident_vertices, mesh_topology, TriangleMesh};
+use sheetform_mesh::{coincident_vertices, mesh_topology, EdgeTable, TriangleMesh};
 
 type Vec3 = Vector3<f64>;
 
@@ -42,6 +42,9 @@ pub struct PanelAssembly {
     pub node_count: usize,
     /// Whether each mesh vertex is on its panel's boundary (seams included).
     pub boundary: Vec<bool>,
+    /// The edges of `mesh`, in vertex indices: seams are boundary edges here (the panels'
+    /// vertices are distinct), so an edge with two triangles is inside one panel.
+    pub edges: EdgeTable,
 }
 
 impl PanelAssembly {
@@ -130,12 +133,14 @@ impl PanelAssembly {
         let tolerance = LINK_TOLERANCE * out.scale().max(f64::MIN_POSITIVE);
         let vertex_node = coincident_vertices(&out.positions, tolerance);
         let node_count = vertex_node.iter().map(|&n| n as usize + 1).max().unwrap_or(0);
+        let edges = EdgeTable::new(&out.triangles, out.positions.len());
         Ok(Self {
             mesh: out,
             panels,
             vertex_node,
             node_count,
             boundary,
+            edges,
         })
     }
 

@@ -43,10 +43,21 @@ pub fn restore_paper(
     problem: &DevelopabilityProblem<'_>,
     options: &PaperOptions,
 ) -> (Vec<Vector3<f64>>, RestorationInfo) {
+    restore_paper_with_progress(problem, options, &mut |_, _| {})
+}
+
+/// [`restore_paper`], calling `progress(step, largest |defect|)` at the start (step 0)
+/// and after each penalty update.
+pub fn restore_paper_with_progress(
+    problem: &DevelopabilityProblem<'_>,
+    options: &PaperOptions,
+    progress: &mut dyn FnMut(usize, f64),
+) -> (Vec<Vector3<f64>>, RestorationInfo) {
     let start = Instant::now();
     let mut y = problem.gather(&problem.start);
     let mut e = problem.evaluate(&y);
     let mut info = RestorationInfo::begin("paper", problem, &e);
+    progress(0, info.angle_defect_max_before_rad);
     let g0 = problem.developability_g(&e);
     if problem.variables.is_empty() || g0 == 0.0 {
         info.finish(problem, &e, 0, true, start);
@@ -116,6 +127,7 @@ pub fn restore_paper(
         let g = problem.developability_g(&e);
         let change = (g - g_previous).abs() / g0;
         g_previous = g;
+        progress(steps, e.defects.iter().fold(0.0, |m: f64, d| m.max(d.abs())));
         if change < options.relative_change || g == 0.0 {
             converged = true;
             break;

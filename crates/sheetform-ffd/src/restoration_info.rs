@@ -31,6 +31,52 @@ pub struct RestorationInfo {
     pub spring_energy_after: f64,
     /// Wall-clock time of the solve (milliseconds).
     pub time_ms: f64,
+    /// The constrained solver's bending weight at the end (0: springs alone; the paper's
+    /// solver: 0).
+    pub bending_weight: f64,
+    /// The iteration after which the constrained solver switched the bending term on
+    /// because the restoration stalled (`ConstrainedOptions::stall_bending_weight`), if
+    /// it did.
+    pub bending_fallback_iteration: Option<usize>,
+}
+
+/// Where a restoration is, reported after each iteration (constrained: each Gauss–Newton
+/// step; paper: each penalty update) to a progress callback
+/// ([`crate::run_design_with_progress`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RestorationProgress {
+    /// The deformation being restored (0-based).
+    pub deformation: usize,
+    /// Deformations in the scene.
+    pub deformation_count: usize,
+    /// Iterations done in this restoration.
+    pub iteration: usize,
+    /// Largest |angle defect| before this restoration (radians).
+    pub angle_defect_max_start_rad: f64,
+    /// Largest |angle defect| now (radians).
+    pub angle_defect_max_rad: f64,
+    /// The restoration's target for the largest defect (radians; the constrained
+    /// solver's tolerance, the paper's solver: 0).
+    pub tolerance_rad: f64,
+}
+
+impl RestorationProgress {
+    /// How far this restoration is, in `[0, 1]`: the defect's fall on a log scale,
+    /// `ln(d₀/d) / ln(d₀/tolerance)` (a Newton iteration's natural measure; for the
+    /// paper's solver, which has no tolerance, against `1e-10·d₀`). Not monotone when
+    /// the defect rises between iterations.
+    pub fn fraction(&self) -> f64 {
+        let start = self.angle_defect_max_start_rad;
+        let target = if self.tolerance_rad > 0.0 {
+            self.tolerance_rad
+        } else {
+            1e-10 * start
+        };
+        if start <= target || self.angle_defect_max_rad <= target {
+            return 1.0;
+        }
+        ((start / self.angle_defect_max_rad.max(f64::MIN_POSITIVE)).ln() / (start / target).ln()).clamp(0.0, 1.0)
+    }
 }
 
 impl RestorationInfo {
@@ -47,6 +93,8 @@ impl RestorationInfo {
             angle_defect_max_after_rad: 0.0,
             spring_energy_after: 0.0,
             time_ms: 0.0,
+            bending_weight: 0.0,
+            bending_fallback_iteration: None,
         }
     }
 

@@ -142,18 +142,27 @@ pub struct SolverSpec {
     /// tolerance (they lower the edge-length change and the deviation; 0: restore only).
     #[serde(default = "default_refine")]
     pub refine_iterations: usize,
-    /// Weight of the constrained solver's bending term in its step metric (0: off; 0.1:
-    /// a fast preview, several times fewer iterations but edge lengths change about twice
-    /// as much).
-    #[serde(default)]
+    /// Weight `γ` of the constrained solver's bending term in its step metric, scaled by
+    /// the panels' area over their squared mean edge length so that it means the same
+    /// at every resolution (default 3e-3: smooth results in 3–9 full steps; 0: springs
+    /// alone, as in the paper, which fold the panels into node-scale zig-zags and need
+    /// several times more iterations; see `fold_angle_max_after_rad` in the report).
+    #[serde(default = "default_bending_weight")]
     pub bending_weight: f64,
     /// Memory of the constrained solver's non-monotone line search: a step is accepted
     /// when the largest defect falls below the largest of the last this many iterates'
-    /// (1: a monotone search; default 12, about a third fewer iterations on the skirt
-    /// and the trousers with the same result quality).
+    /// (1: a monotone search; default 12: skirt 27 instead of 38 iterations, trousers 25
+    /// instead of 32, with the same result quality).
     #[serde(default = "default_line_search_memory")]
     #[schemars(range(min = 1))]
     pub line_search_memory: usize,
+    /// Bending weight the constrained solver switches on when the restoration stalls
+    /// (five steps in a row cut to 1/64 or less) with `bending_weight` 0; 0: never
+    /// (default 3e-3). Fine meshes restored with the springs alone need it; the report's
+    /// steps say when it happened (`bending_fallback_iteration`). A stall with nothing
+    /// left to switch on ends the restoration, not converged.
+    #[serde(default = "default_stall_bending_weight")]
+    pub stall_bending_weight: f64,
 }
 
 /// The restoration method.
@@ -181,6 +190,12 @@ fn default_refine() -> usize {
 fn default_position_weight() -> f64 {
     0.01
 }
+fn default_bending_weight() -> f64 {
+    crate::ConstrainedOptions::default().bending_weight
+}
+fn default_stall_bending_weight() -> f64 {
+    crate::ConstrainedOptions::default().stall_bending_weight
+}
 fn default_line_search_memory() -> usize {
     crate::ConstrainedOptions::default().line_search_memory
 }
@@ -194,7 +209,8 @@ impl Default for SolverSpec {
             position_weight: default_position_weight(),
             max_iterations: None,
             refine_iterations: default_refine(),
-            bending_weight: 0.0,
+            bending_weight: default_bending_weight(),
+            stall_bending_weight: default_stall_bending_weight(),
             line_search_memory: default_line_search_memory(),
         }
     }
@@ -233,6 +249,12 @@ impl FfdScene {
         }
         if !(s.bending_weight.is_finite() && s.bending_weight >= 0.0) {
             return Err(FfdError::field("solver.bending_weight", "must be zero or positive"));
+        }
+        if !(s.stall_bending_weight.is_finite() && s.stall_bending_weight >= 0.0) {
+            return Err(FfdError::field(
+                "solver.stall_bending_weight",
+                "must be zero or positive",
+            ));
         }
         if s.line_search_memory == 0 {
             return Err(FfdError::field(

@@ -5,7 +5,7 @@ use crate::report::{
     Report, ScanFitReport, SegmentationReport, SlitReport, StripReport, Timings,
 };
 use sheetform_bend::{bend, BendError, BendModel, BendScene, BentSheet};
-use sheetform_ffd::{run_design, FfdDesign, FfdError, FfdScene, ModelSource, SolverMethod};
+use sheetform_ffd::{run_design_with_progress, FfdDesign, FfdError, FfdScene, ModelSource, SolverMethod};
 use sheetform_flatten::Chart;
 use sheetform_flatten::{
     arap, cut_into_charts, distortion, exact_unfold, lscm, ArapOptions, ChartOptions, ChartSet, Distortion,
@@ -961,11 +961,21 @@ pub struct FfdRun {
 /// exactly and write the plain and restored meshes, colour maps, the pattern and the
 /// report.
 ///
+/// `progress(stage, fraction)` is called as the run goes (fraction in `[0, 1]`, never
+/// decreasing): after reading, after each iteration of each restoration (the stage
+/// names the deformation, the iteration and the largest angle defect), before the
+/// export, and at the end.
+///
 /// # Errors
 /// [`PipelineError::Ffd`] for invalid scenes (naming the field), vertices outside the
 /// lattice and solver failures; unreadable mesh files; panels that cannot be unfolded.
-pub fn run_ffd(scene_text: &str, options: &FfdRunOptions) -> Result<FfdRun, PipelineError> {
+pub fn run_ffd(
+    scene_text: &str,
+    options: &FfdRunOptions,
+    progress: &mut dyn FnMut(&str, f64),
+) -> Result<FfdRun, PipelineError> {
     let start = Instant::now();
+    progress("reading scene", 0.0);
     let mut scene = FfdScene::from_json(scene_text)?;
     if let Some(method) = options.solver {
         scene.solver.method = method;
@@ -981,7 +991,22 @@ pub fn run_ffd(scene_text: &str, options: &FfdRunOptions) -> Result<FfdRun, Pipe
         }
     };
     let parsed = Instant::now();
-    let design = run_design(&scene, &mesh)?;
+    // Restorations take 5 % to 90 % of the bar, in equal shares per deformation.
+    let mut shown = 0.05;
+    progress("restoring", shown);
+    let design = run_design_with_progress(&scene, &mesh, &mut |p| {
+        let fraction = 0.05 + 0.85 * (p.deformation as f64 + p.fraction()) / p.deformation_count as f64;
+        shown = fraction.max(shown);
+        let stage = format!(
+            "deformation {}/{}: iteration {}, max defect {:.1e} rad",
+            p.deformation + 1,
+            p.deformation_count,
+            p.iteration,
+            p.angle_defect_max_rad
+        );
+        progress(&stage, shown);
+    })?;
+    progress("exporting", 0.9);
     let solved = Instant::now();
     let unit = scene.units;
     let mm = unit.millimetres();
@@ -1118,6 +1143,8 @@ pub fn run_ffd(scene_text: &str, options: &FfdRunOptions) -> Result<FfdRun, Pipe
                 solver: s.info.solver.clone(),
                 iterations: s.info.iterations,
                 converged: s.info.converged,
+                bending_weight: s.info.bending_weight,
+                bending_fallback_iteration: s.info.bending_fallback_iteration,
                 variable_node_count: s.info.variable_node_count,
                 constraint_count: s.info.constraint_count,
                 developability_g_before_rad2: s.info.developability_g_before,
@@ -1128,6 +1155,8 @@ pub fn run_ffd(scene_text: &str, options: &FfdRunOptions) -> Result<FfdRun, Pipe
                 deviation_max_mm: s.deviation_max * mm,
                 edge_length_change_max_relative: s.edge_length_change_max_relative,
                 edge_length_change_mean_relative: s.edge_length_change_mean_relative,
+                fold_angle_max_before_rad: s.fold_angle_max_before,
+                fold_angle_max_after_rad: s.fold_angle_max_after,
                 time_ms: s.info.time_ms,
             })
             .collect(),
@@ -1140,6 +1169,7 @@ pub fn run_ffd(scene_text: &str, options: &FfdRunOptions) -> Result<FfdRun, Pipe
     .into();
     report.timings = Timings::from_stages(start, parsed, solved, exported);
     report.outputs = output_names(&files);
+    progress("done", 1.0);
     Ok(FfdRun {
         design,
         sheet,

@@ -108,8 +108,8 @@ pub struct StripReport {
 pub struct FfdReport {
     /// `constrained`, `paper` or `none`.
     pub solver: String,
-    /// The constrained solver's bending weight (`solver.bending_weight`; 0: off, the
-    /// default; > 0: the faster preview mode).
+    /// The constrained solver's bending weight (`solver.bending_weight`; default 3e-3;
+    /// 0: the springs alone, as in the paper).
     pub bending_weight: f64,
     /// The constrained solver's line-search memory (`solver.line_search_memory`; 1:
     /// monotone, default 12).
@@ -152,6 +152,12 @@ pub struct FfdStepReport {
     pub iterations: usize,
     /// Whether the solver met its stopping rule.
     pub converged: bool,
+    /// The constrained solver's bending weight at the end of the step (the scene's
+    /// `solver.bending_weight`, or `solver.stall_bending_weight` after a fallback).
+    pub bending_weight: f64,
+    /// The iteration after which the bending term was switched on because the
+    /// restoration stalled (`null`: it did not).
+    pub bending_fallback_iteration: Option<usize>,
     /// Nodes optimised (the selective set).
     pub variable_node_count: usize,
     /// Constrained interior vertices.
@@ -172,6 +178,12 @@ pub struct FfdStepReport {
     pub edge_length_change_max_relative: f64,
     /// Mean relative edge-length change.
     pub edge_length_change_mean_relative: f64,
+    /// Largest angle between the normals of two triangles sharing an edge inside a panel,
+    /// in the plain FFD.
+    pub fold_angle_max_before_rad: f64,
+    /// The same after restoration: far above `fold_angle_max_before_rad` when the
+    /// restoration folded the panels into node-scale zig-zags (crinkles).
+    pub fold_angle_max_after_rad: f64,
     /// Solver time.
     pub time_ms: f64,
 }
