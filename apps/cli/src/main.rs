@@ -3,15 +3,17 @@
 //!
 //! Exit codes: 0 success, 1 invalid input or I/O error, 2 usage error (from clap),
 //! 3 shape not admissible (only `report.json` is written, saying where), 4 flattened
-//! pattern overlaps itself (written, flagged in the report).
+//! pattern overlaps itself (written, flagged in the report), 5 a photo reconstruction
+//! whose ruled patches could not be made developable to the bound (written, flagged).
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use sheetform::flatten::ChartOptions;
 use sheetform::pattern::{DxfUnit, PageSize, SheetOptions, TabOptions, TabSides};
 use sheetform::pipeline::{
-    inadmissible_report, run_bend, run_check, run_ffd, run_flatten, run_slit, write_outputs, BendRunOptions, ChartMode,
-    CheckOptions, FfdRunOptions, FlattenMethod, FlattenOptions, PatternOutputOptions, PipelineError, SlitRunOptions,
+    inadmissible_report, run_bend, run_check, run_ffd, run_flatten, run_photo, run_slit, write_outputs, BendRunOptions,
+    ChartMode, CheckOptions, FfdRunOptions, FlattenMethod, FlattenOptions, PatternOutputOptions, PhotoRunOptions,
+    PipelineError, SlitRunOptions, PHOTO_NOT_DEVELOPABLE_STATUS,
 };
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -61,6 +63,20 @@ enum Command {
     Slit {
         /// Scene file (JSON; schema: `sheetform schema slit`).
         scene: PathBuf,
+        /// Output directory (created if missing).
+        #[arg(short, long)]
+        output: PathBuf,
+        #[command(flatten)]
+        pattern: PatternArgs,
+    },
+    /// Reconstruct a piecewise-developable object from curves traced over one photograph
+    /// (Fondevilla et al.): writes the model (model.obj with one group per patch and vt =
+    /// each patch's flat pattern at 1:1, model.glb with the photo projected onto it,
+    /// model.stl), the pattern (pattern.svg/.dxf/.pdf), overlay.svg (patches, rulings,
+    /// symmetric pairs and the reprojected 3D curves over the photo) and report.json.
+    Photo {
+        /// Annotation file (JSON; schema: `sheetform schema photo`).
+        annotation: PathBuf,
         /// Output directory (created if missing).
         #[arg(short, long)]
         output: PathBuf,
@@ -416,6 +432,8 @@ enum SchemaFormat {
     Slit,
     /// The FFD scene.
     Ffd,
+    /// The photo annotation.
+    Photo,
 }
 
 fn progress_bar(quiet: bool) -> Option<ProgressBar> {
@@ -543,6 +561,46 @@ fn slit_command(scene: PathBuf, output: PathBuf, pattern: PatternArgs, quiet: bo
     Ok(ExitCode::SUCCESS)
 }
 
+fn photo_command(
+    annotation: PathBuf,
+    output: PathBuf,
+    pattern: PatternArgs,
+    quiet: bool,
+) -> Result<ExitCode, PipelineError> {
+    let text = read_scene(&annotation)?;
+    let options = PhotoRunOptions {
+        pattern: pattern.into(),
+        input: Some(annotation.display().to_string()),
+        base_dir: annotation.parent().map(|p| p.to_path_buf()),
+    };
+    let run = with_progress_bar(quiet, |progress| run_photo(&text, &options, progress))?;
+    write_outputs(&output, &run.files, &run.report)?;
+    let photo = run.report.photo.as_ref().expect("photo report");
+    if !quiet {
+        let refined = photo.developability_error_refined.map_or_else(
+            || "not refined".to_string(),
+            |a| format!("refined mean {:.2e}° max {:.2e}°", a.mean_deg, a.max_deg),
+        );
+        eprintln!(
+            "photo `{}`: {} patches, {} rulings, {} symmetric pairs; developability error mean {:.2}° (linear), {}; {}; wrote {} files to {}",
+            annotation.display(),
+            photo.patch_count,
+            photo.ruling_count,
+            photo.symmetric_pair_count,
+            photo.developability_error_linear.mean_deg,
+            refined,
+            run.report.status,
+            run.report.outputs.len(),
+            output.display()
+        );
+    }
+    Ok(if run.report.status == PHOTO_NOT_DEVELOPABLE_STATUS {
+        ExitCode::from(5)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
 fn ffd_command(
     scene: PathBuf,
     output: PathBuf,
@@ -599,6 +657,11 @@ fn main() -> ExitCode {
             solver,
             pattern,
         } => ffd_command(scene, output, solver, pattern, cli.quiet),
+        Command::Photo {
+            annotation,
+            output,
+            pattern,
+        } => photo_command(annotation, output, pattern, cli.quiet),
         Command::Check {
             mesh,
             output,
@@ -641,6 +704,16 @@ fn main() -> ExitCode {
             println!(
                 "{}",
                 serde_json::to_string_pretty(&sheetform::ffd::FfdScene::json_schema()).expect("schema serialises")
+            );
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Schema {
+            format: SchemaFormat::Photo,
+        } => {
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&sheetform::photo::PhotoAnnotation::json_schema())
+                    .expect("schema serialises")
             );
             Ok(ExitCode::SUCCESS)
         }

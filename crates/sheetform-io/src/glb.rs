@@ -33,6 +33,46 @@ impl<'a> Texture<'a> {
     }
 }
 
+impl Texture<'_> {
+    /// Width and height in pixels, read from the PNG `IHDR` chunk or the JPEG
+    /// start-of-frame segment; `None` when the header is truncated or malformed.
+    pub fn size(&self) -> Option<(u32, u32)> {
+        let b = self.bytes;
+        if self.mime_type == "image/png" {
+            // Signature (8), chunk length (4), "IHDR" (4), width (4), height (4).
+            if b.len() < 24 || &b[12..16] != b"IHDR" {
+                return None;
+            }
+            let be = |i: usize| u32::from_be_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+            return Some((be(16), be(20)));
+        }
+        // JPEG: walk the segments to the first start-of-frame (SOF0–SOF15 except DHT,
+        // JPG and DAC).
+        let mut i = 2;
+        while i + 9 < b.len() {
+            if b[i] != 0xFF {
+                return None;
+            }
+            let marker = b[i + 1];
+            if marker == 0xFF {
+                i += 1;
+                continue;
+            }
+            let length = usize::from(u16::from_be_bytes([b[i + 2], b[i + 3]]));
+            if (0xC0..=0xCF).contains(&marker) && ![0xC4, 0xC8, 0xCC].contains(&marker) {
+                let h = u16::from_be_bytes([b[i + 5], b[i + 6]]);
+                let w = u16::from_be_bytes([b[i + 7], b[i + 8]]);
+                return Some((u32::from(w), u32::from(h)));
+            }
+            if length < 2 {
+                return None;
+            }
+            i += 2 + length;
+        }
+        None
+    }
+}
+
 /// Buffer, views and accessors of a glTF binary under construction.
 #[derive(Default)]
 struct GlbBuilder {
@@ -131,6 +171,31 @@ fn unit_normals(normals: Vec<nalgebra::Vector3<f64>>) -> Vec<f32> {
 /// box mapped onto the unit square, for a texture) and [`GLB_FLAT_ATTRIBUTE`] (the flat
 /// pattern at 1:1 in metres). With a `texture`, every material shows it.
 pub fn glb_bytes(mesh: &SheetMesh, name: &str, texture: Option<Texture<'_>>) -> Vec<u8> {
+    glb_with_texcoords(mesh, name, texture, None)
+}
+
+/// [`glb_bytes`] with the texture mapped by explicit per-vertex coordinates
+/// (`TEXCOORD_0`, glTF convention: `[0, 1]²`, `v` down the image) instead of the flat
+/// pattern: a photograph projected onto the model (system D). `_FLAT` still holds the
+/// pattern.
+///
+/// # Panics
+/// If `texcoords` does not have one entry per vertex.
+pub fn glb_bytes_projected(mesh: &SheetMesh, name: &str, texture: Texture<'_>, texcoords: &[[f32; 2]]) -> Vec<u8> {
+    assert_eq!(
+        texcoords.len(),
+        mesh.positions.len(),
+        "one texture coordinate per vertex"
+    );
+    glb_with_texcoords(mesh, name, Some(texture), Some(texcoords))
+}
+
+fn glb_with_texcoords(
+    mesh: &SheetMesh,
+    name: &str,
+    texture: Option<Texture<'_>>,
+    texcoords: Option<&[[f32; 2]]>,
+) -> Vec<u8> {
     let to_m = mesh.unit.millimetres() / 1000.0;
     let mut b = GlbBuilder::default();
     let pos: Vec<f32> = mesh
@@ -142,11 +207,14 @@ pub fn glb_bytes(mesh: &SheetMesh, name: &str, texture: Option<Texture<'_>>) -> 
     let normal = b.floats(&unit_normals(mesh.vertex_normals()), 3, false);
     let (flo, fhi) = mesh.flat_bounds();
     let size = (fhi - flo).sup(&nalgebra::Vector2::repeat(f64::MIN_POSITIVE));
-    let uv: Vec<f32> = mesh
-        .flat
-        .iter()
-        .flat_map(|q| [((q.x - flo.x) / size.x) as f32, (1.0 - (q.y - flo.y) / size.y) as f32])
-        .collect();
+    let uv: Vec<f32> = match texcoords {
+        Some(uv) => uv.iter().flat_map(|t| [t[0], t[1]]).collect(),
+        None => mesh
+            .flat
+            .iter()
+            .flat_map(|q| [((q.x - flo.x) / size.x) as f32, (1.0 - (q.y - flo.y) / size.y) as f32])
+            .collect(),
+    };
     let texcoord = b.floats(&uv, 2, false);
     let flat_m: Vec<f32> = mesh
         .flat

@@ -9,6 +9,7 @@
 //! - [`bend`]: system A, sheets bent by geodesic control curves (Bo & Wang 2007);
 //! - [`slit`]: system B, furniture from one sheet with parallel slits (Tsuruta et al.);
 //! - [`ffd`]: system C, developability-preserving free-form deformation (Wang & Tang);
+//! - [`photo`]: system D, developable patterns from an annotated photograph (Fondevilla et al.);
 //! - [`flatten`]: exact unfolding of developable meshes, distortion and overlap measures;
 //! - [`io`]: readers (OBJ, PLY, STL, OFF), exports (OBJ, GLB, STL, SVG), atomic writing;
 //! - [`pattern`]: cutting patterns as SVG, DXF and tiled true-scale PDF;
@@ -36,4 +37,5 @@ pub use sheetform_geometry as geometry;
 pub use sheetform_io as io;
 pub use sheetform_mesh as mesh;
 pub use sheetform_pattern as pattern;
+pub use sheetform_photo as photo;
 pub use sheetform_slit as slit;

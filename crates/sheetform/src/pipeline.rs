@@ -1,9 +1,10 @@
 //! The pipelines every front end calls.
 
 use crate::report::{
-    AngleDefects, ChartReport, FfdReport, FfdStepReport, MouldReport, PatternReport, RegionReport, RegressionEntry,
-    Report, ScanFitReport, SegmentationReport, SlitReport, StripReport, Timings,
+    AngleDefects, ChartReport, FfdReport, FfdStepReport, MouldReport, PatternReport, PhotoReport, RegionReport,
+    RegressionEntry, Report, ScanFitReport, SegmentationReport, SlitReport, StripReport, Timings,
 };
+use base64::Engine as _;
 use sheetform_bend::{bend, BendError, BendModel, BendScene, BentSheet};
 use sheetform_ffd::{run_design_with_progress, FfdDesign, FfdError, FfdScene, ModelSource, SolverMethod};
 use sheetform_flatten::Chart;
@@ -11,6 +12,7 @@ use sheetform_flatten::{
     arap, cut_into_charts, distortion, exact_unfold, lscm, ArapOptions, ChartOptions, ChartSet, Distortion,
     FlattenError, UnfoldOptions,
 };
+use sheetform_io::glb_bytes_projected;
 use sheetform_io::{colour_ramp, glb_vertex_colours, ply_vertex_colours, read_mesh, MeshReadError};
 use sheetform_io::{glb_bytes, obj_string, stl_bytes, write_atomic, IoError, Texture};
 use sheetform_mesh::{
@@ -20,6 +22,10 @@ use sheetform_mesh::{
 use sheetform_pattern::{
     arrange_in_rows, dxf_bytes, pattern_from_mesh, pdf_tiled, point_bounds, rotated, smallest_bounding_rotation,
     svg_bytes, DxfUnit, FoldStyle, PageSize, PatternError, PatternOptions, PdfOptions, SheetOptions, TabOptions,
+};
+use sheetform_photo::{
+    overlay_svg, reconstruct, AngleSummary, CurveNetwork, PatchSurface, PhotoAnnotation, PhotoError,
+    PhotoReconstruction,
 };
 use sheetform_slit::{build_mould, slit_mesh, solve_design, SlitDesign, SlitError, SlitModel, SlitScene};
 use std::path::Path;
@@ -68,6 +74,9 @@ pub enum PipelineError {
     /// The pattern files cannot be made.
     #[error(transparent)]
     Pattern(#[from] PatternError),
+    /// The photo annotation is invalid or cannot be reconstructed.
+    #[error(transparent)]
+    Photo(#[from] PhotoError),
     /// The texture is not a PNG or JPEG image.
     #[error("texture {path}: not a PNG or JPEG image")]
     Texture {
@@ -1181,3 +1190,249 @@ pub fn run_ffd(
 /// Angle defects below this count as developable in the FFD colour maps and `D[M]`
 /// (radians; the paper's `λ`).
 pub const FFD_DEFECT_TOLERANCE: f64 = 1e-8;
+
+/// Knobs of `sheetform photo`.
+#[derive(Debug, Clone, Default)]
+pub struct PhotoRunOptions {
+    /// How the pattern is written.
+    pub pattern: PatternOutputOptions,
+    /// Input path, recorded in the report.
+    pub input: Option<String>,
+    /// Directory that the annotation's image path is relative to.
+    pub base_dir: Option<std::path::PathBuf>,
+}
+
+/// A finished photo run.
+#[derive(Debug)]
+pub struct PhotoRun {
+    /// The validated annotation.
+    pub annotation: PhotoAnnotation,
+    /// Everything the method made (network, rulings, pairs, 3D curves, mesh).
+    pub reconstruction: PhotoReconstruction,
+    /// The model with each patch's flat pattern (pieces = patches).
+    pub sheet: SheetMesh,
+    /// Rendered outputs `(file name, bytes)`, not yet written.
+    pub files: RenderedFiles,
+    /// The report.
+    pub report: Report,
+}
+
+/// Exit status of a photo reconstruction whose refinement did not reach its bound.
+pub const PHOTO_NOT_DEVELOPABLE_STATUS: &str = "not developable";
+
+/// Runs system D on an annotation's JSON text: read the photograph, reconstruct
+/// (Fondevilla et al.), unfold every patch and write the model (OBJ, GLB with the photo
+/// projected onto it, STL), the pattern, the overlay over the photo and the report.
+///
+/// `progress(stage, fraction)` is called as the run goes.
+///
+/// # Errors
+/// [`PipelineError::Photo`] for invalid annotations (naming the field or curve),
+/// [`PipelineError::Read`] / [`PipelineError::Texture`] for a missing, unreadable or
+/// mis-sized image, [`PipelineError::Flatten`] if a patch cannot be unfolded.
+pub fn run_photo(
+    annotation_text: &str,
+    options: &PhotoRunOptions,
+    progress: &mut dyn FnMut(&str, f64),
+) -> Result<PhotoRun, PipelineError> {
+    let start = Instant::now();
+    progress("reading annotation", 0.0);
+    let annotation = PhotoAnnotation::from_json(annotation_text)?;
+    let image_path = options
+        .base_dir
+        .clone()
+        .unwrap_or_default()
+        .join(&annotation.image.path);
+    let image_bytes = std::fs::read(&image_path).map_err(|source| PipelineError::Read {
+        path: image_path.display().to_string(),
+        source,
+    })?;
+    let texture = Texture::from_bytes(&image_bytes).ok_or_else(|| PipelineError::Texture {
+        path: image_path.display().to_string(),
+    })?;
+    let size = texture.size().ok_or_else(|| PipelineError::Texture {
+        path: image_path.display().to_string(),
+    })?;
+    if size != (annotation.image.width, annotation.image.height) {
+        return Err(PhotoError::field(
+            "image",
+            format!(
+                "{} is {} × {} px, the annotation says {} × {}",
+                image_path.display(),
+                size.0,
+                size.1,
+                annotation.image.width,
+                annotation.image.height
+            ),
+        )
+        .into());
+    }
+    let parsed = Instant::now();
+    progress("reconstructing", 0.1);
+    let reconstruction = reconstruct(&annotation)?;
+    progress("unfolding", 0.5);
+    let unit = annotation.units;
+    let mm = unit.millimetres();
+    let name = annotation.name.clone().unwrap_or_else(|| "photo".into());
+    let mesh = &reconstruction.mesh;
+    // One group per material patch.
+    let mut group_of_patch = vec![u32::MAX; reconstruction.patches.len()];
+    let mut groups = Vec::new();
+    for (p, kind) in mesh.patch_kind.iter().enumerate() {
+        if *kind != PatchSurface::Opening && mesh.face_patch.iter().any(|&f| f as usize == p) {
+            group_of_patch[p] = groups.len() as u32;
+            groups.push(format!("patch-{:02}", groups.len() + 1));
+        }
+    }
+    let model = TriangleMesh {
+        positions: mesh.positions.clone(),
+        triangles: mesh.triangles.clone(),
+        face_groups: mesh.face_patch.iter().map(|&p| group_of_patch[p as usize]).collect(),
+        groups: groups.clone(),
+        corner_uvs: None,
+        seam_edges: vec![],
+    };
+    let mut charts = Vec::with_capacity(groups.len());
+    for g in 0..groups.len() as u32 {
+        let faces: Vec<u32> = (0..model.triangles.len() as u32)
+            .filter(|&f| model.face_groups[f as usize] == g)
+            .collect();
+        let mut local = std::collections::HashMap::new();
+        let mut vertices = Vec::new();
+        let triangles: Vec<[u32; 3]> = faces
+            .iter()
+            .map(|&f| {
+                model.triangles[f as usize].map(|v| {
+                    *local.entry(v).or_insert_with(|| {
+                        vertices.push(v);
+                        (vertices.len() - 1) as u32
+                    })
+                })
+            })
+            .collect();
+        let patch_mesh = TriangleMesh {
+            positions: vertices.iter().map(|&v| model.positions[v as usize]).collect(),
+            triangles: triangles.clone(),
+            face_groups: vec![0; triangles.len()],
+            groups: vec![groups[g as usize].clone()],
+            corner_uvs: None,
+            seam_edges: vec![],
+        };
+        // Ruled strips unfold exactly; a filled (minimal-surface) patch is only nearly
+        // developable: least-squares conformal maps when the exact unfolding fails.
+        let (flat, solver) = match exact_unfold(&patch_mesh, &UnfoldOptions::default()) {
+            Ok(u) => (u.flat, u.solver),
+            Err(_) => {
+                let u = lscm(&patch_mesh)?;
+                (u.flat, u.solver)
+            }
+        };
+        let d = distortion(&patch_mesh, &flat);
+        charts.push(Chart {
+            faces,
+            vertices,
+            triangles,
+            flat,
+            distortion: d,
+            solver,
+        });
+    }
+    let chart_set = ChartSet {
+        face_chart: model.face_groups.clone(),
+        charts,
+        seam_edge_count: 0,
+        initial_chart_count: groups.len(),
+        split_count: 0,
+    };
+    let tab_room = options
+        .pattern
+        .tabs
+        .map_or(0.0, |t| 2.5 * t.width_mm / (mm * options.pattern.scale));
+    let sheet = sheet_from_charts(&model, &chart_set, &name, Some(&groups), unit, tab_room);
+    let solved = Instant::now();
+    progress("exporting", 0.7);
+    // The photo projected onto the model: each vertex's image position.
+    let (w, h) = (f64::from(annotation.image.width), f64::from(annotation.image.height));
+    let texcoords: Vec<[f32; 2]> = chart_set
+        .charts
+        .iter()
+        .flat_map(|c| c.vertices.iter())
+        .map(|&v| {
+            let p = mesh.image[v as usize];
+            [(p.x / w) as f32, (-p.y / h) as f32]
+        })
+        .collect();
+    let mut files: RenderedFiles = vec![
+        ("model.obj".into(), obj_string(&sheet, &name).into_bytes()),
+        (
+            "model.glb".into(),
+            glb_bytes_projected(&sheet, &name, texture, &texcoords),
+        ),
+        ("model.stl".into(), stl_bytes(&sheet)),
+    ];
+    let (pattern, pattern_report) = pattern_files(&sheet, &name, &options.pattern)?;
+    files.extend(pattern);
+    let data_uri = format!(
+        "data:{};base64,{}",
+        texture.mime_type,
+        base64::engine::general_purpose::STANDARD.encode(&image_bytes)
+    );
+    files.push((
+        "overlay.svg".into(),
+        overlay_svg(&annotation, &reconstruction, &data_uri).into_bytes(),
+    ));
+    let exported = Instant::now();
+    let mut report = sheet_mesh_report("photo", options.input.clone(), &sheet);
+    report.pattern = Some(pattern_report);
+    report.charts = chart_set
+        .charts
+        .iter()
+        .zip(&groups)
+        .map(|(c, n)| chart_report(n, "exact", c.faces.len(), &c.distortion))
+        .collect();
+    let r = &reconstruction;
+    let linear = AngleSummary::of(&r.ruling_errors_linear);
+    let refined = AngleSummary::of(&r.ruling_errors_refined);
+    let developable = r.refinement.is_none_or(|info| info.converged);
+    report.photo = Some(PhotoReport {
+        control_point_count: r.network.points.len(),
+        annotated_control_point_count: CurveNetwork::annotated_control_point_count(&annotation),
+        curve_count: r.network.curves.len(),
+        segment_count: r.network.segments.len(),
+        junction_count: r.network.junction_count,
+        occluded_crossing_count: r.network.occluded_crossing_count,
+        patch_count: r.patches.iter().filter(|p| !p.opening).count(),
+        opening_count: r.patches.iter().filter(|p| p.opening).count(),
+        ruled_patch_count: mesh.patch_kind.iter().filter(|k| **k == PatchSurface::Ruled).count(),
+        filled_patch_count: mesh.patch_kind.iter().filter(|k| **k == PatchSurface::Filled).count(),
+        ruling_count: r.ruling_count(),
+        ruling_candidate_count: r.propagation.candidate_count,
+        ruling_rejected_count: r.propagation.rejected_count,
+        symmetric_pair_count: r.pairs.len(),
+        symmetry_plane_normal: [r.plane.normal.x, r.plane.normal.y, r.plane.normal.z],
+        developability_error_linear: linear,
+        developability_error_refined: annotation.analysis.refine.then_some(refined),
+        refinement_iterations: r.refinement.map(|i| i.iterations),
+        refinement_converged: r.refinement.map(|i| i.converged),
+        refinement_displacement_max_px: r.refinement.map(|i| i.displacement_max),
+        reprojection_error_mean_px: r.reprojection_error_px.0,
+        reprojection_error_max_px: r.reprojection_error_px.1,
+        millimetres_per_pixel: r.unit_per_pixel * mm,
+        stage_times: r.times,
+    });
+    report.ruling_count = Some(r.ruling_count());
+    report.developability_error_max_rad = Some(r.ruling_errors_refined.iter().copied().fold(0.0, f64::max));
+    if !developable {
+        report.status = PHOTO_NOT_DEVELOPABLE_STATUS.into();
+    }
+    report.timings = Timings::from_stages(start, parsed, solved, exported);
+    report.outputs = output_names(&files);
+    progress("done", 1.0);
+    Ok(PhotoRun {
+        annotation,
+        reconstruction,
+        sheet,
+        files,
+        report,
+    })
+}

@@ -3,6 +3,7 @@
 //! are always reported in millimetres, whatever the model's unit.
 
 use serde::Serialize;
+use sheetform_photo::{AngleSummary, StageTimes};
 
 /// Version of the report format.
 pub const REPORT_FORMAT: &str = "sheetform-report/1";
@@ -406,6 +407,9 @@ pub struct Report {
     /// `ffd`: the deformation steps and their restoration.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ffd: Option<FfdReport>,
+    /// `photo`: the reconstruction from an annotated photograph.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub photo: Option<PhotoReport>,
     /// Files written (relative to the output directory).
     pub outputs: Vec<String>,
     /// Stage times.
@@ -443,8 +447,68 @@ impl Report {
             solver: None,
             slit: None,
             ffd: None,
+            photo: None,
             outputs: vec![],
             timings: Timings::default(),
         }
     }
+}
+
+/// `photo`: what the reconstruction from an annotated photograph made (system D,
+/// Fondevilla et al.; the counts of their Table 1 and the developability error of §8.2).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PhotoReport {
+    /// 3D control points solved for (after splitting the curves at their crossings).
+    pub control_point_count: usize,
+    /// Control points in the annotation.
+    pub annotated_control_point_count: usize,
+    /// Traced curves.
+    pub curve_count: usize,
+    /// Cubic segments after splitting.
+    pub segment_count: usize,
+    /// Points where curves are joined.
+    pub junction_count: usize,
+    /// Crossings left unjoined (`occlusions`).
+    pub occluded_crossing_count: usize,
+    /// Material patches (minimal cycles not marked as openings).
+    pub patch_count: usize,
+    /// Cycles marked as openings.
+    pub opening_count: usize,
+    /// Patches swept by rulings.
+    pub ruled_patch_count: usize,
+    /// Patches filled by a minimal surface.
+    pub filled_patch_count: usize,
+    /// Rulings kept.
+    pub ruling_count: usize,
+    /// Rulings taken from the warping paths.
+    pub ruling_candidate_count: usize,
+    /// Rulings rejected for leaving their patch.
+    pub ruling_rejected_count: usize,
+    /// Mirror pairs of points.
+    pub symmetric_pair_count: usize,
+    /// Unit normal of the symmetry plane (model frame: x right, y up, z towards the camera).
+    pub symmetry_plane_normal: [f64; 3],
+    /// Angle between the surface normals at the two ends of each ruling after the
+    /// paper's linear solve (degrees).
+    pub developability_error_linear: AngleSummary,
+    /// The same after the refinement (absent when it is switched off).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub developability_error_refined: Option<AngleSummary>,
+    /// Refinement iterations.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refinement_iterations: Option<usize>,
+    /// Whether the refinement met its bound (sine of the error ≤ 1e-12).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refinement_converged: Option<bool>,
+    /// Largest move of a control point by the refinement (pixels).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refinement_displacement_max_px: Option<f64>,
+    /// Mean distance between the solved curves' projections and the traced curves (px).
+    pub reprojection_error_mean_px: f64,
+    /// Largest such distance (px).
+    pub reprojection_error_max_px: f64,
+    /// Scale set by the true size.
+    pub millimetres_per_pixel: f64,
+    /// Time per stage of the method (ms).
+    pub stage_times: StageTimes,
 }

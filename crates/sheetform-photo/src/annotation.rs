@@ -1,0 +1,479 @@
+//! The photo annotation file (JSON): the curves a user traced over one photograph and the
+//! symmetry and size marks of Fondevilla et al. §4 (Fig. 3). [`PhotoAnnotation`] is its
+//! serde form; `docs/schema/photo-annotation.schema.json` is generated from these types.
+//!
+//! Coordinates are image pixels: `x` to the right, `y` down, origin at the top-left
+//! corner (as every image editor shows them). The reconstruction works in the *model
+//! frame* `X = x`, `Y = −y`, `Z` towards the viewer (right-handed, orthographic
+//! projection drops `Z`), see [`image_to_model`].
+
+use crate::PhotoError;
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+use sheetform_mesh::LengthUnit;
+
+/// A 2D point in image pixels, `[x, y]`, `y` down.
+pub type ImagePoint = [f64; 2];
+
+/// Most curves in one annotation.
+pub const MAX_CURVES: usize = 2_000;
+/// Most control points over all curves.
+pub const MAX_CONTROL_POINTS: usize = 30_000;
+/// Largest image side (pixels).
+pub const MAX_IMAGE_SIDE: u32 = 40_000;
+
+/// Curves traced over a photograph of a piecewise-developable, mirror-symmetric object
+/// (system D, Fondevilla et al. 2017).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PhotoAnnotation {
+    /// Optional name shown in reports and pattern labels.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// The photograph the curves were traced over.
+    pub image: ImageSpec,
+    /// Unit of `true_size.length` and of every output length. Default `mm`.
+    #[serde(default)]
+    #[schemars(with = "String")]
+    pub units: LengthUnit,
+    /// The traced curves: C¹ piecewise cubic Béziers (at least one).
+    pub curves: Vec<CurveSpec>,
+    /// The mirror-symmetry plane (§6.1): without it the drawing has no depth.
+    pub symmetry: SymmetrySpec,
+    /// Pairs of curves (by name) that are mirror images of each other (§5.3).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub symmetric_curves: Vec<[String; 2]>,
+    /// Curves (by name) that are their own mirror image (§5.3).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub self_symmetric_curves: Vec<String>,
+    /// Crossings of curves near these points (pixels) are not joined in 3D: one curve
+    /// passes in front of the other (§4, the purple disks of Fig. 3).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub occlusions: Vec<ImagePoint>,
+    /// One point inside each region of the drawing that is not material (the mouth of a
+    /// cup): that region gets no surface.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub openings: Vec<ImagePoint>,
+    /// A known true distance between two points on the curves: the model and its
+    /// patterns are scaled to it.
+    pub true_size: TrueSizeSpec,
+    /// Knobs of the analysis and the solve; every one has a default.
+    #[serde(default)]
+    pub analysis: AnalysisSpec,
+}
+
+/// The photograph.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ImageSpec {
+    /// PNG or JPEG file, relative to the annotation file.
+    pub path: String,
+    /// Width in pixels (must match the file).
+    pub width: u32,
+    /// Height in pixels (must match the file).
+    pub height: u32,
+}
+
+/// What a traced curve is (§4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum CurveKind {
+    /// A smooth contour where the surface turns away from the viewer. On a developable
+    /// surface it is a straight segment along a ruling (§3): rulings are propagated from
+    /// it into the patch it bounds.
+    Silhouette,
+    /// A sharp edge, cut edge or seam between patches.
+    Boundary,
+}
+
+/// One traced curve: a C¹ piecewise cubic Bézier in image pixels.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CurveSpec {
+    /// Unique name (errors, symmetric pairs and reports refer to it).
+    pub name: String,
+    /// Silhouette or boundary.
+    pub kind: CurveKind,
+    /// `3k + 1` control points (`k ≥ 1` cubic segments; segment `j` uses points `3j …
+    /// 3j+3`). Points `3j−1, 3j, 3j+1` should be collinear (C¹ joins).
+    pub control_points: Vec<ImagePoint>,
+    /// A closed curve ends where it starts (the last control point equals the first).
+    #[serde(default)]
+    pub closed: bool,
+}
+
+/// The symmetry annotation of §6.1 (the cyan frame and red squares of Fig. 3).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SymmetrySpec {
+    /// Two segments `[[start], [end]]` that lie in the symmetry plane and are
+    /// perpendicular to each other in 3D. Their images must be neither parallel nor
+    /// perpendicular.
+    pub frame: [[ImagePoint; 2]; 2],
+    /// A pair of mirror-symmetric points: the segment between them is along the plane's
+    /// normal in 3D.
+    pub points: [ImagePoint; 2],
+    /// Take the other of the two depth interpretations (a single orthographic view
+    /// cannot tell which side of the plane is nearer the camera). Default `false`: the
+    /// second of `points` is nearer.
+    #[serde(default)]
+    pub flip_depth: bool,
+}
+
+/// A known distance that fixes the model's size.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TrueSizeSpec {
+    /// First point (pixels), on or next to a traced curve.
+    pub from: ImagePoint,
+    /// Second point (pixels), on or next to a traced curve.
+    pub to: ImagePoint,
+    /// Their true 3D distance, in the annotation's `units` (positive).
+    pub length: f64,
+}
+
+/// Knobs of the analysis (§5) and the solve (§6). Lengths are in image pixels; a missing
+/// length is set from the image's diagonal `d`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct AnalysisSpec {
+    /// A curve end this close to another curve is joined to it (default `d/600`, at
+    /// least 1 px).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub snap_distance_px: Option<f64>,
+    /// Spacing of the samples along the curves: mesh boundary, DTW and symmetric
+    /// correspondences (default `d/250`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sample_spacing_px: Option<f64>,
+    /// Spacing of the kept rulings (default `d/90`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ruling_spacing_px: Option<f64>,
+    /// The weight `λ` of the ruling-smoothness term of the DTW cost (Eq. 2). Default 1.
+    #[serde(default = "default_dtw_weight")]
+    pub dtw_smoothness_weight: f64,
+    /// The energy's weights (§6.2). Defaults are the paper's.
+    #[serde(default)]
+    pub weights: EnergyWeights,
+    /// Make every ruled patch exactly developable after the linear solve (beyond the
+    /// paper; default `true`).
+    #[serde(default = "default_true")]
+    pub refine: bool,
+}
+
+fn default_dtw_weight() -> f64 {
+    1.0
+}
+
+fn default_true() -> bool {
+    true
+}
+
+impl Default for AnalysisSpec {
+    fn default() -> Self {
+        Self {
+            snap_distance_px: None,
+            sample_spacing_px: None,
+            ruling_spacing_px: None,
+            dtw_smoothness_weight: default_dtw_weight(),
+            weights: EnergyWeights::default(),
+            refine: true,
+        }
+    }
+}
+
+/// The weights `ω1 … ω6` of the energy (§6.2).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct EnergyWeights {
+    /// `ω1`, projection accuracy (default 1).
+    #[serde(default = "one")]
+    pub projection: f64,
+    /// `ω2`, minimal variation (default 0.1).
+    #[serde(default = "tenth")]
+    pub minimal_variation: f64,
+    /// `ω3`, collinearity of C¹ joins (default 1).
+    #[serde(default = "one")]
+    pub collinearity: f64,
+    /// `ω4`, foreshortening (default 1e-8).
+    #[serde(default = "tiny")]
+    pub foreshortening: f64,
+    /// `ω5`, symmetry (default 1).
+    #[serde(default = "one")]
+    pub symmetry: f64,
+    /// `ω6`, developability (default 1).
+    #[serde(default = "one")]
+    pub developability: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+fn tenth() -> f64 {
+    0.1
+}
+fn tiny() -> f64 {
+    1e-8
+}
+
+impl Default for EnergyWeights {
+    fn default() -> Self {
+        Self {
+            projection: 1.0,
+            minimal_variation: 0.1,
+            collinearity: 1.0,
+            foreshortening: 1e-8,
+            symmetry: 1.0,
+            developability: 1.0,
+        }
+    }
+}
+
+/// The model frame's point for an image point: `(x, −y)`.
+pub fn image_to_model(p: ImagePoint) -> nalgebra::Vector2<f64> {
+    nalgebra::Vector2::new(p[0], -p[1])
+}
+
+/// The image point of a model-frame point.
+pub fn model_to_image(p: nalgebra::Vector2<f64>) -> ImagePoint {
+    [p.x, -p.y]
+}
+
+/// Resolved analysis lengths (pixels).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AnalysisLengths {
+    /// Snap distance.
+    pub snap: f64,
+    /// Sample spacing.
+    pub sample: f64,
+    /// Ruling spacing.
+    pub ruling: f64,
+}
+
+impl PhotoAnnotation {
+    /// Parses an annotation from JSON text and validates it ([`PhotoAnnotation::validate`]).
+    ///
+    /// # Errors
+    /// [`PhotoError::Field`] naming the line and column, or the field, of the first
+    /// problem.
+    pub fn from_json(text: &str) -> Result<Self, PhotoError> {
+        let annotation: Self = serde_json::from_str(text)
+            .map_err(|e| PhotoError::field(format!("(line {}, column {})", e.line(), e.column()), e.to_string()))?;
+        annotation.validate()?;
+        Ok(annotation)
+    }
+
+    /// The JSON Schema of the annotation format.
+    pub fn json_schema() -> serde_json::Value {
+        serde_json::to_value(schemars::schema_for!(PhotoAnnotation)).expect("schema serialises")
+    }
+
+    /// The image diagonal (pixels).
+    pub fn diagonal(&self) -> f64 {
+        f64::from(self.image.width).hypot(f64::from(self.image.height))
+    }
+
+    /// The analysis lengths with defaults filled in from the image diagonal.
+    pub fn lengths(&self) -> AnalysisLengths {
+        let d = self.diagonal();
+        AnalysisLengths {
+            snap: self.analysis.snap_distance_px.unwrap_or((d / 600.0).max(1.0)),
+            sample: self.analysis.sample_spacing_px.unwrap_or(d / 250.0),
+            ruling: self.analysis.ruling_spacing_px.unwrap_or(d / 90.0),
+        }
+    }
+
+    /// Checks every field's range (counts, finiteness, sizes, names, the symmetry
+    /// annotation). Geometric problems of the curves (self-crossings, no cycle) are found
+    /// by the analysis.
+    ///
+    /// # Errors
+    /// [`PhotoError::Field`] naming the first bad field.
+    pub fn validate(&self) -> Result<(), PhotoError> {
+        let (w, h) = (self.image.width, self.image.height);
+        if w == 0 || h == 0 || w > MAX_IMAGE_SIDE || h > MAX_IMAGE_SIDE {
+            return Err(PhotoError::field(
+                "image",
+                format!("width and height must be 1 … {MAX_IMAGE_SIDE} px (got {w} × {h})"),
+            ));
+        }
+        if self.image.path.trim().is_empty() {
+            return Err(PhotoError::field("image.path", "empty"));
+        }
+        let d = self.diagonal();
+        // Points may lie a little outside the image (a curve traced to the border), not
+        // far away.
+        let check_point = |field: String, p: ImagePoint| -> Result<(), PhotoError> {
+            if !p[0].is_finite() || !p[1].is_finite() {
+                return Err(PhotoError::field(field, "not a finite number"));
+            }
+            if p[0] < -d || p[1] < -d || p[0] > f64::from(w) + d || p[1] > f64::from(h) + d {
+                return Err(PhotoError::field(
+                    field,
+                    format!("[{}, {}] is far outside the {w} × {h} image", p[0], p[1]),
+                ));
+            }
+            Ok(())
+        };
+        if self.curves.is_empty() {
+            return Err(PhotoError::field("curves", "no curve"));
+        }
+        if self.curves.len() > MAX_CURVES {
+            return Err(PhotoError::field(
+                "curves",
+                format!("{} curves (at most {MAX_CURVES})", self.curves.len()),
+            ));
+        }
+        let total: usize = self.curves.iter().map(|c| c.control_points.len()).sum();
+        if total > MAX_CONTROL_POINTS {
+            return Err(PhotoError::field(
+                "curves",
+                format!("{total} control points in all (at most {MAX_CONTROL_POINTS})"),
+            ));
+        }
+        let mut names = std::collections::HashSet::new();
+        for (i, c) in self.curves.iter().enumerate() {
+            let field = format!("curves[{i}] ({})", c.name);
+            if c.name.trim().is_empty() {
+                return Err(PhotoError::field(format!("curves[{i}].name"), "empty"));
+            }
+            if !names.insert(c.name.as_str()) {
+                return Err(PhotoError::field(
+                    format!("curves[{i}].name"),
+                    format!("`{}` is used twice", c.name),
+                ));
+            }
+            let n = c.control_points.len();
+            if n < 4 || (n - 1) % 3 != 0 {
+                return Err(PhotoError::field(
+                    format!("{field}.control_points"),
+                    format!("{n} points; a piecewise cubic Bézier has 3k + 1 (4, 7, 10, …)"),
+                ));
+            }
+            for (k, &p) in c.control_points.iter().enumerate() {
+                check_point(format!("{field}.control_points[{k}]"), p)?;
+            }
+            let first = c.control_points[0];
+            let last = c.control_points[n - 1];
+            let gap = (first[0] - last[0]).hypot(first[1] - last[1]);
+            if c.closed && gap > 1e-9 * d {
+                return Err(PhotoError::field(
+                    format!("{field}.closed"),
+                    format!("a closed curve must end where it starts (ends are {gap:.3} px apart)"),
+                ));
+            }
+            if c.closed && n == 4 {
+                return Err(PhotoError::field(
+                    format!("{field}.control_points"),
+                    "a closed curve needs at least two cubic segments",
+                ));
+            }
+        }
+        let known = |name: &str| names.contains(name);
+        for (i, [a, b]) in self.symmetric_curves.iter().enumerate() {
+            for name in [a, b] {
+                if !known(name) {
+                    return Err(PhotoError::field(
+                        format!("symmetric_curves[{i}]"),
+                        format!("no curve `{name}`"),
+                    ));
+                }
+            }
+            if a == b {
+                return Err(PhotoError::field(
+                    format!("symmetric_curves[{i}]"),
+                    format!("`{a}` paired with itself: list it in self_symmetric_curves"),
+                ));
+            }
+        }
+        for (i, name) in self.self_symmetric_curves.iter().enumerate() {
+            if !known(name) {
+                return Err(PhotoError::field(
+                    format!("self_symmetric_curves[{i}]"),
+                    format!("no curve `{name}`"),
+                ));
+            }
+        }
+        for (i, &p) in self.occlusions.iter().enumerate() {
+            check_point(format!("occlusions[{i}]"), p)?;
+        }
+        for (i, &p) in self.openings.iter().enumerate() {
+            check_point(format!("openings[{i}]"), p)?;
+        }
+        for (k, seg) in self.symmetry.frame.iter().enumerate() {
+            for (e, &p) in seg.iter().enumerate() {
+                check_point(format!("symmetry.frame[{k}][{e}]"), p)?;
+            }
+        }
+        for (e, &p) in self.symmetry.points.iter().enumerate() {
+            check_point(format!("symmetry.points[{e}]"), p)?;
+        }
+        check_point("true_size.from".into(), self.true_size.from)?;
+        check_point("true_size.to".into(), self.true_size.to)?;
+        let t = &self.true_size;
+        if !(t.length.is_finite() && t.length > 0.0 && t.length < 1e9) {
+            return Err(PhotoError::field(
+                "true_size.length",
+                format!("must be a positive length below 1e9 (got {})", t.length),
+            ));
+        }
+        if (t.from[0] - t.to[0]).hypot(t.from[1] - t.to[1]) < 1.0 {
+            return Err(PhotoError::field(
+                "true_size",
+                "`from` and `to` are less than a pixel apart: the distance fixes no scale",
+            ));
+        }
+        let a = &self.analysis;
+        let positive_length = |field: &str, v: Option<f64>, lo: f64, hi: f64| -> Result<(), PhotoError> {
+            match v {
+                Some(x) if !(x.is_finite() && x >= lo && x <= hi) => Err(PhotoError::field(
+                    format!("analysis.{field}"),
+                    format!("must be within {lo:.3} … {hi:.1} px for this image (got {x})"),
+                )),
+                _ => Ok(()),
+            }
+        };
+        positive_length("snap_distance_px", a.snap_distance_px, 0.0, d / 20.0)?;
+        // At most ~100 000 samples along the curves and rulings no finer than them.
+        positive_length("sample_spacing_px", a.sample_spacing_px, d / 2_000.0, d / 10.0)?;
+        positive_length("ruling_spacing_px", a.ruling_spacing_px, d / 2_000.0, d / 3.0)?;
+        let lengths = self.lengths();
+        if lengths.ruling < lengths.sample {
+            return Err(PhotoError::field(
+                "analysis.ruling_spacing_px",
+                format!(
+                    "{:.3} px is finer than the sample spacing {:.3} px",
+                    lengths.ruling, lengths.sample
+                ),
+            ));
+        }
+        if !(a.dtw_smoothness_weight.is_finite() && (0.0..=1e3).contains(&a.dtw_smoothness_weight)) {
+            return Err(PhotoError::field(
+                "analysis.dtw_smoothness_weight",
+                "must be within 0 … 1000",
+            ));
+        }
+        let wts = &a.weights;
+        for (name, v) in [
+            ("projection", wts.projection),
+            ("minimal_variation", wts.minimal_variation),
+            ("collinearity", wts.collinearity),
+            ("foreshortening", wts.foreshortening),
+            ("symmetry", wts.symmetry),
+            ("developability", wts.developability),
+        ] {
+            if !(v.is_finite() && (0.0..=1e6).contains(&v)) {
+                return Err(PhotoError::field(
+                    format!("analysis.weights.{name}"),
+                    "must be within 0 … 1e6",
+                ));
+            }
+        }
+        if wts.projection <= 0.0 {
+            return Err(PhotoError::field(
+                "analysis.weights.projection",
+                "must be positive: without it nothing ties the model to the drawing",
+            ));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,321 @@
+//! Lifting the curve network to 3D (§6): the six quadratic energy terms on the 3D
+//! control points, assembled sparse and minimised by one linear least-squares solve.
+//!
+//! Unknowns: every network control point `q = (X, Y, Z)` (model frame, pixels). With
+//! `q̄` the traced 2D point, each term is a sum of squared linear residuals:
+//!
+//! - `E_proj = |q|_{z=0} − q̄|²` per control point;
+//! - `E_minvar = |φ0 q0 + φ1 q1 + φ2 q2 − q3|²` for the four points of every segment and
+//!   the four handles `b1ᵏ, b2ᵏ, b1ᵏ⁺¹, b2ᵏ⁺¹` around every join, `φ` the barycentric
+//!   coordinates of `q̄3` in the triangle `q̄0 q̄1 q̄2` (skipped when that is degenerate);
+//! - `E_col = |(1 − δ) r0 + δ r2 − r1|²` for the triplet `b2ᵏ, b3ᵏ, b1ᵏ⁺¹` of every join
+//!   (C¹) and every triplet of successive control points that is straight in 2D, `δ` the
+//!   parameter of `r̄1` on `r̄0 r̄2`;
+//! - `E_foreshort = (Z_i − Z_{i+1})²` for successive control points of a segment;
+//! - `E_sym = |p − p′ − t|² + |½(p + p′) − m|²` per mirror pair (Eq. 3), `p = Σ Bᵢ(t) qᵢ`
+//!   on its segment, `t` and `m` from [`SymmetryPlane::pair_relation`];
+//! - `E_develop = |φ0 pᵢ + φ1 pᵢ₊₁ + φ2 p′ⱼ − p′ⱼ₊₁|²` for consecutive rulings `pᵢp′ⱼ`,
+//!   `pᵢ₊₁p′ⱼ₊₁` (Eq. 4): the quad they span is planar.
+//!
+//! `E = ω1 E_proj + ω2 E_minvar + ω3 E_col + ω4 E_foreshort + ω5 E_sym + ω6 E_develop` with
+//! the paper's `ω = (1, 0.1, 1, 1e-8, 1, 1)` by default (§6.2).
+//!
+//! Departures from the paper: (1) the normal equations `AᵀA q = Aᵀb` are solved by a
+//! sparse Cholesky factorisation (faer) instead of a dense SVD; rank deficiency (a curve
+//! that no symmetric pair or ruling reaches has a free depth) is resolved by a Tikhonov
+//! term `ε |q − (q̄, 0)|²`, `ε = 1e-9` of the largest diagonal entry, which selects the
+//! solution nearest the image plane among the minimisers, as the SVD's minimum-norm
+//! solution does up to the choice of origin. (2) Each `E_develop` residual is divided by
+//! `√(1 + |φ|²)`: the barycentric coordinates of a point outside a thin triangle are
+//! large, and unscaled they would weigh long, densely spaced rulings far more than the
+//! rest (the residual then measures a distance to the plane, in pixels).
+
+use crate::curve_network::CurveNetwork;
+use crate::curve_samples::CurvePoint;
+use crate::ruling_propagation::RuledStrip;
+use crate::symmetric_correspondences::SymmetricPair;
+use crate::symmetry_plane::SymmetryPlane;
+use crate::{cubic, EnergyWeights, PhotoError};
+use faer::prelude::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{Col, Side};
+use nalgebra::{Vector2, Vector3};
+
+type Vec2 = Vector2<f64>;
+type Vec3 = Vector3<f64>;
+
+/// Which energy term a residual row belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EnergyTerm {
+    /// `E_proj`.
+    Projection,
+    /// `E_minvar`.
+    MinimalVariation,
+    /// `E_col`.
+    Collinearity,
+    /// `E_foreshort`.
+    Foreshortening,
+    /// `E_sym`.
+    Symmetry,
+    /// `E_develop`.
+    Developability,
+}
+
+/// One weighted linear residual `Σ coefficient · x[column] − rhs` (columns index the
+/// unknown vector, `3 × point + axis`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnergyRow {
+    /// The term.
+    pub term: EnergyTerm,
+    /// Sparse coefficients (weight included).
+    pub coefficients: Vec<(u32, f64)>,
+    /// Right-hand side (weight included).
+    pub rhs: f64,
+}
+
+/// The assembled energy: its rows and the counts of each term.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Energy {
+    /// All residual rows.
+    pub rows: Vec<EnergyRow>,
+    /// Number of unknowns (`3 ×` points).
+    pub unknown_count: usize,
+}
+
+impl Energy {
+    /// `Σ rowᵢ(x)²` per term (unweighted rows are not kept: the weights are inside).
+    pub fn term_values(&self, x: &[f64]) -> Vec<(EnergyTerm, f64)> {
+        let mut out: Vec<(EnergyTerm, f64)> = Vec::new();
+        for row in &self.rows {
+            let r = row.coefficients.iter().map(|&(c, a)| a * x[c as usize]).sum::<f64>() - row.rhs;
+            match out.iter_mut().find(|(t, _)| *t == row.term) {
+                Some((_, v)) => *v += r * r,
+                None => out.push((row.term, r * r)),
+            }
+        }
+        out
+    }
+}
+
+/// Linear combination `Σ wᵢ qᵢ` of control points for a place on the network, per
+/// point index.
+fn place_weights(network: &CurveNetwork, place: CurvePoint) -> [(u32, f64); 4] {
+    let seg = network.segments[place.segment as usize].points;
+    let w = cubic::bernstein(place.t);
+    [(seg[0], w[0]), (seg[1], w[1]), (seg[2], w[2]), (seg[3], w[3])]
+}
+
+/// 2D image position of a place.
+pub fn place_image(network: &CurveNetwork, place: CurvePoint) -> Vec2 {
+    cubic::point(&network.control_points(place.segment as usize), place.t)
+}
+
+/// Barycentric coordinates of `p` in triangle `a b c` (`None` if degenerate).
+fn barycentric(a: Vec2, b: Vec2, c: Vec2, p: Vec2) -> Option<[f64; 3]> {
+    let cross = |u: Vec2, v: Vec2| u.x * v.y - u.y * v.x;
+    let area = cross(b - a, c - a);
+    let scale = (b - a).norm_squared().max((c - a).norm_squared());
+    if area.abs() <= 1e-9 * scale || scale == 0.0 {
+        return None;
+    }
+    let l1 = cross(p - a, c - a) / area;
+    let l2 = cross(b - a, p - a) / area;
+    Some([1.0 - l1 - l2, l1, l2])
+}
+
+/// Adds three rows (X, Y, Z) `Σ cᵢ q[pointᵢ] − rhs` with weight `sqrt(ω)`.
+fn push_vector_rows(rows: &mut Vec<EnergyRow>, term: EnergyTerm, weight: f64, combo: &[(u32, f64)], rhs: Vec3) {
+    let w = weight.sqrt();
+    for axis in 0..3 {
+        let mut coefficients: Vec<(u32, f64)> = Vec::with_capacity(combo.len());
+        for &(point, c) in combo {
+            let col = 3 * point + axis as u32;
+            match coefficients.iter_mut().find(|(k, _)| *k == col) {
+                Some((_, v)) => *v += w * c,
+                None => coefficients.push((col, w * c)),
+            }
+        }
+        rows.push(EnergyRow {
+            term,
+            coefficients,
+            rhs: w * rhs[axis],
+        });
+    }
+}
+
+/// Assembles the energy of §6.1.
+pub fn assemble_energy(
+    network: &CurveNetwork,
+    strips: &[RuledStrip],
+    pairs: &[SymmetricPair],
+    plane: &SymmetryPlane,
+    weights: &EnergyWeights,
+) -> Energy {
+    let mut rows: Vec<EnergyRow> = Vec::new();
+    let q = &network.points;
+    // E_proj.
+    let w1 = weights.projection.sqrt();
+    for (i, p) in q.iter().enumerate() {
+        for axis in 0..2 {
+            rows.push(EnergyRow {
+                term: EnergyTerm::Projection,
+                coefficients: vec![(3 * i as u32 + axis, w1)],
+                rhs: w1 * p[axis as usize],
+            });
+        }
+    }
+    // Quadruples and triplets along every curve.
+    let minvar = |rows: &mut Vec<EnergyRow>, ids: [u32; 4]| {
+        let [a, b, c, d] = ids.map(|i| q[i as usize]);
+        if let Some(phi) = barycentric(a, b, c, d) {
+            let combo = [(ids[0], phi[0]), (ids[1], phi[1]), (ids[2], phi[2]), (ids[3], -1.0)];
+            push_vector_rows(
+                rows,
+                EnergyTerm::MinimalVariation,
+                weights.minimal_variation,
+                &combo,
+                Vec3::zeros(),
+            );
+        }
+    };
+    let collinear = |rows: &mut Vec<EnergyRow>, ids: [u32; 3], require_straight: bool| {
+        let [r0, r1, r2] = ids.map(|i| q[i as usize]);
+        let span = r2 - r0;
+        let l2 = span.norm_squared();
+        if l2 < 1e-12 {
+            return;
+        }
+        let off = (span.x * (r1 - r0).y - span.y * (r1 - r0).x).abs() / l2.sqrt();
+        if require_straight && off > 1e-3 * l2.sqrt() {
+            return;
+        }
+        let delta = (r1 - r0).dot(&span) / l2;
+        let combo = [(ids[0], 1.0 - delta), (ids[2], delta), (ids[1], -1.0)];
+        push_vector_rows(
+            rows,
+            EnergyTerm::Collinearity,
+            weights.collinearity,
+            &combo,
+            Vec3::zeros(),
+        );
+    };
+    for curve in &network.curves {
+        let segs = &curve.segments;
+        for &s in segs {
+            let ids = network.segments[s as usize].points;
+            minvar(&mut rows, ids);
+            collinear(&mut rows, [ids[0], ids[1], ids[2]], true);
+            collinear(&mut rows, [ids[1], ids[2], ids[3]], true);
+            let wz = weights.foreshortening.sqrt();
+            for k in 0..3 {
+                rows.push(EnergyRow {
+                    term: EnergyTerm::Foreshortening,
+                    coefficients: vec![(3 * ids[k] + 2, wz), (3 * ids[k + 1] + 2, -wz)],
+                    rhs: 0.0,
+                });
+            }
+        }
+        let joins = if curve.closed {
+            segs.len()
+        } else {
+            segs.len().saturating_sub(1)
+        };
+        for k in 0..joins {
+            let a = network.segments[segs[k] as usize].points;
+            let b = network.segments[segs[(k + 1) % segs.len()] as usize].points;
+            minvar(&mut rows, [a[1], a[2], b[1], b[2]]);
+            collinear(&mut rows, [a[2], a[3], b[1]], false);
+        }
+    }
+    // E_sym.
+    for pair in pairs {
+        let (a, b) = (
+            place_image(network, pair.places[0]),
+            place_image(network, pair.places[1]),
+        );
+        let (t, m) = plane.pair_relation(a, b);
+        let (pa, pb) = (
+            place_weights(network, pair.places[0]),
+            place_weights(network, pair.places[1]),
+        );
+        let difference: Vec<(u32, f64)> = pa.iter().copied().chain(pb.iter().map(|&(i, w)| (i, -w))).collect();
+        push_vector_rows(&mut rows, EnergyTerm::Symmetry, weights.symmetry, &difference, t);
+        let mean: Vec<(u32, f64)> = pa.iter().chain(pb.iter()).map(|&(i, w)| (i, 0.5 * w)).collect();
+        push_vector_rows(&mut rows, EnergyTerm::Symmetry, weights.symmetry, &mean, m);
+    }
+    // E_develop.
+    for strip in strips {
+        for i in 0..strip.rulings.len() - 1 {
+            let [pi, pj] = strip.ends(i);
+            let [pi1, pj1] = strip.ends(i + 1);
+            let img = |p| place_image(network, p);
+            let Some(phi) = barycentric(img(pi), img(pi1), img(pj), img(pj1)) else {
+                continue;
+            };
+            let scale = 1.0 / (1.0 + phi.iter().map(|v| v * v).sum::<f64>()).sqrt();
+            let mut combo: Vec<(u32, f64)> = Vec::with_capacity(16);
+            for (place, c) in [(pi, phi[0]), (pi1, phi[1]), (pj, phi[2]), (pj1, -1.0)] {
+                combo.extend(place_weights(network, place).iter().map(|&(k, w)| (k, scale * c * w)));
+            }
+            push_vector_rows(
+                &mut rows,
+                EnergyTerm::Developability,
+                weights.developability,
+                &combo,
+                Vec3::zeros(),
+            );
+        }
+    }
+    Energy {
+        rows,
+        unknown_count: 3 * q.len(),
+    }
+}
+
+/// Minimises the energy (plus the Tikhonov term toward `prior`) and returns the unknowns.
+///
+/// # Errors
+/// [`PhotoError::Solver`] if the factorisation fails.
+pub fn solve_energy(energy: &Energy, prior: &[f64], extra_diagonal: Option<f64>) -> Result<Vec<f64>, PhotoError> {
+    let n = energy.unknown_count;
+    let mut diagonal = vec![0.0; n];
+    let mut rhs = vec![0.0; n];
+    let mut triplets: Vec<Triplet<usize, usize, f64>> = Vec::new();
+    for row in &energy.rows {
+        for &(ci, ai) in &row.coefficients {
+            rhs[ci as usize] += ai * row.rhs;
+            for &(cj, aj) in &row.coefficients {
+                if cj <= ci {
+                    triplets.push(Triplet::new(ci as usize, cj as usize, ai * aj));
+                }
+                if cj == ci {
+                    diagonal[ci as usize] += ai * aj;
+                }
+            }
+        }
+    }
+    let largest = diagonal.iter().copied().fold(0.0, f64::max).max(1e-300);
+    let epsilon = extra_diagonal.unwrap_or(1e-9 * largest);
+    for k in 0..n {
+        triplets.push(Triplet::new(k, k, epsilon));
+        rhs[k] += epsilon * prior[k];
+    }
+    let matrix = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &triplets)
+        .map_err(|e| PhotoError::Solver(format!("{e:?}")))?;
+    let symbolic =
+        SymbolicLlt::try_new(matrix.symbolic(), Side::Lower).map_err(|e| PhotoError::Solver(format!("{e:?}")))?;
+    let llt = Llt::try_new_with_symbolic(symbolic, matrix.as_ref(), Side::Lower)
+        .map_err(|e| PhotoError::Solver(format!("factorisation failed: {e:?}")))?;
+    let x = llt.solve(Col::from_fn(n, |k| rhs[k]));
+    let out: Vec<f64> = (0..n).map(|k| x[k]).collect();
+    if out.iter().any(|v| !v.is_finite()) {
+        return Err(PhotoError::Solver("the solution is not finite".into()));
+    }
+    Ok(out)
+}
+
+/// The prior of the Tikhonov term: the traced points at depth 0.
+pub fn image_prior(network: &CurveNetwork) -> Vec<f64> {
+    network.points.iter().flat_map(|p| [p.x, p.y, 0.0]).collect()
+}

@@ -1,0 +1,55 @@
+//! System D of sheetform: developable patterns from an annotated photograph
+//! (A. Fondevilla, A. Bousseau, D. Rohmer, S. Hahmann, M.-P. Cani, "Patterns from
+//! Photograph: Reverse-Engineering Developable Products", Computers & Graphics 66, 2017).
+//!
+//! A user traces silhouettes and boundaries over one photo of a mirror-symmetric object
+//! made of developable patches ([`PhotoAnnotation`]); [`reconstruct`] lifts the drawing to
+//! a 3D curve network and meshes each patch. One file per step of the paper:
+//!
+//! | step | file | paper |
+//! |---|---|---|
+//! | curves split at their intersections | `curve_network.rs` | §5.1 |
+//! | patches = minimal cycles | `patch_cycles.rs` | §5.1 |
+//! | samples along the curves | `curve_samples.rs` | §5.2, §5.3 |
+//! | rulings by dynamic time warping | `ruling_propagation.rs` | §5.2, Eq. 2 |
+//! | symmetry plane, mirror-pair relation | `symmetry_plane.rs` | §6.1 |
+//! | symmetric correspondences | `symmetric_correspondences.rs` | §5.3 |
+//! | the six energy terms, sparse solve | `curve_lifting.rs` | §6, Eq. 3–4 |
+//! | exact developability along rulings | `developability_refinement.rs` | beyond §8.2 |
+//! | strips and minimal-surface fills | `patch_mesh.rs` | §7 |
+//! | overlay over the photograph | `overlay.rs` | Fig. 4–7 |
+//!
+//! Kernels do no I/O: the caller reads the annotation and the image and writes outputs
+//! (`sheetform::pipeline::run_photo`).
+
+mod annotation;
+pub mod cubic;
+mod curve_lifting;
+mod curve_network;
+mod curve_samples;
+mod developability_refinement;
+mod error;
+mod overlay;
+mod patch_cycles;
+mod patch_mesh;
+mod reconstruction;
+mod ruling_propagation;
+mod symmetric_correspondences;
+mod symmetry_plane;
+
+pub use annotation::{
+    image_to_model, model_to_image, AnalysisLengths, AnalysisSpec, CurveKind, CurveSpec, EnergyWeights, ImagePoint,
+    ImageSpec, PhotoAnnotation, SymmetrySpec, TrueSizeSpec, MAX_CONTROL_POINTS, MAX_CURVES, MAX_IMAGE_SIDE,
+};
+pub use curve_lifting::{assemble_energy, image_prior, place_image, solve_energy, Energy, EnergyRow, EnergyTerm};
+pub use curve_network::{build_curve_network, CurveNetwork, NetworkCurve, NetworkSegment};
+pub use curve_samples::{sample_curves, CurvePoint, CurveSamples, SampledChain};
+pub use developability_refinement::{refine_developability, ruling_errors, RefinementInfo, REFINEMENT_BOUND};
+pub use error::PhotoError;
+pub use overlay::overlay_svg;
+pub use patch_cycles::{find_patches, HalfEdge, Patch};
+pub use patch_mesh::{mesh_patches, PatchMesh, PatchSurface};
+pub use reconstruction::{place_point, reconstruct, AngleSummary, PhotoReconstruction, StageTimes};
+pub use ruling_propagation::{propagate_rulings, PropagationCounts, PropagationOptions, RuledStrip};
+pub use symmetric_correspondences::{curve_chain, symmetric_pairs, SymmetricPair};
+pub use symmetry_plane::SymmetryPlane;

@@ -1,0 +1,279 @@
+//! The whole method of Fondevilla et al. on one annotation: analysis (§5), lifting (§6),
+//! refinement (beyond the paper), meshing (§7) and the true size.
+
+use crate::annotation::{image_to_model, PhotoAnnotation};
+use crate::curve_lifting::{assemble_energy, image_prior, solve_energy, Energy};
+use crate::curve_network::{build_curve_network, CurveNetwork};
+use crate::curve_samples::{sample_curves, CurvePoint, CurveSamples};
+use crate::developability_refinement::{refine_developability, ruling_errors, RefinementInfo};
+use crate::patch_cycles::{find_patches, Patch};
+use crate::patch_mesh::{mesh_patches, PatchMesh};
+use crate::ruling_propagation::{propagate_rulings, PropagationCounts, PropagationOptions, RuledStrip};
+use crate::symmetric_correspondences::{symmetric_pairs, SymmetricPair};
+use crate::symmetry_plane::SymmetryPlane;
+use crate::{cubic, PhotoError};
+use nalgebra::{Vector2, Vector3};
+use std::time::Instant;
+
+type Vec2 = Vector2<f64>;
+type Vec3 = Vector3<f64>;
+
+/// Milliseconds spent in each stage.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+pub struct StageTimes {
+    /// Intersections, splitting, patches, samples (§5.1).
+    pub network_ms: f64,
+    /// Ruling propagation (§5.2).
+    pub rulings_ms: f64,
+    /// Symmetry plane and correspondences (§5.3, §6.1).
+    pub symmetry_ms: f64,
+    /// Energy assembly and linear solve (§6).
+    pub linear_solve_ms: f64,
+    /// Developability refinement.
+    pub refinement_ms: f64,
+    /// Meshing (§7).
+    pub meshing_ms: f64,
+}
+
+/// Summary of a set of angles (degrees, as the paper's Table 1).
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+pub struct AngleSummary {
+    /// Mean (degrees).
+    pub mean_deg: f64,
+    /// Maximum (degrees).
+    pub max_deg: f64,
+    /// How many angles.
+    pub count: usize,
+}
+
+impl AngleSummary {
+    /// Of angles in radians.
+    pub fn of(radians: &[f64]) -> Self {
+        let count = radians.len();
+        if count == 0 {
+            return Self::default();
+        }
+        Self {
+            mean_deg: radians.iter().sum::<f64>() / count as f64 * 180.0 / std::f64::consts::PI,
+            max_deg: radians.iter().copied().fold(0.0, f64::max) * 180.0 / std::f64::consts::PI,
+            count,
+        }
+    }
+}
+
+/// Everything the reconstruction made.
+#[derive(Debug, Clone)]
+pub struct PhotoReconstruction {
+    /// The curve network (2D).
+    pub network: CurveNetwork,
+    /// Samples along it.
+    pub samples: CurveSamples,
+    /// Patches (minimal cycles).
+    pub patches: Vec<Patch>,
+    /// Ruled strips.
+    pub strips: Vec<RuledStrip>,
+    /// Ruling candidates and rejections.
+    pub propagation: PropagationCounts,
+    /// The symmetry plane (model frame, pixels).
+    pub plane: SymmetryPlane,
+    /// Mirror pairs.
+    pub pairs: Vec<SymmetricPair>,
+    /// The energy of §6.
+    pub energy: Energy,
+    /// 3D control points after the linear solve (pixels; `3 × point + axis`).
+    pub linear: Vec<f64>,
+    /// 3D control points after the refinement (the linear ones without it).
+    pub refined: Vec<f64>,
+    /// The refinement's report, when it ran.
+    pub refinement: Option<RefinementInfo>,
+    /// Developability error per ruling after the linear solve (radians).
+    pub ruling_errors_linear: Vec<f64>,
+    /// The same after the refinement.
+    pub ruling_errors_refined: Vec<f64>,
+    /// Mean and largest distance between the solved curves' projections and the traced
+    /// curves, over the samples (pixels).
+    pub reprojection_error_px: (f64, f64),
+    /// The mesh, in the annotation's unit (scaled by `unit_per_pixel`).
+    pub mesh: PatchMesh,
+    /// Model units per pixel (from the true size).
+    pub unit_per_pixel: f64,
+    /// Time per stage.
+    pub times: StageTimes,
+}
+
+fn milliseconds(since: Instant) -> f64 {
+    since.elapsed().as_secs_f64() * 1e3
+}
+
+/// Nearest place on the network to an image point, and its distance (pixels).
+fn nearest_place(network: &CurveNetwork, p: Vec2) -> (CurvePoint, f64) {
+    (0..network.segments.len())
+        .map(|s| {
+            let (t, d) = cubic::nearest_parameter(&network.control_points(s), p);
+            (CurvePoint { segment: s as u32, t }, d)
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .expect("a network has segments")
+}
+
+/// The 3D point of a place for unknowns `x`.
+pub fn place_point(network: &CurveNetwork, x: &[f64], place: CurvePoint) -> Vec3 {
+    let w = cubic::bernstein(place.t);
+    network.segments[place.segment as usize]
+        .points
+        .iter()
+        .zip(w)
+        .map(|(&i, w)| Vec3::new(x[3 * i as usize], x[3 * i as usize + 1], x[3 * i as usize + 2]) * w)
+        .sum()
+}
+
+/// Runs the method on a validated annotation.
+///
+/// # Errors
+/// Curves that cross themselves, have zero length or close no cycle; a degenerate
+/// symmetry annotation; true-size points far from every curve; solver failures.
+pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, PhotoError> {
+    annotation.validate()?;
+    let lengths = annotation.lengths();
+    let mut times = StageTimes::default();
+    let start = Instant::now();
+    let plane = SymmetryPlane::from_annotation(&annotation.symmetry)?;
+    let network = build_curve_network(annotation)?;
+    let patches = find_patches(&network, annotation)?;
+    let samples = sample_curves(&network, lengths.sample);
+    times.network_ms = milliseconds(start);
+    let start = Instant::now();
+    let (strips, propagation) = propagate_rulings(
+        &network,
+        &samples,
+        &patches,
+        &PropagationOptions {
+            ruling_spacing: lengths.ruling,
+            smoothness_weight: annotation.analysis.dtw_smoothness_weight,
+        },
+    );
+    times.rulings_ms = milliseconds(start);
+    let start = Instant::now();
+    let curve_index = |name: &str| {
+        network
+            .curves
+            .iter()
+            .position(|c| c.name == name)
+            .expect("validated name")
+    };
+    let direction = plane.image_direction();
+    let mut pairs = Vec::new();
+    for [a, b] in &annotation.symmetric_curves {
+        pairs.extend(symmetric_pairs(
+            &network,
+            &samples,
+            curve_index(a),
+            curve_index(b),
+            direction,
+        ));
+    }
+    for a in &annotation.self_symmetric_curves {
+        let i = curve_index(a);
+        pairs.extend(symmetric_pairs(&network, &samples, i, i, direction));
+    }
+    times.symmetry_ms = milliseconds(start);
+    let start = Instant::now();
+    let energy = assemble_energy(&network, &strips, &pairs, &plane, &annotation.analysis.weights);
+    let linear = solve_energy(&energy, &image_prior(&network), None)?;
+    times.linear_solve_ms = milliseconds(start);
+    let ruling_errors_linear = ruling_errors(&network, &linear, &strips);
+    let start = Instant::now();
+    let (refined, refinement) = if annotation.analysis.refine {
+        let (x, info) = refine_developability(
+            &network,
+            &energy,
+            &strips,
+            &linear,
+            1e-3 * annotation.analysis.weights.projection,
+        )?;
+        (x, Some(info))
+    } else {
+        (linear.clone(), None)
+    };
+    times.refinement_ms = milliseconds(start);
+    let ruling_errors_refined = ruling_errors(&network, &refined, &strips);
+    // Reprojection: solved curves against traced curves at every sample.
+    let (mut sum, mut max, mut count) = (0.0, 0.0f64, 0usize);
+    for (s, params) in samples.parameters.iter().enumerate() {
+        for &t in params {
+            let place = CurvePoint { segment: s as u32, t };
+            let p = place_point(&network, &refined, place);
+            let q = cubic::point(&network.control_points(s), t);
+            let d = (Vec2::new(p.x, p.y) - q).norm();
+            sum += d;
+            max = max.max(d);
+            count += 1;
+        }
+    }
+    let reprojection_error_px = (sum / count.max(1) as f64, max);
+    // True size.
+    let size = &annotation.true_size;
+    let tolerance = 3.0 * lengths.snap + annotation.diagonal() / 100.0;
+    let mut ends = Vec::new();
+    for (field, point) in [("true_size.from", size.from), ("true_size.to", size.to)] {
+        let (place, distance) = nearest_place(&network, image_to_model(point));
+        if distance > tolerance {
+            return Err(PhotoError::field(
+                field,
+                format!(
+                    "[{}, {}] is {distance:.1} px from the nearest curve (at most {tolerance:.1})",
+                    point[0], point[1]
+                ),
+            ));
+        }
+        ends.push(place_point(&network, &refined, place));
+    }
+    let measured = (ends[1] - ends[0]).norm();
+    if measured.is_nan() || measured <= 1e-6 {
+        return Err(PhotoError::field(
+            "true_size",
+            "the two points coincide on the reconstructed model: the distance fixes no scale",
+        ));
+    }
+    let unit_per_pixel = size.length / measured;
+    let start = Instant::now();
+    let mut mesh = mesh_patches(&network, &samples, &patches, &strips, &refined, lengths.sample)?;
+    for p in &mut mesh.positions {
+        *p *= unit_per_pixel;
+    }
+    times.meshing_ms = milliseconds(start);
+    if mesh.positions.iter().any(|p| !p.iter().all(|v| v.is_finite())) {
+        return Err(PhotoError::Solver("the mesh has non-finite positions".into()));
+    }
+    Ok(PhotoReconstruction {
+        network,
+        samples,
+        patches,
+        strips,
+        propagation,
+        plane,
+        pairs,
+        energy,
+        linear,
+        refined,
+        refinement,
+        ruling_errors_linear,
+        ruling_errors_refined,
+        reprojection_error_px,
+        mesh,
+        unit_per_pixel,
+        times,
+    })
+}
+
+impl PhotoReconstruction {
+    /// Rulings over all strips.
+    pub fn ruling_count(&self) -> usize {
+        self.strips.iter().map(|s| s.rulings.len()).sum()
+    }
+
+    /// The 3D point (model units) of a place after the refinement.
+    pub fn point(&self, place: CurvePoint) -> Vec3 {
+        place_point(&self.network, &self.refined, place) * self.unit_per_pixel
+    }
+}

@@ -1,0 +1,118 @@
+//! Bad annotations get an error naming the curve or field (the CLI turns it into exit
+//! code 1 with nothing written).
+
+use serde_json::{json, Value};
+use sheetform_photo::{reconstruct, PhotoAnnotation};
+
+fn base() -> Value {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/photo/synthetic/cylinder-ortho.json"
+    );
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+fn error_of(value: &Value) -> String {
+    match PhotoAnnotation::from_json(&value.to_string()) {
+        Err(e) => e.to_string(),
+        Ok(a) => reconstruct(&a)
+            .err()
+            .map(|e| e.to_string())
+            .expect("the annotation must be refused"),
+    }
+}
+
+fn curve_index(v: &Value, name: &str) -> usize {
+    v["curves"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|c| c["name"] == name)
+        .unwrap()
+}
+
+#[test]
+fn the_base_annotation_is_valid() {
+    let a = PhotoAnnotation::from_json(&base().to_string()).unwrap();
+    assert!(reconstruct(&a).is_ok());
+}
+
+#[test]
+fn a_curve_that_closes_no_cycle_is_named() {
+    let mut v = base();
+    v["curves"].as_array_mut().unwrap().push(json!({
+        "name": "stray", "kind": "boundary",
+        "control_points": [[20, 20], [40, 25], [60, 25], [80, 20]]
+    }));
+    let e = error_of(&v);
+    assert!(e.contains("`stray`") && e.contains("closes no cycle"), "{e}");
+}
+
+#[test]
+fn a_degenerate_symmetry_annotation_is_refused() {
+    let mut v = base();
+    // Frame images perpendicular: no plane tilt can be recovered.
+    v["symmetry"]["frame"] = json!([[[100, 100], [100, 200]], [[100, 100], [200, 100]]]);
+    let e = error_of(&v);
+    assert!(e.contains("symmetry.frame"), "{e}");
+    let mut v = base();
+    // A pair along a frame segment: s_z² ≤ 0.
+    let f = v["symmetry"]["frame"][0].clone();
+    v["symmetry"]["points"] = f;
+    let e = error_of(&v);
+    assert!(e.contains("symmetry") && e.contains("no real plane normal"), "{e}");
+}
+
+#[test]
+fn self_intersecting_and_zero_length_curves_are_named() {
+    let mut v = base();
+    v["curves"].as_array_mut().unwrap().push(json!({
+        "name": "loop", "kind": "boundary",
+        "control_points": [[10, 50], [35, 50], [65, 50], [90, 50], [100, 30], [70, 10], [50, 10], [40, 40], [50, 60], [50, 90]]
+    }));
+    let e = error_of(&v);
+    assert!(e.contains("`loop`") && e.contains("crosses itself"), "{e}");
+    let mut v = base();
+    v["curves"].as_array_mut().unwrap().push(json!({
+        "name": "dot", "kind": "boundary",
+        "control_points": [[10, 10], [10, 10], [10, 10], [10, 10]]
+    }));
+    let e = error_of(&v);
+    assert!(e.contains("`dot`") && e.contains("zero length"), "{e}");
+}
+
+#[test]
+fn field_ranges_are_checked() {
+    let mut v = base();
+    v["true_size"]["length"] = json!(0.0);
+    assert!(error_of(&v).contains("true_size.length"));
+    let mut v = base();
+    v["true_size"]["to"] = v["true_size"]["from"].clone();
+    assert!(error_of(&v).contains("true_size"));
+    let mut v = base();
+    v["true_size"]["from"] = json!([1.0, 1.0]);
+    let e = error_of(&v);
+    assert!(
+        e.contains("true_size.from") && e.contains("from the nearest curve"),
+        "{e}"
+    );
+    let mut v = base();
+    let k = curve_index(&v, "top");
+    v["curves"][k]["control_points"].as_array_mut().unwrap().pop();
+    let e = error_of(&v);
+    assert!(e.contains("curves[") && e.contains("3k + 1"), "{e}");
+    let mut v = base();
+    v["image"]["width"] = json!(0);
+    assert!(error_of(&v).contains("image"));
+    let mut v = base();
+    v["analysis"] = json!({"sample_spacing_px": 1e-9});
+    assert!(error_of(&v).contains("analysis.sample_spacing_px"));
+    let mut v = base();
+    v["symmetric_curves"] = json!([["top", "nowhere"]]);
+    assert!(error_of(&v).contains("nowhere"));
+    let mut v = base();
+    v["curves"][0]["control_points"][1] = json!([1e300, 5]);
+    assert!(error_of(&v).contains("far outside"));
+    let e = error_of(&json!({"image": 3}));
+    assert!(e.contains("line 1"), "{e}");
+}
