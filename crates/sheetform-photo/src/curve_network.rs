@@ -9,9 +9,11 @@
 //! overlap, then refined by Newton's method on `B₁(t₁) − B₂(t₂) = 0`.
 //!
 //! Beyond the paper (hand tracing is never exact): a curve end within the snap distance
-//! of another curve is joined to it (a T-junction), and an intersection within the snap
-//! distance of a curve's end is moved to that end (no sliver tails). Crossings near an
-//! `occlusions` mark are left unjoined (§4). A curve that crosses itself is refused.
+//! of another curve is joined to it (a T-junction); an intersection within the snap
+//! distance of a knot (a curve's end or segment join) is moved to that knot (no sliver
+//! segments); an end that grazes a curve and crosses it a few pixels on is joined at the
+//! crossing. Crossings near an `occlusions` mark are left unjoined (§4). A curve that
+//! crosses itself is refused.
 
 use crate::annotation::{image_to_model, CurveKind, PhotoAnnotation};
 use crate::cubic;
@@ -132,20 +134,20 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
     let mut junctions: Vec<(Vec2, Vec<CurvePlace>)> = Vec::new();
     let mut occluded = 0usize;
     let curve_end = |c: usize, u: f64| -> Option<f64> {
-        // The curve end a place is within snap distance of (open curves only).
-        if annotation.curves[c].closed {
-            return None;
-        }
+        // The knot (a curve end or a join of the traced segments) a place is within snap
+        // distance of: splitting there instead leaves no sliver segment. A closed curve's
+        // start and end are the same knot.
         let segs = &curves[c];
         let p = point_at(segs, u);
-        let n = segs.len() as f64;
-        if (p - segs[0][0]).norm() <= lengths.snap {
-            Some(0.0)
-        } else if (p - segs[segs.len() - 1][3]).norm() <= lengths.snap {
-            Some(n)
-        } else {
-            None
-        }
+        let n = segs.len();
+        let knot = |k: usize| if k == n { segs[n - 1][3] } else { segs[k][0] };
+        let lo = (u.floor() as usize).min(n);
+        let hi = (u.ceil() as usize).min(n);
+        [lo, hi]
+            .into_iter()
+            .filter(|&k| (p - knot(k)).norm() <= lengths.snap)
+            .min_by(|&x, &y| (p - knot(x)).norm().total_cmp(&(p - knot(y)).norm()))
+            .map(|k| k as f64)
     };
     for a in 0..curves.len() {
         for b in a..curves.len() {
@@ -218,16 +220,57 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
             }
         }
     }
+    // A traced end that touches a curve tangentially (a silhouette on its rim ellipse)
+    // grazes it: tracing noise makes it cross the curve a few pixels from the end. Of two
+    // junctions of the same two curves closer than `graze`, the real crossing is kept and
+    // the end's contact dropped; the short tail beyond the crossing dangles and is
+    // trimmed when the patches are found.
+    let graze = (8.0 * lengths.snap).max(diagonal / 60.0);
+    let at_end =
+        |pl: &CurvePlace| !annotation.curves[pl.curve].closed && (pl.u == 0.0 || pl.u == curves[pl.curve].len() as f64);
+    let mut keep = vec![true; junctions.len()];
+    for i in 0..junctions.len() {
+        for j in 0..junctions.len() {
+            if i == j || !keep[i] || !keep[j] {
+                continue;
+            }
+            let ci: Vec<usize> = junctions[i].1.iter().map(|p| p.curve).collect();
+            let cj: Vec<usize> = junctions[j].1.iter().map(|p| p.curve).collect();
+            let same_pair = ci.len() == 2 && cj.len() == 2 && ci.iter().all(|c| cj.contains(c));
+            let close = (junctions[i].0 - junctions[j].0).norm() <= graze;
+            let (end_i, end_j) = (junctions[i].1.iter().any(at_end), junctions[j].1.iter().any(at_end));
+            if same_pair && close && end_i && !end_j {
+                keep[i] = false;
+            }
+        }
+    }
+    let junctions: Vec<(Vec2, Vec<CurvePlace>)> = junctions
+        .into_iter()
+        .zip(keep)
+        .filter_map(|(j, k)| k.then_some(j))
+        .collect();
     // Junctions closer than the snap distance are one node (three curves through one
-    // point give three pairwise crossings).
+    // point give three pairwise crossings); a node takes one place per curve (two
+    // places of one curve there would make a zero-length loop), a curve's end first.
     let mut clusters: Vec<(Vec2, Vec<CurvePlace>)> = Vec::new();
     for (p, places) in junctions {
-        match clusters
-            .iter_mut()
-            .find(|(q, _)| (q - p).norm() <= lengths.snap.max(1e-6))
+        let k = match clusters
+            .iter()
+            .position(|(q, _)| (q - p).norm() <= lengths.snap.max(1e-6))
         {
-            Some((_, list)) => list.extend(places),
-            None => clusters.push((p, places)),
+            Some(k) => k,
+            None => {
+                clusters.push((p, Vec::new()));
+                clusters.len() - 1
+            }
+        };
+        let list = &mut clusters[k].1;
+        for place in places {
+            match list.iter().position(|q| q.curve == place.curve) {
+                Some(i) if at_end(&place) && !at_end(&list[i]) => list[i] = place,
+                Some(_) => {}
+                None => list.push(place),
+            }
         }
     }
     // Split parameters per curve, and the knot (by global parameter) each junction uses.

@@ -12,6 +12,7 @@
 //! | patches = minimal cycles | `patch_cycles.rs` | §5.1 |
 //! | samples along the curves | `curve_samples.rs` | §5.2, §5.3 |
 //! | rulings by dynamic time warping | `ruling_propagation.rs` | §5.2, Eq. 2 |
+//! | ruling ends at parallel tangents | `ruling_alignment.rs` | §5.2 |
 //! | symmetry plane, mirror-pair relation | `symmetry_plane.rs` | §6.1 |
 //! | symmetric correspondences | `symmetric_correspondences.rs` | §5.3 |
 //! | the six energy terms, sparse solve | `curve_lifting.rs` | §6, Eq. 3–4 |
@@ -33,6 +34,7 @@ mod overlay;
 mod patch_cycles;
 mod patch_mesh;
 mod reconstruction;
+mod ruling_alignment;
 mod ruling_propagation;
 mod symmetric_correspondences;
 mod symmetry_plane;
@@ -44,12 +46,15 @@ pub use annotation::{
 pub use curve_lifting::{assemble_energy, image_prior, place_image, solve_energy, Energy, EnergyRow, EnergyTerm};
 pub use curve_network::{build_curve_network, CurveNetwork, NetworkCurve, NetworkSegment};
 pub use curve_samples::{sample_curves, CurvePoint, CurveSamples, SampledChain};
-pub use developability_refinement::{refine_developability, ruling_errors, RefinementInfo, REFINEMENT_BOUND};
+pub use developability_refinement::{
+    refine_developability, ruling_errors, Refinement, RefinementInfo, REFINEMENT_BOUND,
+};
 pub use error::PhotoError;
 pub use overlay::overlay_svg;
 pub use patch_cycles::{find_patches, HalfEdge, Patch};
 pub use patch_mesh::{mesh_patches, PatchMesh, PatchSurface};
 pub use reconstruction::{place_point, reconstruct, AngleSummary, PhotoReconstruction, StageTimes};
+pub use ruling_alignment::{align_rulings, move_ruling_ends};
 pub use ruling_propagation::{propagate_rulings, PropagationCounts, PropagationOptions, RuledStrip};
 pub use symmetric_correspondences::{curve_chain, symmetric_pairs, SymmetricPair};
 pub use symmetry_plane::SymmetryPlane;

@@ -8,10 +8,11 @@
 //! faces come out counter-clockwise (positive area, model frame `y` up), the outer face
 //! of each connected drawing clockwise.
 //!
-//! Angles are taken along the chord from the node to the point of the segment at a short
-//! distance (a few sample spacings), not along the end tangent: a silhouette meets its
-//! rim *tangentially* (the contour of a cone or cylinder touches its end ellipses), and
-//! only the curve's bending away separates the two.
+//! Angles are taken along the chord from the node to the segment's point at a quarter of
+//! its length, not along the end tangent: a silhouette meets its rim *tangentially* (the
+//! contour of a cone or cylinder touches its end ellipses), and only the curve's bending
+//! away separates the two; a short chord (a few pixels) is swamped by a pixel of tracing
+//! noise. Segments cross only at nodes, so the chords keep the segments' order.
 
 use crate::annotation::{image_to_model, PhotoAnnotation};
 use crate::cubic;
@@ -103,13 +104,40 @@ pub struct Patch {
 pub fn find_patches(network: &CurveNetwork, annotation: &PhotoAnnotation) -> Result<Vec<Patch>, PhotoError> {
     let lengths = annotation.lengths();
     let half_count = 2 * network.segments.len();
+    // Short dangling tails (a traced end that overshoots a crossing) are trimmed:
+    // segments with a free end, shorter than the grazing distance of the network.
+    let graze = (8.0 * lengths.snap).max(annotation.diagonal() / 60.0);
+    let mut trimmed = vec![false; network.segments.len()];
+    loop {
+        let mut degree = vec![0usize; network.points.len()];
+        for (s, seg) in network.segments.iter().enumerate() {
+            if !trimmed[s] {
+                degree[seg.points[0] as usize] += 1;
+                degree[seg.points[3] as usize] += 1;
+            }
+        }
+        let mut changed = false;
+        for (s, seg) in network.segments.iter().enumerate() {
+            let free = degree[seg.points[0] as usize] == 1 || degree[seg.points[3] as usize] == 1;
+            if !trimmed[s] && free && cubic::hull_length(&network.control_points(s)) <= graze {
+                trimmed[s] = true;
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
     // Outgoing half-edges per node with their angle.
     let mut outgoing: Vec<Vec<(f64, usize)>> = vec![Vec::new(); network.points.len()];
     for id in 0..half_count {
         let h = HalfEdge::from_id(id);
+        if trimmed[h.segment as usize] {
+            continue;
+        }
         let b = h.control_points(network);
         let (start, _) = h.nodes(network);
-        let d = leaving_direction(&b, 2.0 * lengths.sample);
+        let d = leaving_direction(&b, 0.25 * cubic::hull_length(&b));
         outgoing[start as usize].push((d.y.atan2(d.x), id));
     }
     for list in &mut outgoing {
@@ -131,7 +159,7 @@ pub fn find_patches(network: &CurveNetwork, annotation: &PhotoAnnotation) -> Res
     let mut face_of = vec![usize::MAX; half_count];
     let mut faces: Vec<Vec<usize>> = Vec::new();
     for start in 0..half_count {
-        if face_of[start] != usize::MAX {
+        if face_of[start] != usize::MAX || trimmed[start / 2] {
             continue;
         }
         let mut face = Vec::new();
@@ -176,6 +204,9 @@ pub fn find_patches(network: &CurveNetwork, annotation: &PhotoAnnotation) -> Res
     }
     // Every segment must bound a patch on at least one side.
     for (s, seg) in network.segments.iter().enumerate() {
+        if trimmed[s] {
+            continue;
+        }
         let sides = [face_of[2 * s], face_of[2 * s + 1]];
         if sides.iter().all(|&f| face_patch[f] == usize::MAX) {
             let curve = &network.curves[seg.curve as usize];

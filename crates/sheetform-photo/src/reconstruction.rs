@@ -8,6 +8,7 @@ use crate::curve_samples::{sample_curves, CurvePoint, CurveSamples};
 use crate::developability_refinement::{refine_developability, ruling_errors, RefinementInfo};
 use crate::patch_cycles::{find_patches, Patch};
 use crate::patch_mesh::{mesh_patches, PatchMesh};
+use crate::ruling_alignment::{align_rulings, move_ruling_ends};
 use crate::ruling_propagation::{propagate_rulings, PropagationCounts, PropagationOptions, RuledStrip};
 use crate::symmetric_correspondences::{symmetric_pairs, SymmetricPair};
 use crate::symmetry_plane::SymmetryPlane;
@@ -74,6 +75,8 @@ pub struct PhotoReconstruction {
     pub strips: Vec<RuledStrip>,
     /// Ruling candidates and rejections.
     pub propagation: PropagationCounts,
+    /// Ruling ends moved onto the point of parallel tangents.
+    pub aligned_ruling_count: usize,
     /// The symmetry plane (model frame, pixels).
     pub plane: SymmetryPlane,
     /// Mirror pairs.
@@ -140,10 +143,10 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
     let plane = SymmetryPlane::from_annotation(&annotation.symmetry)?;
     let network = build_curve_network(annotation)?;
     let patches = find_patches(&network, annotation)?;
-    let samples = sample_curves(&network, lengths.sample);
+    let mut samples = sample_curves(&network, lengths.sample);
     times.network_ms = milliseconds(start);
     let start = Instant::now();
-    let (strips, propagation) = propagate_rulings(
+    let (mut strips, propagation) = propagate_rulings(
         &network,
         &samples,
         &patches,
@@ -152,6 +155,7 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
             smoothness_weight: annotation.analysis.dtw_smoothness_weight,
         },
     );
+    let aligned_ruling_count = align_rulings(&network, &mut samples, &mut strips);
     times.rulings_ms = milliseconds(start);
     let start = Instant::now();
     let curve_index = |name: &str| {
@@ -184,13 +188,14 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
     let ruling_errors_linear = ruling_errors(&network, &linear, &strips);
     let start = Instant::now();
     let (refined, refinement) = if annotation.analysis.refine {
-        let (x, info) = refine_developability(
+        let (x, ends, info) = refine_developability(
             &network,
             &energy,
             &strips,
             &linear,
-            1e-3 * annotation.analysis.weights.projection,
+            annotation.analysis.weights.projection,
         )?;
+        move_ruling_ends(&network, &mut samples, &mut strips, &ends);
         (x, Some(info))
     } else {
         (linear.clone(), None)
@@ -251,6 +256,7 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
         patches,
         strips,
         propagation,
+        aligned_ruling_count,
         plane,
         pairs,
         energy,

@@ -41,6 +41,10 @@ pub struct RuledStrip {
     pub side_b: SampledChain,
     /// Rulings as sample-index pairs `(k on side_a, l on side_b)`, increasing.
     pub rulings: Vec<(usize, usize)>,
+    /// The half-edges of side a (to resample the chain).
+    pub chain_a: Vec<HalfEdge>,
+    /// The half-edges of side b.
+    pub chain_b: Vec<HalfEdge>,
 }
 
 impl RuledStrip {
@@ -110,6 +114,8 @@ pub fn propagate_rulings(
                     side_a: side_a.clone(),
                     side_b: side_b.clone(),
                     rulings: std::mem::take(run),
+                    chain_a: chain_a.clone(),
+                    chain_b: chain_b.clone(),
                 });
             } else {
                 run.clear();

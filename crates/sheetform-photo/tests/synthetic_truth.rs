@@ -184,9 +184,9 @@ fn figures(name: &str) -> Figures {
 fn exact_orthographic_drawings_are_reconstructed() {
     for name in ["cylinder-ortho", "cone-ortho", "composite-ortho"] {
         let f = figures(name);
-        // The DTW picks sample pairs: a ruling's far end is off by at most half a sample
-        // along the curve (sample spacing d/250 ≈ 2.7 px on rulings of ≥ 100 px).
-        assert!(f.ruling_deg < 1.5, "{name}: rulings off by {:.3}°", f.ruling_deg);
+        // Aligned to the point of parallel tangents and slid by the refinement, the
+        // rulings are the true ones to the tracing's Bézier approximation of a circle.
+        assert!(f.ruling_deg < 0.25, "{name}: rulings off by {:.3}°", f.ruling_deg);
         assert!(f.curve_px < 1.0, "{name}: symmetric curves off by {:.3} px", f.curve_px);
         assert!(
             f.linear.mean_deg < 1.0,
@@ -208,6 +208,7 @@ fn noisy_and_perspective_drawings_stay_under_the_papers_error() {
     for name in [
         "cylinder-noisy",
         "cone-noisy",
+        "composite-noisy",
         "cylinder-perspective",
         "cone-perspective",
         "composite-perspective",
@@ -225,7 +226,8 @@ fn noisy_and_perspective_drawings_stay_under_the_papers_error() {
             f.refined.mean_deg
         );
         // Perspective bends the rulings' images (the method assumes an orthographic view).
-        let bound = if name.ends_with("perspective") { 12.0 } else { 3.0 };
+        // One pixel of noise at both ends of a 90-pixel ruling turns it by up to ~1.3°.
+        let bound = if name.ends_with("perspective") { 12.0 } else { 5.0 };
         assert!(f.ruling_deg < bound, "{name}: rulings off by {:.3}°", f.ruling_deg);
         // The perspective truth is the camera-frame model scaled at the object's centre
         // depth: nearer and farther parts are magnified differently in the image.

@@ -484,6 +484,8 @@ pub struct PhotoReport {
     pub ruling_candidate_count: usize,
     /// Rulings rejected for leaving their patch.
     pub ruling_rejected_count: usize,
+    /// Ruling ends moved from their matched sample onto the point of parallel tangents.
+    pub ruling_aligned_count: usize,
     /// Mirror pairs of points.
     pub symmetric_pair_count: usize,
     /// Unit normal of the symmetry plane (model frame: x right, y up, z towards the camera).
@@ -503,6 +505,11 @@ pub struct PhotoReport {
     /// Largest move of a control point by the refinement (pixels).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub refinement_displacement_max_px: Option<f64>,
+    /// Largest slide of a ruling's end along its curve by the refinement (pixels).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refinement_slide_max_px: Option<f64>,
+    /// The refinement's bound on the sine of the largest developability error.
+    pub refinement_bound: f64,
     /// Mean distance between the solved curves' projections and the traced curves (px).
     pub reprojection_error_mean_px: f64,
     /// Largest such distance (px).

@@ -1,0 +1,111 @@
+//! Sub-sample alignment of the propagated rulings (§5.2's first criterion, made exact).
+//!
+//! The warping of Eq. 2 matches *samples*, so a ruling's far end is off its true place by
+//! up to half a sample spacing, and the ruling's direction by that over its length (0.5°
+//! on a 100-pixel ruling with 1-pixel samples). The paper's assumption — the two curves
+//! have parallel tangents where a ruling meets them (a generalised cone cut by two
+//! parallel planes, orthographic view) — fixes the end exactly: on each side-b chain
+//! piece next to the matched sample, `T_a × T_b(t) = 0` is solved for `t` by bisection
+//! where it changes sign, and the root becomes a new sample of that segment (shared by
+//! every patch along it, so meshes still match). Ends where it has no root (a straight
+//! or noisy stretch) stay where the warping put them. The silhouettes (the first and a
+//! closed end's last ruling) are not moved.
+
+use crate::cubic;
+use crate::curve_network::CurveNetwork;
+use crate::curve_samples::{CurvePoint, CurveSamples, SampledChain};
+use crate::ruling_propagation::RuledStrip;
+
+/// Moves interior ruling ends onto the points of parallel tangents; returns how many
+/// moved. `samples` gains the new parameters and every strip's chains are resampled.
+pub fn align_rulings(network: &CurveNetwork, samples: &mut CurveSamples, strips: &mut [RuledStrip]) -> usize {
+    let cross = |u: nalgebra::Vector2<f64>, v: nalgebra::Vector2<f64>| u.x * v.y - u.y * v.x;
+    // New ends, per strip and ruling.
+    let mut moved: Vec<Vec<Option<CurvePoint>>> = Vec::with_capacity(strips.len());
+    for strip in strips.iter() {
+        let last = strip.rulings.len() - 1;
+        let mut ends = vec![None; strip.rulings.len()];
+        for (i, &(k, l)) in strip.rulings.iter().enumerate() {
+            if i == 0 || i == last {
+                continue;
+            }
+            let ta = strip.side_a.tangents[k];
+            let b = &strip.side_b;
+            let mut best: Option<(f64, CurvePoint)> = None;
+            for (from, to) in [(l.wrapping_sub(1), l), (l, l + 1)] {
+                if from >= b.len() || to >= b.len() || b.places[from].segment != b.places[to].segment {
+                    continue;
+                }
+                let segment = b.places[from].segment;
+                let control = network.control_points(segment as usize);
+                let f = |t: f64| cross(ta, cubic::derivative(&control, t));
+                let (mut lo, mut hi) = (b.places[from].t, b.places[to].t);
+                let (mut flo, fhi) = (f(lo), f(hi));
+                if flo * fhi > 0.0 {
+                    continue;
+                }
+                for _ in 0..60 {
+                    let mid = 0.5 * (lo + hi);
+                    let fm = f(mid);
+                    if fm * flo <= 0.0 {
+                        hi = mid;
+                    } else {
+                        lo = mid;
+                        flo = fm;
+                    }
+                }
+                let t = 0.5 * (lo + hi);
+                let distance = (t - b.places[l].t).abs();
+                if best.is_none_or(|(d, _)| distance < d) {
+                    best = Some((distance, CurvePoint { segment, t }));
+                }
+            }
+            ends[i] = best.map(|(_, p)| p);
+        }
+        moved.push(ends);
+    }
+    move_ruling_ends(network, samples, strips, &moved)
+}
+
+/// Moves the `b` ends of rulings (`new_ends[strip][ruling]`, `None`: unchanged) to new
+/// places, which become samples of their segments; every strip's chains are resampled
+/// and its rulings re-indexed. Returns how many ends moved.
+pub fn move_ruling_ends(
+    network: &CurveNetwork,
+    samples: &mut CurveSamples,
+    strips: &mut [RuledStrip],
+    new_ends: &[Vec<Option<CurvePoint>>],
+) -> usize {
+    let moved = new_ends;
+    let mut count = 0;
+    for ends in moved {
+        for place in ends.iter().flatten() {
+            let params = &mut samples.parameters[place.segment as usize];
+            let at = params.partition_point(|&t| t < place.t);
+            if params.get(at) != Some(&place.t) {
+                params.insert(at, place.t);
+            }
+            count += 1;
+        }
+    }
+    // Resample every chain and find each ruling's ends in it.
+    let index_of = |chain: &SampledChain, place: CurvePoint| -> usize {
+        chain
+            .places
+            .iter()
+            .position(|p| p.segment == place.segment && p.t == place.t)
+            .expect("a ruling end is a sample of its chain")
+    };
+    for (strip, ends) in strips.iter_mut().zip(moved) {
+        let side_a = SampledChain::new(network, samples, &strip.chain_a);
+        let side_b = SampledChain::new(network, samples, &strip.chain_b);
+        for (i, r) in strip.rulings.iter_mut().enumerate() {
+            let a = strip.side_a.places[r.0];
+            let b = ends[i].unwrap_or(strip.side_b.places[r.1]);
+            *r = (index_of(&side_a, a), index_of(&side_b, b));
+        }
+        strip.side_a = side_a;
+        strip.side_b = side_b;
+    }
+    count
+}
