@@ -76,24 +76,69 @@ pub fn move_ruling_ends(
     strips: &mut [RuledStrip],
     new_ends: &[Vec<Option<CurvePoint>>],
 ) -> usize {
-    let moved = new_ends;
+    // Ends closer to an existing sample than a quarter of the local spacing do not get a
+    // sample of their own (it would make sliver triangles) when that sample is free (no
+    // other ruling ends there, not a node): it is moved onto the end. Otherwise the end
+    // becomes a new sample, however close.
+    let key = |p: CurvePoint| (p.segment, p.t.to_bits());
+    let mut used: std::collections::HashSet<(u32, u64)> = std::collections::HashSet::new();
+    for (strip, ends) in strips.iter().zip(new_ends) {
+        for (i, &(k, l)) in strip.rulings.iter().enumerate() {
+            used.insert(key(strip.side_a.places[k]));
+            if ends[i].is_none() {
+                used.insert(key(strip.side_b.places[l]));
+            }
+        }
+    }
+    let mut moved: Vec<Vec<Option<CurvePoint>>> = new_ends.to_vec();
     let mut count = 0;
-    for ends in moved {
-        for place in ends.iter().flatten() {
+    for ends in &mut moved {
+        for place in ends.iter_mut().flatten() {
             let params = &mut samples.parameters[place.segment as usize];
             let at = params.partition_point(|&t| t < place.t);
-            if params.get(at) != Some(&place.t) {
+            if params.get(at) == Some(&place.t) {
+                count += 1;
+                continue;
+            }
+            // Neighbouring samples: params[at - 1] < t < params[at].
+            let (lo, hi) = (at - 1, at);
+            let gap = params[hi] - params[lo];
+            let nearest = if place.t - params[lo] < params[hi] - place.t {
+                lo
+            } else {
+                hi
+            };
+            let offset = (place.t - params[nearest]).abs();
+            let speed = cubic::derivative(&network.control_points(place.segment as usize), place.t).norm();
+            let interior = nearest > 0 && nearest + 1 < params.len();
+            if offset * speed <= 1e-9 {
+                // The same point to a nanopixel.
+                place.t = params[nearest];
+            } else if offset < 0.25 * gap && interior && !used.contains(&(place.segment, params[nearest].to_bits())) {
+                params[nearest] = place.t;
+            } else {
                 params.insert(at, place.t);
             }
+            used.insert(key(*place));
             count += 1;
         }
     }
+    let moved = &moved;
     // Resample every chain and find each ruling's ends in it.
+    // A node (t = 0 or 1) may appear in a chain as the end of the neighbouring segment:
+    // then it is found by position.
     let index_of = |chain: &SampledChain, place: CurvePoint| -> usize {
         chain
             .places
             .iter()
             .position(|p| p.segment == place.segment && p.t == place.t)
+            .or_else(|| {
+                let q = cubic::point(&network.control_points(place.segment as usize), place.t);
+                chain
+                    .points
+                    .iter()
+                    .position(|p| (p - q).norm() <= 1e-9 * (1.0 + q.norm()))
+            })
             .expect("a ruling end is a sample of its chain")
     };
     for (strip, ends) in strips.iter_mut().zip(moved) {

@@ -17,7 +17,7 @@ use sheetform_io::{colour_ramp, glb_vertex_colours, ply_vertex_colours, read_mes
 use sheetform_io::{glb_bytes, obj_string, stl_bytes, write_atomic, IoError, Texture};
 use sheetform_mesh::{
     developability_error, developability_summary, isometry_error, mesh_topology, vertex_developability, LengthUnit,
-    MeshTopology, Piece, PieceKind, SheetMesh, TriangleMesh, VertexDevelopability,
+    MeshTopology, Piece, PieceKind, Ruling, SheetMesh, TriangleMesh, VertexDevelopability,
 };
 use sheetform_pattern::{
     arrange_in_rows, dxf_bytes, pattern_from_mesh, pdf_tiled, point_bounds, rotated, smallest_bounding_rotation,
@@ -1348,7 +1348,37 @@ pub fn run_photo(
         .pattern
         .tabs
         .map_or(0.0, |t| 2.5 * t.width_mm / (mm * options.pattern.scale));
-    let sheet = sheet_from_charts(&model, &chart_set, &name, Some(&groups), unit, tab_room);
+    let mut sheet = sheet_from_charts(&model, &chart_set, &name, Some(&groups), unit, tab_room);
+    // The strips' cross edges are bending guides (the pattern draws rulings as guides,
+    // never as mountain or valley folds): each in its chart's numbering of the sheet.
+    let mut sheet_vertex = std::collections::HashMap::new();
+    let mut offset = 0u32;
+    for (c, chart) in chart_set.charts.iter().enumerate() {
+        for (k, &v) in chart.vertices.iter().enumerate() {
+            sheet_vertex.insert((c as u32, v), offset + k as u32);
+        }
+        offset += chart.vertices.len() as u32;
+    }
+    let mut edge_face = std::collections::HashMap::new();
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            edge_face.insert((a.min(b), a.max(b)), f);
+        }
+    }
+    for &[a, b] in &mesh.bending_edges {
+        let Some(&face) = edge_face.get(&(a.min(b), a.max(b))) else {
+            continue;
+        };
+        let chart = model.face_groups[face];
+        if let (Some(&sa), Some(&sb)) = (sheet_vertex.get(&(chart, a)), sheet_vertex.get(&(chart, b))) {
+            sheet.rulings.push(Ruling {
+                vertices: vec![sa, sb],
+                piece: chart,
+                arc_length: 0.0,
+            });
+        }
+    }
     let solved = Instant::now();
     progress("exporting", 0.7);
     // The photo projected onto the model: each vertex's image position.
@@ -1393,7 +1423,12 @@ pub fn run_photo(
     let r = &reconstruction;
     let linear = AngleSummary::of(&r.ruling_errors_linear);
     let refined = AngleSummary::of(&r.ruling_errors_refined);
-    let developable = r.refinement.is_none_or(|info| info.converged);
+    // The bound the report states, checked on the final rulings (after their ends
+    // became curve samples).
+    let developable = r.refinement.is_none()
+        || r.ruling_errors_refined
+            .iter()
+            .all(|&e| e.sin() <= sheetform_photo::REFINEMENT_BOUND);
     report.photo = Some(PhotoReport {
         control_point_count: r.network.points.len(),
         annotated_control_point_count: CurveNetwork::annotated_control_point_count(&annotation),
