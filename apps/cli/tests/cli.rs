@@ -1216,6 +1216,7 @@ fn ffd_bad_input_is_an_error_naming_the_problem() {
 fn photo_examples_are_reconstructed_with_every_output() {
     for annotation in [
         "examples/photo/coffee-cup.json",
+        "examples/photo/coffee-cup.svg",
         "examples/photo/synthetic/cone-ortho.json",
     ] {
         let tmp = tempfile::tempdir().unwrap();
@@ -1262,6 +1263,14 @@ fn photo_examples_are_reconstructed_with_every_output() {
             (area / model_area - 1.0).abs() < 0.02,
             "{annotation}: {area} vs {model_area}"
         );
+        // A drawing from Inkscape also leaves the annotation it was read as.
+        let converted = tmp.path().join("annotation.json");
+        assert_eq!(converted.exists(), annotation.ends_with(".svg"), "{annotation}");
+        if converted.exists() {
+            let text = std::fs::read_to_string(&converted).unwrap();
+            let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+            assert_eq!(json["curves"].as_array().unwrap().len(), 4);
+        }
         let overlay = std::fs::read_to_string(tmp.path().join("overlay.svg")).unwrap();
         for layer in ["patches", "rulings", "symmetry", "curves", "reprojected"] {
             assert!(overlay.contains(&format!("id=\"{layer}\"")), "{layer}");

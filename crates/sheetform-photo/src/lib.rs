@@ -19,6 +19,7 @@
 //! | exact developability along rulings | `developability_refinement.rs` | beyond §8.2 |
 //! | strips and minimal-surface fills | `patch_mesh.rs` | §7 |
 //! | overlay over the photograph | `overlay.rs` | Fig. 4–7 |
+//! | annotations drawn in Inkscape | `svg_import.rs` | — |
 //!
 //! Kernels do no I/O: the caller reads the annotation and the image and writes outputs
 //! (`sheetform::pipeline::run_photo`).
@@ -36,6 +37,7 @@ mod patch_mesh;
 mod reconstruction;
 mod ruling_alignment;
 mod ruling_propagation;
+mod svg_import;
 mod symmetric_correspondences;
 mod symmetry_plane;
 
@@ -56,5 +58,6 @@ pub use patch_mesh::{mesh_patches, PatchMesh, PatchSurface};
 pub use reconstruction::{place_point, reconstruct, AngleSummary, PhotoReconstruction, StageTimes};
 pub use ruling_alignment::{align_rulings, move_ruling_ends};
 pub use ruling_propagation::{propagate_rulings, PropagationCounts, PropagationOptions, RuledStrip};
+pub use svg_import::{annotation_from_svg, svg_image_reference};
 pub use symmetric_correspondences::{curve_chain, symmetric_pairs, SymmetricPair};
 pub use symmetry_plane::SymmetryPlane;

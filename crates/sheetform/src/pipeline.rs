@@ -24,8 +24,8 @@ use sheetform_pattern::{
     svg_bytes, DxfUnit, FoldStyle, PageSize, PatternError, PatternOptions, PdfOptions, SheetOptions, TabOptions,
 };
 use sheetform_photo::{
-    overlay_svg, reconstruct, AngleSummary, CurveNetwork, PatchSurface, PhotoAnnotation, PhotoError,
-    PhotoReconstruction,
+    annotation_from_svg, overlay_svg, reconstruct, svg_image_reference, AngleSummary, CurveNetwork, PatchSurface,
+    PhotoAnnotation, PhotoError, PhotoReconstruction,
 };
 use sheetform_slit::{build_mould, slit_mesh, solve_design, SlitDesign, SlitError, SlitModel, SlitScene};
 use std::path::Path;
@@ -1237,12 +1237,26 @@ pub fn run_photo(
 ) -> Result<PhotoRun, PipelineError> {
     let start = Instant::now();
     progress("reading annotation", 0.0);
-    let annotation = PhotoAnnotation::from_json(annotation_text)?;
-    let image_path = options
-        .base_dir
-        .clone()
-        .unwrap_or_default()
-        .join(&annotation.image.path);
+    let base_dir = options.base_dir.clone().unwrap_or_default();
+    // An SVG drawn over the photo (Inkscape) or the JSON annotation.
+    let from_svg = annotation_text.trim_start().starts_with('<');
+    let annotation = if from_svg {
+        let reference = svg_image_reference(annotation_text)?;
+        let path = base_dir.join(&reference);
+        let bytes = std::fs::read(&path).map_err(|source| PipelineError::Read {
+            path: path.display().to_string(),
+            source,
+        })?;
+        let size = Texture::from_bytes(&bytes)
+            .and_then(|t| t.size())
+            .ok_or_else(|| PipelineError::Texture {
+                path: path.display().to_string(),
+            })?;
+        annotation_from_svg(annotation_text, size)?
+    } else {
+        PhotoAnnotation::from_json(annotation_text)?
+    };
+    let image_path = base_dir.join(&annotation.image.path);
     let image_bytes = std::fs::read(&image_path).map_err(|source| PipelineError::Read {
         path: image_path.display().to_string(),
         source,
@@ -1411,6 +1425,12 @@ pub fn run_photo(
         "overlay.svg".into(),
         overlay_svg(&annotation, &reconstruction, &data_uri).into_bytes(),
     ));
+    if from_svg {
+        // What was read from the drawing, as an annotation file to edit or rerun.
+        let mut json = serde_json::to_vec_pretty(&annotation).expect("annotation serialises");
+        json.push(b'\n');
+        files.push(("annotation.json".into(), json));
+    }
     let exported = Instant::now();
     let mut report = sheet_mesh_report("photo", options.input.clone(), &sheet);
     report.pattern = Some(pattern_report);
