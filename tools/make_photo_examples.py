@@ -57,6 +57,17 @@ size, the camera), and a PNG rendering of the model (<model>-ortho.png, shared b
 noisy variant, and <model>-perspective.png), 480 x 480 px, Lambert flat shading with a
 z-buffer.
 
+Benchmark (examples/photo/bench/, kept apart because a test counts the synthetic files):
+
+  lamp       a dense drawing: foot cone widening upwards (radius 77 -> 132 px, height
+             99 px), cylindrical body (radius 132 px, height 132 px), shade cone narrowing
+             upwards (radius 132 -> 72 px, height 121 px); orthographic only, same camera
+             and conventions; 118 control points (the 12 joint angles are the 6 silhouette
+             angles and their mirror images); files lamp.json, lamp.truth.json (with a
+             "benchmark" entry: control point count, front-arc lengths, ruling spacing)
+             and lamp.png.  lamp.json sets analysis.ruling_spacing_px (tuned with the
+             real program for about 150 kept rulings; see examples/photo/bench/README.md).
+
 Frame convention
 ----------------
 Model frame: X = image x (px), Y = -(image y) (px, up), Z toward the viewer (px); the
@@ -73,7 +84,8 @@ How to run
 ----------
 From the repository root (standard library only):
 
-    python3 tools/make_photo_examples.py            # writes examples/photo/synthetic/
+    python3 tools/make_photo_examples.py            # writes examples/photo/synthetic/ and bench/
+    python3 tools/make_photo_examples.py --only synthetic   # (or --only bench) one folder only
     python3 tools/make_photo_examples.py --check    # re-reads the files and checks them
     python3 tools/make_photo_examples.py --no-images   # JSON only (the PNGs are slow-ish)
 """
@@ -87,6 +99,7 @@ import sys
 import zlib
 
 OUT_DIR = os.path.join("examples", "photo", "synthetic")
+BENCH_DIR = os.path.join("examples", "photo", "bench")
 IMG_W = IMG_H = 480
 CX, CY = 240.0, 240.0            # image point of the object's centre
 MM_PER_PX = 0.5
@@ -111,6 +124,24 @@ MODELS = [
      "roll": math.radians(10.0),
      "rings": [("bottom", 0.0, 50.0), ("joint", 110.0, 80.0), ("top", 200.0, 80.0)],
      "patches": [("cone", 0, 1), ("neck", 1, 2)]},
+]
+
+# Benchmark model(s), written to BENCH_DIR: orthographic only, files named after the model.
+# The lamp's order of patches (lower cone widening upwards, cylinder, upper cone narrowing
+# upwards) makes each joint circle's front arc that of the wider-fronted patch ABOVE it,
+# so no annotated curve is hidden (a cone narrowing upwards BELOW a thinner cylinder, or
+# a cone widening upwards ON a cylinder, would hide part of the joint circle and of the
+# lower silhouettes behind the upper patch and make false 2D crossings).
+BENCH_MODELS = [
+    {"name": "lamp", "title": "benchmark lamp: foot cone, cylindrical body, shade cone (dense drawing)",
+     "roll": 0.0, "single": True,
+     "rings": [("bottom", 0.0, 77.0), ("foot-top", 99.0, 132.0), ("body-top", 231.0, 132.0),
+               ("top", 352.0, 72.0)],
+     "patches": [("foot", 0, 1), ("body", 1, 2), ("shade", 2, 3)],
+     "colours": {"foot": (120, 120, 130), "body": (205, 140, 80), "shade": (235, 215, 150)},
+     # spacing of the kept rulings (px), tuned with the real program; see bench_stats() and examples/photo/bench/README.md
+     "ruling_spacing_px": 4.6,
+     "target_rulings": 150},
 ]
 
 
@@ -252,7 +283,7 @@ def silhouette_angles(cam, lo, hi):
     return th1, th2
 
 
-def joint_angles(sils):
+def joint_angles(sils, max_arc=MAX_ARC):
     """Silhouette angles and their mirror images about the plane PHI, longest gaps split."""
     js = []
     for t in sils:
@@ -263,7 +294,7 @@ def joint_angles(sils):
     gaps = [(js[i], js[i + 1] if i + 1 < len(js) else js[0] + 2 * math.pi) for i in range(len(js))]
     extra = []
     for a, b in gaps:
-        m = int(math.ceil((b - a) / MAX_ARC - 1e-12))
+        m = int(math.ceil((b - a) / max_arc - 1e-12))
         extra += [normang(a + (b - a) * i / m) for i in range(1, m)]
     js = sorted(js + extra)
     mingap = min((js[(i + 1) % len(js)] - js[i]) % (2 * math.pi) for i in range(len(js)))
@@ -286,7 +317,7 @@ class Model:
             th1, th2 = silhouette_angles(self.cam, lo, hi)
             self.patches.append({"name": pname, "lo": i, "hi": j, "front": (th1, th2)})
         sils = [t for p in self.patches for t in p["front"]]
-        self.joints = joint_angles(sils)
+        self.joints = joint_angles(sils, spec.get("max_arc", MAX_ARC))
         js = self.joints
         self.arcs = [(js[i], js[i + 1] if i + 1 < len(js) else js[0] + 2 * math.pi) for i in range(len(js))]
         self.curves = []       # dicts: name, kind, closed, world (control points), arcs or ruling
@@ -433,8 +464,11 @@ def build(spec, variant):
     m = Model(spec, persp)
     cam = m.cam
     marks = m.annotation_marks()
-    name = f"{spec['name']}-{variant}"
-    img_name = f"{spec['name']}-{'perspective' if persp else 'ortho'}.png"
+    if spec.get("single"):
+        name, img_name = spec["name"], spec["name"] + ".png"
+    else:
+        name = f"{spec['name']}-{variant}"
+        img_name = f"{spec['name']}-{'perspective' if persp else 'ortho'}.png"
     images = [c["image"] for c in m.curves]
     frame_img = [[cam.image(p) for p in seg] for seg in marks["frame"]]
     pair_img = [cam.image(w) for w in marks["pair"]]
@@ -448,16 +482,22 @@ def build(spec, variant):
     size_world = [m.world_at(n, u) for n, u in marks["size_places"]]
     size_px = norm(sub(size_world[0], size_world[1]))
     ann = {
-        "name": f"{spec['title']} ({variant})",
+        "name": spec["title"] if spec.get("single") else f"{spec['title']} ({variant})",
         "image": {"path": img_name, "width": IMG_W, "height": IMG_H},
         "units": "mm",
         "curves": [{"name": c["name"], "kind": c["kind"], "closed": c["closed"], "control_points": pts}
                    for c, pts in zip(m.curves, images)],
         "symmetry": {"frame": frame_img, "points": pair_img, "flip_depth": False},
-        "self_symmetric_curves": ["top"],
+        # Every circle of a surface of revolution is symmetric about a plane through the
+        # axis: the closed rim wholly, the front arcs where their mirror image is visible
+        # too (the reconstruction pairs only the points whose mirror it can see). Without
+        # them nothing fixes the lower circles' depth.
+        "self_symmetric_curves": [c["name"] for c in m.curves if c["kind"] == "boundary"],
         "openings": [cam.image(marks["opening"])],
         "true_size": {"from": size_img[0], "to": size_img[1], "length": size_px * MM_PER_PX},
     }
+    if "ruling_spacing_px" in spec:
+        ann["analysis"] = {"ruling_spacing_px": spec["ruling_spacing_px"]}
     # ---- truth
     mdl = cam.model
     n_world = [-math.sin(PHI), math.cos(PHI), 0.0]
@@ -525,7 +565,8 @@ def build(spec, variant):
             "points_model": [mdl(w) for w in marks["pair"]],
             "points_on_curve": [[n, u] for n, u in marks["pair_places"]],
             "depth": "points[1] is nearer the viewer (larger Z): flip_depth = false is the true interpretation",
-            "symmetric_curve_pairs": [], "self_symmetric_curves": ["top"]},
+            "symmetric_curve_pairs": [],
+            "self_symmetric_curves": [c["name"] for c in m.curves if c["kind"] == "boundary"]},
         "true_size": {"from_model": mdl(size_world[0]), "to_model": mdl(size_world[1]),
                       "on_curve": [[n, u] for n, u in marks["size_places"]],
                       "length_px": size_px, "length_mm": size_px * MM_PER_PX},
@@ -533,7 +574,43 @@ def build(spec, variant):
     if variant == "noisy":
         truth["noise"] = {"sigma_px": NOISE_SIGMA, "seed": spec["seed"],
                           "note": "the truth is the noise-free orthographic model"}
+    if "target_rulings" in spec:
+        truth["benchmark"] = bench_stats(spec, m, ann)
     return name, img_name, ann, truth, m
+
+
+def bench_stats(spec, m, ann):
+    """Control point count and the ruling spacing estimate of a benchmark model."""
+    per_patch = []
+    for p in m.patches:
+        th1, th2 = p["front"]
+        front = [(a, b) for a, b in m.arcs if a >= th1 and b <= th2]
+        lengths = []
+        for ri in (p["lo"], p["hi"]):
+            ring, length = m.rings[ri], 0.0
+            for a, b in front:
+                seg = [m.cam.image(w) for w in arc_bezier(ring, a, b)]
+                pts = [bez(seg, i / 200) for i in range(201)]
+                length += sum(norm(sub(q, r)) for q, r in zip(pts, pts[1:]))
+            lengths.append(length)
+        per_patch.append({"patch": p["name"], "front_arc_lengths_px": lengths,
+                          "mean_px": 0.5 * (lengths[0] + lengths[1])})
+    total = sum(x["mean_px"] for x in per_patch)
+    return {
+        "annotated_control_points": sum(len(c["control_points"]) for c in ann["curves"]),
+        "segments_per_curve": {c["name"]: (len(c["control_points"]) - 1) // 3 for c in ann["curves"]},
+        "front_arcs": per_patch,
+        "front_arc_length_sum_px": total,
+        "target_rulings": spec["target_rulings"],
+        "ruling_spacing_estimate_px": total / spec["target_rulings"],
+        "ruling_spacing_px": spec["ruling_spacing_px"],
+        "note": ("the reconstruction keeps a ruling once the mean arc length along the two curves it "
+                 "joins has grown by ruling_spacing_px since the last kept one, stepping along a warping "
+                 "path whose steps are one sample spacing (default image diagonal / 250 = 2.715 px) long: "
+                 "the kept spacing is rounded up to whole steps, so front_arc_length_sum_px / "
+                 "target_rulings (ruling_spacing_estimate_px) is only a guide; ruling_spacing_px was "
+                 "tuned with the real program (149 rulings for 4.1 ... 5.0 px)"),
+    }
 
 
 # ----------------------------------------------------------------------------- image
@@ -545,6 +622,7 @@ def render(m, path, ss=2):
     col = [[bg] * W for _ in range(H)]
     light = unit([-0.35, 0.45, 0.8])
     colours = {"tube": (205, 140, 80), "cone": (205, 140, 80), "neck": (90, 150, 205)}
+    colours.update(m.spec.get("colours", {}))
     tris = []
     for p in m.patches:
         lo, hi = m.rings[p["lo"]], m.rings[p["hi"]]
@@ -667,6 +745,50 @@ Licence: made by the sheetform project; same licence as the project (MIT OR Apac
 """
 
 
+BENCH_README = """# Benchmark photo annotation (generated)
+
+A dense synthetic annotation for timing the photo reconstruction (system D, Fondevilla
+et al.) on a drawing with many control points and rulings. **Generated** by
+`tools/make_photo_examples.py` (`--only bench` writes only this folder; `--check` re-reads
+and checks it); do not edit by hand. It is kept out of `../synthetic/`, whose file count
+the tests rely on.
+
+- `lamp.json`: a lamp made of three coaxial developable patches, drawn under the same
+  orthographic 3/4 view as the synthetic models (elevation 30 deg, azimuth 25 deg; the
+  control points are the exact projections of the 3D cubic Bezier control points):
+  a foot cone widening upwards (radius 77 -> 132 px, height 99 px), a cylindrical body
+  (radius 132 px, height 132 px) and a shade cone narrowing upwards (radius 132 -> 72 px,
+  height 121 px). Curves: the closed top rim (12 cubic arcs), the front arcs of the two
+  joint circles (8 and 6 arcs) and of the bottom circle (4 arcs), and two straight
+  silhouettes per patch: 118 control points in all. The arcs' ends are every patch's
+  silhouette angles and their mirror images about the symmetry plane. An opening in the
+  top rim; symmetry plane, frame, points, `self_symmetric_curves` (the top rim only) and
+  `true_size` (a top-rim diameter, mm) as in the synthetic models.
+  `analysis.ruling_spacing_px` = 4.6 px: the reconstruction keeps 149 rulings in all
+  (3 strips). The front arcs bounding the patches are 814.9 px long in all (sum over the
+  patches of the mean image length of a patch's two front arcs), i.e. 5.43 px per ruling
+  for 150 rulings; but the kept rulings are picked from the warping path, whose steps are
+  one sample spacing (default image diagonal / 250 = 2.715 px) long, so the kept spacing
+  is about two samples (5.4 px) for any `ruling_spacing_px` from about 4.1 to 5.0 px
+  (149 rulings; 182 at 2.8 - 3.5 px, 163 at 4.0 px, 140 - 145 at 5.05 - 5.3 px, 113 at
+  5.45 px). 4.6 px is the middle of that plateau.
+- `lamp.truth.json`: the ground truth (3D control points, 20 true rulings per patch,
+  symmetry plane, true size, camera), as in `../synthetic/`, plus a `benchmark` entry with
+  the control point count and the front-arc lengths.
+- `lamp.png`: 480 x 480 px rendering (flat Lambert shading).
+
+Why this order of patches: each joint circle's visible (front) arc must be that of the
+patch above it. A cone narrowing upwards under a thinner cylinder, or a cone widening
+upwards on a cylinder, would hide part of the joint circle and of the lower silhouettes
+behind the upper patch, and the drawn hidden lines would cross visible ones.
+
+Frame convention, units (1 px = 0.5 mm) and symmetry conventions: see
+`../synthetic/README.md`.
+
+Licence: made by the sheetform project; same licence as the project (MIT OR Apache-2.0).
+"""
+
+
 def dumps(obj, indent=0):
     """JSON with every list of numbers (a point) on one line."""
     pad, pad1 = " " * indent, " " * (indent + 1)
@@ -681,19 +803,39 @@ def dumps(obj, indent=0):
     return json.dumps(obj)
 
 
-def generate(images=True):
-    os.makedirs(OUT_DIR, exist_ok=True)
-    for spec in MODELS:
-        for variant in ("ortho", "perspective", "noisy"):
-            name, img_name, ann, truth, m = build(spec, variant)
-            for fname, obj in ((name + ".json", ann), (name + ".truth.json", truth)):
-                with open(os.path.join(OUT_DIR, fname), "w") as f:
-                    f.write(dumps(obj) + "\n")
-            if images and variant != "noisy":
-                render(m, os.path.join(OUT_DIR, img_name))
-            print("wrote", os.path.join(OUT_DIR, name + ".json"))
-    with open(os.path.join(OUT_DIR, "README.md"), "w") as f:
-        f.write(README)
+def groups(which):
+    """(folder, models, variants, README text) of the selected groups."""
+    out = []
+    if which in ("all", "synthetic"):
+        out.append((OUT_DIR, MODELS, ("ortho", "perspective", "noisy"), README))
+    if which in ("all", "bench"):
+        out.append((BENCH_DIR, BENCH_MODELS, ("ortho",), BENCH_README))
+    return out
+
+
+def file_stem(spec, variant):
+    return spec["name"] if spec.get("single") else f"{spec['name']}-{variant}"
+
+
+def generate(images=True, which="all"):
+    for out_dir, models, variants, readme in groups(which):
+        os.makedirs(out_dir, exist_ok=True)
+        for spec in models:
+            for variant in variants:
+                name, img_name, ann, truth, m = build(spec, variant)
+                for fname, obj in ((name + ".json", ann), (name + ".truth.json", truth)):
+                    with open(os.path.join(out_dir, fname), "w") as f:
+                        f.write(dumps(obj) + "\n")
+                if images and variant != "noisy":
+                    render(m, os.path.join(out_dir, img_name))
+                print("wrote", os.path.join(out_dir, name + ".json"))
+                if "benchmark" in truth:
+                    b = truth["benchmark"]
+                    print(f"  {b['annotated_control_points']} control points; front arcs {b['front_arc_length_sum_px']:.1f} px "
+                          f"-> ruling spacing estimate {b['ruling_spacing_estimate_px']:.3f} px for {b['target_rulings']} "
+                          f"rulings (set: {b['ruling_spacing_px']} px)")
+        with open(os.path.join(out_dir, "README.md"), "w") as f:
+            f.write(readme)
 
 
 # ----------------------------------------------------------------------------- checks
@@ -724,7 +866,7 @@ def angle_deg(a, b):
     return math.degrees(math.atan2(s, c))
 
 
-def check():
+def check(which="all"):
     ok = True
 
     def fail(msg):
@@ -732,14 +874,15 @@ def check():
         ok = False
         print("  FAIL:", msg)
 
-    for spec in MODELS:
-        for variant in ("ortho", "perspective", "noisy"):
-            name = f"{spec['name']}-{variant}"
+    cases = [(out_dir, spec, variant) for out_dir, models, variants, _ in groups(which)
+             for spec in models for variant in variants]
+    for out_dir, spec, variant in cases:
+            name = file_stem(spec, variant)
             exact = variant == "ortho"
-            ann = json.load(open(os.path.join(OUT_DIR, name + ".json")))
-            tru = json.load(open(os.path.join(OUT_DIR, name + ".truth.json")))
+            ann = json.load(open(os.path.join(out_dir, name + ".json")))
+            tru = json.load(open(os.path.join(out_dir, name + ".truth.json")))
             print(f"{name}:")
-            w, h = png_size(os.path.join(OUT_DIR, ann["image"]["path"]))
+            w, h = png_size(os.path.join(out_dir, ann["image"]["path"]))
             if (w, h) != (ann["image"]["width"], ann["image"]["height"]):
                 fail("image size")
             curves = {c["name"]: c for c in ann["curves"]}
@@ -840,6 +983,10 @@ def check():
             pairs = [(x, x) for x in ann.get("self_symmetric_curves", [])] + [tuple(x) for x in ann.get("symmetric_curves", [])]
             for x, y in pairs:
                 cx_, cy_ = tru["curves"][x], tru["curves"][y]
+                if x == y and not cx_["closed"]:
+                    # A front arc of a circle centred on the plane's axis: symmetric where
+                    # its mirror image is visible, by construction.
+                    continue
                 d = same([mirror(q) for q in cx_["control_points_model"]], cy_["control_points_model"], cx_["closed"])
                 print(f"  mirror({x}) vs {y}: max control point distance {d:.2e} px")
                 if d > 1e-9:
@@ -879,7 +1026,20 @@ def check():
     return ok
 
 
+def parse_which(argv):
+    """--only synthetic | --only bench (default: both)."""
+    which = "all"
+    for i, a in enumerate(argv):
+        if a.startswith("--only"):
+            v = a.split("=", 1)[1] if "=" in a else (argv[i + 1] if i + 1 < len(argv) else "")
+            if v not in ("synthetic", "bench"):
+                sys.exit("--only takes synthetic or bench")
+            which = v
+    return which
+
+
 if __name__ == "__main__":
+    which = parse_which(sys.argv[1:])
     if "--check" in sys.argv:
-        sys.exit(0 if check() else 1)
-    generate(images="--no-images" not in sys.argv)
+        sys.exit(0 if check(which) else 1)
+    generate(images="--no-images" not in sys.argv, which=which)

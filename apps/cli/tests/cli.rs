@@ -1276,12 +1276,29 @@ fn photo_examples_are_reconstructed_with_every_output() {
             assert!(overlay.contains(&format!("id=\"{layer}\"")), "{layer}");
         }
         assert!(overlay.contains("data:image/png;base64,"));
+        // Every ruling; mirror pairs thinned to at most 60 so the photo shows.
+        let pairs = photo["symmetric_pair_count"].as_u64().unwrap() as usize;
         assert_eq!(
-            overlay.matches("<line").count(),
+            overlay.matches("class=\"ruling\"").count(),
             photo["ruling_count"].as_u64().unwrap() as usize
-                + photo["symmetric_pair_count"].as_u64().unwrap() as usize
-                + 2
         );
+        assert_eq!(
+            overlay.matches("class=\"pair\"").count(),
+            pairs.div_ceil(pairs.div_ceil(60).max(1))
+        );
+        // The PNG overlay: the photo's size, and not the photo alone (curves drawn on it).
+        let png = std::fs::read(tmp.path().join("overlay.png")).unwrap();
+        assert_eq!(&png[1..4], b"PNG");
+        let (w, h) = (
+            u32::from_be_bytes([png[16], png[17], png[18], png[19]]),
+            u32::from_be_bytes([png[20], png[21], png[22], png[23]]),
+        );
+        let expected: (u32, u32) = if annotation.contains("coffee") {
+            (600, 400)
+        } else {
+            (480, 480)
+        };
+        assert_eq!((w, h), expected);
     }
 }
 

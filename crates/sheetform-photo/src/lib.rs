@@ -52,7 +52,7 @@ pub use developability_refinement::{
     refine_developability, ruling_errors, Refinement, RefinementInfo, REFINEMENT_BOUND,
 };
 pub use error::PhotoError;
-pub use overlay::overlay_svg;
+pub use overlay::{overlay_png, overlay_svg};
 pub use patch_cycles::{find_patches, HalfEdge, Patch};
 pub use patch_mesh::{mesh_patches, PatchMesh, PatchSurface};
 pub use reconstruction::{place_point, reconstruct, AngleSummary, PhotoReconstruction, StageTimes};

@@ -74,18 +74,20 @@ pub fn overlay_svg(annotation: &PhotoAnnotation, reconstruction: &PhotoReconstru
             let (a, b) = (model_to_image(a), model_to_image(b));
             let _ = writeln!(
                 s,
-                r##"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="#1a9641" stroke-width="1.2"/>"##,
+                r##"<line class="ruling" x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="#1a9641" stroke-width="1.2"/>"##,
                 a[0], a[1], b[0], b[1]
             );
         }
     }
     s.push_str("</g>\n");
     layer(&mut s, "symmetry");
-    for pair in &r.pairs {
+    // At most 60 pairs, evenly chosen: all of them hide the photo.
+    let step = r.pairs.len().div_ceil(60).max(1);
+    for pair in r.pairs.iter().step_by(step) {
         let (a, b) = (model_to_image(pair.image[0]), model_to_image(pair.image[1]));
         let _ = writeln!(
             s,
-            r##"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="#d01c8b" stroke-width="0.7" stroke-opacity="0.8"/>"##,
+            r##"<line class="pair" x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="#d01c8b" stroke-width="0.7" stroke-opacity="0.8"/>"##,
             a[0], a[1], b[0], b[1]
         );
     }
@@ -151,4 +153,20 @@ fn escape(text: &str) -> String {
         .replace('<', "&lt;")
         .replace('>', "&gt;")
         .replace('"', "&quot;")
+}
+
+/// The overlay rendered to a PNG of the photo's size (resvg; the embedded photo must be
+/// a data URI or the SVG renders without it).
+///
+/// # Errors
+/// [`crate::PhotoError::Solver`]-free: a [`crate::PhotoError::Field`] on `overlay` when the
+/// SVG cannot be parsed or rendered (a bug, not bad input).
+pub fn overlay_png(svg: &str) -> Result<Vec<u8>, crate::PhotoError> {
+    let failed = |m: String| crate::PhotoError::field("overlay", m);
+    let tree = resvg::usvg::Tree::from_str(svg, &resvg::usvg::Options::default()).map_err(|e| failed(e.to_string()))?;
+    let size = tree.size().to_int_size();
+    let mut pixmap =
+        resvg::tiny_skia::Pixmap::new(size.width(), size.height()).ok_or_else(|| failed("empty size".into()))?;
+    resvg::render(&tree, resvg::tiny_skia::Transform::identity(), &mut pixmap.as_mut());
+    pixmap.encode_png().map_err(|e| failed(e.to_string()))
 }

@@ -89,6 +89,9 @@ pub struct PhotoReconstruction {
     pub refined: Vec<f64>,
     /// The refinement's report, when it ran.
     pub refinement: Option<RefinementInfo>,
+    /// The rulings of the linear solve in the image (patch, ends), before the refinement
+    /// slid their ends.
+    pub rulings_linear: Vec<(usize, [Vec2; 2])>,
     /// Developability error per ruling after the linear solve (radians).
     pub ruling_errors_linear: Vec<f64>,
     /// The same after the refinement.
@@ -186,6 +189,10 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
     let linear = solve_energy(&energy, &image_prior(&network), None)?;
     times.linear_solve_ms = milliseconds(start);
     let ruling_errors_linear = ruling_errors(&network, &linear, &strips);
+    let rulings_linear: Vec<(usize, [Vec2; 2])> = strips
+        .iter()
+        .flat_map(|s| (0..s.rulings.len()).map(move |i| (s.patch, s.segment(i))))
+        .collect();
     let start = Instant::now();
     let (refined, refinement) = if annotation.analysis.refine {
         let (x, ends, info) = refine_developability(
@@ -263,6 +270,7 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
         linear,
         refined,
         refinement,
+        rulings_linear,
         ruling_errors_linear,
         ruling_errors_refined,
         reprojection_error_px,

@@ -69,7 +69,8 @@ pub fn align_rulings(network: &CurveNetwork, samples: &mut CurveSamples, strips:
 
 /// Moves the `b` ends of rulings (`new_ends[strip][ruling]`, `None`: unchanged) to new
 /// places, which become samples of their segments; every strip's chains are resampled
-/// and its rulings re-indexed. Returns how many ends moved.
+/// and its rulings re-indexed (a ruling whose end slid past its neighbour's is dropped,
+/// so the rulings stay ordered along both sides). Returns how many ends moved.
 pub fn move_ruling_ends(
     network: &CurveNetwork,
     samples: &mut CurveSamples,
@@ -85,9 +86,8 @@ pub fn move_ruling_ends(
     for (strip, ends) in strips.iter().zip(new_ends) {
         for (i, &(k, l)) in strip.rulings.iter().enumerate() {
             used.insert(key(strip.side_a.places[k]));
-            if ends[i].is_none() {
-                used.insert(key(strip.side_b.places[l]));
-            }
+            // An end's target may be the sample it already is: protect it too.
+            used.insert(key(ends[i].unwrap_or(strip.side_b.places[l])));
         }
     }
     let mut moved: Vec<Vec<Option<CurvePoint>>> = new_ends.to_vec();
@@ -149,6 +149,16 @@ pub fn move_ruling_ends(
             let b = ends[i].unwrap_or(strip.side_b.places[r.1]);
             *r = (index_of(&side_a, a), index_of(&side_b, b));
         }
+        // Rulings must stay in order along both sides (a strip is a zipper between
+        // them): an end that slid past its neighbour's is dropped with its ruling.
+        let mut kept: Vec<(usize, usize)> = Vec::with_capacity(strip.rulings.len());
+        for &r in &strip.rulings {
+            match kept.last() {
+                Some(&last) if r.0 < last.0 || r.1 < last.1 || r == last => {}
+                _ => kept.push(r),
+            }
+        }
+        strip.rulings = kept;
         strip.side_a = side_a;
         strip.side_b = side_b;
     }

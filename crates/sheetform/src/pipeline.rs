@@ -24,8 +24,8 @@ use sheetform_pattern::{
     svg_bytes, DxfUnit, FoldStyle, PageSize, PatternError, PatternOptions, PdfOptions, SheetOptions, TabOptions,
 };
 use sheetform_photo::{
-    annotation_from_svg, overlay_svg, reconstruct, svg_image_reference, AngleSummary, CurveNetwork, PatchSurface,
-    PhotoAnnotation, PhotoError, PhotoReconstruction,
+    annotation_from_svg, overlay_png, overlay_svg, reconstruct, svg_image_reference, AngleSummary, CurveNetwork,
+    PatchSurface, PhotoAnnotation, PhotoError, PhotoReconstruction,
 };
 use sheetform_slit::{build_mould, slit_mesh, solve_design, SlitDesign, SlitError, SlitModel, SlitScene};
 use std::path::Path;
@@ -1421,10 +1421,9 @@ pub fn run_photo(
         texture.mime_type,
         base64::engine::general_purpose::STANDARD.encode(&image_bytes)
     );
-    files.push((
-        "overlay.svg".into(),
-        overlay_svg(&annotation, &reconstruction, &data_uri).into_bytes(),
-    ));
+    let overlay = overlay_svg(&annotation, &reconstruction, &data_uri);
+    files.push(("overlay.png".into(), overlay_png(&overlay)?));
+    files.push(("overlay.svg".into(), overlay.into_bytes()));
     if from_svg {
         // What was read from the drawing, as an annotation file to edit or rerun.
         let mut json = serde_json::to_vec_pretty(&annotation).expect("annotation serialises");
