@@ -4,7 +4,8 @@
 //! Exit codes: 0 success, 1 invalid input or I/O error, 2 usage error (from clap),
 //! 3 shape not admissible (only `report.json` is written, saying where), 4 flattened
 //! pattern overlaps itself (written, flagged in the report), 5 a photo reconstruction
-//! whose ruled patches could not be made developable to the bound (written, flagged).
+//! out of its tolerances: a ruled patch not developable to the bound, or a curve whose
+//! depth the drawing does not fix (written, flagged in the report and on stderr).
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -13,7 +14,7 @@ use sheetform::pattern::{DxfUnit, PageSize, SheetOptions, TabOptions, TabSides};
 use sheetform::pipeline::{
     inadmissible_report, run_bend, run_check, run_ffd, run_flatten, run_photo, run_slit, write_outputs, BendRunOptions,
     ChartMode, CheckOptions, FfdRunOptions, FlattenMethod, FlattenOptions, PatternOutputOptions, PhotoRunOptions,
-    PipelineError, SlitRunOptions, PHOTO_NOT_DEVELOPABLE_STATUS,
+    PipelineError, SlitRunOptions,
 };
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -594,10 +595,22 @@ fn photo_command(
             output.display()
         );
     }
-    Ok(if run.report.status == PHOTO_NOT_DEVELOPABLE_STATUS {
-        ExitCode::from(5)
-    } else {
+    if !photo.depth_undetermined_curves.is_empty() {
+        eprintln!(
+            "sheetform: the depth of {} is not fixed by the drawing (no mirror pair reaches it): mark their mirror \
+             relations (`symmetric_curves`, `self_symmetric_curves`)",
+            photo
+                .depth_undetermined_curves
+                .iter()
+                .map(|c| format!("`{c}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    Ok(if run.report.status == "ok" {
         ExitCode::SUCCESS
+    } else {
+        ExitCode::from(5)
     })
 }
 

@@ -61,5 +61,10 @@ fn main() {
         r.mesh.positions.len(),
         r.mesh.triangles.len()
     );
+    println!(
+        "  depth sensitivity max {:.3}; undetermined: {:?}",
+        r.depth_sensitivity.iter().copied().fold(0.0, f64::max),
+        r.depth_undetermined_curves()
+    );
     println!("  times: {:?}", r.times);
 }

@@ -55,7 +55,9 @@ pub use error::PhotoError;
 pub use overlay::{overlay_png, overlay_svg};
 pub use patch_cycles::{find_patches, HalfEdge, Patch};
 pub use patch_mesh::{mesh_patches, PatchMesh, PatchSurface};
-pub use reconstruction::{place_point, reconstruct, AngleSummary, PhotoReconstruction, StageTimes};
+pub use reconstruction::{
+    place_point, reconstruct, AngleSummary, PhotoReconstruction, StageTimes, DEPTH_SENSITIVITY_BOUND,
+};
 pub use ruling_alignment::{align_rulings, move_ruling_ends};
 pub use ruling_propagation::{propagate_rulings, PropagationCounts, PropagationOptions, RuledStrip};
 pub use svg_import::{annotation_from_svg, svg_image_reference};

@@ -19,6 +19,10 @@ use std::time::Instant;
 type Vec2 = Vector2<f64>;
 type Vec3 = Vector3<f64>;
 
+/// Largest depth sensitivity (see [`PhotoReconstruction::depth_sensitivity`]) of a curve
+/// whose depth counts as fixed by the drawing: 1 % of a shift of the prior.
+pub const DEPTH_SENSITIVITY_BOUND: f64 = 0.01;
+
 /// Milliseconds spent in each stage.
 #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
 pub struct StageTimes {
@@ -89,6 +93,11 @@ pub struct PhotoReconstruction {
     pub refined: Vec<f64>,
     /// The refinement's report, when it ran.
     pub refinement: Option<RefinementInfo>,
+    /// Per network curve, how much its depth follows an arbitrary prior instead of the
+    /// drawing (0: fixed by mirror pairs, rulings and joins; 1: free, e.g. a circle no
+    /// mirror pair reaches). Above [`DEPTH_SENSITIVITY_BOUND`] the curve's depth is
+    /// undetermined.
+    pub depth_sensitivity: Vec<f64>,
     /// The rulings of the linear solve in the image (patch, ends), before the refinement
     /// slid their ends.
     pub rulings_linear: Vec<(usize, [Vec2; 2])>,
@@ -186,7 +195,30 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
     times.symmetry_ms = milliseconds(start);
     let start = Instant::now();
     let energy = assemble_energy(&network, &strips, &pairs, &plane, &annotation.analysis.weights);
-    let linear = solve_energy(&energy, &image_prior(&network), None)?;
+    let prior = image_prior(&network);
+    let linear = solve_energy(&energy, &prior, None)?;
+    // Which depths the drawing fixes: solve again with the prior's depth moved by
+    // `D` (a tenth of the diagonal). A point the energy pins stays; a point in the
+    // energy's null space (a circle no mirror pair reaches slides along the view) follows
+    // the prior. The ratio of its move to `D` is its depth's sensitivity.
+    let shift = 0.1 * annotation.diagonal();
+    let shifted: Vec<f64> = prior
+        .iter()
+        .enumerate()
+        .map(|(k, &v)| if k % 3 == 2 { v + shift } else { v })
+        .collect();
+    let probe = solve_energy(&energy, &shifted, None)?;
+    let depth_sensitivity: Vec<f64> = network
+        .curves
+        .iter()
+        .map(|c| {
+            c.segments
+                .iter()
+                .flat_map(|&s| network.segments[s as usize].points)
+                .map(|p| (probe[3 * p as usize + 2] - linear[3 * p as usize + 2]).abs() / shift)
+                .fold(0.0, f64::max)
+        })
+        .collect();
     times.linear_solve_ms = milliseconds(start);
     let ruling_errors_linear = ruling_errors(&network, &linear, &strips);
     let rulings_linear: Vec<(usize, [Vec2; 2])> = strips
@@ -270,6 +302,7 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
         linear,
         refined,
         refinement,
+        depth_sensitivity,
         rulings_linear,
         ruling_errors_linear,
         ruling_errors_refined,
@@ -281,6 +314,17 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
 }
 
 impl PhotoReconstruction {
+    /// Names of the curves whose depth the drawing does not fix.
+    pub fn depth_undetermined_curves(&self) -> Vec<String> {
+        self.network
+            .curves
+            .iter()
+            .zip(&self.depth_sensitivity)
+            .filter(|(_, &s)| s > DEPTH_SENSITIVITY_BOUND)
+            .map(|(c, _)| c.name.clone())
+            .collect()
+    }
+
     /// Rulings over all strips.
     pub fn ruling_count(&self) -> usize {
         self.strips.iter().map(|s| s.rulings.len()).sum()

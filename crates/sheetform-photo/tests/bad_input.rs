@@ -159,3 +159,22 @@ fn every_allowed_spacing_reconstructs() {
     // Today 16 of the 18 (composite-noisy at 5.2-pixel rulings and at 1.5/7 does not).
     assert!(converged + 2 >= runs, "{converged} of {runs} converged");
 }
+
+/// A drawing whose lower circle no mirror pair reaches: its depth is free (the cup leaned
+/// by 19° until the bottom arc was marked self-symmetric). The reconstruction must name
+/// the curves it cannot place, and place them once the mark is there.
+#[test]
+fn curves_whose_depth_the_drawing_does_not_fix_are_named() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/photo/coffee-cup.json");
+    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let marked = reconstruct(&PhotoAnnotation::from_json(&v.to_string()).unwrap()).unwrap();
+    assert!(marked.depth_undetermined_curves().is_empty());
+    v["self_symmetric_curves"] = json!(["rim"]);
+    let r = reconstruct(&PhotoAnnotation::from_json(&v.to_string()).unwrap()).unwrap();
+    let mut free = r.depth_undetermined_curves();
+    free.sort();
+    assert_eq!(free, ["bottom", "left-silhouette", "right-silhouette"]);
+    // The rim keeps its depth (its sensitivity is 2e-5 of the shift).
+    let rim = r.network.curves.iter().position(|c| c.name == "rim").unwrap();
+    assert!(r.depth_sensitivity[rim] < 1e-3, "{}", r.depth_sensitivity[rim]);
+}

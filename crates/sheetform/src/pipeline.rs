@@ -1217,8 +1217,12 @@ pub struct PhotoRun {
     pub report: Report,
 }
 
-/// Exit status of a photo reconstruction whose refinement did not reach its bound.
+/// Status of a photo reconstruction whose refinement did not reach its bound.
 pub const PHOTO_NOT_DEVELOPABLE_STATUS: &str = "not developable";
+
+/// Status of a photo reconstruction in which some curve's depth is not fixed by the
+/// drawing (no mirror pair reaches it): the model is written, the shape is a guess.
+pub const PHOTO_DEPTH_UNDETERMINED_STATUS: &str = "depth undetermined";
 
 /// Runs system D on an annotation's JSON text: read the photograph, reconstruct
 /// (Fondevilla et al.), unfold every patch and write the model (OBJ, GLB with the photo
@@ -1472,6 +1476,9 @@ pub fn run_photo(
         refinement_displacement_max_px: r.refinement.map(|i| i.displacement_max),
         refinement_slide_max_px: r.refinement.map(|i| i.slide_max_px),
         refinement_bound: sheetform_photo::REFINEMENT_BOUND,
+        depth_sensitivity_max: r.depth_sensitivity.iter().copied().fold(0.0, f64::max),
+        depth_sensitivity_bound: sheetform_photo::DEPTH_SENSITIVITY_BOUND,
+        depth_undetermined_curves: r.depth_undetermined_curves(),
         reprojection_error_mean_px: r.reprojection_error_px.0,
         reprojection_error_max_px: r.reprojection_error_px.1,
         millimetres_per_pixel: r.unit_per_pixel * mm,
@@ -1481,6 +1488,9 @@ pub fn run_photo(
     report.developability_error_max_rad = Some(r.ruling_errors_refined.iter().copied().fold(0.0, f64::max));
     if !developable {
         report.status = PHOTO_NOT_DEVELOPABLE_STATUS.into();
+    }
+    if !r.depth_undetermined_curves().is_empty() {
+        report.status = PHOTO_DEPTH_UNDETERMINED_STATUS.into();
     }
     report.timings = Timings::from_stages(start, parsed, solved, exported);
     report.outputs = output_names(&files);

@@ -510,6 +510,13 @@ pub struct PhotoReport {
     pub refinement_slide_max_px: Option<f64>,
     /// The refinement's bound on the sine of the largest developability error.
     pub refinement_bound: f64,
+    /// Largest depth sensitivity of a curve: how much of an arbitrary shift of the depth
+    /// prior it follows (0: the drawing fixes its depth; 1: free).
+    pub depth_sensitivity_max: f64,
+    /// The bound on it for a depth to count as fixed.
+    pub depth_sensitivity_bound: f64,
+    /// Curves whose depth the drawing does not fix (mark their mirror relations).
+    pub depth_undetermined_curves: Vec<String>,
     /// Mean distance between the solved curves' projections and the traced curves (px).
     pub reprojection_error_mean_px: f64,
     /// Largest such distance (px).

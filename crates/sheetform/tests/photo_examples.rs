@@ -27,8 +27,12 @@ fn every_photo_example_runs_to_an_exact_pattern() {
         let run = run_photo(&text, &options, &mut |_, _| {}).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
         let name = file.display();
         // The perspective composite misses the refinement's bound and says so (exit 5).
+        // The noisy composite's neck arc is only partly pinned by its mirror pairs (12 %
+        // of a prior shift leaks through): its depth is reported undetermined.
         let expected = if name.to_string().contains("composite-perspective") {
             "not developable"
+        } else if name.to_string().contains("composite-noisy") {
+            "depth undetermined"
         } else {
             "ok"
         };
@@ -40,6 +44,7 @@ fn every_photo_example_runs_to_an_exact_pattern() {
         assert_eq!(photo.filled_patch_count, 0, "{name}: every patch is ruled");
         if expected == "ok" {
             assert!(photo.developability_error_refined.unwrap().max_deg < 1e-5, "{name}");
+            assert!(photo.depth_undetermined_curves.is_empty(), "{name}");
         }
         assert!(run.sheet.positions.iter().all(|p| p.iter().all(|v| v.is_finite())));
         assert!(run.sheet.flat.iter().all(|p| p.iter().all(|v| v.is_finite())));
