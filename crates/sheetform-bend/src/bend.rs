@@ -284,6 +284,7 @@ fn mesh_from(
         face_pieces: layout.face_pieces.clone(),
         pieces: layout.pieces.clone(),
         rulings,
+        smooth_edges: vec![],
         unit: model.unit,
     }
 }

@@ -340,6 +340,7 @@ mod tests {
                 kind: PieceKind::Planar,
             }],
             rulings: vec![],
+            smooth_edges: vec![],
             unit: Default::default(),
         }
     }

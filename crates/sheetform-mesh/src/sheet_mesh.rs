@@ -57,6 +57,10 @@ pub struct SheetMesh {
     pub pieces: Vec<Piece>,
     /// Rulings, as vertex chains.
     pub rulings: Vec<Ruling>,
+    /// Interior edges the sheet bends along smoothly that are not rulings to draw (the
+    /// triangulation between the rulings of a ruled strip): the pattern draws them
+    /// neither as folds nor as guides.
+    pub smooth_edges: Vec<[u32; 2]>,
     /// Length unit of both coordinate sets.
     pub unit: LengthUnit,
 }

@@ -315,6 +315,10 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
             ruling_edge.insert(key(w[0], w[1]));
         }
     }
+    // Smooth edges (between the rulings of a strip) are no folds either.
+    for e in &mesh.smooth_edges {
+        ruling_edge.insert(key(e[0], e[1]));
+    }
     let edge_faces = mesh.edge_faces();
     let min_fold = options.min_fold_angle_degrees.to_radians();
     let mut fold_edges: Vec<([u32; 2], f64)> = edge_faces
@@ -491,6 +495,7 @@ mod tests {
                 kind: sheetform_mesh::PieceKind::Chart,
             }],
             rulings: vec![],
+            smooth_edges: vec![],
             unit: sheetform_mesh::LengthUnit::Cm,
         }
     }
@@ -521,6 +526,13 @@ mod tests {
         assert!((fold.angle_degrees - 40.0).abs() < 1e-9);
         // Centimetres to millimetres: the hinge is 10 mm long on the pattern.
         assert!(((fold.b - fold.a).norm() - 10.0).abs() < 1e-12);
+        // A smooth edge (between the rulings of a bent strip) is neither fold nor guide.
+        let smooth = SheetMesh {
+            smooth_edges: vec![[0, 1]],
+            ..down.clone()
+        };
+        let pattern = pattern_from_mesh(&smooth, &PatternOptions::default()).unwrap();
+        assert_eq!(pattern.folds().count(), 0);
     }
 
     #[test]

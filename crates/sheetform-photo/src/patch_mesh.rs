@@ -48,9 +48,12 @@ pub struct PatchMesh {
     pub patch_kind: Vec<PatchSurface>,
     /// Vertices of the patch interiors filled by the Laplace equation.
     pub fill_vertex_count: usize,
-    /// The edges across the ruled strips, in order along each strip: the kept rulings
-    /// and the zipper edges between them, all lines the sheet bends along (bending
-    /// guides of the pattern, not mountain or valley folds).
+    /// The kept rulings as mesh edges, in order along each strip (the pattern's bending
+    /// guides).
+    pub ruling_edges: Vec<[u32; 2]>,
+    /// The other edges across the ruled strips (the zipper between two rulings): the
+    /// sheet bends along them smoothly; the pattern draws them neither as folds nor as
+    /// guides.
     pub bending_edges: Vec<[u32; 2]>,
 }
 
@@ -187,7 +190,7 @@ pub fn mesh_patches(
             .map(|&pl| numbering.vertex(network, samples, pl))
             .collect();
         let first = strip.rulings[0];
-        mesh.bending_edges.push([va[first.0], vb[first.1]]);
+        mesh.ruling_edges.push([va[first.0], vb[first.1]]);
         for w in strip.rulings.windows(2) {
             let ((k0, l0), (k1, l1)) = (w[0], w[1]);
             let (mut ka, mut lb) = (k0, l0);
@@ -208,7 +211,11 @@ pub fn mesh_patches(
                     push_triangle(&mut mesh, [va[ka], vb[lb], vb[lb + 1]], strip.patch);
                     lb += 1;
                 }
-                mesh.bending_edges.push([va[ka], vb[lb]]);
+                if (ka, lb) == (k1, l1) {
+                    mesh.ruling_edges.push([va[ka], vb[lb]]);
+                } else {
+                    mesh.bending_edges.push([va[ka], vb[lb]]);
+                }
             }
         }
     }

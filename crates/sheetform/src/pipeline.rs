@@ -365,6 +365,7 @@ pub fn run_slit(scene_text: &str, options: &SlitRunOptions) -> Result<SlitRun, P
                 kind: PieceKind::Planar,
             }],
             rulings: vec![],
+            smooth_edges: vec![],
             unit: model.unit,
         };
         files.push(("mould.stl".into(), stl_bytes(&solid)));
@@ -771,6 +772,7 @@ pub fn run_flatten(path: &Path, options: &FlattenOptions) -> Result<FlattenRun, 
                 kind: PieceKind::Chart,
             }],
             rulings: vec![],
+            smooth_edges: vec![],
             unit: options.unit,
         };
         report.solver = Some(unfolding.solver);
@@ -864,6 +866,7 @@ fn sheet_from_charts(
         face_pieces: Vec::new(),
         pieces: Vec::new(),
         rulings: vec![],
+        smooth_edges: vec![],
         unit,
     };
     for (c, chart) in set.charts.iter().enumerate() {
@@ -1367,8 +1370,9 @@ pub fn run_photo(
         .tabs
         .map_or(0.0, |t| 2.5 * t.width_mm / (mm * options.pattern.scale));
     let mut sheet = sheet_from_charts(&model, &chart_set, &name, Some(&groups), unit, tab_room);
-    // The strips' cross edges are bending guides (the pattern draws rulings as guides,
-    // never as mountain or valley folds): each in its chart's numbering of the sheet.
+    // The strips' rulings are bending guides (the pattern draws rulings as guides, never
+    // as mountain or valley folds), the zipper edges between them smooth edges (drawn as
+    // neither): each in its chart's numbering of the sheet.
     let mut sheet_vertex = std::collections::HashMap::new();
     let mut offset = 0u32;
     for (c, chart) in chart_set.charts.iter().enumerate() {
@@ -1384,12 +1388,16 @@ pub fn run_photo(
             edge_face.insert((a.min(b), a.max(b)), f);
         }
     }
-    for &[a, b] in &mesh.bending_edges {
-        let Some(&face) = edge_face.get(&(a.min(b), a.max(b))) else {
-            continue;
-        };
+    let sheet_edge = |[a, b]: [u32; 2]| -> Option<(u32, [u32; 2])> {
+        let &face = edge_face.get(&(a.min(b), a.max(b)))?;
         let chart = model.face_groups[face];
-        if let (Some(&sa), Some(&sb)) = (sheet_vertex.get(&(chart, a)), sheet_vertex.get(&(chart, b))) {
+        Some((
+            chart,
+            [*sheet_vertex.get(&(chart, a))?, *sheet_vertex.get(&(chart, b))?],
+        ))
+    };
+    for &edge in &mesh.ruling_edges {
+        if let Some((chart, [sa, sb])) = sheet_edge(edge) {
             sheet.rulings.push(Ruling {
                 vertices: vec![sa, sb],
                 piece: chart,
@@ -1397,6 +1405,12 @@ pub fn run_photo(
             });
         }
     }
+    sheet.smooth_edges = mesh
+        .bending_edges
+        .iter()
+        .filter_map(|&e| sheet_edge(e))
+        .map(|(_, e)| e)
+        .collect();
     let solved = Instant::now();
     progress("exporting", 0.7);
     // The photo projected onto the model: each vertex's image position.

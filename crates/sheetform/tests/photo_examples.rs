@@ -55,5 +55,8 @@ fn every_photo_example_runs_to_an_exact_pattern() {
             "{name}: bends are guides"
         );
         assert_eq!(pattern.piece_count, photo.patch_count, "{name}");
+        // Every kept ruling is a bending guide; the triangulation between them is smooth.
+        assert_eq!(run.sheet.rulings.len(), photo.ruling_count, "{name}");
+        assert!(!run.sheet.smooth_edges.is_empty(), "{name}");
     }
 }
