@@ -27,8 +27,10 @@ through the axis and the view direction would be seen edge-on, a degenerate anno
 Frame: the axis (bottom centre -> top centre) and the radius from the top centre to the
 top rim in that plane; points: the pair of mirror-image top-rim nodes farthest apart in
 the image, ordered so that points[1] is nearer the viewer (flip_depth = false is right).
-Only the top rim is symmetric about this plane (self-symmetric); the front arcs and the
-silhouette pairs are symmetric only about the edge-on plane, so no pair is listed.
+Every circle is symmetric about this plane: the closed top rim wholly, each front arc
+where its mirror image is visible too; all are listed as self-symmetric (without the
+front arcs nothing fixes the lower circles' depth). The silhouettes are symmetric only
+about the edge-on plane, so no pair is listed.
 true_size: the top-rim diameter lying in the symmetry plane.
 
 For each model, three annotation files (format: sheetform photo annotation version 1):
@@ -738,8 +740,10 @@ top-rim diameter in mm. For the perspective files the truth is in the camera fra
 and scaled to match the image at the object's centre depth (see each file's `frame`).
 
 Symmetry plane: through the axis at 45 deg from the viewing direction's horizontal part
-(so not seen edge-on); only the top rim is self-symmetric about it, and no other curve
-pair is mirror-symmetric about it.
+(so not seen edge-on). Every circle is self-symmetric about it: the closed top rim
+wholly, each front arc where its mirror image is visible too (listed in
+`self_symmetric_curves`: without them nothing fixes the lower circles' depth). No pair
+of curves is mirror-symmetric about it.
 
 Licence: made by the sheetform project; same licence as the project (MIT OR Apache-2.0).
 """
@@ -762,7 +766,7 @@ the tests rely on.
   joint circles (8 and 6 arcs) and of the bottom circle (4 arcs), and two straight
   silhouettes per patch: 118 control points in all. The arcs' ends are every patch's
   silhouette angles and their mirror images about the symmetry plane. An opening in the
-  top rim; symmetry plane, frame, points, `self_symmetric_curves` (the top rim only) and
+  top rim; symmetry plane, frame, points, `self_symmetric_curves` (every circle) and
   `true_size` (a top-rim diameter, mm) as in the synthetic models.
   `analysis.ruling_spacing_px` = 4.6 px: the reconstruction keeps 149 rulings in all
   (3 strips). The front arcs bounding the patches are 814.9 px long in all (sum over the
