@@ -60,3 +60,68 @@ fn every_photo_example_runs_to_an_exact_pattern() {
         assert!(!run.sheet.smooth_edges.is_empty(), "{name}");
     }
 }
+
+/// A patch no silhouette bounds (the cylinder's top closed by a lid instead of left
+/// open) is meshed by the constrained Delaunay triangulation and the Laplace fill: the
+/// lid of a planar rim comes out planar, and it unfolds with its rim's true length.
+#[test]
+fn a_patch_without_silhouette_is_filled_by_a_minimal_surface() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/photo/synthetic");
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(root.join("cylinder-ortho.json")).unwrap()).unwrap();
+    v["openings"] = serde_json::json!([]);
+    let options = PhotoRunOptions {
+        base_dir: Some(root),
+        ..Default::default()
+    };
+    let run = run_photo(&v.to_string(), &options, &mut |_, _| {}).unwrap();
+    let photo = run.report.photo.as_ref().unwrap();
+    assert_eq!(
+        (photo.patch_count, photo.ruled_patch_count, photo.filled_patch_count),
+        (2, 1, 1)
+    );
+    assert_eq!(run.report.status, "ok");
+    let mesh = &run.reconstruction.mesh;
+    assert!(mesh.fill_vertex_count > 50, "{}", mesh.fill_vertex_count);
+    // The lid: every vertex of the filled patch on the rim's plane.
+    let lid = mesh
+        .patch_kind
+        .iter()
+        .position(|k| *k == sheetform::photo::PatchSurface::Filled)
+        .unwrap();
+    let vertices: Vec<usize> = mesh
+        .triangles
+        .iter()
+        .zip(&mesh.face_patch)
+        .filter(|(_, &p)| p as usize == lid)
+        .flat_map(|(t, _)| t.iter().map(|&v| v as usize))
+        .collect();
+    let p: Vec<_> = vertices.iter().map(|&i| mesh.positions[i]).collect();
+    let centroid = p.iter().fold(nalgebra::Vector3::zeros(), |a, q| a + q) / p.len() as f64;
+    let normal = (p[1] - p[0]).cross(&(p[p.len() / 2] - p[0])).normalize();
+    let off_plane = p.iter().map(|q| (q - centroid).dot(&normal).abs()).fold(0.0, f64::max);
+    // The reconstructed rim is planar to the solve's accuracy (~0.01 mm on 80 mm).
+    assert!(off_plane < 0.05, "lid {off_plane} mm off its plane");
+    // Its pattern is a disk of the rim's radius (80 px = 40 mm): area π r² to 1 %. The
+    // sheet's pieces are the material patches in order.
+    let piece = mesh.patch_kind[..lid]
+        .iter()
+        .filter(|k| **k != sheetform::photo::PatchSurface::Opening)
+        .count() as u32;
+    let lid_area: f64 = run
+        .sheet
+        .triangles
+        .iter()
+        .zip(&run.sheet.face_pieces)
+        .filter(|(_, &p)| p == piece)
+        .map(|(t, _)| {
+            let [a, b, c] = t.map(|i| run.sheet.flat[i as usize]);
+            0.5 * ((b - a).x * (c - a).y - (b - a).y * (c - a).x).abs()
+        })
+        .sum();
+    let disk = std::f64::consts::PI * 40.0 * 40.0;
+    assert!(
+        (lid_area / disk - 1.0).abs() < 0.01,
+        "lid pattern area {lid_area} mm² against π·40² = {disk}"
+    );
+}
