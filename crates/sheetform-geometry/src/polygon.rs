@@ -38,7 +38,8 @@ pub struct RayHit {
     pub edge_parameter: f64,
 }
 
-fn signed_area(ring: &[Vec2]) -> f64 {
+/// Signed area of a closed ring (shoelace formula): positive when counter-clockwise.
+pub fn signed_area(ring: &[Vec2]) -> f64 {
     let n = ring.len();
     (0..n)
         .map(|i| {

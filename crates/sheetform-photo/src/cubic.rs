@@ -24,6 +24,11 @@ pub fn bernstein_derivative(t: f64) -> [f64; 4] {
     ]
 }
 
+/// Second-derivative weights `d²B_i/dt²`.
+pub fn bernstein_second_derivative(t: f64) -> [f64; 4] {
+    [6.0 * (1.0 - t), 6.0 * (3.0 * t - 2.0), 6.0 * (1.0 - 3.0 * t), 6.0 * t]
+}
+
 /// Point of a cubic at `t`.
 pub fn point<const D: usize>(b: &[SVector<f64, D>; 4], t: f64) -> SVector<f64, D> {
     let w = bernstein(t);
@@ -83,8 +88,8 @@ pub fn nearest_parameter(b: &[Vec2; 4], p: Vec2) -> (f64, f64) {
     for _ in 0..20 {
         let q = point(b, t) - p;
         let d1 = derivative(b, t);
-        // Second derivative of a cubic.
-        let t2 = 6.0 * ((b[2] - b[1] * 2.0 + b[0]) * (1.0 - t) + (b[3] - b[2] * 2.0 + b[1]) * t);
+        let w = bernstein_second_derivative(t);
+        let t2 = b[0] * w[0] + b[1] * w[1] + b[2] * w[2] + b[3] * w[3];
         let g = q.dot(&d1);
         let h = d1.dot(&d1) + q.dot(&t2);
         if h <= 0.0 {
@@ -127,8 +132,11 @@ mod tests {
             let d = bernstein_derivative(t);
             let h = 1e-6;
             let (a, b) = (bernstein(t - h), bernstein(t + h));
+            let (da, db) = (bernstein_derivative(t - h), bernstein_derivative(t + h));
+            let d2 = bernstein_second_derivative(t);
             for k in 0..4 {
                 assert!((d[k] - (b[k] - a[k]) / (2.0 * h)).abs() < 1e-8);
+                assert!((d2[k] - (db[k] - da[k]) / (2.0 * h)).abs() < 1e-7);
             }
         }
     }

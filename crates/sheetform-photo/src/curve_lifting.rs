@@ -106,6 +106,17 @@ fn place_weights(network: &CurveNetwork, place: CurvePoint) -> [(u32, f64); 4] {
     [(seg[0], w[0]), (seg[1], w[1]), (seg[2], w[2]), (seg[3], w[3])]
 }
 
+/// `Σ wᵢ qᵢ` over the four 3D control points of `segment` in the unknown vector `x`
+/// (`3 × point + axis`): a point (Bernstein weights) or a derivative of the lifted curve.
+pub fn combine3(network: &CurveNetwork, x: &[f64], segment: u32, weights: [f64; 4]) -> Vec3 {
+    network.segments[segment as usize]
+        .points
+        .iter()
+        .zip(weights)
+        .map(|(&i, w)| Vec3::new(x[3 * i as usize], x[3 * i as usize + 1], x[3 * i as usize + 2]) * w)
+        .sum()
+}
+
 /// 2D image position of a place.
 pub fn place_image(network: &CurveNetwork, place: CurvePoint) -> Vec2 {
     cubic::point(&network.control_points(place.segment as usize), place.t)

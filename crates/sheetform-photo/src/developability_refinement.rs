@@ -58,31 +58,12 @@ pub const REFINEMENT_BOUND: f64 = 1e-7;
 
 /// Point of the 3D network (unknown vector `x`) at a place.
 fn point3(network: &CurveNetwork, x: &[f64], place: CurvePoint) -> Vec3 {
-    let w = cubic::bernstein(place.t);
-    let ids = network.segments[place.segment as usize].points;
-    (0..4)
-        .map(|k| {
-            Vec3::new(
-                x[3 * ids[k] as usize],
-                x[3 * ids[k] as usize + 1],
-                x[3 * ids[k] as usize + 2],
-            ) * w[k]
-        })
-        .sum()
+    crate::curve_lifting::combine3(network, x, place.segment, cubic::bernstein(place.t))
 }
 
+/// Tangent `dB/dt` of the 3D network at a place.
 fn tangent3(network: &CurveNetwork, x: &[f64], place: CurvePoint) -> Vec3 {
-    let w = cubic::bernstein_derivative(place.t);
-    let ids = network.segments[place.segment as usize].points;
-    (0..4)
-        .map(|k| {
-            Vec3::new(
-                x[3 * ids[k] as usize],
-                x[3 * ids[k] as usize + 1],
-                x[3 * ids[k] as usize + 2],
-            ) * w[k]
-        })
-        .sum()
+    crate::curve_lifting::combine3(network, x, place.segment, cubic::bernstein_derivative(place.t))
 }
 
 /// The paper's developability error of every ruling (radians), strip by strip.
@@ -210,16 +191,7 @@ fn evaluate(
 
 /// Second derivative of the 3D curve at a place.
 fn second3(network: &CurveNetwork, x: &[f64], place: CurvePoint) -> Vec3 {
-    let ids = network.segments[place.segment as usize].points;
-    let q = |k: usize| {
-        Vec3::new(
-            x[3 * ids[k] as usize],
-            x[3 * ids[k] as usize + 1],
-            x[3 * ids[k] as usize + 2],
-        )
-    };
-    let t = place.t;
-    6.0 * ((q(2) - q(1) * 2.0 + q(0)) * (1.0 - t) + (q(3) - q(2) * 2.0 + q(1)) * t)
+    crate::curve_lifting::combine3(network, x, place.segment, cubic::bernstein_second_derivative(place.t))
 }
 
 /// The refined 3D control points, the new places of the rulings' `b` ends

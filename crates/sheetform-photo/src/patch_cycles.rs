@@ -19,7 +19,7 @@ use crate::cubic;
 use crate::curve_network::CurveNetwork;
 use crate::PhotoError;
 use nalgebra::Vector2;
-use sheetform_geometry::Polygon;
+use sheetform_geometry::{signed_area, Polygon};
 
 type Vec2 = Vector2<f64>;
 
@@ -255,15 +255,4 @@ fn leaving_direction(b: &[Vec2; 4], r: f64) -> Vec2 {
     } else {
         cubic::derivative(b, 0.0)
     }
-}
-
-fn signed_area(ring: &[Vec2]) -> f64 {
-    let n = ring.len();
-    (0..n)
-        .map(|i| {
-            let (a, b) = (ring[i], ring[(i + 1) % n]);
-            a.x * b.y - b.x * a.y
-        })
-        .sum::<f64>()
-        * 0.5
 }

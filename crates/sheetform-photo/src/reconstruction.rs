@@ -133,13 +133,7 @@ fn nearest_place(network: &CurveNetwork, p: Vec2) -> (CurvePoint, f64) {
 
 /// The 3D point of a place for unknowns `x`.
 pub fn place_point(network: &CurveNetwork, x: &[f64], place: CurvePoint) -> Vec3 {
-    let w = cubic::bernstein(place.t);
-    network.segments[place.segment as usize]
-        .points
-        .iter()
-        .zip(w)
-        .map(|(&i, w)| Vec3::new(x[3 * i as usize], x[3 * i as usize + 1], x[3 * i as usize + 2]) * w)
-        .sum()
+    crate::curve_lifting::combine3(network, x, place.segment, cubic::bernstein(place.t))
 }
 
 /// Runs the method on a validated annotation.
