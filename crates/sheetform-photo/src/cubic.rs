@@ -1,7 +1,7 @@
-//! Cubic Bézier segments: the Bernstein weights every step uses to write a point on a
-//! curve as a linear combination of its four control points (§6.1: sample points are
-//! "affine combinations of the Bézier control points"), and de Casteljau subdivision
-//! (§5.1: curves are split at their intersections without changing their shape).
+//! Cubic Bézier segments on fixed-size arrays: the Bernstein weights every step uses to
+//! write a point on a curve as a linear combination of its four control points (§6.1:
+//! sample points are "affine combinations of the Bézier control points"), and the
+//! evaluations of the hot loops. Splitting and arc length: `sheetform_geometry::Bezier`.
 
 use nalgebra::{SVector, Vector2};
 
@@ -41,15 +41,6 @@ pub fn derivative<const D: usize>(b: &[SVector<f64, D>; 4], t: f64) -> SVector<f
     b[0] * w[0] + b[1] * w[1] + b[2] * w[2] + b[3] * w[3]
 }
 
-/// De Casteljau subdivision at `t`: the two cubics covering `[0, t]` and `[t, 1]`.
-pub fn split<const D: usize>(b: &[SVector<f64, D>; 4], t: f64) -> ([SVector<f64, D>; 4], [SVector<f64, D>; 4]) {
-    let lerp = |p: SVector<f64, D>, q: SVector<f64, D>| p + (q - p) * t;
-    let (p01, p12, p23) = (lerp(b[0], b[1]), lerp(b[1], b[2]), lerp(b[2], b[3]));
-    let (p012, p123) = (lerp(p01, p12), lerp(p12, p23));
-    let m = lerp(p012, p123);
-    ([b[0], p01, p012, m], [m, p123, p23, b[3]])
-}
-
 /// A polyline of `pieces + 1` points at uniform parameters.
 pub fn polyline(b: &[Vec2; 4], pieces: usize) -> Vec<Vec2> {
     (0..=pieces).map(|i| point(b, i as f64 / pieces as f64)).collect()
@@ -58,19 +49,6 @@ pub fn polyline(b: &[Vec2; 4], pieces: usize) -> Vec<Vec2> {
 /// Length of the control polygon (an upper bound of the arc length).
 pub fn hull_length(b: &[Vec2; 4]) -> f64 {
     (b[1] - b[0]).norm() + (b[2] - b[1]).norm() + (b[3] - b[2]).norm()
-}
-
-/// Arc length by 16-point composite Simpson rule on `|B'(t)|` (ample for the smooth
-/// segments of a tracing; used for sampling, not for geometry that must be exact).
-pub fn arc_length(b: &[Vec2; 4], t0: f64, t1: f64) -> f64 {
-    let n = 16;
-    let h = (t1 - t0) / n as f64;
-    let f = |t: f64| derivative(b, t).norm();
-    let mut sum = f(t0) + f(t1);
-    for i in 1..n {
-        sum += f(t0 + i as f64 * h) * if i % 2 == 1 { 4.0 } else { 2.0 };
-    }
-    sum * h / 3.0
 }
 
 /// Parameter at which a cubic is nearest to `p`: the best of a coarse scan, refined by
@@ -142,17 +120,6 @@ mod tests {
     }
 
     #[test]
-    fn splitting_keeps_the_curve() {
-        let b = sample();
-        let (l, r) = split(&b, 0.3);
-        for i in 0..=10 {
-            let s = i as f64 / 10.0;
-            assert!((point(&l, s) - point(&b, 0.3 * s)).norm() < 1e-13);
-            assert!((point(&r, s) - point(&b, 0.3 + 0.7 * s)).norm() < 1e-13);
-        }
-    }
-
-    #[test]
     fn nearest_parameter_finds_a_point_on_the_curve() {
         let b = sample();
         let p = point(&b, 0.62);
@@ -163,16 +130,5 @@ mod tests {
         let (t, d) = nearest_parameter(&b, p + normal * 0.05);
         assert!((t - 0.62).abs() < 1e-6, "{t}");
         assert!((d - 0.05).abs() < 1e-9);
-    }
-
-    #[test]
-    fn arc_length_of_a_straight_cubic() {
-        let b = [
-            Vec2::new(0.0, 0.0),
-            Vec2::new(1.0, 0.0),
-            Vec2::new(2.0, 0.0),
-            Vec2::new(3.0, 0.0),
-        ];
-        assert!((arc_length(&b, 0.0, 1.0) - 3.0).abs() < 1e-12);
     }
 }

@@ -83,21 +83,6 @@ pub struct Energy {
     pub unknown_count: usize,
 }
 
-impl Energy {
-    /// `Σ rowᵢ(x)²` per term (unweighted rows are not kept: the weights are inside).
-    pub fn term_values(&self, x: &[f64]) -> Vec<(EnergyTerm, f64)> {
-        let mut out: Vec<(EnergyTerm, f64)> = Vec::new();
-        for row in &self.rows {
-            let r = row.coefficients.iter().map(|&(c, a)| a * x[c as usize]).sum::<f64>() - row.rhs;
-            match out.iter_mut().find(|(t, _)| *t == row.term) {
-                Some((_, v)) => *v += r * r,
-                None => out.push((row.term, r * r)),
-            }
-        }
-        out
-    }
-}
-
 /// Linear combination `Σ wᵢ qᵢ` of control points for a place on the network, per
 /// point index.
 fn place_weights(network: &CurveNetwork, place: CurvePoint) -> [(u32, f64); 4] {
@@ -284,18 +269,19 @@ pub fn assemble_energy(
     }
 }
 
-/// Minimises the energy (plus the Tikhonov term toward `prior`) and returns the unknowns.
+/// Minimises the energy plus the Tikhonov term `ε |q − prior|²` for each prior, with one
+/// factorisation (the priors change only the right-hand side); one solution per prior.
 ///
 /// # Errors
-/// [`PhotoError::Solver`] if the factorisation fails.
-pub fn solve_energy(energy: &Energy, prior: &[f64], extra_diagonal: Option<f64>) -> Result<Vec<f64>, PhotoError> {
+/// [`PhotoError::Solver`] if the factorisation fails or a solution is not finite.
+pub fn solve_energy(energy: &Energy, priors: &[&[f64]]) -> Result<Vec<Vec<f64>>, PhotoError> {
     let n = energy.unknown_count;
     let mut diagonal = vec![0.0; n];
-    let mut rhs = vec![0.0; n];
+    let mut atb = vec![0.0; n];
     let mut triplets: Vec<Triplet<usize, usize, f64>> = Vec::new();
     for row in &energy.rows {
         for &(ci, ai) in &row.coefficients {
-            rhs[ci as usize] += ai * row.rhs;
+            atb[ci as usize] += ai * row.rhs;
             for &(cj, aj) in &row.coefficients {
                 if cj <= ci {
                     triplets.push(Triplet::new(ci as usize, cj as usize, ai * aj));
@@ -306,11 +292,9 @@ pub fn solve_energy(energy: &Energy, prior: &[f64], extra_diagonal: Option<f64>)
             }
         }
     }
-    let largest = diagonal.iter().copied().fold(0.0, f64::max).max(1e-300);
-    let epsilon = extra_diagonal.unwrap_or(1e-9 * largest);
+    let epsilon = 1e-9 * diagonal.iter().copied().fold(0.0, f64::max).max(1e-300);
     for k in 0..n {
         triplets.push(Triplet::new(k, k, epsilon));
-        rhs[k] += epsilon * prior[k];
     }
     let matrix = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &triplets)
         .map_err(|e| PhotoError::Solver(format!("{e:?}")))?;
@@ -318,12 +302,17 @@ pub fn solve_energy(energy: &Energy, prior: &[f64], extra_diagonal: Option<f64>)
         SymbolicLlt::try_new(matrix.symbolic(), Side::Lower).map_err(|e| PhotoError::Solver(format!("{e:?}")))?;
     let llt = Llt::try_new_with_symbolic(symbolic, matrix.as_ref(), Side::Lower)
         .map_err(|e| PhotoError::Solver(format!("factorisation failed: {e:?}")))?;
-    let x = llt.solve(Col::from_fn(n, |k| rhs[k]));
-    let out: Vec<f64> = (0..n).map(|k| x[k]).collect();
-    if out.iter().any(|v| !v.is_finite()) {
-        return Err(PhotoError::Solver("the solution is not finite".into()));
-    }
-    Ok(out)
+    priors
+        .iter()
+        .map(|prior| {
+            let x = llt.solve(Col::from_fn(n, |k| atb[k] + epsilon * prior[k]));
+            let out: Vec<f64> = (0..n).map(|k| x[k]).collect();
+            if out.iter().any(|v| !v.is_finite()) {
+                return Err(PhotoError::Solver("the solution is not finite".into()));
+            }
+            Ok(out)
+        })
+        .collect()
 }
 
 /// The prior of the Tikhonov term: the traced points at depth 0.

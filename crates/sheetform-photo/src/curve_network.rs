@@ -3,7 +3,8 @@
 //!
 //! Fondevilla et al. "detect intersections between the traced curves and resample them
 //! to obtain C¹ piecewise cubic curves with endpoints at intersections". Here the curves
-//! are *split* exactly (de Casteljau) at each intersection instead of refitted, so the
+//! are *split* exactly (de Casteljau, `sheetform_geometry::Bezier::segment`) at each
+//! intersection instead of refitted, so the
 //! network has the drawing's exact shape and stays C¹ within each curve. Intersections
 //! are found on 32-piece polylines of each segment pair whose control hulls' boxes
 //! overlap, then refined by Newton's method on `B₁(t₁) − B₂(t₂) = 0`.
@@ -19,7 +20,7 @@ use crate::annotation::{image_to_model, CurveKind, PhotoAnnotation};
 use crate::cubic;
 use crate::PhotoError;
 use nalgebra::Vector2;
-use sheetform_geometry::segment_intersection;
+use sheetform_geometry::{segment_intersection, Bezier2};
 
 type Vec2 = Vector2<f64>;
 
@@ -428,13 +429,11 @@ fn locate(n: usize, u: f64) -> (usize, f64) {
 fn sub_cubic(segs: &[[Vec2; 4]], u0: f64, u1: f64) -> [Vec2; 4] {
     let j = (u0.floor() as usize).min(segs.len() - 1);
     let (t0, t1) = ((u0 - j as f64).clamp(0.0, 1.0), (u1 - j as f64).clamp(0.0, 1.0));
-    let b = segs[j];
-    let right = if t0 > 0.0 { cubic::split(&b, t0).1 } else { b };
-    if t1 < 1.0 {
-        cubic::split(&right, (t1 - t0) / (1.0 - t0)).0
-    } else {
-        right
-    }
+    let piece = Bezier2::new(segs[j].to_vec())
+        .expect("validated: finite control points")
+        .segment(t0, t1);
+    let p = piece.control_points();
+    [p[0], p[1], p[2], p[3]]
 }
 
 /// Crossings of two polylines of equal piece count: `(t_a, t_b)` in segment parameters.

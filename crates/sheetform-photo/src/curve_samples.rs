@@ -7,6 +7,7 @@ use crate::cubic;
 use crate::curve_network::CurveNetwork;
 use crate::patch_cycles::HalfEdge;
 use nalgebra::Vector2;
+use sheetform_geometry::{gauss_legendre_length, Bezier2};
 
 type Vec2 = Vector2<f64>;
 
@@ -31,12 +32,13 @@ pub struct CurveSamples {
 pub fn sample_curves(network: &CurveNetwork, spacing: f64) -> CurveSamples {
     let parameters = (0..network.segments.len())
         .map(|s| {
-            let b = network.control_points(s);
-            // Arc length at 64 uniform parameters, inverted piecewise linearly.
+            let b = Bezier2::new(network.control_points(s).to_vec()).expect("validated: finite control points");
+            // Arc length at 64 uniform parameters (8-point Gauss–Legendre per interval),
+            // inverted piecewise linearly.
             let n = 64;
             let mut table = vec![0.0; n + 1];
             for i in 0..n {
-                table[i + 1] = table[i] + cubic::arc_length(&b, i as f64 / n as f64, (i + 1) as f64 / n as f64);
+                table[i + 1] = table[i] + gauss_legendre_length(&b, i as f64 / n as f64, (i + 1) as f64 / n as f64);
             }
             let length = table[n];
             let pieces = ((length / spacing).ceil() as usize).clamp(1, 100_000);

@@ -56,6 +56,10 @@ type Vec3 = Vector3<f64>;
 /// iteration goes on towards 1e-12 while it makes progress.
 pub const REFINEMENT_BOUND: f64 = 1e-7;
 
+/// Most values of the refinement's dense matrices (`n m + m²` for `n` unknowns and `m`
+/// rulings).
+pub const MAX_DENSE_VALUES: usize = 50_000_000;
+
 /// Point of the 3D network (unknown vector `x`) at a place.
 fn point3(network: &CurveNetwork, x: &[f64], place: CurvePoint) -> Vec3 {
     crate::curve_lifting::combine3(network, x, place.segment, cubic::bernstein(place.t))
@@ -201,7 +205,9 @@ pub type Refinement = (Vec<f64>, Vec<Vec<Option<CurvePoint>>>, RefinementInfo);
 /// Makes every ruling's tangent plane constant (see the module documentation).
 ///
 /// # Errors
-/// [`PhotoError::Solver`] if the factorisation fails.
+/// [`PhotoError::Solver`] if the factorisation fails; [`PhotoError::Field`] on
+/// `analysis.ruling_spacing_px` when the dense Schur complement would exceed
+/// [`MAX_DENSE_VALUES`].
 pub fn refine_developability(
     network: &CurveNetwork,
     energy: &Energy,
@@ -289,6 +295,17 @@ pub fn refine_developability(
         out
     };
     let m = constraints.len();
+    // The Schur complement is dense: H⁻¹Cᵀ (n × m) and C H⁻¹ Cᵀ (m × m), bounded (~400 MB).
+    if n * m + m * m > MAX_DENSE_VALUES {
+        return Err(PhotoError::field(
+            "analysis.ruling_spacing_px",
+            format!(
+                "{m} rulings on {} control points are too many to refine (at most {MAX_DENSE_VALUES} dense values): \
+                 space the rulings wider or set analysis.refine to false",
+                n / 3
+            ),
+        ));
+    }
     // Sliding an end by one pixel costs `SLIDE_WEIGHT` (moving a control point by one
     // pixel costs at least `proximity`).
     let slide_weight: Vec<f64> = constraints

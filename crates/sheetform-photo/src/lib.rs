@@ -49,7 +49,7 @@ pub use curve_lifting::{assemble_energy, image_prior, place_image, solve_energy,
 pub use curve_network::{build_curve_network, CurveNetwork, NetworkCurve, NetworkSegment};
 pub use curve_samples::{sample_curves, CurvePoint, CurveSamples, SampledChain};
 pub use developability_refinement::{
-    refine_developability, ruling_errors, Refinement, RefinementInfo, REFINEMENT_BOUND,
+    refine_developability, ruling_errors, Refinement, RefinementInfo, MAX_DENSE_VALUES, REFINEMENT_BOUND,
 };
 pub use error::PhotoError;
 pub use overlay::{overlay_png, overlay_svg};
@@ -59,7 +59,7 @@ pub use reconstruction::{
     place_point, reconstruct, AngleSummary, PhotoReconstruction, StageTimes, DEPTH_SENSITIVITY_BOUND,
 };
 pub use ruling_alignment::{align_rulings, move_ruling_ends};
-pub use ruling_propagation::{propagate_rulings, PropagationCounts, PropagationOptions, RuledStrip};
+pub use ruling_propagation::{propagate_rulings, PropagationCounts, PropagationOptions, RuledStrip, MAX_WARPING_CELLS};
 pub use svg_import::{annotation_from_svg, svg_image_reference};
 pub use symmetric_correspondences::{curve_chain, symmetric_pairs, SymmetricPair};
 pub use symmetry_plane::SymmetryPlane;

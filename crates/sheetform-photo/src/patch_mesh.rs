@@ -96,12 +96,13 @@ impl SampleVertices {
     fn vertex(&self, network: &CurveNetwork, samples: &CurveSamples, place: CurvePoint) -> u32 {
         let params = &samples.parameters[place.segment as usize];
         let seg = network.segments[place.segment as usize].points;
-        let k = params
-            .iter()
-            .enumerate()
-            .min_by(|a, b| (a.1 - place.t).abs().total_cmp(&(b.1 - place.t).abs()))
-            .map(|(k, _)| k)
-            .expect("samples");
+        // The nearest sample (places are samples; parameters increase).
+        let at = params.partition_point(|&t| t < place.t).min(params.len() - 1);
+        let k = if at > 0 && place.t - params[at - 1] < params[at] - place.t {
+            at - 1
+        } else {
+            at
+        };
         if k == 0 {
             self.node[seg[0] as usize]
         } else if k == params.len() - 1 {

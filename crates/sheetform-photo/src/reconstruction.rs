@@ -160,7 +160,7 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
             ruling_spacing: lengths.ruling,
             smoothness_weight: annotation.analysis.dtw_smoothness_weight,
         },
-    );
+    )?;
     let aligned_ruling_count = align_rulings(&network, &mut samples, &mut strips);
     times.rulings_ms = milliseconds(start);
     let start = Instant::now();
@@ -190,18 +190,20 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
     let start = Instant::now();
     let energy = assemble_energy(&network, &strips, &pairs, &plane, &annotation.analysis.weights);
     let prior = image_prior(&network);
-    let linear = solve_energy(&energy, &prior, None)?;
     // Which depths the drawing fixes: solve again with the prior's depth moved by
     // `D` (a tenth of the diagonal). A point the energy pins stays; a point in the
     // energy's null space (a circle no mirror pair reaches slides along the view) follows
-    // the prior. The ratio of its move to `D` is its depth's sensitivity.
+    // the prior. The ratio of its move to `D` is its depth's sensitivity. Same matrix,
+    // one factorisation.
     let shift = 0.1 * annotation.diagonal();
     let shifted: Vec<f64> = prior
         .iter()
         .enumerate()
         .map(|(k, &v)| if k % 3 == 2 { v + shift } else { v })
         .collect();
-    let probe = solve_energy(&energy, &shifted, None)?;
+    let mut solutions = solve_energy(&energy, &[&prior, &shifted])?;
+    let probe = solutions.pop().expect("two priors");
+    let linear = solutions.pop().expect("two priors");
     let depth_sensitivity: Vec<f64> = network
         .curves
         .iter()

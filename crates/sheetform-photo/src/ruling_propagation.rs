@@ -25,7 +25,7 @@
 use crate::curve_network::CurveNetwork;
 use crate::curve_samples::{CurvePoint, CurveSamples, SampledChain};
 use crate::patch_cycles::{HalfEdge, Patch};
-use crate::CurveKind;
+use crate::{CurveKind, PhotoError};
 use nalgebra::Vector2;
 
 type Vec2 = Vector2<f64>;
@@ -79,13 +79,20 @@ pub struct PropagationOptions {
     pub smoothness_weight: f64,
 }
 
+/// Most sample pairs one warping may weigh (the table of Eq. 2 is quadratic).
+pub const MAX_WARPING_CELLS: usize = 20_000_000;
+
 /// Rulings of every patch bounded by a silhouette.
+///
+/// # Errors
+/// [`PhotoError::Field`] on `analysis.sample_spacing_px` when a warping would exceed
+/// [`MAX_WARPING_CELLS`].
 pub fn propagate_rulings(
     network: &CurveNetwork,
     samples: &CurveSamples,
     patches: &[Patch],
     options: &PropagationOptions,
-) -> (Vec<RuledStrip>, PropagationCounts) {
+) -> Result<(Vec<RuledStrip>, PropagationCounts), PhotoError> {
     let mut strips = Vec::new();
     let mut counts = PropagationCounts::default();
     for (p, patch) in patches.iter().enumerate() {
@@ -99,6 +106,18 @@ pub fn propagate_rulings(
         let side_b = SampledChain::new(network, samples, &chain_b);
         if side_a.len() < 2 || side_b.len() < 2 {
             continue;
+        }
+        // The warping table is quadratic in the samples: bounded (~180 MB).
+        if side_a.len() * side_b.len() > MAX_WARPING_CELLS {
+            return Err(PhotoError::field(
+                "analysis.sample_spacing_px",
+                format!(
+                    "patch {}'s two chains have {} × {} samples (at most {MAX_WARPING_CELLS} pairs): sample coarser",
+                    p + 1,
+                    side_a.len(),
+                    side_b.len()
+                ),
+            ));
         }
         let path = warping_path(&side_a, &side_b, closed_end, options.smoothness_weight);
         let chosen = thin_path(&path, &side_a, &side_b, options.ruling_spacing);
@@ -138,7 +157,7 @@ pub fn propagate_rulings(
         }
         flush(&mut run, &mut strips);
     }
-    (strips, counts)
+    Ok((strips, counts))
 }
 
 /// The two chains to match in a patch's cycle and whether the match is closed-ended

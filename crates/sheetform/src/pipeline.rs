@@ -1247,27 +1247,28 @@ pub fn run_photo(
     let base_dir = options.base_dir.clone().unwrap_or_default();
     // An SVG drawn over the photo (Inkscape) or the JSON annotation.
     let from_svg = annotation_text.trim_start().starts_with('<');
-    let annotation = if from_svg {
-        let reference = svg_image_reference(annotation_text)?;
-        let path = base_dir.join(&reference);
+    let read_image = |relative: &str| -> Result<(std::path::PathBuf, Vec<u8>), PipelineError> {
+        let path = base_dir.join(relative);
         let bytes = std::fs::read(&path).map_err(|source| PipelineError::Read {
             path: path.display().to_string(),
             source,
         })?;
-        let size = Texture::from_bytes(&bytes)
+        Ok((path, bytes))
+    };
+    let (annotation, (image_path, image_bytes)) = if from_svg {
+        // The drawing names the photo; its pixel size maps the drawing to the image.
+        let image = read_image(&svg_image_reference(annotation_text)?)?;
+        let size = Texture::from_bytes(&image.1)
             .and_then(|t| t.size())
             .ok_or_else(|| PipelineError::Texture {
-                path: path.display().to_string(),
+                path: image.0.display().to_string(),
             })?;
-        annotation_from_svg(annotation_text, size)?
+        (annotation_from_svg(annotation_text, size)?, image)
     } else {
-        PhotoAnnotation::from_json(annotation_text)?
+        let annotation = PhotoAnnotation::from_json(annotation_text)?;
+        let image = read_image(&annotation.image.path)?;
+        (annotation, image)
     };
-    let image_path = base_dir.join(&annotation.image.path);
-    let image_bytes = std::fs::read(&image_path).map_err(|source| PipelineError::Read {
-        path: image_path.display().to_string(),
-        source,
-    })?;
     let texture = Texture::from_bytes(&image_bytes).ok_or_else(|| PipelineError::Texture {
         path: image_path.display().to_string(),
     })?;
@@ -1314,6 +1315,7 @@ pub fn run_photo(
         seam_edges: vec![],
     };
     let mut charts = Vec::with_capacity(groups.len());
+    let mut methods = Vec::with_capacity(groups.len());
     for g in 0..groups.len() as u32 {
         let faces: Vec<u32> = (0..model.triangles.len() as u32)
             .filter(|&f| model.face_groups[f as usize] == g)
@@ -1341,13 +1343,14 @@ pub fn run_photo(
         };
         // Ruled strips unfold exactly; a filled (minimal-surface) patch is only nearly
         // developable: least-squares conformal maps when the exact unfolding fails.
-        let (flat, solver) = match exact_unfold(&patch_mesh, &UnfoldOptions::default()) {
-            Ok(u) => (u.flat, u.solver),
+        let (flat, solver, method) = match exact_unfold(&patch_mesh, &UnfoldOptions::default()) {
+            Ok(u) => (u.flat, u.solver, "exact"),
             Err(_) => {
                 let u = lscm(&patch_mesh)?;
-                (u.flat, u.solver)
+                (u.flat, u.solver, "lscm")
             }
         };
+        methods.push(method);
         let d = distortion(&patch_mesh, &flat);
         charts.push(Chart {
             faces,
@@ -1455,7 +1458,8 @@ pub fn run_photo(
         .charts
         .iter()
         .zip(&groups)
-        .map(|(c, n)| chart_report(n, "exact", c.faces.len(), &c.distortion))
+        .zip(&methods)
+        .map(|((c, n), m)| chart_report(n, m, c.faces.len(), &c.distortion))
         .collect();
     let r = &reconstruction;
     let linear = AngleSummary::of(&r.ruling_errors_linear);
