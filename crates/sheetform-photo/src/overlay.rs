@@ -159,8 +159,8 @@ fn escape(text: &str) -> String {
 /// a data URI or the SVG renders without it).
 ///
 /// # Errors
-/// [`crate::PhotoError::Solver`]-free: a [`crate::PhotoError::Field`] on `overlay` when the
-/// SVG cannot be parsed or rendered (a bug, not bad input).
+/// [`crate::PhotoError::Field`] on `overlay` when the SVG cannot be parsed or rendered
+/// (a bug, not bad input).
 pub fn overlay_png(svg: &str) -> Result<Vec<u8>, crate::PhotoError> {
     let failed = |m: String| crate::PhotoError::field("overlay", m);
     let tree = resvg::usvg::Tree::from_str(svg, &resvg::usvg::Options::default()).map_err(|e| failed(e.to_string()))?;
