@@ -578,10 +578,18 @@ fn photo_command(
     write_outputs(&output, &run.files, &run.report)?;
     let photo = run.report.photo.as_ref().expect("photo report");
     if !quiet {
-        let refined = photo.developability_error_refined.map_or_else(
+        let mut refined = photo.developability_error_refined.map_or_else(
             || "not refined".to_string(),
             |a| format!("refined mean {:.2e}° max {:.2e}°", a.mean_deg, a.max_deg),
         );
+        if let (Some(s), Some(a)) = (&photo.symmetrization, photo.developability_error_symmetrized) {
+            if s.mirrored_segment_count > 0 && !s.abandoned {
+                refined += &format!(
+                    ", symmetrised ({} segments mirrored) mean {:.2e}° max {:.2e}°",
+                    s.mirrored_segment_count, a.mean_deg, a.max_deg
+                );
+            }
+        }
         eprintln!(
             "photo `{}`: {} patches, {} rulings, {} symmetric pairs; developability error mean {:.2}° (linear), {}; {}; wrote {} files to {}",
             annotation.display(),

@@ -158,6 +158,12 @@ pub struct AnalysisSpec {
     /// paper; default `true`).
     #[serde(default = "default_true")]
     pub refine: bool,
+    /// Make the model exactly mirror-symmetric (§7; default `true`): the curves and
+    /// rulings on the far side of the symmetry plane become the mirror image of those on
+    /// the near side, wherever the drawing shows both (the report lists the curves left
+    /// as solved). Switch it off for objects that are not quite symmetric.
+    #[serde(default = "default_true")]
+    pub symmetrize: bool,
 }
 
 fn default_dtw_weight() -> f64 {
@@ -177,6 +183,7 @@ impl Default for AnalysisSpec {
             dtw_smoothness_weight: default_dtw_weight(),
             weights: EnergyWeights::default(),
             refine: true,
+            symmetrize: true,
         }
     }
 }

@@ -36,12 +36,19 @@
 //! convergence when `max |g| ≤` [`REFINEMENT_BOUND`]. Rulings whose tangent is parallel
 //! to the ruling (a cone's apex) carry no constraint. The moved ends become curve
 //! samples ([`crate::move_ruling_ends`]), so the mesh's rulings are the refined ones.
+//!
+//! **Symmetry**: after the symmetrisation (§7) the model is `q = P z + o` with `P` the
+//! [`MirrorMap`] (mirrored points follow their sources). The SQP then works in `z`:
+//! `H_z = Pᵀ H P` (+ `μ` on columns nothing depends on), gradient `Pᵀ ∇f`, constraint
+//! rows `C P`, and the step `δq = P δz` keeps the model exactly symmetric. Without
+//! symmetrisation `P` is the identity.
 
 use crate::curve_lifting::Energy;
 use crate::curve_network::CurveNetwork;
 use crate::curve_samples::CurvePoint;
 use crate::patch_cycles::HalfEdge;
 use crate::ruling_propagation::RuledStrip;
+use crate::symmetrization::MirrorMap;
 use crate::{cubic, PhotoError};
 use faer::prelude::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
@@ -214,6 +221,7 @@ pub fn refine_developability(
     strips: &[RuledStrip],
     x_linear: &[f64],
     proximity: f64,
+    map: &MirrorMap,
 ) -> Result<Refinement, PhotoError> {
     let n = x_linear.len();
     let mut constraints = Vec::new();
@@ -250,8 +258,9 @@ pub fn refine_developability(
         info.converged = true;
         return Ok((x_linear.to_vec(), ends, info));
     }
-    // H = AᵀA + μ I and the constant part of the gradient.
-    let mut triplets: Vec<Triplet<usize, usize, f64>> = Vec::new();
+    // H = AᵀA + μ I and the constant part of the gradient; in the free coordinates of
+    // the symmetry map, H_z = Pᵀ H P (+ μ on columns nothing depends on).
+    let mut full: Vec<(usize, usize, f64)> = Vec::new();
     let mut atb = vec![0.0; n];
     let emphasis = |row: &crate::curve_lifting::EnergyRow| {
         if row.term == crate::curve_lifting::EnergyTerm::Collinearity {
@@ -266,15 +275,39 @@ pub fn refine_developability(
             let ai = ai * e;
             atb[ci as usize] += ai * row.rhs * e;
             for &(cj, aj) in &row.coefficients {
-                if cj <= ci {
-                    triplets.push(Triplet::new(ci as usize, cj as usize, ai * aj * e));
-                }
+                full.push((ci as usize, cj as usize, ai * aj * e));
             }
         }
     }
     for k in 0..n {
-        triplets.push(Triplet::new(k, k, proximity));
+        full.push((k, k, proximity));
     }
+    let mut triplets: Vec<Triplet<usize, usize, f64>> = Vec::with_capacity(full.len());
+    for &(i, j, v) in &full {
+        for &(a, pa) in &map.rows[i] {
+            for &(b, pb) in &map.rows[j] {
+                if b <= a {
+                    triplets.push(Triplet::new(a, b, pa * v * pb));
+                }
+            }
+        }
+    }
+    for (k, used) in map.used_columns().into_iter().enumerate() {
+        if !used {
+            triplets.push(Triplet::new(k, k, proximity));
+        }
+    }
+    // Constraint gradients in the free coordinates: C_z = C_x P.
+    let reduce = |grads: &[Vec<(usize, f64)>]| -> Vec<Vec<(usize, f64)>> {
+        grads
+            .iter()
+            .map(|g| {
+                g.iter()
+                    .flat_map(|&(c, v)| map.rows[c].iter().map(move |&(col, a)| (col, v * a)))
+                    .collect()
+            })
+            .collect()
+    };
     let h = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &triplets)
         .map_err(|e| PhotoError::Solver(format!("{e:?}")))?;
     let symbolic = SymbolicLlt::try_new(h.symbolic(), Side::Lower).map_err(|e| PhotoError::Solver(format!("{e:?}")))?;
@@ -343,10 +376,12 @@ pub fn refine_developability(
         // ∇f = H x − Aᵀb − μ x_lin, and in t: w (t − t0).
         let hx = h_times(&x);
         let grad_f: Vec<f64> = (0..n).map(|k| hx[k] - atb[k] - proximity * x_linear[k]).collect();
-        let z = llt.solve(Col::from_fn(n, |k| grad_f[k]));
+        let grad_z = map.apply_transpose(&grad_f);
+        let z = llt.solve(Col::from_fn(n, |k| grad_z[k]));
+        let grads_z = reduce(&grads);
         // Y = H⁻¹ Cᵀ, one column per constraint.
         let mut ct = Mat::<f64>::zeros(n, m);
-        for (r, grad) in grads.iter().enumerate() {
+        for (r, grad) in grads_z.iter().enumerate() {
             for &(c, v) in grad {
                 ct[(c, r)] += v;
             }
@@ -356,7 +391,7 @@ pub fn refine_developability(
         // rhs = g − C_x z − c_t ∇_t f / w.
         let mut s = Mat::<f64>::zeros(m, m);
         let mut rhs = Col::<f64>::zeros(m);
-        for (r, grad) in grads.iter().enumerate() {
+        for (r, grad) in grads_z.iter().enumerate() {
             let mut cz = 0.0;
             for &(c, v) in grad {
                 cz += v * z[c];
@@ -376,7 +411,7 @@ pub fn refine_developability(
             s[(i, i)] += ridge;
         }
         let lambda = s.partial_piv_lu().solve(&rhs);
-        let step: Vec<f64> = (0..n)
+        let step_z: Vec<f64> = (0..n)
             .map(|k| {
                 let mut v = -z[k];
                 for j in 0..m {
@@ -385,6 +420,7 @@ pub fn refine_developability(
                 v
             })
             .collect();
+        let step = map.apply(&step_z);
         let step_t: Vec<f64> = (0..m)
             .map(|r| {
                 if slide_weight[r] > 0.0 {

@@ -17,6 +17,7 @@
 //! | symmetric correspondences | `symmetric_correspondences.rs` | §5.3 |
 //! | the six energy terms, sparse solve | `curve_lifting.rs` | §6, Eq. 3–4 |
 //! | exact developability along rulings | `developability_refinement.rs` | beyond §8.2 |
+//! | symmetrised curves and rulings | `symmetrization.rs` | §7 |
 //! | strips and minimal-surface fills | `patch_mesh.rs` | §7 |
 //! | overlay over the photograph | `overlay.rs` | Fig. 4–7 |
 //! | annotations drawn in Inkscape | `svg_import.rs` | — |
@@ -39,6 +40,7 @@ mod ruling_alignment;
 mod ruling_propagation;
 mod svg_import;
 mod symmetric_correspondences;
+mod symmetrization;
 mod symmetry_plane;
 
 pub use annotation::{
@@ -62,4 +64,5 @@ pub use ruling_alignment::{align_rulings, move_ruling_ends};
 pub use ruling_propagation::{propagate_rulings, PropagationCounts, PropagationOptions, RuledStrip, MAX_WARPING_CELLS};
 pub use svg_import::{annotation_from_svg, svg_image_reference};
 pub use symmetric_correspondences::{curve_chain, symmetric_pairs, SymmetricPair};
+pub use symmetrization::{split_at_mirror_nodes, symmetrize, MirrorMap, SymmetrizationInfo};
 pub use symmetry_plane::SymmetryPlane;

@@ -134,7 +134,7 @@ pub fn overlay_svg(annotation: &PhotoAnnotation, reconstruction: &PhotoReconstru
         let points: Vec<String> = params
             .iter()
             .map(|&t| {
-                let p = place_point(&r.network, &r.refined, CurvePoint { segment: seg as u32, t });
+                let p = place_point(&r.network, &r.points3d, CurvePoint { segment: seg as u32, t });
                 point(nalgebra::Vector2::new(p.x, p.y))
             })
             .collect();

@@ -11,6 +11,7 @@ use crate::patch_mesh::{mesh_patches, PatchMesh};
 use crate::ruling_alignment::{align_rulings, move_ruling_ends};
 use crate::ruling_propagation::{propagate_rulings, PropagationCounts, PropagationOptions, RuledStrip};
 use crate::symmetric_correspondences::{symmetric_pairs, SymmetricPair};
+use crate::symmetrization::{split_at_mirror_nodes, symmetrize, MirrorMap, SymmetrizationInfo};
 use crate::symmetry_plane::SymmetryPlane;
 use crate::{cubic, PhotoError};
 use nalgebra::{Vector2, Vector3};
@@ -36,6 +37,8 @@ pub struct StageTimes {
     pub linear_solve_ms: f64,
     /// Developability refinement.
     pub refinement_ms: f64,
+    /// Symmetrisation (§7).
+    pub symmetrization_ms: f64,
     /// Meshing (§7).
     pub meshing_ms: f64,
 }
@@ -93,6 +96,12 @@ pub struct PhotoReconstruction {
     pub refined: Vec<f64>,
     /// The refinement's report, when it ran.
     pub refinement: Option<RefinementInfo>,
+    /// The final 3D control points: the refined ones symmetrised (§7), or the refined
+    /// ones when the symmetrisation is off. The mesh, the overlay and the true size use
+    /// these.
+    pub points3d: Vec<f64>,
+    /// The symmetrisation's report, when it ran.
+    pub symmetrization: Option<SymmetrizationInfo>,
     /// Per network curve, how much its depth follows an arbitrary prior instead of the
     /// drawing (0: fixed by mirror pairs, rulings and joins; 1: free, e.g. a circle no
     /// mirror pair reaches). Above [`DEPTH_SENSITIVITY_BOUND`] the curve's depth is
@@ -105,6 +114,8 @@ pub struct PhotoReconstruction {
     pub ruling_errors_linear: Vec<f64>,
     /// The same after the refinement.
     pub ruling_errors_refined: Vec<f64>,
+    /// The same on the final model (after the symmetrisation).
+    pub ruling_errors_final: Vec<f64>,
     /// Mean and largest distance between the solved curves' projections and the traced
     /// curves, over the samples (pixels).
     pub reprojection_error_px: (f64, f64),
@@ -136,6 +147,202 @@ pub fn place_point(network: &CurveNetwork, x: &[f64], place: CurvePoint) -> Vec3
     crate::curve_lifting::combine3(network, x, place.segment, cubic::bernstein(place.t))
 }
 
+/// The network curve named `name` (validated to exist).
+fn curve_index(network: &CurveNetwork, name: &str) -> usize {
+    network
+        .curves
+        .iter()
+        .position(|c| c.name == name)
+        .expect("validated name")
+}
+
+/// The 2D analysis of a network (§5).
+#[derive(Clone)]
+struct Analysis {
+    patches: Vec<Patch>,
+    samples: CurveSamples,
+    strips: Vec<RuledStrip>,
+    propagation: PropagationCounts,
+    aligned_ruling_count: usize,
+    pairs: Vec<SymmetricPair>,
+}
+
+/// Patches, samples and rulings (§5.1, §5.2), mirror pairs (§5.3); the time of each
+/// stage goes to `times` (the network's from `start`).
+fn analyse(
+    annotation: &PhotoAnnotation,
+    network: &CurveNetwork,
+    plane: &SymmetryPlane,
+    times: &mut StageTimes,
+    start: Instant,
+) -> Result<Analysis, PhotoError> {
+    let lengths = annotation.lengths();
+    let patches = find_patches(network, annotation)?;
+    let mut samples = sample_curves(network, lengths.sample);
+    times.network_ms = milliseconds(start);
+    let start = Instant::now();
+    let (mut strips, propagation) = propagate_rulings(
+        network,
+        &samples,
+        &patches,
+        &PropagationOptions {
+            ruling_spacing: lengths.ruling,
+            smoothness_weight: annotation.analysis.dtw_smoothness_weight,
+        },
+    )?;
+    let aligned_ruling_count = align_rulings(network, &mut samples, &mut strips);
+    times.rulings_ms = milliseconds(start);
+    let start = Instant::now();
+    let direction = plane.image_direction();
+    let mut pairs = Vec::new();
+    for [a, b] in &annotation.symmetric_curves {
+        pairs.extend(symmetric_pairs(
+            network,
+            &samples,
+            curve_index(network, a),
+            curve_index(network, b),
+            direction,
+        ));
+    }
+    for a in &annotation.self_symmetric_curves {
+        let i = curve_index(network, a);
+        pairs.extend(symmetric_pairs(network, &samples, i, i, direction));
+    }
+    times.symmetry_ms = milliseconds(start);
+    Ok(Analysis {
+        patches,
+        samples,
+        strips,
+        propagation,
+        aligned_ruling_count,
+        pairs,
+    })
+}
+
+/// A network, its analysis and energy, and 3D control points for it.
+struct Solved {
+    network: CurveNetwork,
+    analysis: Analysis,
+    energy: Energy,
+    points: Vec<f64>,
+}
+
+/// The model after the symmetrisation and the refinement.
+struct Finished {
+    network: CurveNetwork,
+    /// The linear solution on this network (split exactly where it was split).
+    linear: Vec<f64>,
+    analysis: Analysis,
+    energy: Energy,
+    refined: Vec<f64>,
+    refinement: Option<RefinementInfo>,
+    points3d: Vec<f64>,
+    symmetrization: Option<SymmetrizationInfo>,
+    ruling_errors_refined: Vec<f64>,
+}
+
+/// Symmetrisation (§7) and refinement of the linear solution. With `symmetric`, the
+/// curves are first split where their partners' nodes mirror (exactly: the solved model
+/// does not change) and the analysis is redone on the split network, so that segments
+/// mirror onto segments; the linear solution is symmetrised, so that the refinement
+/// starts from a symmetric model and keeps it symmetric (its steps are taken in the free
+/// coordinates of the mirror map); after it, the rulings are mirrored again from their
+/// refined positive halves.
+fn finish_model(
+    annotation: &PhotoAnnotation,
+    plane: &SymmetryPlane,
+    base: &Solved,
+    curve_pairs: &[[usize; 2]],
+    symmetric: bool,
+    times: &mut StageTimes,
+) -> Result<Finished, PhotoError> {
+    let start = Instant::now();
+    let mut network = base.network.clone();
+    let mut x = base.points.clone();
+    let split_count = if symmetric {
+        split_at_mirror_nodes(&mut network, &mut x, plane, curve_pairs, annotation.lengths().sample)
+    } else {
+        0
+    };
+    let (mut analysis, energy) = if split_count > 0 {
+        let mut ignored = StageTimes::default();
+        let again = analyse(annotation, &network, plane, &mut ignored, Instant::now())?;
+        let energy = assemble_energy(
+            &network,
+            &again.strips,
+            &again.pairs,
+            plane,
+            &annotation.analysis.weights,
+        );
+        (again, energy)
+    } else {
+        (base.analysis.clone(), base.energy.clone())
+    };
+    let (start_points, symmetrization, map) = if symmetric {
+        let (y, mut info, map) = symmetrize(
+            &network,
+            &mut analysis.samples,
+            &mut analysis.strips,
+            plane,
+            curve_pairs,
+            &x,
+        );
+        if info.mirrored_segment_count == 0 {
+            // Nothing mirrors: the model is the plain one (without the splits made for it).
+            times.symmetrization_ms += milliseconds(start);
+            let mut plain = finish_model(annotation, plane, base, curve_pairs, false, times)?;
+            plain.symmetrization = Some(info);
+            return Ok(plain);
+        }
+        info.split_segment_count = split_count;
+        (y, Some(info), map)
+    } else {
+        (x.clone(), None, MirrorMap::identity(x.len()))
+    };
+    times.symmetrization_ms += milliseconds(start);
+    let start = Instant::now();
+    let (refined, refinement) = if annotation.analysis.refine {
+        let (x, ends, info) = refine_developability(
+            &network,
+            &energy,
+            &analysis.strips,
+            &start_points,
+            annotation.analysis.weights.projection,
+            &map,
+        )?;
+        move_ruling_ends(&network, &mut analysis.samples, &mut analysis.strips, &ends);
+        (x, Some(info))
+    } else {
+        (start_points, None)
+    };
+    let ruling_errors_refined = ruling_errors(&network, &refined, &analysis.strips);
+    let points3d = if symmetric && annotation.analysis.refine {
+        symmetrize(
+            &network,
+            &mut analysis.samples,
+            &mut analysis.strips,
+            plane,
+            curve_pairs,
+            &refined,
+        )
+        .0
+    } else {
+        refined.clone()
+    };
+    times.refinement_ms += milliseconds(start);
+    Ok(Finished {
+        network,
+        linear: x,
+        analysis,
+        energy,
+        refined,
+        refinement,
+        points3d,
+        symmetrization,
+        ruling_errors_refined,
+    })
+}
+
 /// Runs the method on a validated annotation.
 ///
 /// # Errors
@@ -148,45 +355,14 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
     let start = Instant::now();
     let plane = SymmetryPlane::from_annotation(&annotation.symmetry)?;
     let network = build_curve_network(annotation)?;
-    let patches = find_patches(&network, annotation)?;
-    let mut samples = sample_curves(&network, lengths.sample);
-    times.network_ms = milliseconds(start);
-    let start = Instant::now();
-    let (mut strips, propagation) = propagate_rulings(
-        &network,
-        &samples,
-        &patches,
-        &PropagationOptions {
-            ruling_spacing: lengths.ruling,
-            smoothness_weight: annotation.analysis.dtw_smoothness_weight,
-        },
-    )?;
-    let aligned_ruling_count = align_rulings(&network, &mut samples, &mut strips);
-    times.rulings_ms = milliseconds(start);
-    let start = Instant::now();
-    let curve_index = |name: &str| {
-        network
-            .curves
-            .iter()
-            .position(|c| c.name == name)
-            .expect("validated name")
-    };
-    let direction = plane.image_direction();
-    let mut pairs = Vec::new();
-    for [a, b] in &annotation.symmetric_curves {
-        pairs.extend(symmetric_pairs(
-            &network,
-            &samples,
-            curve_index(a),
-            curve_index(b),
-            direction,
-        ));
-    }
-    for a in &annotation.self_symmetric_curves {
-        let i = curve_index(a);
-        pairs.extend(symmetric_pairs(&network, &samples, i, i, direction));
-    }
-    times.symmetry_ms = milliseconds(start);
+    let Analysis {
+        patches,
+        samples,
+        strips,
+        propagation,
+        aligned_ruling_count,
+        pairs,
+    } = analyse(annotation, &network, &plane, &mut times, start)?;
     let start = Instant::now();
     let energy = assemble_energy(&network, &strips, &pairs, &plane, &annotation.analysis.weights);
     let prior = image_prior(&network);
@@ -221,28 +397,70 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
         .iter()
         .flat_map(|s| (0..s.rulings.len()).map(move |i| (s.patch, s.segment(i))))
         .collect();
-    let start = Instant::now();
-    let (refined, refinement) = if annotation.analysis.refine {
-        let (x, ends, info) = refine_developability(
-            &network,
-            &energy,
-            &strips,
-            &linear,
-            annotation.analysis.weights.projection,
-        )?;
-        move_ruling_ends(&network, &mut samples, &mut strips, &ends);
-        (x, Some(info))
-    } else {
-        (linear.clone(), None)
+    let curve_pairs: Vec<[usize; 2]> = annotation
+        .symmetric_curves
+        .iter()
+        .map(|[a, b]| [curve_index(&network, a), curve_index(&network, b)])
+        .chain(
+            annotation
+                .self_symmetric_curves
+                .iter()
+                .map(|a| [curve_index(&network, a); 2]),
+        )
+        .collect();
+    let base = Solved {
+        network,
+        analysis: Analysis {
+            patches,
+            samples,
+            strips,
+            propagation,
+            aligned_ruling_count,
+            pairs,
+        },
+        energy,
+        points: linear.clone(),
     };
-    times.refinement_ms = milliseconds(start);
-    let ruling_errors_refined = ruling_errors(&network, &refined, &strips);
+    let symmetric = annotation.analysis.symmetrize;
+    let mut finished = finish_model(annotation, &plane, &base, &curve_pairs, symmetric, &mut times)?;
+    if symmetric && finished.refinement.is_some_and(|r| !r.converged) {
+        // The mirror-symmetric model cannot be made developable (a perspective or
+        // inconsistent drawing): the model is left as solved, and the report says so.
+        let mut plain = finish_model(annotation, &plane, &base, &curve_pairs, false, &mut times)?;
+        if plain.refinement.is_some_and(|r| r.converged) {
+            plain.symmetrization = finished.symmetrization.take().map(|info| SymmetrizationInfo {
+                abandoned: true,
+                ..info
+            });
+            finished = plain;
+        }
+    }
+    let Finished {
+        network,
+        linear,
+        analysis:
+            Analysis {
+                patches,
+                samples,
+                strips,
+                propagation,
+                aligned_ruling_count,
+                pairs,
+            },
+        energy,
+        refined,
+        refinement,
+        points3d,
+        symmetrization,
+        ruling_errors_refined,
+    } = finished;
+    let ruling_errors_final = ruling_errors(&network, &points3d, &strips);
     // Reprojection: solved curves against traced curves at every sample.
     let (mut sum, mut max, mut count) = (0.0, 0.0f64, 0usize);
     for (s, params) in samples.parameters.iter().enumerate() {
         for &t in params {
             let place = CurvePoint { segment: s as u32, t };
-            let p = place_point(&network, &refined, place);
+            let p = place_point(&network, &points3d, place);
             let q = cubic::point(&network.control_points(s), t);
             let d = (Vec2::new(p.x, p.y) - q).norm();
             sum += d;
@@ -266,7 +484,7 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
                 ),
             ));
         }
-        ends.push(place_point(&network, &refined, place));
+        ends.push(place_point(&network, &points3d, place));
     }
     let measured = (ends[1] - ends[0]).norm();
     if measured.is_nan() || measured <= 1e-6 {
@@ -277,7 +495,7 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
     }
     let unit_per_pixel = size.length / measured;
     let start = Instant::now();
-    let mut mesh = mesh_patches(&network, &samples, &patches, &strips, &refined, lengths.sample)?;
+    let mut mesh = mesh_patches(&network, &samples, &patches, &strips, &points3d, lengths.sample)?;
     for p in &mut mesh.positions {
         *p *= unit_per_pixel;
     }
@@ -298,10 +516,13 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
         linear,
         refined,
         refinement,
+        points3d,
+        symmetrization,
         depth_sensitivity,
         rulings_linear,
         ruling_errors_linear,
         ruling_errors_refined,
+        ruling_errors_final,
         reprojection_error_px,
         mesh,
         unit_per_pixel,
@@ -326,8 +547,8 @@ impl PhotoReconstruction {
         self.strips.iter().map(|s| s.rulings.len()).sum()
     }
 
-    /// The 3D point (model units) of a place after the refinement.
+    /// The 3D point (model units) of a place on the final model.
     pub fn point(&self, place: CurvePoint) -> Vec3 {
-        place_point(&self.network, &self.refined, place) * self.unit_per_pixel
+        place_point(&self.network, &self.points3d, place) * self.unit_per_pixel
     }
 }

@@ -163,7 +163,7 @@ fn figures(name: &str) -> Figures {
     let f = Figures {
         ruling_deg: ruling_angle_error_deg(&r, &truth, false),
         ruling_linear_deg: ruling_angle_error_deg(&r, &truth, true),
-        curve_px: curve_error_px(&r, &r.refined, &truth, &every),
+        curve_px: curve_error_px(&r, &r.points3d, &truth, &every),
         curve_linear_px: curve_error_px(&r, &r.linear, &truth, &every),
         linear: AngleSummary::of(&r.ruling_errors_linear),
         refined: AngleSummary::of(&r.ruling_errors_refined),

@@ -2,7 +2,7 @@
 
 use crate::report::{
     AngleDefects, ChartReport, FfdReport, FfdStepReport, MouldReport, PatternReport, PhotoReport, RegionReport,
-    RegressionEntry, Report, ScanFitReport, SegmentationReport, SlitReport, StripReport, Timings,
+    RegressionEntry, Report, ScanFitReport, SegmentationReport, SlitReport, StripReport, SymmetrizationReport, Timings,
 };
 use base64::Engine as _;
 use sheetform_bend::{bend, BendError, BendModel, BendScene, BentSheet};
@@ -1464,10 +1464,11 @@ pub fn run_photo(
     let r = &reconstruction;
     let linear = AngleSummary::of(&r.ruling_errors_linear);
     let refined = AngleSummary::of(&r.ruling_errors_refined);
+    let symmetrized = AngleSummary::of(&r.ruling_errors_final);
     // The bound the report states, checked on the final rulings (after their ends
-    // became curve samples).
+    // became curve samples, and after the symmetrisation).
     let developable = r.refinement.is_none()
-        || r.ruling_errors_refined
+        || r.ruling_errors_final
             .iter()
             .all(|&e| e.sin() <= sheetform_photo::REFINEMENT_BOUND);
     report.photo = Some(PhotoReport {
@@ -1494,6 +1495,17 @@ pub fn run_photo(
         refinement_displacement_max_px: r.refinement.map(|i| i.displacement_max),
         refinement_slide_max_px: r.refinement.map(|i| i.slide_max_px),
         refinement_bound: sheetform_photo::REFINEMENT_BOUND,
+        developability_error_symmetrized: r.symmetrization.as_ref().map(|_| symmetrized),
+        symmetrization: r.symmetrization.as_ref().map(|i| SymmetrizationReport {
+            split_segment_count: i.split_segment_count,
+            mirrored_segment_count: i.mirrored_segment_count,
+            mirrored_strip_count: i.mirrored_strip_count,
+            crossing_ruling_count: i.crossing_ruling_count,
+            unmatched_curves: i.unmatched_curves.clone(),
+            partly_mirrored_curves: i.partly_mirrored_curves.clone(),
+            displacement_max_px: i.displacement_max_px,
+            abandoned: i.abandoned,
+        }),
         depth_sensitivity_max: r.depth_sensitivity.iter().copied().fold(0.0, f64::max),
         depth_sensitivity_bound: sheetform_photo::DEPTH_SENSITIVITY_BOUND,
         depth_undetermined_curves: r.depth_undetermined_curves(),
@@ -1503,7 +1515,7 @@ pub fn run_photo(
         stage_times: r.times,
     });
     report.ruling_count = Some(r.ruling_count());
-    report.developability_error_max_rad = Some(r.ruling_errors_refined.iter().copied().fold(0.0, f64::max));
+    report.developability_error_max_rad = Some(r.ruling_errors_final.iter().copied().fold(0.0, f64::max));
     if !developable {
         report.status = PHOTO_NOT_DEVELOPABLE_STATUS.into();
     }

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 #[test]
 fn every_photo_example_runs_to_an_exact_pattern() {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/photo");
-    let mut files = vec![root.join("coffee-cup.json")];
+    let mut files = vec![root.join("coffee-cup.json"), root.join("tube.json")];
     for entry in std::fs::read_dir(root.join("synthetic")).unwrap() {
         let path = entry.unwrap().path();
         let name = path.file_name().unwrap().to_string_lossy().to_string();
@@ -17,7 +17,7 @@ fn every_photo_example_runs_to_an_exact_pattern() {
         }
     }
     files.sort();
-    assert_eq!(files.len(), 10);
+    assert_eq!(files.len(), 11);
     for file in files {
         let text = std::fs::read_to_string(&file).unwrap();
         let options = PhotoRunOptions {
@@ -58,6 +58,28 @@ fn every_photo_example_runs_to_an_exact_pattern() {
         // Every kept ruling is a bending guide; the triangulation between them is smooth.
         assert_eq!(run.sheet.rulings.len(), photo.ruling_count, "{name}");
         assert!(!run.sheet.smooth_edges.is_empty(), "{name}");
+        // The tube's two halves mirror each other whole (§7): its one strip is rebuilt
+        // from mirrored rulings, the ones across the plane join mirror points.
+        let symmetrization = photo.symmetrization.as_ref().expect("on by default");
+        if name.to_string().ends_with("tube.json") {
+            assert_eq!(symmetrization.mirrored_strip_count, 1, "{name}");
+            assert!(symmetrization.crossing_ruling_count > 10, "{name}");
+            assert!(symmetrization.unmatched_curves.is_empty(), "{name}");
+            let fin = photo.developability_error_symmetrized.unwrap();
+            assert!(fin.max_deg < 1e-5, "{name}: {fin:?}");
+            // 300 mm × π·60 mm: the visible half of the tube.
+            let area: f64 = run
+                .sheet
+                .triangles
+                .iter()
+                .map(|t| {
+                    let [a, b, c] = t.map(|i| run.sheet.flat[i as usize]);
+                    0.5 * ((b - a).x * (c - a).y - (b - a).y * (c - a).x).abs()
+                })
+                .sum();
+            let expected = 300.0 * std::f64::consts::PI * 60.0;
+            assert!((area / expected - 1.0).abs() < 0.01, "{name}: pattern area {area}");
+        }
     }
 }
 

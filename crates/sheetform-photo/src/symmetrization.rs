@@ -1,0 +1,747 @@
+//! Symmetrising the curves and rulings (§7, "Symmetrizing the contours and rulings").
+//!
+//! The lifted network satisfies the mirror pairs only in the least-squares sense, so
+//! symmetric curves are not exact mirror images. As in the paper, the half of the model on
+//! the positive side of the plane (`n·(x − c) > 0`: by the depth convention of
+//! [`crate::SymmetryPlane`], the side of the annotated pair's point nearer the camera, the
+//! better seen one in a 3/4 view) is kept and the other half is replaced by its mirror
+//! image `M x = x − 2 (n·(x − c)) n`:
+//!
+//! - **Curves.** First the curves are split where a partner's node mirrors
+//!   ([`split_at_mirror_nodes`]; exact, so nothing changes shape), so that nodes can
+//!   correspond. The segments of a symmetric pair of curves (or of a self-symmetric
+//!   curve with itself) are then matched one to one: the map is the order-preserving or
+//!   order-reversing (for closed curves: cyclically shifted) one whose mirrored 3D control
+//!   points are nearest, accepted when their RMS distance is under a quarter of the mean
+//!   chord. An unmarked open curve whose two ends are matched with each other (a
+//!   silhouette running along the direction of symmetry, where §5.3 finds no
+//!   correspondences) is taken as self-symmetric. For each matched pair the segment on the
+//!   negative side gets the mirror of the other's control points, so `B′(t) = M B(t)` (or
+//!   `M B(1 − t)`) holds exactly; a segment matched with itself keeps its positive half
+//!   (`q₃ = M q₀`, `q₂ = M q₁`), a node matched with itself is projected onto the plane.
+//!   Segments of unmatched curves whose end nodes moved follow them with the affine blend
+//!   `Δq_k = (1 − k/3) Δq₀ + (k/3) Δq₃` (a straight segment stays straight).
+//! - **Samples.** A mirrored segment takes its partner's sample parameters, so mirrored
+//!   places are samples and the mesh on both sides is the same.
+//! - **Rulings.** A ruled strip whose rulings mirror into another strip is replaced by
+//!   the mirror of the positive one. In a self-symmetric strip the rulings on the positive
+//!   side are kept and mirrored; those on the negative side are dropped; a ruling
+//!   crossing the plane is replaced, as in the paper, by the ruling that joins its
+//!   positive end to that end's mirror point (when that lies on the strip's other side).
+//! - **The map.** The result is `x = P z + o` with `P` a [`MirrorMap`]: the refinement
+//!   takes its steps in `z`, so the refined model stays exactly symmetric, and the
+//!   rulings are mirrored once more from the refined positive half.
+//!
+//! Departures, each listed in the report: a curve pair whose splits do not correspond
+//! (a crossing on one side only) is left as solved; so is every curve bounding a ruled
+//! strip that is only partly mirrored in the drawing (the visible front arc of a body of
+//! revolution: its mirror image is partly hidden) and every segment joined to one —
+//! symmetrising one side of such a strip alone fights its own rulings, which do not
+//! mirror (measured: the noisy cone's scale error went from 3.7 % to 11 %, see
+//! `docs/benchmarks.md`). Unmatched curves in the negative half are kept (the paper
+//! removes them; they have no mirror image to take their place). The caller
+//! ([`crate::reconstruct`]) keeps the unsymmetrised model when nothing mirrors, or when the
+//! symmetric model cannot be made developable and the plain one can.
+
+use crate::cubic;
+use crate::curve_network::CurveNetwork;
+use crate::curve_samples::{CurvePoint, CurveSamples, SampledChain};
+use crate::ruling_propagation::RuledStrip;
+use crate::symmetry_plane::SymmetryPlane;
+use nalgebra::{Vector2, Vector3};
+
+type Vec3 = Vector3<f64>;
+
+/// What the symmetrisation did.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SymmetrizationInfo {
+    /// Segments split so that nodes mirror onto nodes ([`split_at_mirror_nodes`]).
+    pub split_segment_count: usize,
+    /// Segments replaced by the mirror image of their partner (a self-symmetric segment
+    /// counts once).
+    pub mirrored_segment_count: usize,
+    /// Ruled strips whose rulings were rebuilt by mirroring.
+    pub mirrored_strip_count: usize,
+    /// Rulings crossing the plane replaced by one joining mirror points.
+    pub crossing_ruling_count: usize,
+    /// Curves (by name) whose mirror partner is split differently, left as solved.
+    pub unmatched_curves: Vec<String>,
+    /// Curves (by name) that bound a ruled strip only partly mirrored in the drawing,
+    /// left as solved.
+    pub partly_mirrored_curves: Vec<String>,
+    /// Largest move of a control point (pixels).
+    pub displacement_max_px: f64,
+    /// The symmetric model could not be made developable (the refinement did not
+    /// converge with the mirror constraint, but did without): the model is left
+    /// unsymmetrised.
+    pub abandoned: bool,
+}
+
+/// The linear part of the symmetrised control points as functions of free ones: after
+/// [`symmetrize`], `x = P z + o` with `P` these rows (one per coordinate of `x`, each a
+/// short list of `(column, coefficient)` over the same index space) — the identity for a
+/// free coordinate, the mirror `I − 2nnᵀ` of a source point for a mirrored one, the
+/// projection `I − nnᵀ` for a node held on the plane. A step `δx = P δz` keeps the model
+/// symmetric; the developability refinement takes its steps in `z`.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MirrorMap {
+    /// Per coordinate of `x`, its dependence on the free coordinates.
+    pub rows: Vec<Vec<(usize, f64)>>,
+}
+
+impl MirrorMap {
+    /// The identity on `n` coordinates.
+    pub fn identity(n: usize) -> Self {
+        Self {
+            rows: (0..n).map(|k| vec![(k, 1.0)]).collect(),
+        }
+    }
+
+    /// `P v`.
+    pub fn apply(&self, v: &[f64]) -> Vec<f64> {
+        self.rows
+            .iter()
+            .map(|r| r.iter().map(|&(c, a)| a * v[c]).sum())
+            .collect()
+    }
+
+    /// `Pᵀ v`.
+    pub fn apply_transpose(&self, v: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; v.len()];
+        for (r, &vr) in self.rows.iter().zip(v) {
+            for &(c, a) in r {
+                out[c] += a * vr;
+            }
+        }
+        out
+    }
+
+    /// Columns that some coordinate depends on.
+    pub fn used_columns(&self) -> Vec<bool> {
+        let mut used = vec![false; self.rows.len()];
+        for r in &self.rows {
+            for &(c, _) in r {
+                used[c] = true;
+            }
+        }
+        used
+    }
+}
+
+/// One segment matched with its mirror partner.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct SegmentMatch {
+    source: u32,
+    partner: u32,
+    /// `partner(t) = M source(1 − t)` instead of `M source(t)`.
+    reversed: bool,
+}
+
+fn point(x: &[f64], i: u32) -> Vec3 {
+    Vec3::new(x[3 * i as usize], x[3 * i as usize + 1], x[3 * i as usize + 2])
+}
+
+/// The segment map between curves `a` and `b` (equal for a self-symmetric curve), or
+/// `None` when no map fits.
+fn match_curves(
+    network: &CurveNetwork,
+    x: &[f64],
+    plane: &SymmetryPlane,
+    a: usize,
+    b: usize,
+) -> Option<Vec<SegmentMatch>> {
+    let (ca, cb) = (&network.curves[a], &network.curves[b]);
+    let n = ca.segments.len();
+    if n != cb.segments.len() || ca.closed != cb.closed || n == 0 {
+        return None;
+    }
+    // Candidate maps i → (j, reversed).
+    let mut candidates: Vec<Vec<(usize, bool)>> = Vec::new();
+    let shifts = if ca.closed { n } else { 1 };
+    for c in 0..shifts {
+        if a != b {
+            candidates.push((0..n).map(|i| ((i + c) % n, false)).collect());
+        }
+        let back = if ca.closed { c } else { n - 1 };
+        candidates.push((0..n).map(|i| ((back + n - i) % n, true)).collect());
+    }
+    let control = |s: u32| network.segments[s as usize].points.map(|p| point(x, p));
+    let mismatch = |map: &[(usize, bool)]| -> f64 {
+        let mut sum = 0.0;
+        for (i, &(j, reversed)) in map.iter().enumerate() {
+            let (qa, qb) = (control(ca.segments[i]), control(cb.segments[j]));
+            for (k, &q) in qa.iter().enumerate() {
+                let kb = if reversed { 3 - k } else { k };
+                sum += (plane.mirror(q) - qb[kb]).norm_squared();
+            }
+        }
+        (sum / (4 * n) as f64).sqrt()
+    };
+    let (best, error) = candidates
+        .iter()
+        .map(|m| (m, mismatch(m)))
+        .min_by(|p, q| p.1.total_cmp(&q.1))?;
+    let chord: f64 = ca
+        .segments
+        .iter()
+        .map(|&s| {
+            let q = control(s);
+            (q[3] - q[0]).norm()
+        })
+        .sum::<f64>()
+        / n as f64;
+    // (A NaN mismatch fails too.)
+    if error.is_nan() || error > 0.25 * chord {
+        return None;
+    }
+    Some(
+        best.iter()
+            .enumerate()
+            .map(|(i, &(j, reversed))| SegmentMatch {
+                source: ca.segments[i],
+                partner: cb.segments[j],
+                reversed,
+            })
+            .collect(),
+    )
+}
+
+/// Symmetrises the control points `x` (pixels), the samples and the strips' rulings.
+/// `curve_pairs` are the annotation's symmetric curve pairs and self-symmetric curves
+/// (`[c, c]`), as network curve indices.
+pub fn symmetrize(
+    network: &CurveNetwork,
+    samples: &mut CurveSamples,
+    strips: &mut [RuledStrip],
+    plane: &SymmetryPlane,
+    curve_pairs: &[[usize; 2]],
+    x: &[f64],
+) -> (Vec<f64>, SymmetrizationInfo, MirrorMap) {
+    let mut info = SymmetrizationInfo::default();
+    // Segment maps, both ways: mirror_of[s] = (partner, reversed).
+    let mut mirror_of: Vec<Option<(u32, bool)>> = vec![None; network.segments.len()];
+    let mut matches: Vec<SegmentMatch> = Vec::new();
+    for &[a, b] in curve_pairs {
+        match match_curves(network, x, plane, a, b) {
+            Some(m) => {
+                for s in &m {
+                    mirror_of[s.source as usize] = Some((s.partner, s.reversed));
+                    mirror_of[s.partner as usize] = Some((s.source, s.reversed));
+                }
+                matches.extend(m);
+            }
+            None => {
+                for c in [a, b] {
+                    if !info.unmatched_curves.contains(&network.curves[c].name) {
+                        info.unmatched_curves.push(network.curves[c].name.clone());
+                    }
+                }
+            }
+        }
+    }
+    // A curve nobody marked whose two ends are mirror partners (a silhouette running
+    // along the direction of symmetry, where §5.3 finds no correspondences) is
+    // self-symmetric too, when its segments match.
+    let mut node_partner: std::collections::HashMap<u32, u32> = Default::default();
+    for m in &matches {
+        let (ps, pp) = (
+            network.segments[m.source as usize].points,
+            network.segments[m.partner as usize].points,
+        );
+        for k in [0, 3] {
+            let kb = if m.reversed { 3 - k } else { k };
+            node_partner.insert(ps[k], pp[kb]);
+            node_partner.insert(pp[kb], ps[k]);
+        }
+    }
+    for (c, curve) in network.curves.iter().enumerate() {
+        if curve.closed || curve_pairs.iter().any(|p| p.contains(&c)) {
+            continue;
+        }
+        let first = network.segments[curve.segments[0] as usize].points[0];
+        let last = network.segments[*curve.segments.last().expect("a curve has segments") as usize].points[3];
+        if node_partner.get(&first) == Some(&last) {
+            if let Some(m) = match_curves(network, x, plane, c, c) {
+                for s in &m {
+                    mirror_of[s.source as usize] = Some((s.partner, s.reversed));
+                }
+                matches.extend(m);
+            }
+        }
+    }
+    // A ruled strip only partly mirrored (one side's curve has no mirror image in the
+    // drawing: the visible front arc of a body of revolution whose plane is not the
+    // view's) keeps its curves as solved: symmetrising one side alone would fight the
+    // strip's own rulings, which do not mirror.
+    let old_rulings: Vec<Vec<[CurvePoint; 2]>> = strips
+        .iter()
+        .map(|s| (0..s.rulings.len()).map(|i| s.ends(i)).collect())
+        .collect();
+    let mut partial = vec![false; network.segments.len()];
+    for (k, strip) in strips.iter().enumerate() {
+        let whole = strip
+            .chain_a
+            .iter()
+            .chain(&strip.chain_b)
+            .all(|h| mirror_of[h.segment as usize].is_some());
+        if !whole || mirror_strip_of(strips, &old_rulings, &mirror_of, k).is_none() {
+            for h in strip.chain_a.iter().chain(&strip.chain_b) {
+                partial[h.segment as usize] = true;
+            }
+        }
+    }
+    // Segments that share a node with such a strip's curves stay too (moving the node
+    // would bend the strip).
+    let mut partial_node = vec![false; network.points.len()];
+    for (seg, _) in partial.iter().enumerate().filter(|(_, p)| **p) {
+        let q = network.segments[seg].points;
+        partial_node[q[0] as usize] = true;
+        partial_node[q[3] as usize] = true;
+    }
+    let touches = |seg: u32| {
+        let q = network.segments[seg as usize].points;
+        partial[seg as usize] || partial_node[q[0] as usize] || partial_node[q[3] as usize]
+    };
+    matches.retain(|m| {
+        let keep = !touches(m.source) && !touches(m.partner);
+        if !keep {
+            for seg in [m.source, m.partner] {
+                let name = &network.curves[network.segments[seg as usize].curve as usize].name;
+                if mirror_of[seg as usize].is_some() && !info.partly_mirrored_curves.contains(name) {
+                    info.partly_mirrored_curves.push(name.clone());
+                }
+            }
+        }
+        keep
+    });
+    mirror_of = vec![None; network.segments.len()];
+    for m in &matches {
+        mirror_of[m.source as usize] = Some((m.partner, m.reversed));
+        mirror_of[m.partner as usize] = Some((m.source, m.reversed));
+    }
+    // New control points: target ← mirror(source), averaged where a node gets several.
+    // Each assignment: (target, source, projection onto the plane instead of mirror).
+    let mut assignments: Vec<(u32, u32, bool)> = Vec::new();
+    let mut assign = |target: u32, source: u32, project: bool| assignments.push((target, source, project));
+    // Which segments take their partner's samples: (target, source, reversed), and
+    // self-symmetric segments keeping their first (true) or second half.
+    let mut mirrored: Vec<(u32, u32, bool)> = Vec::new();
+    let mut halves: Vec<(u32, bool)> = Vec::new();
+    let side = |s: u32, range: std::ops::Range<usize>| -> f64 {
+        let q = network.segments[s as usize].points;
+        q[range].iter().map(|&p| plane.signed_distance(point(x, p))).sum()
+    };
+    let mut done = vec![false; network.segments.len()];
+    for m in &matches {
+        if done[m.source as usize] || done[m.partner as usize] {
+            continue;
+        }
+        done[m.source as usize] = true;
+        done[m.partner as usize] = true;
+        let (ps, pp) = (
+            network.segments[m.source as usize].points,
+            network.segments[m.partner as usize].points,
+        );
+        let corresponding = |k: usize| if m.reversed { 3 - k } else { k };
+        if m.source == m.partner {
+            let first_half = side(m.source, 0..2) >= side(m.source, 2..4);
+            let keep = if first_half { 0..2 } else { 2..4 };
+            for k in keep {
+                assign(ps[3 - k], ps[k], false);
+            }
+            halves.push((m.source, first_half));
+        } else {
+            let (source, target, sp, tp) = if side(m.source, 0..4) >= side(m.partner, 0..4) {
+                (m.source, m.partner, ps, pp)
+            } else {
+                (m.partner, m.source, pp, ps)
+            };
+            for k in 0..4 {
+                let (from, to) = (sp[k], tp[corresponding(k)]);
+                // A node matched with itself lies on the plane.
+                assign(to, from, from == to);
+            }
+            mirrored.push((target, source, m.reversed));
+        }
+        info.mirrored_segment_count += 1;
+    }
+    // Nodes matched with themselves inside a self-symmetric segment map (the fixed points
+    // of a closed curve's involution) are covered above; a self-symmetric segment's own
+    // middle needs nothing more (`q₃ = M q₀` puts its midpoint on the plane).
+    // x_t = mean over its assignments of L x_s + o, L = I − 2nnᵀ (mirror) or I − nnᵀ
+    // (projection), o = 2(n·c)n or (n·c)n.
+    let n = plane.normal;
+    let nc = n.dot(&plane.point);
+    let mut map = MirrorMap::identity(x.len());
+    let mut offset = vec![0.0; x.len()];
+    let mut per_target: std::collections::BTreeMap<u32, Vec<(u32, bool)>> = Default::default();
+    for &(t, s, project) in &assignments {
+        per_target.entry(t).or_default().push((s, project));
+    }
+    for (&t, sources) in &per_target {
+        let share = 1.0 / sources.len() as f64;
+        for axis in 0..3 {
+            let row = &mut map.rows[3 * t as usize + axis];
+            row.clear();
+            for &(s, project) in sources {
+                let f = if project { 1.0 } else { 2.0 };
+                for j in 0..3 {
+                    let a = share * (f64::from(u8::from(axis == j)) - f * n[axis] * n[j]);
+                    if a != 0.0 {
+                        row.push((3 * s as usize + j, a));
+                    }
+                }
+                offset[3 * t as usize + axis] += share * f * nc * n[axis];
+            }
+        }
+    }
+    // Sources are never targets of another assignment in a consistent drawing; where
+    // they are (a node judged on both sides), the map uses the source's free value.
+    let mut y = map.apply(x);
+    for (v, o) in y.iter_mut().zip(&offset) {
+        *v += o;
+    }
+    // Unmatched segments whose end nodes moved: the affine blend.
+    for (s, seg) in network.segments.iter().enumerate() {
+        if mirror_of[s].is_some() {
+            continue;
+        }
+        let delta = |p: u32| point(&y, p) - point(x, p);
+        let (d0, d3) = (delta(seg.points[0]), delta(seg.points[3]));
+        if d0 == Vec3::zeros() && d3 == Vec3::zeros() {
+            continue;
+        }
+        for (k, &p) in seg.points.iter().enumerate().skip(1).take(2) {
+            let w = k as f64 / 3.0;
+            let v = point(x, p) + (1.0 - w) * d0 + w * d3;
+            y[3 * p as usize..3 * p as usize + 3].copy_from_slice(v.as_slice());
+        }
+    }
+    info.displacement_max_px = (0..network.points.len() as u32)
+        .map(|p| (point(&y, p) - point(x, p)).norm())
+        .fold(0.0, f64::max);
+    // Samples: mirrored segments take their partner's; self-symmetric ones mirror their
+    // kept half.
+    for &(target, source, reversed) in &mirrored {
+        let p = samples.parameters[source as usize].clone();
+        samples.parameters[target as usize] = if reversed {
+            p.iter().rev().map(|t| 1.0 - t).collect()
+        } else {
+            p
+        };
+    }
+    for &(s, first_half) in &halves {
+        let p = &samples.parameters[s as usize];
+        let kept: Vec<f64> = if first_half {
+            p.iter().copied().filter(|&t| t < 0.5).collect()
+        } else {
+            p.iter().rev().map(|t| 1.0 - t).filter(|&t| t < 0.5).collect()
+        };
+        let mut both = kept.clone();
+        if p.contains(&0.5) {
+            both.push(0.5);
+        }
+        both.extend(kept.iter().rev().map(|t| 1.0 - t));
+        samples.parameters[s as usize] = both;
+    }
+    let mirror_place = |p: CurvePoint| mirror_place_of(&mirror_of, p);
+    let distance = |p: CurvePoint| plane.signed_distance(crate::reconstruction::place_point(network, &y, p));
+    let mirror_strip = |s: usize| mirror_strip_of(strips, &old_rulings, &mirror_of, s);
+    let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1.0);
+    let epsilon = 1e-9 * scale;
+    let mut new_rulings: Vec<Option<Vec<[CurvePoint; 2]>>> = vec![None; strips.len()];
+    let mean_side = |s: usize| -> f64 {
+        old_rulings[s]
+            .iter()
+            .map(|r| distance(r[0]) + distance(r[1]))
+            .sum::<f64>()
+            / old_rulings[s].len().max(1) as f64
+    };
+    for s in 0..strips.len() {
+        let Some(o) = mirror_strip(s) else { continue };
+        if o == s {
+            let mut out = Vec::new();
+            for r in &old_rulings[s] {
+                let (da, db) = (distance(r[0]), distance(r[1]));
+                if da >= -epsilon && db >= -epsilon {
+                    out.push(*r);
+                    if let (Some(a), Some(b)) = (mirror_place(r[0]), mirror_place(r[1])) {
+                        out.push([a, b]);
+                    }
+                } else if da > epsilon || db > epsilon {
+                    // Crossing the plane: join the positive end to its mirror.
+                    let positive = if da > db { r[0] } else { r[1] };
+                    if let Some(m) = mirror_place(positive) {
+                        out.push([positive, m]);
+                        info.crossing_ruling_count += 1;
+                    }
+                }
+            }
+            new_rulings[s] = Some(out);
+            info.mirrored_strip_count += 1;
+        } else if mean_side(s) > mean_side(o) && mirror_strip(o) == Some(s) {
+            new_rulings[o] = Some(
+                old_rulings[s]
+                    .iter()
+                    .filter_map(|r| Some([mirror_place(r[0])?, mirror_place(r[1])?]))
+                    .collect(),
+            );
+            info.mirrored_strip_count += 1;
+        }
+    }
+    // Every ruling end becomes a sample (mirrored ends already are; the ends of strips
+    // left as they were may sit on a segment that took its partner's samples).
+    let mut final_rulings: Vec<Vec<[CurvePoint; 2]>> = Vec::with_capacity(strips.len());
+    for (s, old) in old_rulings.iter().enumerate() {
+        let rulings = new_rulings[s].as_ref().unwrap_or(old);
+        final_rulings.push(rulings.iter().map(|r| r.map(|p| ensure_sample(samples, p))).collect());
+    }
+    // Resample every strip and index its rulings (ends on either side).
+    for (s, strip) in strips.iter_mut().enumerate() {
+        let side_a = SampledChain::new(network, samples, &strip.chain_a);
+        let side_b = SampledChain::new(network, samples, &strip.chain_b);
+        let rulings = &final_rulings[s];
+        let mut indexed: Vec<(usize, usize)> = Vec::with_capacity(rulings.len());
+        for r in rulings {
+            let (a, b) = if on_chain(&strip.chain_a, r[0]) || !on_chain(&strip.chain_b, r[0]) {
+                (r[0], r[1])
+            } else {
+                (r[1], r[0])
+            };
+            if let (Some(k), Some(l)) = (nearest_sample(network, &side_a, a), nearest_sample(network, &side_b, b)) {
+                indexed.push((k, l));
+            }
+        }
+        indexed.sort_unstable();
+        let mut kept: Vec<(usize, usize)> = Vec::with_capacity(indexed.len());
+        for r in indexed {
+            match kept.last() {
+                Some(&last) if r.0 <= last.0 || r.1 <= last.1 => {}
+                _ => kept.push(r),
+            }
+        }
+        if kept.len() < 2 {
+            // Too few rulings survive: the strip keeps its own (resampled).
+            kept = final_rulings[s]
+                .iter()
+                .filter_map(|r| {
+                    Some((
+                        nearest_sample(network, &side_a, r[0])?,
+                        nearest_sample(network, &side_b, r[1])?,
+                    ))
+                })
+                .collect();
+        }
+        strip.rulings = kept;
+        strip.side_a = side_a;
+        strip.side_b = side_b;
+    }
+    (y, info, map)
+}
+
+/// The mirror place of a place, when its segment is matched.
+fn mirror_place_of(mirror_of: &[Option<(u32, bool)>], p: CurvePoint) -> Option<CurvePoint> {
+    let (partner, reversed) = mirror_of[p.segment as usize]?;
+    Some(CurvePoint {
+        segment: partner,
+        t: if reversed { 1.0 - p.t } else { p.t },
+    })
+}
+
+fn on_chain(chain: &[crate::patch_cycles::HalfEdge], p: CurvePoint) -> bool {
+    chain.iter().any(|h| h.segment == p.segment)
+}
+
+/// The strip into which most of strip `s`'s rulings mirror, if more than half do.
+fn mirror_strip_of(
+    strips: &[RuledStrip],
+    rulings: &[Vec<[CurvePoint; 2]>],
+    mirror_of: &[Option<(u32, bool)>],
+    s: usize,
+) -> Option<usize> {
+    let mut votes = vec![0usize; strips.len()];
+    for r in &rulings[s] {
+        let (Some(a), Some(b)) = (mirror_place_of(mirror_of, r[0]), mirror_place_of(mirror_of, r[1])) else {
+            continue;
+        };
+        for (o, other) in strips.iter().enumerate() {
+            let ab = on_chain(&other.chain_a, a) && on_chain(&other.chain_b, b);
+            let ba = on_chain(&other.chain_a, b) && on_chain(&other.chain_b, a);
+            if ab || ba {
+                votes[o] += 1;
+            }
+        }
+    }
+    let (best, &v) = votes.iter().enumerate().max_by_key(|(_, v)| **v)?;
+    (v * 2 > rulings[s].len()).then_some(best)
+}
+
+/// Makes a place a sample of its segment (or moves it onto a sample within 1e-12).
+fn ensure_sample(samples: &mut CurveSamples, place: CurvePoint) -> CurvePoint {
+    let params = &mut samples.parameters[place.segment as usize];
+    let at = params.partition_point(|&t| t < place.t);
+    for k in [at.wrapping_sub(1), at] {
+        if let Some(&t) = params.get(k) {
+            if (t - place.t).abs() <= 1e-12 {
+                return CurvePoint {
+                    segment: place.segment,
+                    t,
+                };
+            }
+        }
+    }
+    params.insert(at, place.t);
+    place
+}
+
+/// Splits the curves of each symmetric pair (and each self-symmetric curve) where the
+/// mirror image of a node of its partner falls (§5.3's correspondence: along the image
+/// direction of the plane's normal), so that nodes mirror onto nodes and segments onto
+/// segments. A mirror point within `tolerance` (pixels) of a node is taken to be that
+/// node. The split is exact (de Casteljau) in the image and, for the 3D control points
+/// `x` (`3 × point + axis`), in space, so neither the drawing nor the solved curves
+/// change. A pair whose curves still do not match segment for segment is left unsplit.
+/// Returns how many segments were split.
+pub fn split_at_mirror_nodes(
+    network: &mut CurveNetwork,
+    x: &mut Vec<f64>,
+    plane: &SymmetryPlane,
+    curve_pairs: &[[usize; 2]],
+    tolerance: f64,
+) -> usize {
+    let direction = plane.image_direction();
+    let normal = Vector2::new(-direction.y, direction.x);
+    let mut count = 0;
+    for &[a, b] in curve_pairs {
+        // Split a copy; keep it only if the pair then matches segment for segment.
+        let (mut trial, mut trial_x, mut trial_count) = (network.clone(), x.clone(), 0);
+        let directions: &[(usize, usize)] = if a == b { &[(a, a)] } else { &[(a, b), (b, a)] };
+        for &(from, to) in directions {
+            let nodes: Vec<Vector2<f64>> = trial.curves[from]
+                .segments
+                .iter()
+                .flat_map(|&s| {
+                    let q = trial.segments[s as usize].points;
+                    [q[0], q[3]]
+                })
+                .map(|p| trial.points[p as usize])
+                .collect();
+            for p in nodes {
+                // Crossings of `to` with the line through p along the direction.
+                let mut best: Option<(f64, u32, f64)> = None;
+                for &s in &trial.curves[to].segments {
+                    let control = trial.control_points(s as usize);
+                    let f = |t: f64| (cubic::point(&control, t) - p).dot(&normal);
+                    let pieces = 32;
+                    for i in 0..pieces {
+                        let (mut lo, mut hi) = (i as f64 / pieces as f64, (i + 1) as f64 / pieces as f64);
+                        let (mut flo, fhi) = (f(lo), f(hi));
+                        if flo * fhi > 0.0 || flo == fhi {
+                            continue;
+                        }
+                        for _ in 0..60 {
+                            let mid = 0.5 * (lo + hi);
+                            let fm = f(mid);
+                            if fm * flo <= 0.0 {
+                                hi = mid;
+                            } else {
+                                lo = mid;
+                                flo = fm;
+                            }
+                        }
+                        let t = 0.5 * (lo + hi);
+                        let distance = (cubic::point(&control, t) - p).dot(&direction).abs();
+                        if from == to && distance <= tolerance {
+                            continue; // the node itself
+                        }
+                        if best.is_none_or(|(d, _, _)| distance < d) {
+                            best = Some((distance, s, t));
+                        }
+                    }
+                }
+                let Some((_, s, t)) = best else { continue };
+                let control = trial.control_points(s as usize);
+                let q = cubic::point(&control, t);
+                let near_node = trial.curves[to].segments.iter().any(|&o| {
+                    let ids = trial.segments[o as usize].points;
+                    [ids[0], ids[3]]
+                        .iter()
+                        .any(|&i| (trial.points[i as usize] - q).norm() <= tolerance)
+                });
+                if near_node {
+                    continue;
+                }
+                split_segment(&mut trial, &mut trial_x, s, t);
+                trial_count += 1;
+            }
+        }
+        if trial_count > 0 && match_curves(&trial, &trial_x, plane, a, b).is_some() {
+            *network = trial;
+            *x = trial_x;
+            count += trial_count;
+        }
+    }
+    count
+}
+
+/// Splits segment `s` at `t` (de Casteljau): `s` keeps the first part, a new segment
+/// after it in its curve takes the second.
+fn split_segment(network: &mut CurveNetwork, x: &mut Vec<f64>, s: u32, t: f64) {
+    let ids = network.segments[s as usize].points;
+    // de Casteljau: the first half is (p0, a, d, m), the second (m, e, c, p3).
+    fn de_casteljau<
+        V: Copy + std::ops::Add<Output = V> + std::ops::Sub<Output = V> + std::ops::Mul<f64, Output = V>,
+    >(
+        p: [V; 4],
+        t: f64,
+    ) -> [V; 5] {
+        let lerp = |a: V, b: V| a + (b - a) * t;
+        let (a, b, c) = (lerp(p[0], p[1]), lerp(p[1], p[2]), lerp(p[2], p[3]));
+        let (d, e) = (lerp(a, b), lerp(b, c));
+        [a, d, lerp(d, e), e, c]
+    }
+    let [a, d, m, e, c] = de_casteljau(network.control_points(s as usize), t);
+    network.points[ids[1] as usize] = a;
+    network.points[ids[2] as usize] = c;
+    let base = network.points.len() as u32;
+    network.points.extend([d, m, e]);
+    let [a, d, m, e, c] = de_casteljau(ids.map(|i| point(x, i)), t);
+    x[3 * ids[1] as usize..3 * ids[1] as usize + 3].copy_from_slice(a.as_slice());
+    x[3 * ids[2] as usize..3 * ids[2] as usize + 3].copy_from_slice(c.as_slice());
+    for v in [d, m, e] {
+        x.extend(v.iter());
+    }
+    let curve = network.segments[s as usize].curve;
+    network.segments[s as usize].points = [ids[0], ids[1], base, base + 1];
+    let new = network.segments.len() as u32;
+    network.segments.push(crate::curve_network::NetworkSegment {
+        points: [base + 1, base + 2, ids[2], ids[3]],
+        curve,
+    });
+    let list = &mut network.curves[curve as usize].segments;
+    let at = list.iter().position(|&x| x == s).expect("a segment is in its curve");
+    list.insert(at + 1, new);
+}
+
+/// The sample of `chain` at a place: the same segment and parameter, else the nearest
+/// sample of that segment, else (a node reached through another segment) the nearest
+/// by position.
+fn nearest_sample(network: &CurveNetwork, chain: &SampledChain, place: CurvePoint) -> Option<usize> {
+    let same = chain
+        .places
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.segment == place.segment)
+        .min_by(|a, b| (a.1.t - place.t).abs().total_cmp(&(b.1.t - place.t).abs()));
+    if let Some((k, _)) = same {
+        return Some(k);
+    }
+    let q = cubic::point(&network.control_points(place.segment as usize), place.t);
+    let (k, d) = chain
+        .points
+        .iter()
+        .enumerate()
+        .map(|(k, p)| (k, (p - q).norm()))
+        .min_by(|a, b| a.1.total_cmp(&b.1))?;
+    (d <= 1e-6 * (1.0 + q.norm())).then_some(k)
+}
