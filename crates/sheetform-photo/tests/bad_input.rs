@@ -178,3 +178,29 @@ fn curves_whose_depth_the_drawing_does_not_fix_are_named() {
     let rim = r.network.curves.iter().position(|c| c.name == "rim").unwrap();
     assert!(r.depth_sensitivity[rim] < 1e-3, "{}", r.depth_sensitivity[rim]);
 }
+
+/// The warping table of Eq. 2 is quadratic in the samples of a patch's two chains: a
+/// sampling fine enough to exceed `MAX_WARPING_CELLS` (here 0.01 px on the cylinder,
+/// finer than the annotation's own bound lets through) is an error naming the spacing,
+/// not an allocation of gigabytes.
+#[test]
+fn a_warping_table_over_its_bound_is_refused() {
+    use sheetform_photo::{
+        build_curve_network, find_patches, propagate_rulings, sample_curves, PropagationOptions, MAX_WARPING_CELLS,
+    };
+    let annotation = PhotoAnnotation::from_json(&base().to_string()).unwrap();
+    let network = build_curve_network(&annotation).unwrap();
+    let patches = find_patches(&network, &annotation).unwrap();
+    let options = PropagationOptions {
+        ruling_spacing: 5.0,
+        smoothness_weight: 1.0,
+    };
+    // At the annotation's spacing it runs.
+    let samples = sample_curves(&network, annotation.lengths().sample);
+    assert!(propagate_rulings(&network, &samples, &patches, &options).is_ok());
+    let fine = sample_curves(&network, 0.01);
+    let longest = fine.parameters.iter().map(Vec::len).max().unwrap();
+    assert!(longest * longest > MAX_WARPING_CELLS, "the test must exceed the bound");
+    let error = propagate_rulings(&network, &fine, &patches, &options).unwrap_err().to_string();
+    assert!(error.contains("analysis.sample_spacing_px"), "{error}");
+}
