@@ -201,6 +201,8 @@ fn a_warping_table_over_its_bound_is_refused() {
     let fine = sample_curves(&network, 0.01);
     let longest = fine.parameters.iter().map(Vec::len).max().unwrap();
     assert!(longest * longest > MAX_WARPING_CELLS, "the test must exceed the bound");
-    let error = propagate_rulings(&network, &fine, &patches, &options).unwrap_err().to_string();
+    let error = propagate_rulings(&network, &fine, &patches, &options)
+        .unwrap_err()
+        .to_string();
     assert!(error.contains("analysis.sample_spacing_px"), "{error}");
 }
