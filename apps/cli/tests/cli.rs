@@ -1361,3 +1361,32 @@ fn photo_bad_input_is_an_error_and_writes_nothing() {
         "{file} is stale: regenerate with `sheetform schema photo > {file}`"
     );
 }
+
+/// A scene may read only files in its own directory: a texture named by `../` (or an
+/// absolute path) outside it is refused with the field named, exit 1, nothing written.
+#[test]
+fn a_scene_cannot_read_files_outside_its_directory() {
+    let tmp = tempfile::tempdir().unwrap();
+    let project = tmp.path().join("project");
+    std::fs::create_dir_all(&project).unwrap();
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/textures/grid-240x120mm.png"),
+        tmp.path().join("outside.png"),
+    )
+    .unwrap();
+    let scene =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/textured-sheet.json"))
+            .unwrap();
+    let mut value: serde_json::Value = serde_json::from_str(&scene).unwrap();
+    for texture in ["../outside.png", tmp.path().join("outside.png").to_str().unwrap()] {
+        value["texture"] = texture.into();
+        let path = project.join("scene.json");
+        std::fs::write(&path, value.to_string()).unwrap();
+        let out = tmp.path().join("out");
+        let o = sheetform(&["bend", path.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{stderr}");
+        assert!(stderr.contains("texture"), "{stderr}");
+        assert!(!out.exists(), "nothing is written");
+    }
+}

@@ -49,20 +49,30 @@ fn malformed(path: &Path, line: Option<usize>, message: impl Into<String>) -> Me
 /// face indices out of range; faces with fewer than three vertices — each with the file
 /// and (for text formats) the line.
 pub fn read_mesh(path: &Path) -> Result<TriangleMesh, MeshReadError> {
+    let bytes = std::fs::read(path).map_err(|source| MeshReadError::Io {
+        path: path.display().to_string(),
+        source,
+    })?;
+    mesh_from_bytes(path, &bytes)
+}
+
+/// Parses a mesh file's bytes, choosing the format by the extension of `name` (the
+/// file's name, also used in messages). Polygons are fan-triangulated.
+///
+/// # Errors
+/// As [`read_mesh`], without the read errors.
+pub fn mesh_from_bytes(name: &Path, bytes: &[u8]) -> Result<TriangleMesh, MeshReadError> {
+    let path = name;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase)
         .unwrap_or_default();
-    let bytes = std::fs::read(path).map_err(|source| MeshReadError::Io {
-        path: path.display().to_string(),
-        source,
-    })?;
     let mesh = match ext.as_str() {
-        "obj" => parse_obj(path, &String::from_utf8_lossy(&bytes))?,
-        "off" => parse_off(path, &String::from_utf8_lossy(&bytes))?,
-        "stl" => parse_stl(path, &bytes)?,
-        "ply" => parse_ply(path, &bytes)?,
+        "obj" => parse_obj(path, &String::from_utf8_lossy(bytes))?,
+        "off" => parse_off(path, &String::from_utf8_lossy(bytes))?,
+        "stl" => parse_stl(path, bytes)?,
+        "ply" => parse_ply(path, bytes)?,
         _ => {
             return Err(MeshReadError::UnknownFormat {
                 path: path.display().to_string(),

@@ -9,8 +9,15 @@ fn main() {
         .unwrap_or_else(|| "examples/slit/chair.json".into());
     let text = std::fs::read_to_string(&path).expect("scene file");
     let scene = sheetform_slit::SlitScene::from_json(&text).expect("valid scene");
-    let dir = std::path::Path::new(&path).parent().map(|p| p.to_path_buf());
-    let model = sheetform_slit::SlitModel::from_scene(&scene, dir.as_deref()).expect("valid model");
+    let dir = std::path::Path::new(&path)
+        .parent()
+        .map(|p| p.to_path_buf())
+        .unwrap_or_default();
+    let scan = scene
+        .scan
+        .as_ref()
+        .map(|s| std::fs::read(dir.join(&s.points)).expect("scan file"));
+    let model = sheetform_slit::SlitModel::from_scene(&scene, scan.as_deref()).expect("valid model");
     let started = std::time::Instant::now();
     let design = sheetform_slit::solve_design(&model);
     let ms = started.elapsed().as_secs_f64() * 1e3;

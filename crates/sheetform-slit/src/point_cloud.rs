@@ -56,23 +56,22 @@ impl ScanCloud {
         Vec3::new(p[0], p[1], p[2])
     }
 
-    /// Reads `.xyz` (three numbers per line; `#` comments and blank lines skipped; extra
+    /// Parses `.xyz` (three numbers per line; `#` comments and blank lines skipped; extra
     /// columns such as normals ignored) or ASCII/binary `.ply` (the `vertex` element's
-    /// `x y z`).
+    /// `x y z`), told apart by the PLY magic. The caller reads the file.
     ///
     /// # Errors
-    /// [`SlitError::PointCloud`] naming the file and, for text, the line.
-    pub fn read(path: &std::path::Path) -> Result<Self, SlitError> {
+    /// [`SlitError::PointCloud`] naming `name` (the file as the scene names it) and, for
+    /// text, the line.
+    pub fn from_bytes(bytes: &[u8], name: &str) -> Result<Self, SlitError> {
         let fail = |message: String| SlitError::PointCloud {
-            path: path.display().to_string(),
+            path: name.to_string(),
             message,
         };
-        let bytes = std::fs::read(path).map_err(|e| fail(e.to_string()))?;
-        let is_ply = bytes.starts_with(b"ply");
-        let points = if is_ply {
-            read_ply(&bytes).map_err(fail)?
+        let points = if bytes.starts_with(b"ply") {
+            read_ply(bytes).map_err(fail)?
         } else {
-            read_xyz(&bytes).map_err(fail)?
+            read_xyz(bytes).map_err(fail)?
         };
         Self::new(points).map_err(fail)
     }

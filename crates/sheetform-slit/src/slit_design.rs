@@ -64,15 +64,17 @@ fn planar_bezier(field: &str, points: &[[f64; 2]]) -> Result<Bezier2, SlitError>
 }
 
 impl SlitModel {
-    /// Validates a scene. `base_dir` is where relative paths (the scan) are resolved.
+    /// Validates a scene. `scan` holds the bytes of the scan file the scene names
+    /// (`scan.points`; the caller reads it), `None` without a scan.
     ///
     /// # Errors
     /// [`SlitError::Field`] naming the first invalid field: lengths ≤ 0, no strips, slits
     /// wider than the sheet, a leg curve shorter than the panel or whose strips cannot
     /// reach the symmetry plane, a seat curve that does not span the strips or that they
     /// cannot reach, anchors on strips or ridge lines that do not exist, bad weights.
-    /// [`SlitError::PointCloud`] for an unreadable scan.
-    pub fn from_scene(scene: &SlitScene, base_dir: Option<&std::path::Path>) -> Result<Self, SlitError> {
+    /// [`SlitError::PointCloud`] for an unreadable scan, [`SlitError::Field`] on
+    /// `scan.points` when the scene names a scan and no bytes are given.
+    pub fn from_scene(scene: &SlitScene, scan: Option<&[u8]>) -> Result<Self, SlitError> {
         let layout = SheetLayout::new(&scene.sheet)?;
         let solver = scene.solver;
         if !(solver.gap_tolerance.is_finite() && solver.gap_tolerance > 0.0) {
@@ -189,8 +191,8 @@ impl SlitModel {
             solver,
             scan: match &scene.scan {
                 Some(spec) => {
-                    let path = base_dir.map_or_else(|| spec.points.clone().into(), |d| d.join(&spec.points));
-                    Some(std::sync::Arc::new(ScanCloud::read(&path)?))
+                    let bytes = scan.ok_or_else(|| SlitError::field("scan.points", "the scan file was not read"))?;
+                    Some(std::sync::Arc::new(ScanCloud::from_bytes(bytes, &spec.points)?))
                 }
                 None => None,
             },

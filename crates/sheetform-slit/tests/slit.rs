@@ -207,7 +207,7 @@ fn fits_a_point_cloud_sampled_from_another_design() {
         points: path.display().to_string(),
     });
     scene.weights.scan = 1.0;
-    let fitted_model = SlitModel::from_scene(&scene, None).unwrap();
+    let fitted_model = SlitModel::from_scene(&scene, Some(&std::fs::read(&path).unwrap())).unwrap();
     let fitted = solve_design(&fitted_model);
     let distance = |d: &SlitDesign, m: &SlitModel| {
         let scan = m.scan.as_ref().unwrap();

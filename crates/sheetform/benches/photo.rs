@@ -7,7 +7,7 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use sheetform::photo::{reconstruct, PhotoAnnotation};
-use sheetform::pipeline::{run_photo, PhotoRunOptions};
+use sheetform::pipeline::{run_photo, PhotoInput, PhotoRunOptions, RunContext};
 use std::hint::black_box;
 use std::path::PathBuf;
 
@@ -27,12 +27,11 @@ fn bench_photo(c: &mut Criterion) {
         group.bench_with_input(BenchmarkId::new("reconstruct", label), &annotation, |b, a| {
             b.iter(|| reconstruct(black_box(a)).expect("reconstructs"))
         });
-        let options = PhotoRunOptions {
-            base_dir: file.parent().map(|p| p.to_path_buf()),
-            ..Default::default()
-        };
-        group.bench_with_input(BenchmarkId::new("run_photo", label), &text, |b, t| {
-            b.iter(|| run_photo(black_box(t), &options, &mut |_, _| {}).expect("runs"))
+        let options = PhotoRunOptions::default();
+        let context = RunContext::new(file.parent().expect("a directory"));
+        let input = PhotoInput::from_text(&text).expect("valid");
+        group.bench_with_input(BenchmarkId::new("run_photo", label), &input, |b, i| {
+            b.iter(|| run_photo(black_box(i), &options, &context).expect("runs"))
         });
     }
     group.finish();

@@ -24,7 +24,8 @@
 //! within 0.5 mm of the real ones on average and 4 mm at most (the outermost strip, seen
 //! from one side only, is the loosest).
 
-use sheetform::pipeline::{run_slit, write_outputs, SlitRunOptions};
+use sheetform::pipeline::{run_slit, write_outputs, RunContext, SlitRunOptions};
+use sheetform::slit::SlitScene;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -51,7 +52,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let chair_text = include_str!("../../../examples/slit/chair.json");
 
     // 1. The "real" chair and its scan.
-    let real = run_slit(chair_text, &SlitRunOptions::default())?;
+    let chair = SlitScene::from_json(chair_text)?;
+    let real = run_slit(&chair, &SlitRunOptions::default(), &RunContext::new(&out))?;
     let mesh = &real.mesh;
     let mut points = Vec::new();
     for (t, tri) in mesh.triangles.iter().enumerate() {
@@ -96,11 +98,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // 3. The pipeline, with and without the scan term.
     let options = SlitRunOptions {
         input: Some(out.join("scene.json").display().to_string()),
-        base_dir: Some(out.clone()),
         ..Default::default()
     };
-    let fitted = run_slit(&fitted_text, &options)?;
-    let unfitted = run_slit(&unfitted_text, &options)?;
+    let context = RunContext::new(&out);
+    let fitted = run_slit(&SlitScene::from_json(&fitted_text)?, &options, &context)?;
+    let unfitted = run_slit(&SlitScene::from_json(&unfitted_text)?, &options, &context)?;
     write_outputs(&out, &fitted.files, &fitted.report)?;
 
     let fit = |run: &sheetform::pipeline::SlitRun| run.report.slit.as_ref().and_then(|s| s.scan_fit.clone());

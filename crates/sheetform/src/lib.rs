@@ -16,9 +16,13 @@
 //! - [`pipeline`]: scene file → model → mesh + pattern → files + `report.json`.
 //!
 //! ```
-//! use sheetform::pipeline::{run_bend, BendRunOptions};
-//! let scene = include_str!("../../../examples/bent-rectangle.json");
-//! let run = run_bend(scene, &BendRunOptions::default(), &mut |_, _| {}).unwrap();
+//! use sheetform::bend::BendScene;
+//! use sheetform::pipeline::{run_bend, BendRunOptions, Outcome, RunContext};
+//! // Parsing stays at the edge; the pipeline takes the typed scene and a context (the
+//! // directory its assets may be read from, progress, cancellation, outputs).
+//! let scene = BendScene::from_json(include_str!("../../../examples/bent-rectangle.json")).unwrap();
+//! let run = run_bend(&scene, &BendRunOptions::default(), &RunContext::new("examples")).unwrap();
+//! assert_eq!(run.outcome, Outcome::Ok);
 //! assert_eq!(run.report.admissible, Some(true));
 //! assert!(run.report.isometry_error_max_relative.unwrap() < 1e-9);
 //! // The bent sheet is developable: no angle defect at its interior vertices.

@@ -1,17 +1,24 @@
 //! The FFD pipeline reports its progress: stages in order, a fraction that never
 //! decreases from 0 to 1, and one report per iteration of each restoration.
 
-use sheetform::pipeline::{run_ffd, FfdRunOptions};
+use sheetform::ffd::FfdScene;
+use sheetform::pipeline::{run_ffd, FfdRunOptions, RunContext};
+use std::cell::RefCell;
 
 #[test]
 fn ffd_run_reports_each_restoration_iteration_with_a_rising_fraction() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/ffd/trousers.json");
     let text = std::fs::read_to_string(&path).unwrap();
-    let mut events: Vec<(String, f64)> = Vec::new();
-    let run = run_ffd(&text, &FfdRunOptions::default(), &mut |stage, fraction| {
-        events.push((stage.to_string(), fraction))
-    })
+    let events: RefCell<Vec<(String, f64)>> = RefCell::new(Vec::new());
+    let record = |stage: &str, fraction: f64| events.borrow_mut().push((stage.to_string(), fraction));
+    let context = RunContext::new(path.parent().unwrap()).with_progress(&record);
+    let run = run_ffd(
+        &FfdScene::from_json(&text).unwrap(),
+        &FfdRunOptions::default(),
+        &context,
+    )
     .unwrap();
+    let events = events.into_inner();
     assert_eq!(events.first().unwrap(), &("reading scene".to_string(), 0.0));
     assert_eq!(events.last().unwrap(), &("done".to_string(), 1.0));
     assert!(events.windows(2).all(|w| w[0].1 <= w[1].1), "{events:?}");

@@ -2,7 +2,7 @@
 //! the Python binding call): status ok, every patch unfolded exactly, the pattern at the
 //! model's area, no NaN anywhere.
 
-use sheetform::pipeline::{run_photo, PhotoRunOptions};
+use sheetform::pipeline::{run_photo, PhotoInput, PhotoRunOptions, RunContext};
 use std::path::PathBuf;
 
 #[test]
@@ -20,11 +20,10 @@ fn every_photo_example_runs_to_an_exact_pattern() {
     assert_eq!(files.len(), 11);
     for file in files {
         let text = std::fs::read_to_string(&file).unwrap();
-        let options = PhotoRunOptions {
-            base_dir: file.parent().map(|p| p.to_path_buf()),
-            ..Default::default()
-        };
-        let run = run_photo(&text, &options, &mut |_, _| {}).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        let context = RunContext::new(file.parent().unwrap());
+        let input = PhotoInput::from_text(&text).unwrap();
+        let run = run_photo(&input, &PhotoRunOptions::default(), &context)
+            .unwrap_or_else(|e| panic!("{}: {e}", file.display()));
         let name = file.display();
         // The perspective composite misses the refinement's bound and says so (exit 5).
         // The noisy composite's neck arc is only partly pinned by its mirror pairs (12 %
@@ -92,11 +91,8 @@ fn a_patch_without_silhouette_is_filled_by_a_minimal_surface() {
     let mut v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(root.join("cylinder-ortho.json")).unwrap()).unwrap();
     v["openings"] = serde_json::json!([]);
-    let options = PhotoRunOptions {
-        base_dir: Some(root),
-        ..Default::default()
-    };
-    let run = run_photo(&v.to_string(), &options, &mut |_, _| {}).unwrap();
+    let input = PhotoInput::from_text(&v.to_string()).unwrap();
+    let run = run_photo(&input, &PhotoRunOptions::default(), &RunContext::new(root)).unwrap();
     let photo = run.report.photo.as_ref().unwrap();
     assert_eq!(
         (photo.patch_count, photo.ruled_patch_count, photo.filled_patch_count),

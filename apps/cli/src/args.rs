@@ -1,0 +1,318 @@
+//! The command line: subcommands, their arguments and how they become the library's
+//! options (clap).
+
+use clap::{Parser, Subcommand};
+use sheetform::pattern::{DxfUnit, PageSize, SheetOptions, TabOptions, TabSides};
+use sheetform::pipeline::PatternOutputOptions;
+use std::path::PathBuf;
+
+#[derive(Parser)]
+#[command(
+    name = "sheetform",
+    version,
+    about = "Design with developable surfaces: bend a virtual sheet, get the 3D model and the flat pattern to cut"
+)]
+pub(crate) struct Cli {
+    #[command(subcommand)]
+    pub(crate) command: Command,
+    /// No progress bar.
+    #[arg(long, short, global = true)]
+    pub(crate) quiet: bool,
+}
+
+#[derive(Subcommand)]
+pub(crate) enum Command {
+    /// Bend a sheet with 3D control curves (Bo & Wang): writes model.obj (vt = flat
+    /// pattern at 1:1), model.glb, model.stl, pattern.svg and report.json.
+    Bend {
+        /// Scene file (JSON; schema: `sheetform schema bend`).
+        scene: PathBuf,
+        /// Output directory (created if missing).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Also write N frames of the isometric deformation from flat to bent
+        /// (frames/frame-0000.obj …).
+        #[arg(long, value_name = "N", default_value_t = 0)]
+        animate: usize,
+        #[command(flatten)]
+        pattern: PatternArgs,
+    },
+    /// Design furniture from one sheet with parallel slits (Tsuruta et al.): solves every
+    /// strip, writes the full symmetric model (model.obj with vt = flat sheet at 1:1,
+    /// model.glb, model.stl), the cutting pattern (pattern.svg/.dxf/.pdf: outline and
+    /// slits to cut, ridge lines to fold or score), mould.stl and report.json.
+    Slit {
+        /// Scene file (JSON; schema: `sheetform schema slit`).
+        scene: PathBuf,
+        /// Output directory (created if missing).
+        #[arg(short, long)]
+        output: PathBuf,
+        #[command(flatten)]
+        pattern: PatternArgs,
+    },
+    /// Reconstruct a piecewise-developable object from curves traced over one photograph
+    /// (Fondevilla et al.): writes the model (model.obj with one group per patch and vt =
+    /// each patch's flat pattern at 1:1, model.glb with the photo projected onto it,
+    /// model.stl), the pattern (pattern.svg/.dxf/.pdf), overlay.svg (patches, rulings,
+    /// symmetric pairs and the reprojected 3D curves over the photo) and report.json.
+    Photo {
+        /// Annotation file (JSON; schema: `sheetform schema photo`).
+        annotation: PathBuf,
+        /// Output directory (created if missing).
+        #[arg(short, long)]
+        output: PathBuf,
+        #[command(flatten)]
+        pattern: PatternArgs,
+    },
+    /// Deform developable panels with a NURBS lattice and restore their developability
+    /// (Wang & Tang): writes the restored object (model.obj with one group per panel and
+    /// vt = each panel's exact flat pattern at 1:1, model.glb, model.stl), the plain FFD
+    /// (deformed.obj/.glb), developability colour maps before/after
+    /// (developability-before/after.ply/.glb), the pattern (pattern.svg/.dxf/.pdf) and
+    /// report.json.
+    Ffd {
+        /// Scene file (JSON; schema: `sheetform schema ffd`).
+        scene: PathBuf,
+        /// Output directory (created if missing).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Restoration method (default: the scene's, which defaults to `constrained`).
+        #[arg(long, value_enum)]
+        solver: Option<SolverArg>,
+        #[command(flatten)]
+        pattern: PatternArgs,
+    },
+    /// Measure the developability of any triangle mesh (OBJ, PLY, STL, OFF): topology,
+    /// angle defects, Gaussian curvature, `D[M]` and `G[X]`, the isometry error of the stored
+    /// `vt` flattening. Writes report.json and a colour map (developability.ply/.glb).
+    Check {
+        /// Mesh file.
+        mesh: PathBuf,
+        /// Output directory (created if missing).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Merge vertices closer than this distance (model units) before measuring.
+        #[arg(long, value_name = "DISTANCE")]
+        weld: Option<f64>,
+        /// Angle defects up to this (radians) count as developable.
+        #[arg(long, value_name = "RADIANS", default_value_t = sheetform::pipeline::DEFAULT_ANGLE_TOLERANCE)]
+        tolerance: f64,
+        /// Length unit of the mesh file.
+        #[arg(long, value_enum, default_value_t = Unit::Mm)]
+        units: Unit,
+    },
+    /// Flatten a developable (or nearly developable) mesh into its cutting pattern: a
+    /// disk-like mesh whole (exact unfolding from its edge lengths, or LSCM / ARAP); a
+    /// closed or high-genus mesh, or one with seams (OBJ `l` lines), cut into charts along
+    /// sharp creases and split until each flattens without overlap within the distortion
+    /// bound. Writes model.obj (vt = the pattern at 1:1), model.glb, pattern.svg/.dxf/.pdf
+    /// and report.json (distortion per chart). Exit code 4 when the pattern overlaps
+    /// itself (written, see the report).
+    Flatten {
+        /// Mesh file (OBJ, PLY, STL, OFF).
+        mesh: PathBuf,
+        /// Layout: `exact` unfolding from the edge lengths; for meshes that are only nearly
+        /// developable `lscm` (least-squares conformal maps) or `arap` (as rigid as
+        /// possible, started from LSCM).
+        #[arg(long, value_enum, default_value_t = Method::Exact)]
+        method: Method,
+        /// Output directory (created if missing).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Merge vertices closer than this distance (model units) first.
+        #[arg(long, value_name = "DISTANCE")]
+        weld: Option<f64>,
+        /// Length unit of the mesh file.
+        #[arg(long, value_enum, default_value_t = Unit::Mm)]
+        units: Unit,
+        #[command(flatten)]
+        charts: ChartArgs,
+        #[command(flatten)]
+        pattern: PatternArgs,
+    },
+    /// Print the JSON Schema of a scene format.
+    Schema {
+        /// Which format.
+        #[arg(value_enum)]
+        format: SchemaFormat,
+    },
+}
+
+/// How the printable pattern (pattern.svg, .dxf, .pdf) is written.
+#[derive(clap::Args, Clone, Copy)]
+pub(crate) struct PatternArgs {
+    /// Scale factor for the pattern (1 = true size).
+    #[arg(long, default_value_t = 1.0)]
+    pub(crate) scale: f64,
+    /// Paper for the tiled PDF.
+    #[arg(long, value_enum, default_value_t = Page::A4)]
+    pub(crate) page: Page,
+    /// Unit of the DXF coordinates.
+    #[arg(long, value_enum, default_value_t = PatternUnit::Mm)]
+    pub(crate) pattern_units: PatternUnit,
+    /// Folds with a smaller dihedral angle (degrees) are not drawn.
+    #[arg(long, value_name = "DEGREES", default_value_t = 1.0)]
+    pub(crate) min_fold_angle: f64,
+    /// Leave out the seam IDs printed on both sides of every seam.
+    #[arg(long)]
+    pub(crate) no_seam_labels: bool,
+    /// Glue tabs along seams: on one side of each seam, or alternating between seams.
+    #[arg(long, value_enum, default_value_t = Tabs::None)]
+    pub(crate) tabs: Tabs,
+    /// Glue tab depth (mm).
+    #[arg(long, value_name = "MM", default_value_t = 5.0)]
+    pub(crate) tab_width: f64,
+    /// Angle of the tabs' slanted sides (degrees; 90 = straight tabs).
+    #[arg(long, value_name = "DEGREES", default_value_t = 45.0)]
+    pub(crate) tab_angle: f64,
+    /// Pack the pieces onto sheets of this size, `WIDTHxHEIGHT` in mm (e.g. 210x297,
+    /// or a4 / letter); writes sheets/sheet-NN.svg and .dxf too.
+    #[arg(long, value_name = "WxH", value_parser = parse_sheet)]
+    pub(crate) sheet: Option<(f64, f64)>,
+    /// Gap between packed pieces and from the sheet's edges (mm).
+    #[arg(long, value_name = "MM", default_value_t = 5.0)]
+    pub(crate) sheet_gap: f64,
+}
+
+pub(crate) fn parse_sheet(text: &str) -> Result<(f64, f64), String> {
+    match text.to_ascii_lowercase().as_str() {
+        "a4" => return Ok((210.0, 297.0)),
+        "a3" => return Ok((297.0, 420.0)),
+        "letter" => return Ok((215.9, 279.4)),
+        _ => {}
+    }
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("`{text}`: expected WIDTHxHEIGHT in mm, e.g. 600x400"))?;
+    let number = |s: &str| {
+        s.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite() && *v > 0.0)
+            .ok_or_else(|| format!("`{s}` in `{text}` is not a positive number of millimetres"))
+    };
+    Ok((number(w)?, number(h)?))
+}
+
+#[derive(Clone, Copy, PartialEq, clap::ValueEnum)]
+pub(crate) enum Tabs {
+    None,
+    One,
+    Alternate,
+}
+
+/// How `flatten` cuts a mesh into charts.
+#[derive(clap::Args, Clone, Copy)]
+pub(crate) struct ChartArgs {
+    /// When to cut into charts: `auto` when the mesh is not a disk or has seams.
+    #[arg(long, value_enum, default_value_t = Charts::Auto)]
+    pub(crate) charts: Charts,
+    /// Edges folded by more than this (degrees) become seams between charts.
+    #[arg(long, value_name = "DEGREES", default_value_t = 30.0)]
+    pub(crate) crease_angle: f64,
+    /// Charts that stretch an edge by more than this (relative) are split further.
+    #[arg(long, value_name = "RELATIVE", default_value_t = 0.01)]
+    pub(crate) max_distortion: f64,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub(crate) enum Charts {
+    Auto,
+    Always,
+    Never,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub(crate) enum Method {
+    Exact,
+    Lscm,
+    Arap,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub(crate) enum Page {
+    A4,
+    Letter,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub(crate) enum PatternUnit {
+    Mm,
+    Cm,
+    In,
+}
+
+impl From<PatternArgs> for PatternOutputOptions {
+    fn from(a: PatternArgs) -> Self {
+        PatternOutputOptions {
+            scale: a.scale,
+            page: match a.page {
+                Page::A4 => PageSize::A4,
+                Page::Letter => PageSize::Letter,
+            },
+            dxf_unit: match a.pattern_units {
+                PatternUnit::Mm => DxfUnit::Mm,
+                PatternUnit::Cm => DxfUnit::Cm,
+                PatternUnit::In => DxfUnit::In,
+            },
+            min_fold_angle_degrees: a.min_fold_angle,
+            seam_labels: !a.no_seam_labels,
+            tabs: (a.tabs != Tabs::None).then_some(TabOptions {
+                width_mm: a.tab_width,
+                angle_degrees: a.tab_angle,
+                sides: if a.tabs == Tabs::Alternate {
+                    TabSides::Alternate
+                } else {
+                    TabSides::One
+                },
+            }),
+            sheet: a.sheet.map(|(w, h)| SheetOptions {
+                width_mm: w,
+                height_mm: h,
+                gap_mm: a.sheet_gap,
+            }),
+        }
+    }
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub(crate) enum Unit {
+    Mm,
+    Cm,
+    M,
+    In,
+}
+
+impl From<Unit> for sheetform::mesh::LengthUnit {
+    fn from(u: Unit) -> Self {
+        match u {
+            Unit::Mm => Self::Mm,
+            Unit::Cm => Self::Cm,
+            Unit::M => Self::M,
+            Unit::In => Self::In,
+        }
+    }
+}
+
+/// `--solver` of `ffd`.
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub(crate) enum SolverArg {
+    /// Constrained Gauss–Newton with exact gradients (defects to 1e-10 rad).
+    Constrained,
+    /// The paper's penalty method with conjugate gradients.
+    Paper,
+    /// No restoration (plain FFD).
+    None,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub(crate) enum SchemaFormat {
+    /// The bend scene.
+    Bend,
+    /// The slit scene.
+    Slit,
+    /// The FFD scene.
+    Ffd,
+    /// The photo annotation.
+    Photo,
+}

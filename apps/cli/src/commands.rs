@@ -1,0 +1,375 @@
+//! One function per subcommand: parse the scene at the edge, call the library pipeline
+//! with a context rooted at the scene's directory, write the outputs, print a summary and
+//! return the exit code the library decided.
+
+use crate::args::{ChartArgs, Charts, Method, PatternArgs, SchemaFormat, SolverArg, Unit};
+use indicatif::{ProgressBar, ProgressStyle};
+use sheetform::bend::BendScene;
+use sheetform::flatten::ChartOptions;
+use sheetform::io::read_mesh;
+use sheetform::pipeline::{
+    run_bend, run_check, run_ffd, run_flatten, run_photo, run_slit, write_outputs, BendRunOptions, ChartMode,
+    CheckOptions, FfdRunOptions, FlattenMethod, FlattenOptions, PhotoInput, PhotoRunOptions, PipelineError, RunContext,
+    SlitRunOptions,
+};
+use sheetform::slit::SlitScene;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+pub(crate) fn check_command(
+    mesh: PathBuf,
+    output: PathBuf,
+    weld: Option<f64>,
+    tolerance: f64,
+    units: Unit,
+    quiet: bool,
+) -> Result<ExitCode, PipelineError> {
+    let options = CheckOptions {
+        weld,
+        tolerance,
+        unit: units.into(),
+        input: Some(mesh.display().to_string()),
+    };
+    let model = read_mesh(&mesh)?;
+    let run = run_check(model, &options, &RunContext::new(scene_dir(&mesh)))?;
+    write_outputs(&output, &run.files, &run.report)?;
+    if !quiet {
+        let r = &run.report;
+        let d = r.angle_defects.as_ref().expect("check reports angle defects");
+        eprintln!(
+            "{}: {}; {} vertices, {} faces, max angle defect {:.2e} rad, D[M] = {:.4}{}; wrote {}",
+            mesh.display(),
+            r.status,
+            r.vertex_count,
+            r.face_count,
+            d.angle_defect_max_rad,
+            d.developability_d,
+            r.isometry_error_max_relative
+                .map(|e| format!(", stored flattening isometry error {e:.1e}"))
+                .unwrap_or_default(),
+            output.display()
+        );
+    }
+    Ok(ExitCode::from(run.outcome.exit_code()))
+}
+
+/// The `flatten` arguments that become [`FlattenOptions`].
+pub(crate) struct FlattenArgs {
+    pub(crate) weld: Option<f64>,
+    pub(crate) units: Unit,
+    pub(crate) method: Method,
+    pub(crate) charts: ChartArgs,
+    pub(crate) pattern: PatternArgs,
+}
+
+pub(crate) fn flatten_command(
+    mesh: PathBuf,
+    output: PathBuf,
+    args: FlattenArgs,
+    quiet: bool,
+) -> Result<ExitCode, PipelineError> {
+    let FlattenArgs {
+        weld,
+        units,
+        method,
+        charts,
+        pattern,
+    } = args;
+    let method = match method {
+        Method::Exact => FlattenMethod::Exact,
+        Method::Lscm => FlattenMethod::Lscm,
+        Method::Arap => FlattenMethod::Arap,
+    };
+    let options = FlattenOptions {
+        weld,
+        unit: units.into(),
+        pattern: pattern.into(),
+        method,
+        charts: match charts.charts {
+            Charts::Auto => ChartMode::Auto,
+            Charts::Always => ChartMode::Always,
+            Charts::Never => ChartMode::Never,
+        },
+        chart_options: ChartOptions {
+            crease_angle_degrees: charts.crease_angle,
+            max_edge_distortion: charts.max_distortion,
+            ..Default::default()
+        },
+        input: Some(mesh.display().to_string()),
+    };
+    let model = read_mesh(&mesh)?;
+    let run = run_flatten(model, &options, &RunContext::new(scene_dir(&mesh)))?;
+    write_outputs(&output, &run.files, &run.report)?;
+    let d = &run.distortion;
+    if !d.is_overlap_free() {
+        eprintln!(
+            "sheetform: {}: the pattern overlaps itself ({} flipped faces, {} boundary crossings); written to {}, but it cannot be cut from one sheet as it is",
+            mesh.display(),
+            d.flipped_faces.len(),
+            d.boundary_crossings,
+            output.display()
+        );
+    } else if !quiet {
+        eprintln!(
+            "{}: flattened {} faces; edge-length error max {:.1e}, mean {:.1e}; area error max {:.1e}; wrote {}",
+            mesh.display(),
+            run.report.face_count,
+            d.edge_length_max_relative,
+            d.edge_length_mean_relative,
+            d.area_max_relative,
+            output.display()
+        );
+    }
+    Ok(ExitCode::from(run.outcome.exit_code()))
+}
+
+pub(crate) fn progress_bar(quiet: bool) -> Option<ProgressBar> {
+    if quiet || !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let bar = ProgressBar::new(1000);
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {msg:<16} [{bar:30}] {percent:>3}%")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    Some(bar)
+}
+
+/// Runs `job` with a progress callback that drives a bar on a terminal (nothing when
+/// `quiet` or not a terminal), then clears the bar.
+pub(crate) fn with_progress_bar<T>(quiet: bool, job: impl FnOnce(&dyn Fn(&str, f64)) -> T) -> T {
+    let bar = progress_bar(quiet);
+    let result = job(&|stage, fraction| {
+        if let Some(b) = &bar {
+            // Position first: setting the message may redraw the bar.
+            b.set_position((fraction * 1000.0) as u64);
+            b.set_message(stage.to_string());
+        }
+    });
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    result
+}
+
+/// The directory a scene file's assets are read from (its own).
+pub(crate) fn scene_dir(scene: &Path) -> PathBuf {
+    match scene.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// The scene file's text, or an error naming it.
+pub(crate) fn read_scene(scene: &Path) -> Result<String, PipelineError> {
+    std::fs::read_to_string(scene).map_err(|source| PipelineError::Read {
+        path: scene.display().to_string(),
+        source,
+    })
+}
+
+pub(crate) fn bend_command(
+    scene: PathBuf,
+    output: PathBuf,
+    animate: usize,
+    pattern: PatternArgs,
+    quiet: bool,
+) -> Result<ExitCode, PipelineError> {
+    let parsed = BendScene::from_json(&read_scene(&scene)?)?;
+    let options = BendRunOptions {
+        pattern: pattern.into(),
+        animate_frames: animate,
+        input: Some(scene.display().to_string()),
+    };
+    let result = with_progress_bar(quiet, |progress| {
+        run_bend(
+            &parsed,
+            &options,
+            &RunContext::new(scene_dir(&scene)).with_progress(progress),
+        )
+    });
+    match result {
+        Ok(run) => {
+            write_outputs(&output, &run.files, &run.report)?;
+            if !quiet {
+                let r = &run.report;
+                eprintln!(
+                    "bent `{}`: {} rulings, {} faces, isometry error {:.1e}, admissible; wrote {} files to {}",
+                    scene.display(),
+                    r.ruling_count.unwrap_or(0),
+                    r.face_count,
+                    r.isometry_error_max_relative.unwrap_or(f64::NAN),
+                    r.outputs.len(),
+                    output.display()
+                );
+            }
+            Ok(ExitCode::from(run.outcome.exit_code()))
+        }
+        Err(e) => {
+            // An inadmissible shape: only the report, which says where.
+            if let Some(report) = e.report() {
+                write_outputs(&output, &[], report)?;
+                eprintln!("sheetform: {}: {e}", scene.display());
+                eprintln!(
+                    "sheetform: no mesh written; {} says where",
+                    output.join("report.json").display()
+                );
+                return Ok(ExitCode::from(e.kind().exit_code()));
+            }
+            Err(e)
+        }
+    }
+}
+
+pub(crate) fn slit_command(
+    scene: PathBuf,
+    output: PathBuf,
+    pattern: PatternArgs,
+    quiet: bool,
+) -> Result<ExitCode, PipelineError> {
+    let parsed = SlitScene::from_json(&read_scene(&scene)?)?;
+    let options = SlitRunOptions {
+        pattern: pattern.into(),
+        input: Some(scene.display().to_string()),
+    };
+    let run = run_slit(&parsed, &options, &RunContext::new(scene_dir(&scene)))?;
+    write_outputs(&output, &run.files, &run.report)?;
+    if !quiet {
+        let slit = run.report.slit.as_ref().expect("slit report");
+        eprintln!(
+            "slit `{}`: {} strips, E = {:.1e} (gap {:.2e} mm), {}; wrote {} files to {}",
+            scene.display(),
+            slit.strips.len(),
+            slit.normalised_error,
+            slit.gap_max_mm,
+            if slit.converged {
+                "converged"
+            } else {
+                "NOT all strips converged"
+            },
+            run.report.outputs.len(),
+            output.display()
+        );
+    }
+    Ok(ExitCode::from(run.outcome.exit_code()))
+}
+
+pub(crate) fn photo_command(
+    annotation: PathBuf,
+    output: PathBuf,
+    pattern: PatternArgs,
+    quiet: bool,
+) -> Result<ExitCode, PipelineError> {
+    let input = PhotoInput::from_text(&read_scene(&annotation)?)?;
+    let options = PhotoRunOptions {
+        pattern: pattern.into(),
+        input: Some(annotation.display().to_string()),
+    };
+    let run = with_progress_bar(quiet, |progress| {
+        run_photo(
+            &input,
+            &options,
+            &RunContext::new(scene_dir(&annotation)).with_progress(progress),
+        )
+    })?;
+    write_outputs(&output, &run.files, &run.report)?;
+    let photo = run.report.photo.as_ref().expect("photo report");
+    if !quiet {
+        let mut refined = photo.developability_error_refined.map_or_else(
+            || "not refined".to_string(),
+            |a| format!("refined mean {:.2e}° max {:.2e}°", a.mean_deg, a.max_deg),
+        );
+        if let (Some(s), Some(a)) = (&photo.symmetrization, photo.developability_error_symmetrized) {
+            if s.mirrored_segment_count > 0 && !s.abandoned {
+                refined += &format!(
+                    ", symmetrised ({} segments mirrored) mean {:.2e}° max {:.2e}°",
+                    s.mirrored_segment_count, a.mean_deg, a.max_deg
+                );
+            }
+        }
+        eprintln!(
+            "photo `{}`: {} patches, {} rulings, {} symmetric pairs; developability error mean {:.2}° (linear), {}; {}; wrote {} files to {}",
+            annotation.display(),
+            photo.patch_count,
+            photo.ruling_count,
+            photo.symmetric_pair_count,
+            photo.developability_error_linear.mean_deg,
+            refined,
+            run.report.status,
+            run.report.outputs.len(),
+            output.display()
+        );
+    }
+    if !photo.depth_undetermined_curves.is_empty() {
+        eprintln!(
+            "sheetform: the depth of {} is not fixed by the drawing (no mirror pair reaches it): mark their mirror \
+             relations (`symmetric_curves`, `self_symmetric_curves`)",
+            photo
+                .depth_undetermined_curves
+                .iter()
+                .map(|c| format!("`{c}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    Ok(ExitCode::from(run.outcome.exit_code()))
+}
+
+pub(crate) fn ffd_command(
+    scene: PathBuf,
+    output: PathBuf,
+    solver: Option<SolverArg>,
+    pattern: PatternArgs,
+    quiet: bool,
+) -> Result<ExitCode, PipelineError> {
+    use sheetform::ffd::SolverMethod;
+    let parsed = sheetform::ffd::FfdScene::from_json(&read_scene(&scene)?)?;
+    let options = FfdRunOptions {
+        pattern: pattern.into(),
+        input: Some(scene.display().to_string()),
+        solver: solver.map(|s| match s {
+            SolverArg::Constrained => SolverMethod::Constrained,
+            SolverArg::Paper => SolverMethod::Paper,
+            SolverArg::None => SolverMethod::None,
+        }),
+    };
+    let run = with_progress_bar(quiet, |progress| {
+        run_ffd(
+            &parsed,
+            &options,
+            &RunContext::new(scene_dir(&scene)).with_progress(progress),
+        )
+    })?;
+    write_outputs(&output, &run.files, &run.report)?;
+    if !quiet {
+        let ffd = run.report.ffd.as_ref().expect("ffd report");
+        eprintln!(
+            "ffd `{}` ({}): {} panels, max angle defect {:.2e} -> {:.2e} rad, D[M] {:.3} -> {:.3}, {}; wrote {} files to {}",
+            scene.display(),
+            ffd.solver,
+            ffd.panel_count,
+            ffd.angle_defects_before.angle_defect_max_rad,
+            ffd.angle_defects_after.angle_defect_max_rad,
+            ffd.angle_defects_before.developability_d,
+            ffd.angle_defects_after.developability_d,
+            run.report.status,
+            run.report.outputs.len(),
+            output.display()
+        );
+    }
+    Ok(ExitCode::from(run.outcome.exit_code()))
+}
+
+/// Prints the JSON Schema of a scene format.
+pub(crate) fn schema_command(format: SchemaFormat) -> ExitCode {
+    let schema = match format {
+        SchemaFormat::Bend => sheetform::bend::BendScene::json_schema(),
+        SchemaFormat::Slit => sheetform::slit::SlitScene::json_schema(),
+        SchemaFormat::Ffd => sheetform::ffd::FfdScene::json_schema(),
+        SchemaFormat::Photo => sheetform::photo::PhotoAnnotation::json_schema(),
+    };
+    println!("{}", serde_json::to_string_pretty(&schema).expect("schema serialises"));
+    ExitCode::SUCCESS
+}

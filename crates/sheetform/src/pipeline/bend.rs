@@ -1,0 +1,179 @@
+//! `sheetform bend`: system A (Bo & Wang).
+
+use crate::report::{RegionReport, RegressionEntry, Report, Timings};
+use sheetform_bend::{bend, BendError, BendModel, BendScene, BentSheet};
+use sheetform_io::{glb_bytes, obj_string, stl_bytes, Texture};
+use sheetform_mesh::developability_error;
+
+use super::context::RunContext;
+use super::error::{Outcome, PipelineError};
+use super::outputs::{output_names, pattern_files, PatternOutputOptions};
+use super::sheet_report::sheet_mesh_report;
+use std::time::Instant;
+
+/// Knobs of `sheetform bend`.
+#[derive(Debug, Clone, Default)]
+pub struct BendRunOptions {
+    /// How the pattern is written.
+    pub pattern: PatternOutputOptions,
+    /// Write this many frames of the isometric deformation from flat to bent.
+    pub animate_frames: usize,
+    /// Input path, recorded in the report.
+    pub input: Option<String>,
+}
+
+/// Most frames `--animate` may ask for: each is an OBJ of the whole sheet held in memory.
+pub const MAX_ANIMATION_FRAMES: usize = 10_000;
+
+/// A finished bend run: the model, the bent sheet, the files to write and the report.
+#[derive(Debug)]
+pub struct BendRun {
+    /// The validated model.
+    pub model: BendModel,
+    /// The bent sheet.
+    pub sheet: BentSheet,
+    /// Rendered outputs `(file name, bytes)`, not yet written.
+    pub files: Vec<(String, Vec<u8>)>,
+    /// The report (its `outputs` lists `files` and `report.json`).
+    pub report: Report,
+    /// How the run ended (always [`Outcome::Ok`]: an inadmissible shape is the error
+    /// [`PipelineError::Inadmissible`], with its report).
+    pub outcome: Outcome,
+}
+
+/// Runs system A on a scene and renders its outputs in memory (the texture is read
+/// through the context's assets).
+///
+/// # Errors
+/// [`PipelineError::Bend`] for invalid scenes; [`PipelineError::Inadmissible`] for shapes
+/// that cannot be made, carrying the report that says where; [`PipelineError::Asset`] and
+/// [`PipelineError::Texture`] for the texture; [`PipelineError::Option`] for too many
+/// animation frames; [`PipelineError::Cancelled`].
+pub fn run_bend(scene: &BendScene, options: &BendRunOptions, context: &RunContext) -> Result<BendRun, PipelineError> {
+    let start = Instant::now();
+    if options.animate_frames > MAX_ANIMATION_FRAMES {
+        return Err(PipelineError::Option {
+            option: "animate",
+            message: format!("at most {MAX_ANIMATION_FRAMES} frames (got {})", options.animate_frames),
+        });
+    }
+    context.progress("reading scene", 0.0);
+    let model = BendModel::from_scene(scene)?;
+    let parsed = Instant::now();
+    context.check_cancelled()?;
+    context.progress("bending", 0.1);
+    let sheet = bend(&model).map_err(|error| {
+        match inadmissible_report(&error, model.unit.millimetres(), options.input.clone()) {
+            Some(report) => PipelineError::Inadmissible {
+                error,
+                report: Box::new(report),
+            },
+            None => PipelineError::Bend(error),
+        }
+    })?;
+    let solved = Instant::now();
+    context.check_cancelled()?;
+    context.progress("exporting", 0.5);
+    let name = model.name.clone().unwrap_or_else(|| "sheet".into());
+    let texture_bytes = match &model.texture {
+        Some(relative) => Some(context.assets.read(relative, "texture")?),
+        None => None,
+    };
+    let texture = match &texture_bytes {
+        Some(bytes) => Some(Texture::from_bytes(bytes).ok_or_else(|| PipelineError::Texture {
+            path: model.texture.clone().unwrap_or_default(),
+        })?),
+        None => None,
+    };
+    let mut files: Vec<(String, Vec<u8>)> = Vec::new();
+    if context.renders_all() {
+        files.push(("model.obj".into(), obj_string(&sheet.mesh, &name).into_bytes()));
+    }
+    files.push(("model.glb".into(), glb_bytes(&sheet.mesh, &name, texture)));
+    if context.renders_all() {
+        files.push(("model.stl".into(), stl_bytes(&sheet.mesh)));
+    }
+    let (pattern, pattern_report) = pattern_files(&sheet.mesh, &name, &options.pattern, context.outputs)?;
+    files.extend(pattern);
+    let frames = if context.renders_all() {
+        options.animate_frames
+    } else {
+        0
+    };
+    for i in 0..frames {
+        context.check_cancelled()?;
+        let t = if frames == 1 {
+            1.0
+        } else {
+            i as f64 / (frames - 1) as f64
+        };
+        let frame = sheet.frame(&model, t)?;
+        files.push((
+            format!("frames/frame-{i:04}.obj"),
+            obj_string(&frame, &format!("{name} t={t:.4}")).into_bytes(),
+        ));
+        context.progress("animating", 0.5 + 0.5 * (i + 1) as f64 / frames as f64);
+    }
+    let exported = Instant::now();
+    let mut report = bend_report(&model, &sheet, options.input.clone(), &files);
+    report.pattern = Some(pattern_report);
+    report.timings = Timings::from_stages(start, parsed, solved, exported);
+    context.progress("done", 1.0);
+    Ok(BendRun {
+        model,
+        sheet,
+        files,
+        report,
+        outcome: Outcome::Ok,
+    })
+}
+
+pub(crate) fn bend_report(
+    model: &BendModel,
+    sheet: &BentSheet,
+    input: Option<String>,
+    files: &[(String, Vec<u8>)],
+) -> Report {
+    let mm = model.unit.millimetres();
+    let mesh = &sheet.mesh;
+    let mut report = sheet_mesh_report("bend", input, mesh);
+    report.admissible = Some(true);
+    report.ruling_count = Some(sheet.regions.iter().map(|r| r.ruling_count).sum());
+    report.developability_error_max_rad = Some(developability_error(mesh).max_radians);
+    report.regions = sheet
+        .regions
+        .iter()
+        .map(|r| RegionReport {
+            name: r.name.clone(),
+            ruling_count: r.ruling_count,
+            curve_length_mm: r.curve_length * mm,
+            total_fold_rad: r.total_fold_radians,
+            max_fold_rad: r.max_fold_radians,
+            admissible: r.admissibility.admissible,
+            regression_margin_mm: r.admissibility.regression_margin.map(|m| m * mm),
+            curve_deviation_mm: r.curve_deviation * mm,
+            closure_gap_mm: r.closure_gap.map(|g| g * mm),
+        })
+        .collect();
+    report.outputs = output_names(files);
+    report
+}
+
+/// The report of a shape refused as inadmissible (no mesh is made).
+pub fn inadmissible_report(error: &BendError, unit_mm: f64, input: Option<String>) -> Option<Report> {
+    let BendError::Inadmissible(detail) = error else {
+        return None;
+    };
+    let mut report = Report::new("bend", input);
+    report.status = "inadmissible".into();
+    report.admissible = Some(false);
+    report.regression_entry = Some(RegressionEntry {
+        message: detail.message.clone(),
+        region: detail.region,
+        arc_length_range_mm: detail.arc_length_range.map(|v| v * unit_mm),
+        flat_point_mm: detail.flat_point.map(|v| v * unit_mm),
+        point_mm: detail.point.map(|p| p.map(|v| v * unit_mm)),
+    });
+    report.outputs = vec!["report.json".into()];
+    Some(report)
+}

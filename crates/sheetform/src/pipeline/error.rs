@@ -1,0 +1,181 @@
+//! Why a pipeline stopped ([`PipelineError`] and its [`ErrorKind`]) and how a finished run
+//! ended ([`Outcome`]): decided here, so that every front end (the CLI's exit codes, the
+//! web server's responses, the Python binding's exceptions) tells the same story.
+
+use sheetform_bend::BendError;
+use sheetform_ffd::FfdError;
+use sheetform_flatten::FlattenError;
+use sheetform_io::IoError;
+use sheetform_io::MeshReadError;
+use sheetform_pattern::PatternError;
+use sheetform_photo::PhotoError;
+use sheetform_slit::SlitError;
+
+use thiserror::Error;
+
+/// Why a pipeline stopped.
+#[derive(Debug, Error)]
+pub enum PipelineError {
+    /// The input file could not be read.
+    #[error("cannot read {path}: {source}")]
+    Read {
+        /// The file.
+        path: String,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// The bend model is invalid or cannot be built.
+    #[error(transparent)]
+    Bend(#[from] BendError),
+    /// The shape cannot be made (system A: the curve of regression enters the sheet):
+    /// nothing is meshed, and the report says where.
+    #[error("{error}")]
+    Inadmissible {
+        /// What failed, and where (the bend error).
+        error: BendError,
+        /// The report of the refused shape (status `inadmissible`, with where it fails).
+        report: Box<crate::report::Report>,
+    },
+    /// Writing the outputs failed.
+    #[error(transparent)]
+    Io(#[from] IoError),
+    /// A mesh file cannot be read.
+    #[error(transparent)]
+    MeshRead(#[from] MeshReadError),
+    /// A mesh cannot be flattened.
+    #[error(transparent)]
+    Flatten(#[from] FlattenError),
+    /// A command-line option is out of range.
+    #[error("option `{option}`: {message}")]
+    Option {
+        /// The option.
+        option: &'static str,
+        /// What is wrong.
+        message: String,
+    },
+    /// The slit-sheet model is invalid or cannot be built.
+    #[error(transparent)]
+    Slit(#[from] SlitError),
+    /// The FFD scene is invalid or the restoration failed.
+    #[error(transparent)]
+    Ffd(#[from] FfdError),
+    /// The pattern files cannot be made.
+    #[error(transparent)]
+    Pattern(#[from] PatternError),
+    /// The photo annotation is invalid or cannot be reconstructed.
+    #[error(transparent)]
+    Photo(#[from] PhotoError),
+    /// The texture is not a PNG or JPEG image.
+    #[error("texture {path}: not a PNG or JPEG image")]
+    Texture {
+        /// The file.
+        path: String,
+    },
+    /// A file the scene names cannot be read: outside the scene's directory, not a
+    /// regular file, too large or missing.
+    #[error("{field}: `{path}`: {message}")]
+    Asset {
+        /// The scene field that names it.
+        field: String,
+        /// The path as written in the scene.
+        path: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// The run was cancelled ([`super::RunContext::cancel`]).
+    #[error("cancelled")]
+    Cancelled,
+    /// The output directory cannot be used.
+    #[error("output directory {path}: {message}")]
+    OutputDirectory {
+        /// The directory.
+        path: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// What kind of failure a [`PipelineError`] is: the CLI's exit code, a binding's
+/// exception class.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorKind {
+    /// The input is malformed, out of range or unreadable (a scene, mesh, annotation,
+    /// option or the file itself); the message names the field or place.
+    InvalidInput,
+    /// The input is valid but describes a shape that cannot be made; the error carries
+    /// the report saying where.
+    Inadmissible,
+    /// A solver or a construction failed on valid input.
+    Failed,
+    /// The outputs cannot be written.
+    Output,
+    /// The run was cancelled.
+    Cancelled,
+}
+
+impl ErrorKind {
+    /// The process exit code of a run that stopped with this kind of error: 3 for an
+    /// inadmissible shape, 130 when cancelled (as after Ctrl-C), 1 otherwise.
+    pub fn exit_code(self) -> u8 {
+        match self {
+            Self::Inadmissible => 3,
+            Self::Cancelled => 130,
+            Self::InvalidInput | Self::Failed | Self::Output => 1,
+        }
+    }
+}
+
+impl PipelineError {
+    /// What kind of failure this is.
+    pub fn kind(&self) -> ErrorKind {
+        match self {
+            Self::Inadmissible { .. } => ErrorKind::Inadmissible,
+            Self::Cancelled => ErrorKind::Cancelled,
+            Self::Io(_) | Self::OutputDirectory { .. } => ErrorKind::Output,
+            Self::Flatten(_) => ErrorKind::Failed,
+            Self::Photo(PhotoError::Solver(_)) => ErrorKind::Failed,
+            Self::Read { .. }
+            | Self::Bend(_)
+            | Self::MeshRead(_)
+            | Self::Option { .. }
+            | Self::Slit(_)
+            | Self::Ffd(_)
+            | Self::Pattern(_)
+            | Self::Photo(_)
+            | Self::Texture { .. }
+            | Self::Asset { .. } => ErrorKind::InvalidInput,
+        }
+    }
+
+    /// The report to write even though the run stopped (an inadmissible shape's).
+    pub fn report(&self) -> Option<&crate::report::Report> {
+        match self {
+            Self::Inadmissible { report, .. } => Some(report),
+            _ => None,
+        }
+    }
+}
+
+/// How a finished run ended. Every output was rendered; the report's `status` says the
+/// same.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    /// Every bound the report states holds.
+    Ok,
+    /// The pattern overlaps itself: it cannot be cut from one sheet as it is.
+    Overlapping,
+    /// A bound the report states is missed (e.g. a photo model not developable to the
+    /// refinement's bound, or with a depth the drawing does not fix).
+    OutOfTolerance,
+}
+
+impl Outcome {
+    /// The process exit code: 0, 4 for an overlapping pattern, 5 out of tolerance.
+    pub fn exit_code(self) -> u8 {
+        match self {
+            Self::Ok => 0,
+            Self::Overlapping => 4,
+            Self::OutOfTolerance => 5,
+        }
+    }
+}

@@ -1,0 +1,274 @@
+//! `sheetform ffd`: system C (Wang & Tang).
+
+use crate::report::{FfdReport, FfdStepReport, Report, Timings};
+use sheetform_ffd::{run_design_with_progress, FfdDesign, FfdError, FfdScene, ModelSource, SolverMethod};
+use sheetform_flatten::Chart;
+use sheetform_flatten::{distortion, exact_unfold, ChartSet, UnfoldOptions};
+use sheetform_io::{glb_bytes, obj_string, stl_bytes};
+use sheetform_io::{glb_vertex_colours, mesh_from_bytes, ply_vertex_colours};
+use sheetform_mesh::{mesh_topology, SheetMesh};
+use std::path::Path;
+
+use super::context::RunContext;
+use super::error::{Outcome, PipelineError};
+use super::flatten::sheet_from_charts;
+use super::outputs::{output_names, pattern_files, PatternOutputOptions, RenderedFiles};
+use super::sheet_report::{angle_defects, chart_report, defect_colours, sheet_mesh_report};
+use std::time::Instant;
+
+/// Knobs of `sheetform ffd`.
+#[derive(Debug, Clone, Default)]
+pub struct FfdRunOptions {
+    /// How the pattern is written.
+    pub pattern: PatternOutputOptions,
+    /// Input path, recorded in the report.
+    pub input: Option<String>,
+    /// Overrides the scene's solver (`--solver`).
+    pub solver: Option<SolverMethod>,
+}
+
+/// A finished FFD run.
+#[derive(Debug)]
+pub struct FfdRun {
+    /// The design: panels, lattice, every deformation step.
+    pub design: FfdDesign,
+    /// The restored object with each panel's exact flat pattern (pieces = panels).
+    pub sheet: SheetMesh,
+    /// Rendered outputs `(file name, bytes)`, not yet written.
+    pub files: RenderedFiles,
+    /// The report.
+    pub report: Report,
+    /// How the run ended (the report's `status` says the same).
+    pub outcome: Outcome,
+}
+
+/// Runs system C on a scene: build (or read, through the context's assets) the panels,
+/// embed them in the lattice, apply each deformation and restore developability, then
+/// unfold every panel exactly and write the plain and restored meshes, colour maps, the
+/// pattern and the report.
+///
+/// The context's progress is called as the run goes (fraction in `[0, 1]`, never
+/// decreasing): after reading, after each iteration of each restoration (the stage
+/// names the deformation, the iteration and the largest angle defect), before the
+/// export, and at the end. Cancellation is checked between the stages.
+///
+/// # Errors
+/// [`PipelineError::Ffd`] for invalid scenes (naming the field), vertices outside the
+/// lattice and solver failures; unreadable mesh files; panels that cannot be unfolded.
+pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) -> Result<FfdRun, PipelineError> {
+    let start = Instant::now();
+    context.progress("reading scene", 0.0);
+    let mut scene = scene.clone();
+    if let Some(method) = options.solver {
+        scene.solver.method = method;
+    }
+    let mesh = match &scene.model {
+        ModelSource::Procedural(model) => model.build(),
+        ModelSource::Mesh(path) => {
+            let bytes = context.assets.read(path, "model")?;
+            mesh_from_bytes(Path::new(path), &bytes)?
+        }
+    };
+    context.check_cancelled()?;
+    let parsed = Instant::now();
+    // Restorations take 5 % to 90 % of the bar, in equal shares per deformation.
+    let mut shown = 0.05;
+    context.progress("restoring", shown);
+    let design = run_design_with_progress(&scene, &mesh, &mut |p| {
+        let fraction = 0.05 + 0.85 * (p.deformation as f64 + p.fraction()) / p.deformation_count as f64;
+        shown = fraction.max(shown);
+        let stage = format!(
+            "deformation {}/{}: iteration {}, max defect {:.1e} rad",
+            p.deformation + 1,
+            p.deformation_count,
+            p.iteration,
+            p.angle_defect_max_rad
+        );
+        context.progress(&stage, shown);
+    })?;
+    context.check_cancelled()?;
+    context.progress("exporting", 0.9);
+    let solved = Instant::now();
+    let unit = scene.units;
+    let mm = unit.millimetres();
+    let name = scene.name.clone();
+    let assembly = &design.assembly;
+    let last = design.steps.last().expect("validated: at least one deformation");
+    let restored = assembly.mesh_at(&last.restored);
+    let deformed = assembly.mesh_at(&last.deformed);
+    // Each panel unfolded exactly (a panel is a disk: its seams are its boundary).
+    let panel_names: Vec<String> = assembly.panels.iter().map(|p| p.name.clone()).collect();
+    let charts = |positions: &[nalgebra::Vector3<f64>]| -> Result<ChartSet, PipelineError> {
+        let mut charts = Vec::with_capacity(assembly.panels.len());
+        for (k, panel) in assembly.panels.iter().enumerate() {
+            let panel_mesh = assembly.panel_mesh(k, positions);
+            let unfolding = exact_unfold(&panel_mesh, &UnfoldOptions::default()).map_err(|e| {
+                PipelineError::Ffd(FfdError::Panel {
+                    panel: panel.name.clone(),
+                    message: format!("cannot be unfolded: {e}"),
+                })
+            })?;
+            let d = distortion(&panel_mesh, &unfolding.flat);
+            charts.push(Chart {
+                faces: panel.faces.clone(),
+                vertices: panel.vertices.clone(),
+                triangles: panel_mesh.triangles.clone(),
+                flat: unfolding.flat,
+                distortion: d,
+                solver: unfolding.solver,
+            });
+        }
+        Ok(ChartSet {
+            face_chart: assembly.mesh.face_groups.clone(),
+            charts,
+            seam_edge_count: 0,
+            initial_chart_count: assembly.panels.len(),
+            split_count: 0,
+        })
+    };
+    let tab_room = options
+        .pattern
+        .tabs
+        .map_or(0.0, |t| 2.5 * t.width_mm / (mm * options.pattern.scale));
+    let restored_charts = charts(&last.restored)?;
+    let sheet = sheet_from_charts(&restored, &restored_charts, &name, Some(&panel_names), unit, tab_room);
+    let deformed_charts = charts(&last.deformed)?;
+    let deformed_sheet = sheet_from_charts(&deformed, &deformed_charts, &name, Some(&panel_names), unit, tab_room);
+    // Colour maps on one logarithmic scale, from 1e-8 rad (blue) to the largest defect
+    // before restoration (red), so the two maps compare directly (the paper's Fig. 4).
+    let topology = mesh_topology(&deformed);
+    let (before, before_vertices) = angle_defects(&deformed, &topology, FFD_DEFECT_TOLERANCE, mm);
+    let (after, after_vertices) = angle_defects(&restored, &topology, FFD_DEFECT_TOLERANCE, mm);
+    let top = before.angle_defect_max_rad;
+    let colours_before = defect_colours(&before_vertices.angle_defect, FFD_DEFECT_TOLERANCE, top);
+    let colours_after = defect_colours(&after_vertices.angle_defect, FFD_DEFECT_TOLERANCE, top);
+    let mut files: RenderedFiles = vec![
+        ("model.obj".into(), obj_string(&sheet, &name).into_bytes()),
+        ("model.glb".into(), glb_bytes(&sheet, &name, None)),
+        ("model.stl".into(), stl_bytes(&sheet)),
+        (
+            "deformed.obj".into(),
+            obj_string(&deformed_sheet, &format!("{name} (plain FFD)")).into_bytes(),
+        ),
+        (
+            "deformed.glb".into(),
+            glb_bytes(&deformed_sheet, &format!("{name} (plain FFD)"), None),
+        ),
+        (
+            "developability-before.ply".into(),
+            ply_vertex_colours(
+                &deformed,
+                &colours_before,
+                &before_vertices.angle_defect,
+                "angle_defect",
+            )
+            .into_bytes(),
+        ),
+        (
+            "developability-before.glb".into(),
+            glb_vertex_colours(&deformed, &colours_before, mm / 1000.0, &name),
+        ),
+        (
+            "developability-after.ply".into(),
+            ply_vertex_colours(&restored, &colours_after, &after_vertices.angle_defect, "angle_defect").into_bytes(),
+        ),
+        (
+            "developability-after.glb".into(),
+            glb_vertex_colours(&restored, &colours_after, mm / 1000.0, &name),
+        ),
+    ];
+    if !context.renders_all() {
+        // A preview shows the models (GLB) only.
+        files.retain(|(n, _)| n.ends_with(".glb"));
+    }
+    let (pattern, pattern_report) = pattern_files(&sheet, &name, &options.pattern, context.outputs)?;
+    files.extend(pattern);
+    let exported = Instant::now();
+    let mut report = sheet_mesh_report("ffd", options.input.clone(), &sheet);
+    report.pattern = Some(pattern_report);
+    report.charts = restored_charts
+        .charts
+        .iter()
+        .zip(&panel_names)
+        .map(|(c, n)| chart_report(n, "exact", c.faces.len(), &c.distortion))
+        .collect();
+    // Linked copies must coincide: the largest distance between vertices of one node.
+    let node_positions = assembly.node_positions_of(&restored.positions);
+    let linked_gap = restored
+        .positions
+        .iter()
+        .zip(&assembly.vertex_node)
+        .map(|(p, &n)| (p - node_positions[n as usize]).norm())
+        .fold(0.0, f64::max);
+    let deformed_distortion = deformed_charts
+        .charts
+        .iter()
+        .map(|c| c.distortion.edge_length_max_relative)
+        .fold(0.0, f64::max);
+    report.ffd = Some(FfdReport {
+        solver: format!("{:?}", scene.solver.method).to_lowercase(),
+        bending_weight: scene.solver.bending_weight,
+        line_search_memory: scene.solver.line_search_memory,
+        panel_count: assembly.panels.len(),
+        node_count: assembly.node_count,
+        linked_node_count: assembly.linked_node_count(),
+        linked_vertex_gap_max_mm: linked_gap * mm,
+        linear_embedding: design.linear_embedding,
+        embedding_time_ms: design.embedding_time_ms,
+        lattice_counts: design.lattice.counts(),
+        lattice_degrees: design.lattice.degrees(),
+        angle_defects_before: before,
+        angle_defects_after: after,
+        deformed_pattern_edge_length_max_relative: deformed_distortion,
+        steps: design
+            .steps
+            .iter()
+            .map(|s| FfdStepReport {
+                name: s.name.clone(),
+                solver: s.info.solver.clone(),
+                iterations: s.info.iterations,
+                converged: s.info.converged,
+                bending_weight: s.info.bending_weight,
+                bending_fallback_iteration: s.info.bending_fallback_iteration,
+                variable_node_count: s.info.variable_node_count,
+                constraint_count: s.info.constraint_count,
+                developability_g_before_rad2: s.info.developability_g_before,
+                developability_g_after_rad2: s.info.developability_g_after,
+                angle_defect_max_before_rad: s.info.angle_defect_max_before_rad,
+                angle_defect_max_after_rad: s.info.angle_defect_max_after_rad,
+                spring_energy_mm2: s.info.spring_energy_after * mm * mm,
+                deviation_max_mm: s.deviation_max * mm,
+                edge_length_change_max_relative: s.edge_length_change_max_relative,
+                edge_length_change_mean_relative: s.edge_length_change_mean_relative,
+                fold_angle_max_before_rad: s.fold_angle_max_before,
+                fold_angle_max_after_rad: s.fold_angle_max_after,
+                time_ms: s.info.time_ms,
+            })
+            .collect(),
+    });
+    report.status = if design.steps.iter().all(|s| s.info.converged) {
+        "ok"
+    } else {
+        "not converged"
+    }
+    .into();
+    report.timings = Timings::from_stages(start, parsed, solved, exported);
+    report.outputs = output_names(&files);
+    context.progress("done", 1.0);
+    let outcome = if report.status == "ok" {
+        Outcome::Ok
+    } else {
+        Outcome::OutOfTolerance
+    };
+    Ok(FfdRun {
+        design,
+        sheet,
+        files,
+        report,
+        outcome,
+    })
+}
+
+/// Angle defects below this count as developable in the FFD colour maps and `D[M]`
+/// (radians; the paper's `λ`).
+pub const FFD_DEFECT_TOLERANCE: f64 = 1e-8;

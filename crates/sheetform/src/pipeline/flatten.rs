@@ -1,0 +1,289 @@
+//! `sheetform flatten`: any mesh laid out in the plane, cut into charts when needed.
+
+use crate::report::{Report, SegmentationReport, Timings};
+use sheetform_flatten::{
+    arap, cut_into_charts, distortion, exact_unfold, lscm, ArapOptions, ChartOptions, ChartSet, Distortion,
+    UnfoldOptions,
+};
+use sheetform_io::{glb_bytes, obj_string};
+use sheetform_mesh::{mesh_topology, LengthUnit, Piece, PieceKind, SheetMesh, TriangleMesh};
+use sheetform_pattern::{arrange_in_rows, point_bounds, rotated, smallest_bounding_rotation};
+
+type Vec2 = nalgebra::Vector2<f64>;
+use super::check::{mesh_name, weld_input};
+use super::context::RunContext;
+use super::error::{Outcome, PipelineError};
+use super::outputs::{output_names, pattern_files, PatternOutputOptions};
+use super::sheet_report::{angle_defects, chart_report, DEFAULT_ANGLE_TOLERANCE};
+use std::time::Instant;
+
+/// How `flatten` lays a mesh out in the plane.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FlattenMethod {
+    /// Exact unfolding from the edge lengths (developable meshes; least-squares layout of
+    /// the edge lengths otherwise).
+    #[default]
+    Exact,
+    /// Least-squares conformal maps (nearly developable meshes: keeps angles, spreads the
+    /// area error).
+    Lscm,
+    /// As-rigid-as-possible (nearly developable meshes: balances length and angle error),
+    /// started from LSCM.
+    Arap,
+}
+
+/// When `flatten` cuts the mesh into charts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ChartMode {
+    /// When the mesh is not a single disk (closed, several pieces, handles, holes) or
+    /// has user seams.
+    #[default]
+    Auto,
+    /// Always (a disk is still cut along sharp creases and split where it would distort).
+    Always,
+    /// Never (a mesh that is not a disk is refused).
+    Never,
+}
+
+/// Knobs of `sheetform flatten`.
+#[derive(Debug, Clone, Default)]
+pub struct FlattenOptions {
+    /// Layout method (for a mesh flattened whole; charts use exact unfolding).
+    pub method: FlattenMethod,
+    /// When to cut into charts.
+    pub charts: ChartMode,
+    /// How to cut into charts.
+    pub chart_options: ChartOptions,
+    /// How the pattern is written.
+    pub pattern: PatternOutputOptions,
+    /// Merge vertices closer than this (model units) first.
+    pub weld: Option<f64>,
+    /// Length unit of the file.
+    pub unit: LengthUnit,
+    /// Where the mesh came from (recorded in the report; its file stem names the pieces).
+    pub input: Option<String>,
+}
+
+/// A finished flattening.
+#[derive(Debug)]
+pub struct FlattenRun {
+    /// The mesh with its pattern.
+    pub sheet: SheetMesh,
+    /// Distortion and overlaps.
+    pub distortion: Distortion,
+    /// Rendered outputs.
+    pub files: Vec<(String, Vec<u8>)>,
+    /// The report.
+    pub report: Report,
+    /// How the run ended (the report's `status` says the same).
+    pub outcome: Outcome,
+}
+
+/// Flattens a developable (or nearly developable) disk-like mesh by exact unfolding from
+/// its edge lengths (see [`sheetform_flatten::exact_unfold`]) and renders the pattern.
+///
+/// # Errors
+/// Meshes that cannot be unfolded (closed, non-manifold, …) with the reason; a bad weld
+/// distance; [`PipelineError::Cancelled`].
+pub fn run_flatten(
+    mesh: TriangleMesh,
+    options: &FlattenOptions,
+    context: &RunContext,
+) -> Result<FlattenRun, PipelineError> {
+    let start = Instant::now();
+    let mut mesh = mesh;
+    let welded = weld_input(&mut mesh, options.weld)?;
+    let parsed = Instant::now();
+    context.progress("flattening", 0.1);
+    let topology = mesh_topology(&mesh);
+    let disk = topology.component_count == 1 && topology.boundary_loop_count == 1 && topology.euler_characteristic == 1;
+    let use_charts = match options.charts {
+        ChartMode::Always => true,
+        ChartMode::Never => false,
+        ChartMode::Auto => !disk || !mesh.seam_edges.is_empty(),
+    };
+    let mm = options.unit.millimetres();
+    let name = mesh_name(options.input.as_deref());
+    let mut report = Report::new("flatten", options.input.clone());
+    let (sheet, solved) = if use_charts {
+        let set = cut_into_charts(&mesh, &options.chart_options)?;
+        let solved = Instant::now();
+        // Room between charts for glue tabs (model units).
+        let tab_room = options
+            .pattern
+            .tabs
+            .map_or(0.0, |t| 2.5 * t.width_mm / (mm * options.pattern.scale));
+        let sheet = sheet_from_charts(&mesh, &set, &name, None, options.unit, tab_room);
+        report.segmentation = Some(SegmentationReport {
+            chart_count: set.charts.len(),
+            initial_chart_count: set.initial_chart_count,
+            split_count: set.split_count,
+            seam_edge_count: set.seam_edge_count,
+            user_seam_edge_count: mesh.seam_edges.len(),
+            crease_angle_degrees: options.chart_options.crease_angle_degrees,
+            max_edge_distortion_relative: options.chart_options.max_edge_distortion,
+        });
+        report.charts = set
+            .charts
+            .iter()
+            .enumerate()
+            .map(|(c, chart)| chart_report(&sheet.pieces[c].name, "exact", chart.faces.len(), &chart.distortion))
+            .collect();
+        let iterations = set.charts.iter().map(|c| c.solver.iterations).sum();
+        report.solver = Some(sheetform_solve::SolverInfo {
+            iterations,
+            cost: set.charts.iter().map(|c| c.solver.cost).sum(),
+            initial_cost: set.charts.iter().map(|c| c.solver.initial_cost).sum(),
+            gradient_norm: set.charts.iter().map(|c| c.solver.gradient_norm).fold(0.0, f64::max),
+            converged: set.charts.iter().all(|c| c.solver.converged),
+        });
+        (sheet, solved)
+    } else {
+        let unfolding = match options.method {
+            FlattenMethod::Exact => exact_unfold(&mesh, &UnfoldOptions::default())?,
+            FlattenMethod::Lscm => lscm(&mesh)?,
+            FlattenMethod::Arap => arap(&mesh, &ArapOptions::default())?,
+        };
+        let solved = Instant::now();
+        let sheet = SheetMesh {
+            positions: mesh.positions.clone(),
+            flat: unfolding.flat.clone(),
+            triangles: mesh.triangles.clone(),
+            face_pieces: vec![0; mesh.triangles.len()],
+            pieces: vec![Piece {
+                name: name.clone(),
+                kind: PieceKind::Chart,
+            }],
+            rulings: vec![],
+            smooth_edges: vec![],
+            unit: options.unit,
+        };
+        report.solver = Some(unfolding.solver);
+        (sheet, solved)
+    };
+    // Distortion and overlaps over the whole pattern (charts against each other too);
+    // a mesh flattened whole is its own single chart.
+    let d = distortion(&sheet.to_triangle_mesh(), &sheet.flat);
+    if !use_charts {
+        let method = format!("{:?}", options.method).to_lowercase();
+        report.charts = vec![chart_report(&name, &method, mesh.triangles.len(), &d)];
+    }
+    context.check_cancelled()?;
+    context.progress("exporting", 0.8);
+    let mut files = Vec::new();
+    if context.renders_all() {
+        files.push(("model.obj".to_string(), obj_string(&sheet, &name).into_bytes()));
+    }
+    files.push(("model.glb".to_string(), glb_bytes(&sheet, &name, None)));
+    let (pattern, pattern_report) = pattern_files(&sheet, &name, &options.pattern, context.outputs)?;
+    files.extend(pattern);
+    let exported = Instant::now();
+    report.status = if d.is_overlap_free() { "ok" } else { "overlapping" }.into();
+    report.model_unit = options.unit.symbol().into();
+    report.vertex_count = mesh.positions.len();
+    report.face_count = mesh.triangles.len();
+    report.isometry_error_max_relative = Some(d.edge_length_max_relative);
+    report.isometry_error_mean_relative = Some(d.edge_length_mean_relative);
+    report.angle_defects = Some(angle_defects(&mesh, &topology, DEFAULT_ANGLE_TOLERANCE, mm).0);
+    report.flat_area_mm2 = Some(sheet.flat_area() * mm * mm);
+    report.area_mm2 = sheet.area() * mm * mm;
+    report.welded_vertex_count = welded;
+    report.pattern = Some(pattern_report);
+    report.outputs = output_names(&files);
+    report.timings = Timings::from_stages(start, parsed, solved, exported);
+    Ok(FlattenRun {
+        sheet,
+        outcome: if d.is_overlap_free() {
+            Outcome::Ok
+        } else {
+            Outcome::Overlapping
+        },
+        distortion: d,
+        files,
+        report,
+    })
+}
+
+/// The charts as one [`SheetMesh`]: every chart keeps its own copy of its seam vertices
+/// (same 3D position, own flat position), one piece per chart, the charts' flat layouts
+/// set side by side in rows (`gap` apart plus `extra_gap`, model units) so that the
+/// pattern (and the OBJ `vt`) has no chart over another.
+pub(crate) fn sheet_from_charts(
+    mesh: &TriangleMesh,
+    set: &ChartSet,
+    name: &str,
+    piece_names: Option<&[String]>,
+    unit: LengthUnit,
+    extra_gap: f64,
+) -> SheetMesh {
+    // Each chart turned to its smallest bounding rectangle, landscape.
+    let turned: Vec<Vec<Vec2>> = set
+        .charts
+        .iter()
+        .map(|c| {
+            let (angle, _) = smallest_bounding_rotation(&c.flat);
+            c.flat.iter().map(|&p| rotated(p, angle)).collect()
+        })
+        .collect();
+    let sizes: Vec<(Vec2, Vec2)> = turned
+        .iter()
+        .map(|flat| {
+            let (lo, hi) = point_bounds(flat);
+            (lo, hi - lo)
+        })
+        .collect();
+    let area: f64 = sizes.iter().map(|(_, s)| s.x * s.y).sum();
+    let gap = 0.02 * area.sqrt() + extra_gap;
+    let corners = arrange_in_rows(&sizes.iter().map(|s| s.1).collect::<Vec<_>>(), 1.5 * area.sqrt(), gap);
+    let digits = set.charts.len().to_string().len().max(2);
+    let mut sheet = SheetMesh {
+        positions: Vec::new(),
+        flat: Vec::new(),
+        triangles: Vec::new(),
+        face_pieces: Vec::new(),
+        pieces: Vec::new(),
+        rulings: vec![],
+        smooth_edges: vec![],
+        unit,
+    };
+    for (c, chart) in set.charts.iter().enumerate() {
+        let offset = sheet.positions.len() as u32;
+        let shift = corners[c] - sizes[c].0;
+        sheet
+            .positions
+            .extend(chart.vertices.iter().map(|&v| mesh.positions[v as usize]));
+        sheet.flat.extend(turned[c].iter().map(|p| p + shift));
+        sheet
+            .triangles
+            .extend(chart.triangles.iter().map(|t| t.map(|v| v + offset)));
+        sheet
+            .face_pieces
+            .extend(std::iter::repeat_n(c as u32, chart.triangles.len()));
+        sheet.pieces.push(Piece {
+            name: piece_names.map_or_else(|| format!("{name}-{:0digits$}", c + 1), |names| names[c].clone()),
+            kind: PieceKind::Chart,
+        });
+    }
+    sheet
+}
+
+/// `(max, mean)` relative edge-length difference between the 3D faces and the stored
+/// per-corner flattening, and the flattening's area.
+pub(crate) fn stored_flattening_error(mesh: &TriangleMesh, uv: &[[nalgebra::Vector2<f64>; 3]]) -> (f64, f64, f64) {
+    let (mut max, mut sum, mut n, mut area) = (0.0f64, 0.0, 0usize, 0.0);
+    for (t, q) in mesh.triangles.iter().zip(uv) {
+        let p = t.map(|i| mesh.positions[i as usize]);
+        for k in 0..3 {
+            let flat = (q[(k + 1) % 3] - q[k]).norm();
+            if flat > 0.0 {
+                let rel = ((p[(k + 1) % 3] - p[k]).norm() - flat).abs() / flat;
+                max = max.max(rel);
+                sum += rel;
+                n += 1;
+            }
+        }
+        let (a, b) = (q[1] - q[0], q[2] - q[0]);
+        area += 0.5 * (a.x * b.y - a.y * b.x).abs();
+    }
+    (max, if n > 0 { sum / n as f64 } else { 0.0 }, area)
+}

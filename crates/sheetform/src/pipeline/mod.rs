@@ -1,0 +1,24 @@
+//! The pipelines every front end calls: one module per command, the outputs and report
+//! parts they share.
+
+mod bend;
+mod check;
+mod context;
+mod error;
+mod ffd;
+mod flatten;
+mod outputs;
+mod photo;
+mod sheet_report;
+mod slit;
+
+pub use bend::*;
+pub use check::*;
+pub use context::*;
+pub use error::*;
+pub use ffd::*;
+pub use flatten::*;
+pub use outputs::*;
+pub use photo::*;
+pub use sheet_report::*;
+pub use slit::*;

@@ -1,0 +1,388 @@
+//! `sheetform photo`: system D (Fondevilla et al.).
+
+use crate::report::{PhotoReport, Report, SymmetrizationReport, Timings};
+use base64::Engine as _;
+use sheetform_flatten::Chart;
+use sheetform_flatten::{distortion, exact_unfold, lscm, ChartSet, UnfoldOptions};
+use sheetform_io::glb_bytes_projected;
+use sheetform_io::{obj_string, stl_bytes, Texture};
+use sheetform_mesh::{Ruling, SheetMesh, TriangleMesh};
+use sheetform_photo::{
+    annotation_from_svg, overlay_png, overlay_svg, reconstruct, svg_image_reference, AngleSummary, CurveNetwork,
+    PatchSurface, PhotoAnnotation, PhotoError, PhotoReconstruction,
+};
+
+use super::context::RunContext;
+use super::error::{Outcome, PipelineError};
+use super::flatten::sheet_from_charts;
+use super::outputs::{output_names, pattern_files, PatternOutputOptions, RenderedFiles};
+use super::sheet_report::{chart_report, sheet_mesh_report};
+use std::time::Instant;
+
+/// Knobs of `sheetform photo`.
+#[derive(Debug, Clone, Default)]
+pub struct PhotoRunOptions {
+    /// How the pattern is written.
+    pub pattern: PatternOutputOptions,
+    /// Input path, recorded in the report.
+    pub input: Option<String>,
+}
+
+/// What `sheetform photo` reads: an annotation, or a drawing made over the photo in an SVG
+/// editor (read once the photo's size is known, [`sheetform_photo::annotation_from_svg`]).
+#[derive(Debug, Clone)]
+pub enum PhotoInput {
+    /// A parsed annotation.
+    Annotation(Box<PhotoAnnotation>),
+    /// An SVG drawing's text.
+    Drawing(String),
+}
+
+impl PhotoInput {
+    /// A JSON annotation's or an SVG drawing's text (told apart by its first character).
+    ///
+    /// # Errors
+    /// [`PipelineError::Photo`] for an invalid JSON annotation (naming the field).
+    pub fn from_text(text: &str) -> Result<Self, PipelineError> {
+        if text.trim_start().starts_with('<') {
+            Ok(Self::Drawing(text.to_string()))
+        } else {
+            Ok(Self::Annotation(Box::new(PhotoAnnotation::from_json(text)?)))
+        }
+    }
+}
+
+/// A finished photo run.
+#[derive(Debug)]
+pub struct PhotoRun {
+    /// The validated annotation.
+    pub annotation: PhotoAnnotation,
+    /// Everything the method made (network, rulings, pairs, 3D curves, mesh).
+    pub reconstruction: PhotoReconstruction,
+    /// The model with each patch's flat pattern (pieces = patches).
+    pub sheet: SheetMesh,
+    /// Rendered outputs `(file name, bytes)`, not yet written.
+    pub files: RenderedFiles,
+    /// The report.
+    pub report: Report,
+    /// How the run ended (the report's `status` says the same).
+    pub outcome: Outcome,
+}
+
+/// Status of a photo reconstruction whose refinement did not reach its bound.
+pub const PHOTO_NOT_DEVELOPABLE_STATUS: &str = "not developable";
+
+/// Status of a photo reconstruction in which some curve's depth is not fixed by the
+/// drawing (no mirror pair reaches it): the model is written, the shape is a guess.
+pub const PHOTO_DEPTH_UNDETERMINED_STATUS: &str = "depth undetermined";
+
+/// Runs system D on an annotation (or a drawing): read the photograph through the
+/// context's assets, reconstruct (Fondevilla et al.), unfold every patch and write the
+/// model (OBJ, GLB with the photo projected onto it, STL), the pattern, the overlay over
+/// the photo and the report.
+///
+/// # Errors
+/// [`PipelineError::Photo`] for invalid annotations (naming the field or curve),
+/// [`PipelineError::Asset`] / [`PipelineError::Texture`] for a missing, unreadable or
+/// mis-sized image, [`PipelineError::Flatten`] if a patch cannot be unfolded,
+/// [`PipelineError::Cancelled`].
+pub fn run_photo(
+    input: &PhotoInput,
+    options: &PhotoRunOptions,
+    context: &RunContext,
+) -> Result<PhotoRun, PipelineError> {
+    let start = Instant::now();
+    context.progress("reading annotation", 0.0);
+    let read_image = |relative: &str| -> Result<(String, Vec<u8>), PipelineError> {
+        Ok((relative.to_string(), context.assets.read(relative, "image.path")?))
+    };
+    let from_svg = matches!(input, PhotoInput::Drawing(_));
+    let (annotation, (image_path, image_bytes)) = match input {
+        PhotoInput::Drawing(text) => {
+            // The drawing names the photo; its pixel size maps the drawing to the image.
+            let image = read_image(&svg_image_reference(text)?)?;
+            let size = Texture::from_bytes(&image.1)
+                .and_then(|t| t.size())
+                .ok_or_else(|| PipelineError::Texture { path: image.0.clone() })?;
+            (annotation_from_svg(text, size)?, image)
+        }
+        PhotoInput::Annotation(annotation) => {
+            let image = read_image(&annotation.image.path)?;
+            (annotation.as_ref().clone(), image)
+        }
+    };
+    let texture = Texture::from_bytes(&image_bytes).ok_or_else(|| PipelineError::Texture {
+        path: image_path.clone(),
+    })?;
+    let size = texture.size().ok_or_else(|| PipelineError::Texture {
+        path: image_path.clone(),
+    })?;
+    if size != (annotation.image.width, annotation.image.height) {
+        return Err(PhotoError::field(
+            "image",
+            format!(
+                "{} is {} × {} px, the annotation says {} × {}",
+                image_path, size.0, size.1, annotation.image.width, annotation.image.height
+            ),
+        )
+        .into());
+    }
+    let parsed = Instant::now();
+    context.check_cancelled()?;
+    context.progress("reconstructing", 0.1);
+    let reconstruction = reconstruct(&annotation)?;
+    context.check_cancelled()?;
+    context.progress("unfolding", 0.5);
+    let unit = annotation.units;
+    let mm = unit.millimetres();
+    let name = annotation.name.clone().unwrap_or_else(|| "photo".into());
+    let mesh = &reconstruction.mesh;
+    // One group per material patch.
+    let mut group_of_patch = vec![u32::MAX; reconstruction.patches.len()];
+    let mut groups = Vec::new();
+    for (p, kind) in mesh.patch_kind.iter().enumerate() {
+        if *kind != PatchSurface::Opening && mesh.face_patch.iter().any(|&f| f as usize == p) {
+            group_of_patch[p] = groups.len() as u32;
+            groups.push(format!("patch-{:02}", groups.len() + 1));
+        }
+    }
+    let model = TriangleMesh {
+        positions: mesh.positions.clone(),
+        triangles: mesh.triangles.clone(),
+        face_groups: mesh.face_patch.iter().map(|&p| group_of_patch[p as usize]).collect(),
+        groups: groups.clone(),
+        corner_uvs: None,
+        seam_edges: vec![],
+    };
+    let mut charts = Vec::with_capacity(groups.len());
+    let mut methods = Vec::with_capacity(groups.len());
+    for g in 0..groups.len() as u32 {
+        let faces: Vec<u32> = (0..model.triangles.len() as u32)
+            .filter(|&f| model.face_groups[f as usize] == g)
+            .collect();
+        let mut local = std::collections::HashMap::new();
+        let mut vertices = Vec::new();
+        let triangles: Vec<[u32; 3]> = faces
+            .iter()
+            .map(|&f| {
+                model.triangles[f as usize].map(|v| {
+                    *local.entry(v).or_insert_with(|| {
+                        vertices.push(v);
+                        (vertices.len() - 1) as u32
+                    })
+                })
+            })
+            .collect();
+        let patch_mesh = TriangleMesh {
+            positions: vertices.iter().map(|&v| model.positions[v as usize]).collect(),
+            triangles: triangles.clone(),
+            face_groups: vec![0; triangles.len()],
+            groups: vec![groups[g as usize].clone()],
+            corner_uvs: None,
+            seam_edges: vec![],
+        };
+        // Ruled strips unfold exactly; a filled (minimal-surface) patch is only nearly
+        // developable: least-squares conformal maps when the exact unfolding fails.
+        let (flat, solver, method) = match exact_unfold(&patch_mesh, &UnfoldOptions::default()) {
+            Ok(u) => (u.flat, u.solver, "exact"),
+            Err(_) => {
+                let u = lscm(&patch_mesh)?;
+                (u.flat, u.solver, "lscm")
+            }
+        };
+        methods.push(method);
+        let d = distortion(&patch_mesh, &flat);
+        charts.push(Chart {
+            faces,
+            vertices,
+            triangles,
+            flat,
+            distortion: d,
+            solver,
+        });
+    }
+    let chart_set = ChartSet {
+        face_chart: model.face_groups.clone(),
+        charts,
+        seam_edge_count: 0,
+        initial_chart_count: groups.len(),
+        split_count: 0,
+    };
+    let tab_room = options
+        .pattern
+        .tabs
+        .map_or(0.0, |t| 2.5 * t.width_mm / (mm * options.pattern.scale));
+    let mut sheet = sheet_from_charts(&model, &chart_set, &name, Some(&groups), unit, tab_room);
+    // The strips' rulings are bending guides (the pattern draws rulings as guides, never
+    // as mountain or valley folds), the zipper edges between them smooth edges (drawn as
+    // neither): each in its chart's numbering of the sheet.
+    let mut sheet_vertex = std::collections::HashMap::new();
+    let mut offset = 0u32;
+    for (c, chart) in chart_set.charts.iter().enumerate() {
+        for (k, &v) in chart.vertices.iter().enumerate() {
+            sheet_vertex.insert((c as u32, v), offset + k as u32);
+        }
+        offset += chart.vertices.len() as u32;
+    }
+    let mut edge_face = std::collections::HashMap::new();
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            edge_face.insert((a.min(b), a.max(b)), f);
+        }
+    }
+    let sheet_edge = |[a, b]: [u32; 2]| -> Option<(u32, [u32; 2])> {
+        let &face = edge_face.get(&(a.min(b), a.max(b)))?;
+        let chart = model.face_groups[face];
+        Some((
+            chart,
+            [*sheet_vertex.get(&(chart, a))?, *sheet_vertex.get(&(chart, b))?],
+        ))
+    };
+    for &edge in &mesh.ruling_edges {
+        if let Some((chart, [sa, sb])) = sheet_edge(edge) {
+            sheet.rulings.push(Ruling {
+                vertices: vec![sa, sb],
+                piece: chart,
+                arc_length: 0.0,
+            });
+        }
+    }
+    sheet.smooth_edges = mesh
+        .bending_edges
+        .iter()
+        .filter_map(|&e| sheet_edge(e))
+        .map(|(_, e)| e)
+        .collect();
+    let solved = Instant::now();
+    context.check_cancelled()?;
+    context.progress("exporting", 0.7);
+    // The photo projected onto the model: each vertex's image position.
+    let (w, h) = (f64::from(annotation.image.width), f64::from(annotation.image.height));
+    let texcoords: Vec<[f32; 2]> = chart_set
+        .charts
+        .iter()
+        .flat_map(|c| c.vertices.iter())
+        .map(|&v| {
+            let p = mesh.image[v as usize];
+            [(p.x / w) as f32, (-p.y / h) as f32]
+        })
+        .collect();
+    let all = context.renders_all();
+    let mut files: RenderedFiles = Vec::new();
+    if all {
+        files.push(("model.obj".into(), obj_string(&sheet, &name).into_bytes()));
+    }
+    files.push((
+        "model.glb".into(),
+        glb_bytes_projected(&sheet, &name, texture, &texcoords),
+    ));
+    if all {
+        files.push(("model.stl".into(), stl_bytes(&sheet)));
+    }
+    let (pattern, pattern_report) = pattern_files(&sheet, &name, &options.pattern, context.outputs)?;
+    files.extend(pattern);
+    let data_uri = format!(
+        "data:{};base64,{}",
+        texture.mime_type,
+        base64::engine::general_purpose::STANDARD.encode(&image_bytes)
+    );
+    let overlay = overlay_svg(&annotation, &reconstruction, &data_uri);
+    if all {
+        files.push(("overlay.png".into(), overlay_png(&overlay)?));
+    }
+    files.push(("overlay.svg".into(), overlay.into_bytes()));
+    if from_svg {
+        // What was read from the drawing, as an annotation file to edit or rerun.
+        let mut json = serde_json::to_vec_pretty(&annotation).expect("annotation serialises");
+        json.push(b'\n');
+        files.push(("annotation.json".into(), json));
+    }
+    let exported = Instant::now();
+    let mut report = sheet_mesh_report("photo", options.input.clone(), &sheet);
+    report.pattern = Some(pattern_report);
+    report.charts = chart_set
+        .charts
+        .iter()
+        .zip(&groups)
+        .zip(&methods)
+        .map(|((c, n), m)| chart_report(n, m, c.faces.len(), &c.distortion))
+        .collect();
+    let r = &reconstruction;
+    let linear = AngleSummary::of(&r.ruling_errors_linear);
+    let refined = AngleSummary::of(&r.ruling_errors_refined);
+    let symmetrized = AngleSummary::of(&r.ruling_errors_final);
+    // The bound the report states, checked on the final rulings (after their ends
+    // became curve samples, and after the symmetrisation).
+    let developable = r.refinement.is_none()
+        || r.ruling_errors_final
+            .iter()
+            .all(|&e| e.sin() <= sheetform_photo::REFINEMENT_BOUND);
+    report.photo = Some(PhotoReport {
+        control_point_count: r.network.points.len(),
+        annotated_control_point_count: CurveNetwork::annotated_control_point_count(&annotation),
+        curve_count: r.network.curves.len(),
+        segment_count: r.network.segments.len(),
+        junction_count: r.network.junction_count,
+        occluded_crossing_count: r.network.occluded_crossing_count,
+        patch_count: r.patches.iter().filter(|p| !p.opening).count(),
+        opening_count: r.patches.iter().filter(|p| p.opening).count(),
+        ruled_patch_count: mesh.patch_kind.iter().filter(|k| **k == PatchSurface::Ruled).count(),
+        filled_patch_count: mesh.patch_kind.iter().filter(|k| **k == PatchSurface::Filled).count(),
+        ruling_count: r.ruling_count(),
+        ruling_candidate_count: r.propagation.candidate_count,
+        ruling_rejected_count: r.propagation.rejected_count,
+        ruling_aligned_count: r.aligned_ruling_count,
+        symmetric_pair_count: r.pairs.len(),
+        symmetry_plane_normal: [r.plane.normal.x, r.plane.normal.y, r.plane.normal.z],
+        developability_error_linear: linear,
+        developability_error_refined: annotation.analysis.refine.then_some(refined),
+        refinement_iterations: r.refinement.map(|i| i.iterations),
+        refinement_converged: r.refinement.map(|i| i.converged),
+        refinement_displacement_max_px: r.refinement.map(|i| i.displacement_max),
+        refinement_slide_max_px: r.refinement.map(|i| i.slide_max_px),
+        refinement_bound: sheetform_photo::REFINEMENT_BOUND,
+        developability_error_symmetrized: r.symmetrization.as_ref().map(|_| symmetrized),
+        symmetrization: r.symmetrization.as_ref().map(|i| SymmetrizationReport {
+            split_segment_count: i.split_segment_count,
+            mirrored_segment_count: i.mirrored_segment_count,
+            mirrored_strip_count: i.mirrored_strip_count,
+            crossing_ruling_count: i.crossing_ruling_count,
+            unmatched_curves: i.unmatched_curves.clone(),
+            partly_mirrored_curves: i.partly_mirrored_curves.clone(),
+            displacement_max_px: i.displacement_max_px,
+            abandoned: i.abandoned,
+        }),
+        depth_sensitivity_max: r.depth_sensitivity.iter().copied().fold(0.0, f64::max),
+        depth_sensitivity_bound: sheetform_photo::DEPTH_SENSITIVITY_BOUND,
+        depth_undetermined_curves: r.depth_undetermined_curves(),
+        reprojection_error_mean_px: r.reprojection_error_px.0,
+        reprojection_error_max_px: r.reprojection_error_px.1,
+        millimetres_per_pixel: r.unit_per_pixel * mm,
+        stage_times: r.times,
+    });
+    report.ruling_count = Some(r.ruling_count());
+    report.developability_error_max_rad = Some(r.ruling_errors_final.iter().copied().fold(0.0, f64::max));
+    if !developable {
+        report.status = PHOTO_NOT_DEVELOPABLE_STATUS.into();
+    }
+    if !r.depth_undetermined_curves().is_empty() {
+        report.status = PHOTO_DEPTH_UNDETERMINED_STATUS.into();
+    }
+    report.timings = Timings::from_stages(start, parsed, solved, exported);
+    report.outputs = output_names(&files);
+    context.progress("done", 1.0);
+    let outcome = if report.status == "ok" {
+        Outcome::Ok
+    } else {
+        Outcome::OutOfTolerance
+    };
+    Ok(PhotoRun {
+        annotation,
+        reconstruction,
+        sheet,
+        files,
+        report,
+        outcome,
+    })
+}

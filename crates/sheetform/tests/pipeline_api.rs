@@ -1,0 +1,170 @@
+//! The pipeline API every front end stands on: typed scenes in, a context that confines
+//! the files a scene may read, reports progress, cancels and picks the outputs; the
+//! outcome and the kind of every error decided in the library.
+
+use sheetform::bend::BendScene;
+use sheetform::pipeline::{
+    run_bend, run_check, AssetResolver, BendRunOptions, CheckOptions, ErrorKind, Outcome, OutputSet, PipelineError,
+    RunContext,
+};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+
+fn examples() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+}
+
+fn scene(name: &str) -> BendScene {
+    BendScene::from_json(&std::fs::read_to_string(examples().join(name)).unwrap()).unwrap()
+}
+
+fn asset_error(e: &PipelineError) -> (String, String) {
+    match e {
+        PipelineError::Asset { field, message, .. } => (field.clone(), message.clone()),
+        other => panic!("expected an asset error, got {other}"),
+    }
+}
+
+#[test]
+fn assets_are_confined_to_the_scene_directory() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path().join("project");
+    std::fs::create_dir_all(root.join("textures")).unwrap();
+    std::fs::write(root.join("textures/ok.png"), b"inside").unwrap();
+    std::fs::write(dir.path().join("secret.txt"), b"outside").unwrap();
+    let assets = AssetResolver::new(&root);
+    assert_eq!(assets.read("textures/ok.png", "texture").unwrap(), b"inside");
+    // `..` that stays inside is fine.
+    assert_eq!(
+        assets.read("textures/../textures/ok.png", "texture").unwrap(),
+        b"inside"
+    );
+    // Leaving the root, by `..`, by an absolute path or through a link, is refused and
+    // the error names the scene field.
+    let e = assets.read("../secret.txt", "texture").unwrap_err();
+    assert_eq!(asset_error(&e).0, "texture");
+    assert!(asset_error(&e).1.contains("outside"), "{e}");
+    assert_eq!(e.kind(), ErrorKind::InvalidInput);
+    let absolute = dir.path().join("secret.txt");
+    let e = assets.read(absolute.to_str().unwrap(), "scan.points").unwrap_err();
+    assert!(asset_error(&e).1.contains("absolute"), "{e}");
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink(dir.path().join("secret.txt"), root.join("link.txt")).unwrap();
+        let e = assets.read("link.txt", "model").unwrap_err();
+        assert!(asset_error(&e).1.contains("outside"), "{e}");
+        // A device (it would never end) is not a regular file, even inside the root.
+        std::os::unix::fs::symlink("/dev/zero", root.join("zero.png")).unwrap();
+        let e = assets.read("zero.png", "texture").unwrap_err();
+        assert!(e.to_string().contains("zero.png"), "{e}");
+    }
+    // A directory is not a file; a missing file says so.
+    let e = assets.read("textures", "texture").unwrap_err();
+    assert!(asset_error(&e).1.contains("regular file"), "{e}");
+    let e = assets.read("missing.png", "texture").unwrap_err();
+    assert!(asset_error(&e).1.contains("cannot open"), "{e}");
+    // The size bound holds before anything is read.
+    let small = AssetResolver::new(&root).with_max_bytes(3);
+    let e = small.read("textures/ok.png", "texture").unwrap_err();
+    assert!(asset_error(&e).1.contains("more than"), "{e}");
+}
+
+#[test]
+fn a_textured_scene_reads_its_texture_through_the_context() {
+    let textured = scene("textured-sheet.json");
+    let run = run_bend(&textured, &BendRunOptions::default(), &RunContext::new(examples())).unwrap();
+    assert_eq!(run.outcome, Outcome::Ok);
+    // From another directory the texture is not there (and nothing outside is read).
+    let dir = tempfile::tempdir().unwrap();
+    let e = run_bend(&textured, &BendRunOptions::default(), &RunContext::new(dir.path())).unwrap_err();
+    assert_eq!(asset_error(&e).0, "texture");
+}
+
+#[test]
+fn a_preview_renders_the_model_and_the_pattern_only() {
+    let desk = scene("desk.json");
+    let options = BendRunOptions {
+        animate_frames: 3,
+        ..Default::default()
+    };
+    let full = run_bend(&desk, &options, &RunContext::new(examples())).unwrap();
+    let names = |files: &[(String, Vec<u8>)]| files.iter().map(|f| f.0.clone()).collect::<Vec<_>>();
+    let all = names(&full.files);
+    for expected in [
+        "model.obj",
+        "model.glb",
+        "model.stl",
+        "pattern.svg",
+        "pattern.dxf",
+        "pattern.pdf",
+    ] {
+        assert!(all.contains(&expected.to_string()), "{all:?}");
+    }
+    assert_eq!(all.iter().filter(|n| n.starts_with("frames/")).count(), 3);
+    let preview = run_bend(
+        &desk,
+        &options,
+        &RunContext::new(examples()).with_outputs(OutputSet::Preview),
+    )
+    .unwrap();
+    assert_eq!(names(&preview.files), vec!["model.glb", "pattern.svg"]);
+    assert_eq!(preview.report.outputs, vec!["model.glb", "pattern.svg", "report.json"]);
+    // The same model either way.
+    assert_eq!(preview.sheet.mesh.positions, full.sheet.mesh.positions);
+}
+
+#[test]
+fn progress_is_reported_and_a_cancelled_run_stops() {
+    let desk = scene("desk.json");
+    let stages = std::sync::Mutex::new(Vec::new());
+    let record = |stage: &str, fraction: f64| stages.lock().unwrap().push((stage.to_string(), fraction));
+    let context = RunContext::new(examples()).with_progress(&record);
+    run_bend(&desk, &BendRunOptions::default(), &context).unwrap();
+    let stages = stages.into_inner().unwrap();
+    assert_eq!(stages.first().unwrap().0, "reading scene");
+    assert_eq!(stages.last().unwrap(), &("done".to_string(), 1.0));
+    assert!(stages.windows(2).all(|w| w[0].1 <= w[1].1), "{stages:?}");
+    let cancel = AtomicBool::new(true);
+    let e = run_bend(
+        &desk,
+        &BendRunOptions::default(),
+        &RunContext::new(examples()).with_cancel(&cancel),
+    )
+    .unwrap_err();
+    assert!(matches!(e, PipelineError::Cancelled));
+    assert_eq!(e.kind(), ErrorKind::Cancelled);
+    assert_eq!(e.kind().exit_code(), 130);
+}
+
+#[test]
+fn an_inadmissible_shape_is_an_error_that_carries_its_report() {
+    // Strong torsion on a wide sheet: the curve of regression crosses it (cm: the report
+    // converts to mm).
+    let twisted = BendScene::from_json(
+        r#"{"units":"cm","outline":[[0,-6],[24,-6],[24,6],[0,6]],"regions":[{"flat_start":[0,0],"flat_direction":[1,0],
+            "curve":{"type":"bezier","control_points":[[0,0,0],[8,1,0],[15,-2,6],[17,1,12]]}}]}"#,
+    )
+    .unwrap();
+    let e = run_bend(&twisted, &BendRunOptions::default(), &RunContext::new(examples())).unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::Inadmissible);
+    assert_eq!(e.kind().exit_code(), 3);
+    let report = e.report().expect("the report saying where");
+    assert_eq!(report.status, "inadmissible");
+    assert_eq!(report.admissible, Some(false));
+    let entry = report.regression_entry.as_ref().unwrap();
+    let x = entry.flat_point_mm[0];
+    assert!((0.0..=240.0 + 1e-6).contains(&x), "in mm on the 240 mm sheet: {x}");
+}
+
+#[test]
+fn a_mesh_is_checked_from_memory() {
+    // A half cylinder built in memory (no file at all): developable.
+    let mesh = sheetform::mesh::TriangleMesh::grid(12, 4, |u, v| {
+        let a = std::f64::consts::PI * u;
+        [30.0 * a.cos(), 30.0 * a.sin(), 50.0 * v]
+    });
+    let run = run_check(mesh, &CheckOptions::default(), &RunContext::new(".")).unwrap();
+    assert_eq!(run.report.status, "developable");
+    assert_eq!(run.outcome, Outcome::Ok);
+    assert_eq!(run.report.input, None);
+}
