@@ -17,8 +17,11 @@ Run from the repository root:  python3 tools/make_tube_example.py
 
 import json
 import math
-import struct
-import zlib
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from make_photo_examples import write_png  # noqa: E402  (one PNG writer for the example tools)
 
 RADIUS = 60.0
 HALF_LENGTH = 150.0
@@ -122,16 +125,6 @@ def shade(u, v):
             base = (200, 150, 90) if outside else (120, 90, 60)
             return tuple(int(min(255, c * (0.35 + 0.65 * lambert))) for c in base)
     return None
-
-
-def write_png(path, w, h, raw):
-    def chunk(t, d):
-        return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xFFFFFFFF)
-
-    data = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
-            + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
-    with open(path, "wb") as f:
-        f.write(data)
 
 
 def render(path):

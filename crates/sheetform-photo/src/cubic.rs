@@ -88,6 +88,27 @@ pub fn nearest_parameter(b: &[Vec2; 4], p: Vec2) -> (f64, f64) {
     }
 }
 
+/// A root of `f` in `[lo, hi]` by bisection (60 halvings: to the last bit of a unit
+/// interval), or `None` when `f` has the same sign at both ends.
+pub fn bisect(f: impl Fn(f64) -> f64, lo: f64, hi: f64) -> Option<f64> {
+    let (mut lo, mut hi) = (lo, hi);
+    let (mut flo, fhi) = (f(lo), f(hi));
+    if flo * fhi > 0.0 || (flo == fhi && flo != 0.0) {
+        return None;
+    }
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        let fm = f(mid);
+        if fm * flo <= 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+            flo = fm;
+        }
+    }
+    Some(0.5 * (lo + hi))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

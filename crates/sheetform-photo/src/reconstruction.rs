@@ -355,16 +355,15 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
     let start = Instant::now();
     let plane = SymmetryPlane::from_annotation(&annotation.symmetry)?;
     let network = build_curve_network(annotation)?;
-    let Analysis {
-        patches,
-        samples,
-        strips,
-        propagation,
-        aligned_ruling_count,
-        pairs,
-    } = analyse(annotation, &network, &plane, &mut times, start)?;
+    let analysis = analyse(annotation, &network, &plane, &mut times, start)?;
     let start = Instant::now();
-    let energy = assemble_energy(&network, &strips, &pairs, &plane, &annotation.analysis.weights);
+    let energy = assemble_energy(
+        &network,
+        &analysis.strips,
+        &analysis.pairs,
+        &plane,
+        &annotation.analysis.weights,
+    );
     let prior = image_prior(&network);
     // Which depths the drawing fixes: solve again with the prior's depth moved by
     // `D` (a tenth of the diagonal). A point the energy pins stays; a point in the
@@ -392,8 +391,9 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
         })
         .collect();
     times.linear_solve_ms = milliseconds(start);
-    let ruling_errors_linear = ruling_errors(&network, &linear, &strips);
-    let rulings_linear: Vec<(usize, [Vec2; 2])> = strips
+    let ruling_errors_linear = ruling_errors(&network, &linear, &analysis.strips);
+    let rulings_linear: Vec<(usize, [Vec2; 2])> = analysis
+        .strips
         .iter()
         .flat_map(|s| (0..s.rulings.len()).map(move |i| (s.patch, s.segment(i))))
         .collect();
@@ -410,14 +410,7 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
         .collect();
     let base = Solved {
         network,
-        analysis: Analysis {
-            patches,
-            samples,
-            strips,
-            propagation,
-            aligned_ruling_count,
-            pairs,
-        },
+        analysis,
         energy,
         points: linear.clone(),
     };

@@ -39,22 +39,9 @@ pub fn align_rulings(network: &CurveNetwork, samples: &mut CurveSamples, strips:
                 let segment = b.places[from].segment;
                 let control = network.control_points(segment as usize);
                 let f = |t: f64| cross(ta, cubic::derivative(&control, t));
-                let (mut lo, mut hi) = (b.places[from].t, b.places[to].t);
-                let (mut flo, fhi) = (f(lo), f(hi));
-                if flo * fhi > 0.0 {
+                let Some(t) = cubic::bisect(f, b.places[from].t, b.places[to].t) else {
                     continue;
-                }
-                for _ in 0..60 {
-                    let mid = 0.5 * (lo + hi);
-                    let fm = f(mid);
-                    if fm * flo <= 0.0 {
-                        hi = mid;
-                    } else {
-                        lo = mid;
-                        flo = fm;
-                    }
-                }
-                let t = 0.5 * (lo + hi);
+                };
                 let distance = (t - b.places[l].t).abs();
                 if best.is_none_or(|(d, _)| distance < d) {
                     best = Some((distance, CurvePoint { segment, t }));

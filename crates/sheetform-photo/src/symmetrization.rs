@@ -52,8 +52,8 @@ use nalgebra::{Vector2, Vector3};
 
 type Vec3 = Vector3<f64>;
 
-/// What the symmetrisation did.
-#[derive(Debug, Clone, PartialEq, Default)]
+/// What the symmetrisation did (the `photo.symmetrization` section of report.json).
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize)]
 pub struct SymmetrizationInfo {
     /// Segments split so that nodes mirror onto nodes ([`split_at_mirror_nodes`]).
     pub split_segment_count: usize,
@@ -634,22 +634,10 @@ pub fn split_at_mirror_nodes(
                     let f = |t: f64| (cubic::point(&control, t) - p).dot(&normal);
                     let pieces = 32;
                     for i in 0..pieces {
-                        let (mut lo, mut hi) = (i as f64 / pieces as f64, (i + 1) as f64 / pieces as f64);
-                        let (mut flo, fhi) = (f(lo), f(hi));
-                        if flo * fhi > 0.0 || flo == fhi {
+                        let Some(t) = cubic::bisect(&f, i as f64 / pieces as f64, (i + 1) as f64 / pieces as f64)
+                        else {
                             continue;
-                        }
-                        for _ in 0..60 {
-                            let mid = 0.5 * (lo + hi);
-                            let fm = f(mid);
-                            if fm * flo <= 0.0 {
-                                hi = mid;
-                            } else {
-                                lo = mid;
-                                flo = fm;
-                            }
-                        }
-                        let t = 0.5 * (lo + hi);
+                        };
                         let distance = (cubic::point(&control, t) - p).dot(&direction).abs();
                         if from == to && distance <= tolerance {
                             continue; // the node itself

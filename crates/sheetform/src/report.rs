@@ -454,29 +454,6 @@ impl Report {
     }
 }
 
-/// What the symmetrisation of curves and rulings (§7) did.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct SymmetrizationReport {
-    /// Segments split so that the nodes of symmetric curves mirror onto nodes.
-    pub split_segment_count: usize,
-    /// Segments replaced by the mirror image of their partner.
-    pub mirrored_segment_count: usize,
-    /// Ruled strips whose rulings were rebuilt by mirroring.
-    pub mirrored_strip_count: usize,
-    /// Rulings across the plane replaced by one joining mirror points.
-    pub crossing_ruling_count: usize,
-    /// Curves whose mirror partner is split differently (left as solved).
-    pub unmatched_curves: Vec<String>,
-    /// Curves that bound (or join) a ruled strip only partly mirrored in the drawing
-    /// (left as solved).
-    pub partly_mirrored_curves: Vec<String>,
-    /// Largest move of a control point (pixels).
-    pub displacement_max_px: f64,
-    /// Whether the symmetrisation was given up because the symmetric model could not be
-    /// made developable (the model is then left unsymmetrised).
-    pub abandoned: bool,
-}
-
 /// `photo`: what the reconstruction from an annotated photograph made (system D,
 /// Fondevilla et al.; the counts of their Table 1 and the developability error of §8.2).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -539,7 +516,7 @@ pub struct PhotoReport {
     pub developability_error_symmetrized: Option<AngleSummary>,
     /// What the symmetrisation (§7) did (absent when it is switched off).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub symmetrization: Option<SymmetrizationReport>,
+    pub symmetrization: Option<sheetform_photo::SymmetrizationInfo>,
     /// Largest depth sensitivity of a curve: how much of an arbitrary shift of the depth
     /// prior it follows (0: the drawing fixes its depth; 1: free).
     pub depth_sensitivity_max: f64,

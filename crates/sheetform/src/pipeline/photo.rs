@@ -1,6 +1,6 @@
 //! `sheetform photo`: system D (Fondevilla et al.).
 
-use crate::report::{PhotoReport, Report, SymmetrizationReport, Timings};
+use crate::report::{PhotoReport, Report, Timings};
 use base64::Engine as _;
 use sheetform_flatten::Chart;
 use sheetform_flatten::{distortion, exact_unfold, lscm, ChartSet, UnfoldOptions};
@@ -343,16 +343,7 @@ pub fn run_photo(
         refinement_slide_max_px: r.refinement.map(|i| i.slide_max_px),
         refinement_bound: sheetform_photo::REFINEMENT_BOUND,
         developability_error_symmetrized: r.symmetrization.as_ref().map(|_| symmetrized),
-        symmetrization: r.symmetrization.as_ref().map(|i| SymmetrizationReport {
-            split_segment_count: i.split_segment_count,
-            mirrored_segment_count: i.mirrored_segment_count,
-            mirrored_strip_count: i.mirrored_strip_count,
-            crossing_ruling_count: i.crossing_ruling_count,
-            unmatched_curves: i.unmatched_curves.clone(),
-            partly_mirrored_curves: i.partly_mirrored_curves.clone(),
-            displacement_max_px: i.displacement_max_px,
-            abandoned: i.abandoned,
-        }),
+        symmetrization: r.symmetrization.clone(),
         depth_sensitivity_max: r.depth_sensitivity.iter().copied().fold(0.0, f64::max),
         depth_sensitivity_bound: sheetform_photo::DEPTH_SENSITIVITY_BOUND,
         depth_undetermined_curves: r.depth_undetermined_curves(),
