@@ -634,8 +634,7 @@ pub fn split_at_mirror_nodes(
                     let f = |t: f64| (cubic::point(&control, t) - p).dot(&normal);
                     let pieces = 32;
                     for i in 0..pieces {
-                        let Some(t) = cubic::bisect(&f, i as f64 / pieces as f64, (i + 1) as f64 / pieces as f64)
-                        else {
+                        let Some(t) = cubic::bisect(f, i as f64 / pieces as f64, (i + 1) as f64 / pieces as f64) else {
                             continue;
                         };
                         let distance = (cubic::point(&control, t) - p).dot(&direction).abs();
