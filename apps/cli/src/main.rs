@@ -28,6 +28,14 @@ static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // `SHEETFORM_TRACE=1`: the solvers' per-iteration traces on stderr.
+    if std::env::var_os("SHEETFORM_TRACE").is_some() {
+        tracing_subscriber::fmt()
+            .with_max_level(tracing::Level::DEBUG)
+            .with_writer(std::io::stderr)
+            .without_time()
+            .init();
+    }
     let result = match cli.command {
         Command::Bend {
             scene,

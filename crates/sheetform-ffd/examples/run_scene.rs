@@ -6,6 +6,14 @@
 use sheetform_ffd::{run_design, FfdScene, ModelSource, SolverMethod};
 
 fn main() {
+    // `SHEETFORM_TRACE=1`: the solver's per-iteration traces on stderr.
+    if std::env::var_os("SHEETFORM_TRACE").is_some() {
+        tracing_subscriber::fmt()
+            .with_max_level(tracing_subscriber::filter::LevelFilter::DEBUG)
+            .with_writer(std::io::stderr)
+            .without_time()
+            .init();
+    }
     let args: Vec<String> = std::env::args().collect();
     let path = args.get(1).map_or("examples/ffd/duct.json", String::as_str);
     let text = std::fs::read_to_string(path).expect("scene file");

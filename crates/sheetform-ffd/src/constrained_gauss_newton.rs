@@ -221,22 +221,19 @@ pub fn restore_constrained_with_progress(
     }
     // The bending term of the metric and its weight γ, when on.
     let mut bending = (options.bending_weight > 0.0).then(|| (BendingMetric::new(problem), options.bending_weight));
-    let trace = std::env::var_os("SHEETFORM_TRACE").is_some();
     let mut kkt = kkt_system_at(problem, &e, &Metric::new(problem, options, bending.as_ref()))?;
-    if trace {
-        eprintln!(
-            "set-up {:.2} ms (evaluation, pattern, ordering, symbolic analysis): KKT {} + {} rows, {} entries assembled, {} values in L ({})",
-            start.elapsed().as_secs_f64() * 1e3,
-            kkt.n,
-            kkt.nc,
-            kkt.values.len(),
-            kkt.factor_size(),
-            match kkt.compared_factor_sizes {
-                Some((amd, dissected)) => format!("{}; AMD {amd}, nested dissection {dissected}", kkt.ordering),
-                None => kkt.ordering.to_string(),
-            }
-        );
-    }
+    tracing::debug!(
+        "set-up {:.2} ms (evaluation, pattern, ordering, symbolic analysis): KKT {} + {} rows, {} entries assembled, {} values in L ({})",
+        start.elapsed().as_secs_f64() * 1e3,
+        kkt.n,
+        kkt.nc,
+        kkt.values.len(),
+        kkt.factor_size(),
+        match kkt.compared_factor_sizes {
+            Some((amd, dissected)) => format!("{}; AMD {amd}, nested dissection {dissected}", kkt.ordering),
+            None => kkt.ordering.to_string(),
+        }
+    );
     // Consecutive steps cut to `α ≤ STALL_STEP` (see `ConstrainedOptions::stall_bending_weight`).
     let mut stalled = 0;
     let mut iterations = 0;
@@ -248,21 +245,17 @@ pub fn restore_constrained_with_progress(
         if stalled >= STALL_ITERATIONS {
             if bending.is_some() || options.stall_bending_weight <= 0.0 {
                 // Nothing left to switch on: stop instead of crawling to `max_iterations`.
-                if trace {
-                    eprintln!("stalled: stopping after {iterations} iterations");
-                }
+                tracing::debug!("stalled: stopping after {iterations} iterations");
                 break;
             }
             bending = Some((BendingMetric::new(problem), options.stall_bending_weight));
             kkt = kkt_system_at(problem, &e, &Metric::new(problem, options, bending.as_ref()))?;
             info.bending_fallback_iteration = Some(iterations);
             stalled = 0;
-            if trace {
-                eprintln!(
-                    "stalled: bending term switched on (weight {})",
-                    options.stall_bending_weight
-                );
-            }
+            tracing::debug!(
+                "stalled: bending term switched on (weight {})",
+                options.stall_bending_weight
+            );
         }
         iterations += 1;
         let clock = Instant::now();
@@ -298,9 +291,9 @@ pub fn restore_constrained_with_progress(
             break;
         };
         stalled = if alpha <= STALL_STEP { stalled + 1 } else { 0 };
-        if trace {
+        {
             let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
-            eprintln!(
+            tracing::debug!(
                 "restore {iterations}: alpha {alpha} max defect {:.3e} (assemble {:.2} ms, factorise {:.2} ms; solve {:.2} ms, {} triangular solves, backward error {:.1e}; line search {:.2} ms)",
                 max_abs(&new_e.defects),
                 ms(assembled),
@@ -362,12 +355,10 @@ pub fn restore_constrained_with_progress(
         };
         last_alpha = alpha;
         let change = (f - new_f) / f.max(1e-300);
-        if trace {
-            eprintln!(
-                "refine {iterations}: alpha {alpha} f {new_f:.4e} max defect {:.3e}",
-                max_abs(&new_e.defects)
-            );
-        }
+        tracing::debug!(
+            "refine {iterations}: alpha {alpha} f {new_f:.4e} max defect {:.3e}",
+            max_abs(&new_e.defects)
+        );
         y = new_y;
         e = new_e;
         f = new_f;

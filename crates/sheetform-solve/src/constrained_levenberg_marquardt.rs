@@ -170,8 +170,7 @@ pub fn constrained_levenberg_marquardt(
     let mut merit_weight: f64 = 2.0 * multipliers.amax() + 1e-12;
     let gradient_limit = base.gradient_tolerance * gradient.max(1e-300);
     let violation = |c: &DVector<f64>| c.iter().fold(0.0f64, |v, e| v.max(e.abs()));
-    // `SHEETFORM_TRACE=1`: one line per iteration on stderr.
-    let trace = std::env::var_os("SHEETFORM_TRACE").is_some();
+    // One `tracing` debug line per iteration (`SHEETFORM_TRACE=1` shows them in the CLI).
     for it in 0..base.max_iterations {
         info.solver.iterations = it;
         let feasible = violation(&c) <= options.constraint_tolerance;
@@ -224,9 +223,7 @@ pub fn constrained_levenberg_marquardt(
             .solve(&rhs)
             .filter(|x| x.iter().all(|v| v.is_finite()))
             .or_else(|| {
-                if trace {
-                    eprintln!("constrained LM: singular KKT system, minimum-norm step by SVD");
-                }
+                tracing::debug!("constrained LM: singular KKT system, minimum-norm step by SVD");
                 let svd = kkt.svd(true, true);
                 let tolerance = 1e-13 * svd.singular_values.max();
                 svd.solve(&rhs, tolerance).ok()
@@ -279,14 +276,12 @@ pub fn constrained_levenberg_marquardt(
             -1.0
         };
         info.solver.iterations = it + 1;
-        if trace {
-            eprintln!(
-                "constrained LM {it}: cost {cost:.6e} -> {cost_new:.6e}, max |c| {:.2e} -> {:.2e}, rho {rho:.3}, mu {mu:.2e}, tau {tau}, |step| {:.2e}, projected gradient {gradient:.2e}",
-                violation(&c),
-                violation(&c_new),
-                step.norm()
-            );
-        }
+        tracing::debug!(
+            "constrained LM {it}: cost {cost:.6e} -> {cost_new:.6e}, max |c| {:.2e} -> {:.2e}, rho {rho:.3}, mu {mu:.2e}, tau {tau}, |step| {:.2e}, projected gradient {gradient:.2e}",
+            violation(&c),
+            violation(&c_new),
+            step.norm()
+        );
         if rho > 1e-4 && merit_new.is_finite() {
             let change = (cost - cost_new).abs() / cost.max(1e-300);
             let small_step = step.norm() <= base.step_tolerance * (x.norm() + base.step_tolerance);
