@@ -1,13 +1,11 @@
 //! As-rigid-as-possible flattening (Liu, Zhang, Xu, Gotsman, Gortler 2008).
 
 use crate::{lscm, FlattenError, Unfolding, Vec2};
-use faer::prelude::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Col, Side};
+use faer::sparse::Triplet;
 use nalgebra::Matrix2;
 use sheetform_mesh::TriangleMesh;
 use sheetform_solve::SolverInfo;
+use sheetform_solve::SparseCholesky;
 
 /// Knobs of [`arap`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -91,12 +89,7 @@ pub fn arap(mesh: &TriangleMesh, options: &ArapOptions) -> Result<Unfolding, Fla
             }
         }
     }
-    let solver_error = |e: String| FlattenError::Solver { message: e };
-    let matrix = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &triplets)
-        .map_err(|e| solver_error(format!("{e:?}")))?;
-    let symbolic = SymbolicLlt::try_new(matrix.symbolic(), Side::Lower).map_err(|e| solver_error(format!("{e:?}")))?;
-    let llt = Llt::try_new_with_symbolic(symbolic, matrix.as_ref(), Side::Lower)
-        .map_err(|e| solver_error(format!("factorisation failed: {e:?}")))?;
+    let llt = SparseCholesky::new(n, &triplets).map_err(|e| FlattenError::Solver { message: e.to_string() })?;
 
     let mut u = start.flat;
     let pin = u[0];
@@ -179,8 +172,7 @@ pub fn arap(mesh: &TriangleMesh, options: &ArapOptions) -> Result<Unfolding, Fla
                 }
             }
         }
-        let sx = llt.solve(Col::from_fn(n, |k| bx[k]));
-        let sy = llt.solve(Col::from_fn(n, |k| by[k]));
+        let (sx, sy) = (llt.solve(&bx), llt.solve(&by));
         for v in 1..nv {
             u[v] = Vec2::new(sx[v - 1], sy[v - 1]);
         }

@@ -1,12 +1,10 @@
 //! Exact unfolding of a developable triangle mesh from its intrinsic edge lengths.
 
 use crate::{FlattenError, Vec2};
-use faer::prelude::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Col, Side};
+use faer::sparse::Triplet;
 use sheetform_mesh::{mesh_topology_with_edges, TriangleMesh};
 use sheetform_solve::SolverInfo;
+use sheetform_solve::SparseCholesky;
 use std::collections::VecDeque;
 
 /// Knobs of [`exact_unfold`].
@@ -159,7 +157,7 @@ pub fn exact_unfold(mesh: &TriangleMesh, options: &UnfoldOptions) -> Result<Unfo
         cost: cost(&r),
         ..Default::default()
     };
-    let mut symbolic: Option<SymbolicLlt<usize>> = None;
+    let mut cholesky: Option<SparseCholesky> = None;
     for it in 0..options.max_iterations {
         if max_abs(&r) <= options.tolerance {
             info.converged = true;
@@ -192,25 +190,15 @@ pub fn exact_unfold(mesh: &TriangleMesh, options: &UnfoldOptions) -> Result<Unfo
                 }
             }
         }
-        let matrix = SparseColMat::<usize, f64>::try_new_from_triplets(unknowns, unknowns, &triplets).map_err(|e| {
-            FlattenError::Solver {
-                message: format!("{e:?}"),
-            }
-        })?;
-        let sym = match &symbolic {
-            Some(s) => s.clone(),
-            None => {
-                let s = SymbolicLlt::try_new(matrix.symbolic(), Side::Lower).map_err(|e| FlattenError::Solver {
-                    message: format!("{e:?}"),
-                })?;
-                symbolic = Some(s.clone());
-                s
-            }
+        // The pattern is the same every iteration: the symbolic analysis is reused.
+        let factorised = match cholesky.as_mut() {
+            Some(c) => c.refactor(&triplets).map(|()| c),
+            None => SparseCholesky::new(unknowns, &triplets).map(|c| cholesky.insert(c)),
         };
-        let llt = Llt::try_new_with_symbolic(sym, matrix.as_ref(), Side::Lower).map_err(|e| FlattenError::Solver {
-            message: format!("factorisation failed ({e:?}): the mesh is not rigid in the plane"),
+        let llt = factorised.map_err(|e| FlattenError::Solver {
+            message: format!("factorisation failed ({e}): the mesh is not rigid in the plane"),
         })?;
-        let delta = llt.solve(Col::from_fn(unknowns, |k| rhs[k]));
+        let delta = llt.solve(&rhs);
         // Damped step: halve until the cost does not grow.
         let mut step = 1.0;
         loop {

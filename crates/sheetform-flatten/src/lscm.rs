@@ -1,12 +1,10 @@
 //! Least-squares conformal maps (Lévy, Petitjean, Ray, Maillot 2002).
 
 use crate::{FlattenError, Unfolding, Vec2};
-use faer::prelude::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Col, Side};
+use faer::sparse::Triplet;
 use sheetform_mesh::{mesh_topology, TriangleMesh};
 use sheetform_solve::SolverInfo;
+use sheetform_solve::SparseCholesky;
 
 /// Flattens a disk-like mesh by least-squares conformal maps: minimises
 ///
@@ -124,13 +122,8 @@ pub fn lscm(mesh: &TriangleMesh) -> Result<Unfolding, FlattenError> {
             }
         }
     }
-    let solver_error = |e: String| FlattenError::Solver { message: e };
-    let matrix = SparseColMat::<usize, f64>::try_new_from_triplets(2 * n, 2 * n, &triplets)
-        .map_err(|e| solver_error(format!("{e:?}")))?;
-    let symbolic = SymbolicLlt::try_new(matrix.symbolic(), Side::Lower).map_err(|e| solver_error(format!("{e:?}")))?;
-    let llt = Llt::try_new_with_symbolic(symbolic, matrix.as_ref(), Side::Lower)
-        .map_err(|e| solver_error(format!("factorisation failed: {e:?}")))?;
-    let x = llt.solve(Col::from_fn(2 * n, |k| rhs[k]));
+    let llt = SparseCholesky::new(2 * n, &triplets).map_err(|e| FlattenError::Solver { message: e.to_string() })?;
+    let x = llt.solve(&rhs);
     let mut flat: Vec<Vec2> = (0..nv)
         .map(|v| {
             if pinned(v) {

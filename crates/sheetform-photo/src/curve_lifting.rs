@@ -36,11 +36,9 @@ use crate::ruling_propagation::RuledStrip;
 use crate::symmetric_correspondences::SymmetricPair;
 use crate::symmetry_plane::SymmetryPlane;
 use crate::{cubic, EnergyWeights, PhotoError};
-use faer::prelude::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Col, Side};
+use faer::sparse::Triplet;
 use nalgebra::{Vector2, Vector3};
+use sheetform_solve::SparseCholesky;
 
 type Vec2 = Vector2<f64>;
 type Vec3 = Vector3<f64>;
@@ -296,17 +294,12 @@ pub fn solve_energy(energy: &Energy, priors: &[&[f64]]) -> Result<Vec<Vec<f64>>,
     for k in 0..n {
         triplets.push(Triplet::new(k, k, epsilon));
     }
-    let matrix = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &triplets)
-        .map_err(|e| PhotoError::Solver(format!("{e:?}")))?;
-    let symbolic =
-        SymbolicLlt::try_new(matrix.symbolic(), Side::Lower).map_err(|e| PhotoError::Solver(format!("{e:?}")))?;
-    let llt = Llt::try_new_with_symbolic(symbolic, matrix.as_ref(), Side::Lower)
-        .map_err(|e| PhotoError::Solver(format!("factorisation failed: {e:?}")))?;
+    let llt = SparseCholesky::new(n, &triplets).map_err(|e| PhotoError::Solver(e.to_string()))?;
     priors
         .iter()
         .map(|prior| {
-            let x = llt.solve(Col::from_fn(n, |k| atb[k] + epsilon * prior[k]));
-            let out: Vec<f64> = (0..n).map(|k| x[k]).collect();
+            let rhs: Vec<f64> = (0..n).map(|k| atb[k] + epsilon * prior[k]).collect();
+            let out = llt.solve(&rhs);
             if out.iter().any(|v| !v.is_finite()) {
                 return Err(PhotoError::Solver("the solution is not finite".into()));
             }

@@ -51,10 +51,10 @@ use crate::ruling_propagation::RuledStrip;
 use crate::symmetrization::MirrorMap;
 use crate::{cubic, PhotoError};
 use faer::prelude::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Col, Mat, Side};
+use faer::sparse::Triplet;
+use faer::{Col, Mat};
 use nalgebra::Vector3;
+use sheetform_solve::SparseCholesky;
 
 type Vec3 = Vector3<f64>;
 
@@ -308,11 +308,7 @@ pub fn refine_developability(
             })
             .collect()
     };
-    let h = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &triplets)
-        .map_err(|e| PhotoError::Solver(format!("{e:?}")))?;
-    let symbolic = SymbolicLlt::try_new(h.symbolic(), Side::Lower).map_err(|e| PhotoError::Solver(format!("{e:?}")))?;
-    let llt = Llt::try_new_with_symbolic(symbolic, h.as_ref(), Side::Lower)
-        .map_err(|e| PhotoError::Solver(format!("factorisation failed: {e:?}")))?;
+    let llt = SparseCholesky::new(n, &triplets).map_err(|e| PhotoError::Solver(e.to_string()))?;
     let h_times = |x: &[f64]| -> Vec<f64> {
         let mut out = vec![0.0; n];
         for row in &energy.rows {
@@ -377,7 +373,7 @@ pub fn refine_developability(
         let hx = h_times(&x);
         let grad_f: Vec<f64> = (0..n).map(|k| hx[k] - atb[k] - proximity * x_linear[k]).collect();
         let grad_z = map.apply_transpose(&grad_f);
-        let z = llt.solve(Col::from_fn(n, |k| grad_z[k]));
+        let z = llt.solve(&grad_z);
         let grads_z = reduce(&grads);
         // Y = H⁻¹ Cᵀ, one column per constraint.
         let mut ct = Mat::<f64>::zeros(n, m);
@@ -386,7 +382,7 @@ pub fn refine_developability(
                 ct[(c, r)] += v;
             }
         }
-        let y = llt.solve(&ct);
+        let y = llt.solve_columns(ct.as_ref());
         // S = C_x Y + diag(c_t² / w) (symmetric positive semi-definite),
         // rhs = g − C_x z − c_t ∇_t f / w.
         let mut s = Mat::<f64>::zeros(m, m);

@@ -23,11 +23,10 @@ use crate::curve_samples::{CurvePoint, CurveSamples};
 use crate::patch_cycles::Patch;
 use crate::ruling_propagation::RuledStrip;
 use crate::{cubic, PhotoError};
-use faer::prelude::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Mat, Side};
+use faer::sparse::Triplet;
+use faer::Mat;
 use nalgebra::{Vector2, Vector3};
+use sheetform_solve::SparseCholesky;
 use spade::{AngleLimit, ConstrainedDelaunayTriangulation, HasPosition, Point2, RefinementParameters, Triangulation};
 
 type Vec2 = Vector2<f64>;
@@ -326,13 +325,9 @@ fn fill_patch(
                 }
             }
         }
-        let matrix = SparseColMat::<usize, f64>::try_new_from_triplets(interior, interior, &triplets)
-            .map_err(|e| PhotoError::Solver(format!("{e:?}")))?;
-        let symbolic =
-            SymbolicLlt::try_new(matrix.symbolic(), Side::Lower).map_err(|e| PhotoError::Solver(format!("{e:?}")))?;
-        let llt = Llt::try_new_with_symbolic(symbolic, matrix.as_ref(), Side::Lower)
-            .map_err(|e| PhotoError::Solver(format!("minimal-surface fill: {e:?}")))?;
-        let x = llt.solve(Mat::from_fn(interior, 3, |k, axis| rhs[k][axis]));
+        let llt = SparseCholesky::new(interior, &triplets)
+            .map_err(|e| PhotoError::Solver(format!("minimal-surface fill: {e}")))?;
+        let x = llt.solve_columns(Mat::from_fn(interior, 3, |k, axis| rhs[k][axis]).as_ref());
         for (k, &vertex) in index[n..].iter().enumerate() {
             mesh.positions[vertex as usize] = Vec3::new(x[(k, 0)], x[(k, 1)], x[(k, 2)]);
         }
