@@ -1,0 +1,205 @@
+//! Helpers of the CLI tests: run the binary, read reports, OBJ, SVG and DXF back.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+pub(crate) fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .canonicalize()
+        .unwrap()
+}
+
+pub(crate) fn sheetform(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sheetform"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+pub(crate) fn report(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap()
+}
+
+/// Minimal OBJ reader: positions, texture coordinates, faces (v/vt/vn), groups.
+pub(crate) struct Obj {
+    pub(crate) v: Vec<[f64; 3]>,
+    pub(crate) vt: Vec<[f64; 2]>,
+    pub(crate) faces: Vec<[(usize, usize); 3]>,
+    pub(crate) groups: Vec<String>,
+}
+
+pub(crate) fn read_obj(path: &Path) -> Obj {
+    let mut o = Obj {
+        v: vec![],
+        vt: vec![],
+        faces: vec![],
+        groups: vec![],
+    };
+    for line in std::fs::read_to_string(path).unwrap().lines() {
+        let p: Vec<&str> = line.split_whitespace().collect();
+        match p.first().copied() {
+            Some("v") => {
+                o.v.push([p[1].parse().unwrap(), p[2].parse().unwrap(), p[3].parse().unwrap()])
+            }
+            Some("vt") => o.vt.push([p[1].parse().unwrap(), p[2].parse().unwrap()]),
+            Some("g") => o.groups.push(p[1..].join(" ")),
+            Some("f") => {
+                let idx = |s: &str| {
+                    let mut it = s.split('/');
+                    let v: usize = it.next().unwrap().parse().unwrap();
+                    let t: usize = it.next().unwrap().parse().unwrap();
+                    (v - 1, t - 1)
+                };
+                o.faces.push([idx(p[1]), idx(p[2]), idx(p[3])]);
+            }
+            _ => {}
+        }
+    }
+    o
+}
+
+/// Largest relative difference between 3D (`v`) and flat (`vt`) edge lengths.
+pub(crate) fn obj_isometry_error(o: &Obj) -> f64 {
+    let mut worst: f64 = 0.0;
+    for f in &o.faces {
+        for k in 0..3 {
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            let d3 = (0..3).map(|i| (o.v[a.0][i] - o.v[b.0][i]).powi(2)).sum::<f64>().sqrt();
+            let d2 = (0..2)
+                .map(|i| (o.vt[a.1][i] - o.vt[b.1][i]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            if d2 > 0.0 {
+                worst = worst.max((d3 - d2).abs() / d2);
+            }
+        }
+    }
+    worst
+}
+
+pub(crate) fn examples() -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(repo().join("examples"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    v.sort();
+    v
+}
+
+/// Runs the Khronos glTF validator (npm `gltf-validator`, installed by `scripts/test.sh`).
+pub(crate) fn validate_glb(files: &[PathBuf]) {
+    let tool = repo().join("tools/gltf-validate");
+    assert!(
+        tool.join("node_modules/gltf-validator").exists(),
+        "the glTF validator is not installed: run `npm ci --prefix tools/gltf-validate` (scripts/test.sh does)"
+    );
+    let o = Command::new("node")
+        .arg(tool.join("validate.js"))
+        .args(files)
+        .output()
+        .expect("node runs");
+    assert!(
+        o.status.success(),
+        "glTF validator found errors:\n{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    for line in String::from_utf8_lossy(&o.stdout).lines() {
+        let v: serde_json::Value = serde_json::from_str(line).unwrap();
+        assert_eq!(v["errors"], 0, "{line}");
+        assert_eq!(v["warnings"], 0, "{line}");
+    }
+}
+
+pub(crate) fn shared(name: &str) -> PathBuf {
+    repo().join("../shared/testdata").join(name)
+}
+
+/// Cut loops of an SVG pattern (layer `cut`) as point lists (mm, SVG coordinates).
+pub(crate) fn svg_cut_loops(svg: &str) -> Vec<Vec<[f64; 2]>> {
+    let layer = &svg[svg.find(r#"<g id="cut""#).unwrap()..];
+    let layer = &layer[..layer.find("</g>").unwrap()];
+    layer
+        .split(r#"<path d=""#)
+        .skip(1)
+        .map(|d| {
+            d[..d.find('"').unwrap()]
+                .split_whitespace()
+                .filter(|t| t.starts_with('M') || t.starts_with('L'))
+                .map(|t| {
+                    let (x, y) = t[1..].split_once(',').unwrap();
+                    [x.parse().unwrap(), y.parse().unwrap()]
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Texts of one class in the SVG's label layer.
+pub(crate) fn svg_texts(svg: &str, class: &str) -> Vec<String> {
+    let marker = format!(r#"<text class="{class}""#);
+    svg.split(&marker)
+        .skip(1)
+        .map(|t| t[t.find('>').unwrap() + 1..t.find("</text>").unwrap()].to_string())
+        .collect()
+}
+
+/// Pairs of cut segments that meet, other than neighbours in one loop at their shared
+/// point.
+pub(crate) fn cut_intersections(loops: &[Vec<[f64; 2]>]) -> usize {
+    let mut segments = Vec::new();
+    for (l, points) in loops.iter().enumerate() {
+        for i in 0..points.len() {
+            segments.push((l, i, points.len(), points[i], points[(i + 1) % points.len()]));
+        }
+    }
+    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    let mut hits = 0;
+    for (x, &(la, ia, na, a0, a1)) in segments.iter().enumerate() {
+        for &(lb, ib, _, b0, b1) in &segments[x + 1..] {
+            if la == lb && (ib == (ia + 1) % na || ia == (ib + 1) % na) {
+                continue;
+            }
+            let (d1, d2) = (cross(a0, a1, b0), cross(a0, a1, b1));
+            let (d3, d4) = (cross(b0, b1, a0), cross(b0, b1, a1));
+            if d1 * d2 < 0.0 && d3 * d4 < 0.0 {
+                hits += 1;
+            }
+        }
+    }
+    hits
+}
+
+/// CUT layer of a DXF as read by ezdxf (an independent reader): audit error count,
+/// polyline count, total signed area and bounds.
+pub(crate) fn ezdxf_cut(path: &Path) -> serde_json::Value {
+    let script = r#"
+import ezdxf, json, sys
+doc = ezdxf.readfile(sys.argv[1])
+auditor = doc.audit()
+polys = [e for e in doc.modelspace().query('LWPOLYLINE') if e.dxf.layer == 'CUT']
+area, xs, ys = 0.0, [], []
+for p in polys:
+    pts = [(x, y) for x, y, *_ in p.get_points()]
+    area += 0.5 * sum(a[0] * b[1] - b[0] * a[1] for a, b in zip(pts, pts[1:] + pts[:1]))
+    xs += [x for x, _ in pts]; ys += [y for _, y in pts]
+print(json.dumps({"errors": len(auditor.errors), "closed": all(p.closed for p in polys), "count": len(polys),
+  "area": area, "width": max(xs) - min(xs), "height": max(ys) - min(ys),
+  "layers": sorted(l.dxf.name for l in doc.layers), "insunits": doc.header.get('$INSUNITS', 0),
+  "folds": len([e for e in doc.modelspace().query('LINE') if e.dxf.layer == 'FOLD'])}))
+"#;
+    let o = Command::new("python3")
+        .arg("-c")
+        .arg(script)
+        .arg(path)
+        .output()
+        .expect("python3 runs");
+    assert!(
+        o.status.success(),
+        "ezdxf could not read {}: {}",
+        path.display(),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    serde_json::from_slice(&o.stdout).unwrap()
+}

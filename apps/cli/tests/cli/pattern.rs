@@ -1,0 +1,130 @@
+//! Pattern outputs read back by outside tools: DXF (ezdxf), PDF (pdftoppm), scales, units, sheets.
+
+use crate::common::{ezdxf_cut, repo, report, shared, sheetform};
+use std::process::Command;
+
+#[test]
+fn a_piece_larger_than_the_sheet_is_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let o = sheetform(&[
+        "flatten",
+        shared("crumpled-developable.obj").to_str().unwrap(),
+        "--units",
+        "cm",
+        "--scale",
+        "5",
+        "--sheet",
+        "50x50",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("piece `crumpled-developable`") && err.contains("does not fit"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn patterns_are_readable_and_at_true_scale_in_dxf_and_pdf() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = repo().join("examples/sheet-with-hole.json");
+    let o = sheetform(&[
+        "bend",
+        scene.to_str().unwrap(),
+        "-o",
+        tmp.path().to_str().unwrap(),
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(tmp.path());
+    let flat_area = r["flat_area_mm2"].as_f64().unwrap();
+    let d = ezdxf_cut(&tmp.path().join("pattern.dxf"));
+    assert_eq!(d["errors"], 0, "{d}");
+    assert_eq!(d["closed"], true);
+    assert_eq!(d["count"], 2, "outline and one hole: {d}");
+    assert_eq!(d["insunits"], 4, "millimetres");
+    assert!(d["folds"].as_u64().unwrap() > 10);
+    for layer in ["CUT", "FOLD", "LABEL"] {
+        assert!(d["layers"].as_array().unwrap().iter().any(|l| l == layer), "{d}");
+    }
+    // Outline counter-clockwise, hole clockwise: the signed sum is the sheet's area.
+    assert!(
+        (d["area"].as_f64().unwrap() - flat_area).abs() <= 1e-6 * flat_area,
+        "{d} vs {flat_area}"
+    );
+    assert!(
+        (d["width"].as_f64().unwrap() - 300.0).abs() < 1e-6 && (d["height"].as_f64().unwrap() - 140.0).abs() < 1e-6,
+        "{d}"
+    );
+    // The PDF renders, one page per tile, A4.
+    let pages = r["pattern"]["tile_rows"].as_u64().unwrap() * r["pattern"]["tile_columns"].as_u64().unwrap();
+    let render = Command::new("pdftoppm")
+        .args(["-r", "10", "-png"])
+        .arg(tmp.path().join("pattern.pdf"))
+        .arg(tmp.path().join("page"))
+        .output()
+        .expect("pdftoppm runs");
+    assert!(render.status.success(), "{}", String::from_utf8_lossy(&render.stderr));
+    let rendered = std::fs::read_dir(tmp.path())
+        .unwrap()
+        .filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().starts_with("page"))
+        .count();
+    assert_eq!(rendered as u64, pages);
+    let info = Command::new("pdfinfo")
+        .arg(tmp.path().join("pattern.pdf"))
+        .output()
+        .expect("pdfinfo runs");
+    assert!(
+        String::from_utf8_lossy(&info.stdout).contains("595.276 x 841.89"),
+        "{}",
+        String::from_utf8_lossy(&info.stdout)
+    );
+}
+
+#[test]
+fn pattern_scale_units_and_paper_options() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = repo().join("examples/bent-rectangle.json");
+    let o = sheetform(&[
+        "bend",
+        scene.to_str().unwrap(),
+        "-o",
+        tmp.path().to_str().unwrap(),
+        "-q",
+        "--scale",
+        "0.5",
+        "--pattern-units",
+        "in",
+        "--page",
+        "letter",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(tmp.path());
+    assert!((r["pattern"]["width_mm"].as_f64().unwrap() - 120.0).abs() < 1e-9);
+    assert_eq!(r["pattern"]["page"], "Letter");
+    let d = ezdxf_cut(&tmp.path().join("pattern.dxf"));
+    assert_eq!(d["insunits"], 1, "inches");
+    assert!((d["width"].as_f64().unwrap() - 120.0 / 25.4).abs() < 1e-9, "{d}");
+    let info = Command::new("pdfinfo")
+        .arg(tmp.path().join("pattern.pdf"))
+        .output()
+        .expect("pdfinfo runs");
+    assert!(
+        String::from_utf8_lossy(&info.stdout).contains("612 x 792"),
+        "{}",
+        String::from_utf8_lossy(&info.stdout)
+    );
+    let bad = sheetform(&[
+        "bend",
+        scene.to_str().unwrap(),
+        "-o",
+        tmp.path().join("x").to_str().unwrap(),
+        "--scale=-1",
+    ]);
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("scale"));
+}
