@@ -315,4 +315,6 @@ pub(crate) enum SchemaFormat {
     Ffd,
     /// The photo annotation.
     Photo,
+    /// report.json, which every command writes.
+    Report,
 }

@@ -369,6 +369,7 @@ pub(crate) fn schema_command(format: SchemaFormat) -> ExitCode {
         SchemaFormat::Slit => sheetform::slit::SlitScene::json_schema(),
         SchemaFormat::Ffd => sheetform::ffd::FfdScene::json_schema(),
         SchemaFormat::Photo => sheetform::photo::PhotoAnnotation::json_schema(),
+        SchemaFormat::Report => sheetform::report::Report::json_schema(),
     };
     println!("{}", serde_json::to_string_pretty(&schema).expect("schema serialises"));
     ExitCode::SUCCESS

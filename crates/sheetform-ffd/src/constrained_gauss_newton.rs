@@ -213,7 +213,7 @@ pub fn restore_constrained_with_progress(
     let start = Instant::now();
     let mut y = problem.gather(&problem.start);
     let mut e = problem.evaluate(&y);
-    let mut info = RestorationInfo::begin("constrained", problem, &e);
+    let mut info = RestorationInfo::begin(crate::SolverMethod::Constrained, problem, &e);
     progress(0, max_abs(&e.defects));
     if problem.variables.is_empty() || max_abs(&e.defects) <= options.tolerance {
         info.finish(problem, &e, 0, true, start);

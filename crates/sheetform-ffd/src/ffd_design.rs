@@ -174,8 +174,11 @@ pub fn run_design_with_progress(
                 restore_paper_with_progress(&problem, &options, &mut report)
             }
             SolverMethod::None => {
-                let mut info =
-                    RestorationInfo::begin("none", &problem, &problem.evaluate(&problem.gather(&parameters)));
+                let mut info = RestorationInfo::begin(
+                    crate::SolverMethod::None,
+                    &problem,
+                    &problem.evaluate(&problem.gather(&parameters)),
+                );
                 info.developability_g_after = info.developability_g_before;
                 info.angle_defect_max_after_rad = info.angle_defect_max_before_rad;
                 (parameters.clone(), info)

@@ -56,7 +56,7 @@ pub fn restore_paper_with_progress(
     let start = Instant::now();
     let mut y = problem.gather(&problem.start);
     let mut e = problem.evaluate(&y);
-    let mut info = RestorationInfo::begin("paper", problem, &e);
+    let mut info = RestorationInfo::begin(crate::SolverMethod::Paper, problem, &e);
     progress(0, info.angle_defect_max_before_rad);
     let g0 = problem.developability_g(&e);
     if problem.variables.is_empty() || g0 == 0.0 {

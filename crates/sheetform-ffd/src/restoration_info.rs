@@ -7,8 +7,8 @@ use std::time::Instant;
 /// Report of one restoration (either solver).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct RestorationInfo {
-    /// `constrained` (default) or `paper`.
-    pub solver: String,
+    /// The method that ran.
+    pub solver: crate::SolverMethod,
     /// Iterations (constrained: SQP iterations; paper: penalty updates, each with its
     /// conjugate-gradient steps).
     pub iterations: usize,
@@ -80,9 +80,9 @@ impl RestorationProgress {
 }
 
 impl RestorationInfo {
-    pub(crate) fn begin(solver: &str, problem: &DevelopabilityProblem<'_>, e: &Evaluation) -> Self {
+    pub(crate) fn begin(solver: crate::SolverMethod, problem: &DevelopabilityProblem<'_>, e: &Evaluation) -> Self {
         Self {
-            solver: solver.into(),
+            solver,
             iterations: 0,
             converged: false,
             variable_node_count: problem.variables.len(),

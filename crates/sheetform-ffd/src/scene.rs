@@ -178,6 +178,16 @@ pub enum SolverMethod {
     None,
 }
 
+impl std::fmt::Display for SolverMethod {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Constrained => "constrained",
+            Self::Paper => "paper",
+            Self::None => "none",
+        })
+    }
+}
+
 fn default_tolerance() -> f64 {
     1e-10
 }

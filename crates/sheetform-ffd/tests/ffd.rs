@@ -295,7 +295,7 @@ fn the_papers_solver_lowers_g_but_stops_short() {
     scene.solver.method = SolverMethod::Paper;
     let design = run_design(&scene, &mesh_of(&scene)).unwrap();
     let info = &design.steps[0].info;
-    assert_eq!(info.solver, "paper");
+    assert_eq!(info.solver, sheetform_ffd::SolverMethod::Paper);
     assert!(
         info.developability_g_after < 0.1 * info.developability_g_before,
         "{info:?}"

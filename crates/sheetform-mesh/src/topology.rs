@@ -5,7 +5,7 @@ use crate::TriangleMesh;
 ///
 /// Nothing here fails: problems are listed so that `check` can report them and the
 /// methods that need a clean mesh (flattening) can refuse with a message naming them.
-#[derive(Debug, Clone, PartialEq, Default, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct MeshTopology {
     /// Vertices on the boundary (an incident edge with one face).
     #[serde(skip)]

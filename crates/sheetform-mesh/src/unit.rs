@@ -1,7 +1,7 @@
 use serde::{Deserialize, Serialize};
 
 /// The length unit of a model. Flat and 3D coordinates share it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum LengthUnit {
     /// Millimetres (the default).

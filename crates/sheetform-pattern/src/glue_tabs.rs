@@ -38,7 +38,7 @@ impl Default for TabOptions {
 }
 
 /// What happened to the tabs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct TabReport {
     /// Tabs drawn.
     pub placed: usize,

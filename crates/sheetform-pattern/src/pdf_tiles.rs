@@ -2,7 +2,7 @@ use crate::{FoldStyle, Pattern, PatternError, Vec2};
 use pdf_writer::{Content, Name, Pdf, Rect, Ref, Str};
 
 /// Paper size.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub enum PageSize {
     /// ISO A4, 210 × 297 mm.
     #[default]

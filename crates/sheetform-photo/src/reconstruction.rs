@@ -25,7 +25,7 @@ type Vec3 = Vector3<f64>;
 pub const DEPTH_SENSITIVITY_BOUND: f64 = 0.01;
 
 /// Milliseconds spent in each stage.
-#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct StageTimes {
     /// Intersections, splitting, patches, samples (§5.1).
     pub network_ms: f64,
@@ -44,7 +44,7 @@ pub struct StageTimes {
 }
 
 /// Summary of a set of angles (degrees, as the paper's Table 1).
-#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct AngleSummary {
     /// Mean (degrees).
     pub mean_deg: f64,

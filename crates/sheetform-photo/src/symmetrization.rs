@@ -53,7 +53,7 @@ use nalgebra::{Vector2, Vector3};
 type Vec3 = Vector3<f64>;
 
 /// What the symmetrisation did (the `photo.symmetrization` section of report.json).
-#[derive(Debug, Clone, PartialEq, Default, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct SymmetrizationInfo {
     /// Segments split so that nodes mirror onto nodes ([`split_at_mirror_nodes`]).
     pub split_segment_count: usize,

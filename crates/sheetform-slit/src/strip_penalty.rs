@@ -68,7 +68,7 @@ pub struct StripTerms<'a> {
 }
 
 /// The penalty split into the paper's terms (each already multiplied by its weight).
-#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct PenaltyTerms {
     /// `w1 F_no_gap`.
     pub no_gap: f64,

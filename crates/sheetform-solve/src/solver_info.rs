@@ -1,5 +1,5 @@
 /// What a solver did.
-#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct SolverInfo {
     /// Iterations taken.
     pub iterations: usize,

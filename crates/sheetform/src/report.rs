@@ -2,14 +2,92 @@
 //! everywhere, and every key with a unit says it (`_mm`, `_mm2`, `_rad`, `_ms`). Lengths
 //! are always reported in millimetres, whatever the model's unit.
 
-use serde::Serialize;
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
 use sheetform_photo::{AngleSummary, StageTimes};
 
 /// Version of the report format.
 pub const REPORT_FORMAT: &str = "sheetform-report/1";
 
+/// The command that wrote a report.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Command {
+    /// System A: a sheet bent by control curves.
+    Bend,
+    /// System B: a slit sheet.
+    Slit,
+    /// System C: developability-preserving FFD.
+    Ffd,
+    /// System D: patterns from a photograph.
+    Photo,
+    /// Developability of any mesh.
+    Check,
+    /// Any mesh laid out in the plane.
+    Flatten,
+}
+
+/// How a run ended, in one word per case (the process exit code follows from it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+pub enum Status {
+    /// Every bound the report states holds.
+    #[serde(rename = "ok")]
+    Ok,
+    /// `bend`: the shape cannot be made; `regression_entry` says where.
+    #[serde(rename = "inadmissible")]
+    Inadmissible,
+    /// `check`: clean topology and every angle defect within the tolerance.
+    #[serde(rename = "developable")]
+    Developable,
+    /// `check`: not so; `photo`: a ruled patch misses the refinement's bound.
+    #[serde(rename = "not developable")]
+    NotDevelopable,
+    /// `flatten`: the pattern overlaps itself.
+    #[serde(rename = "overlapping")]
+    Overlapping,
+    /// `ffd`, `slit`: a solve stopped before its bound.
+    #[serde(rename = "not converged")]
+    NotConverged,
+    /// `photo`: the drawing leaves some curve's depth free.
+    #[serde(rename = "depth undetermined")]
+    DepthUndetermined,
+}
+
+impl Status {
+    /// The word written in report.json.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Ok => "ok",
+            Self::Inadmissible => "inadmissible",
+            Self::Developable => "developable",
+            Self::NotDevelopable => "not developable",
+            Self::Overlapping => "overlapping",
+            Self::NotConverged => "not converged",
+            Self::DepthUndetermined => "depth undetermined",
+        }
+    }
+}
+
+impl std::fmt::Display for Status {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// How a chart of a pattern was laid out in the plane.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum ChartMethod {
+    /// Exact unfolding from the edge lengths.
+    Exact,
+    /// Least-squares conformal maps.
+    Lscm,
+    /// As-rigid-as-possible.
+    Arap,
+}
+
 /// Wall-clock times of the pipeline stages.
-#[derive(Debug, Clone, Default, Serialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 pub struct Timings {
     /// Reading and validating the input.
     pub parse_ms: f64,
@@ -41,7 +119,7 @@ impl Timings {
 }
 
 /// Where a shape stops being admissible, in millimetres.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct RegressionEntry {
     /// What fails.
     pub message: String,
@@ -56,7 +134,7 @@ pub struct RegressionEntry {
 }
 
 /// Per curved region.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct RegionReport {
     /// Region name.
     pub name: String,
@@ -80,7 +158,7 @@ pub struct RegionReport {
 }
 
 /// One strip of a slit sheet (`slit`).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct StripReport {
     /// Strip index (0 at `z = 0`).
     pub strip: usize,
@@ -105,10 +183,10 @@ pub struct StripReport {
 }
 
 /// The developability-preserving FFD (`ffd`).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct FfdReport {
-    /// `constrained`, `paper` or `none`.
-    pub solver: String,
+    /// The restoration method.
+    pub solver: sheetform_ffd::SolverMethod,
     /// The constrained solver's bending weight (`solver.bending_weight`; default 3e-3;
     /// 0: the springs alone, as in the paper).
     pub bending_weight: f64,
@@ -143,12 +221,12 @@ pub struct FfdReport {
 }
 
 /// One deformation and its restoration (`ffd`).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct FfdStepReport {
     /// Name from the scene.
     pub name: String,
     /// Solver used.
-    pub solver: String,
+    pub solver: sheetform_ffd::SolverMethod,
     /// Iterations (constrained) or penalty updates (paper).
     pub iterations: usize,
     /// Whether the solver met its stopping rule.
@@ -190,12 +268,12 @@ pub struct FfdStepReport {
 }
 
 /// The slit-sheet design (`slit`).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct SlitReport {
-    /// `independent` or `joint`.
-    pub solve_mode: String,
-    /// `exact` or `penalty`.
-    pub gap_handling: String,
+    /// Strips one by one or all together.
+    pub solve_mode: sheetform_slit::SolveMode,
+    /// How the no-gap condition is enforced.
+    pub gap_handling: sheetform_slit::GapHandling,
     /// Subdivisions applied.
     pub subdivision_count: usize,
     /// `E = G / (L2 + L3)` (§4), `G` the largest gap over all strips.
@@ -214,7 +292,7 @@ pub struct SlitReport {
 
 /// How close the strips are to the scanned points (`slit` with a scan, §4.1): distance
 /// from every ridge-line end point to its nearest scanned point.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct ScanFitReport {
     /// Points in the scan.
     pub scanned_point_count: usize,
@@ -229,7 +307,7 @@ pub struct ScanFitReport {
 }
 
 /// The printable mould (`slit`).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct MouldReport {
     /// Triangles in `mould.stl`.
     pub face_count: usize,
@@ -240,7 +318,7 @@ pub struct MouldReport {
 }
 
 /// Angle-defect figures of a mesh (Wang & Tang 2004): the same keys in every command.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct AngleDefects {
     /// Interior vertices measured.
     pub interior_vertex_count: usize,
@@ -263,12 +341,12 @@ pub struct AngleDefects {
 }
 
 /// One chart of a flattening (`flatten`).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct ChartReport {
     /// Chart name.
     pub name: String,
-    /// Layout method (`exact`, `lscm`).
-    pub method: String,
+    /// Layout method.
+    pub method: ChartMethod,
     /// Faces in the chart.
     pub face_count: usize,
     /// Largest relative edge-length error.
@@ -286,7 +364,7 @@ pub struct ChartReport {
 }
 
 /// The cut into charts (`flatten` of a closed or high-genus mesh).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct SegmentationReport {
     /// Charts in the end.
     pub chart_count: usize,
@@ -306,7 +384,7 @@ pub struct SegmentationReport {
 }
 
 /// The printable pattern (`bend`, `flatten`).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct PatternReport {
     /// Scale factor applied (1 = true size).
     pub scale: f64,
@@ -315,7 +393,7 @@ pub struct PatternReport {
     /// Height of the pattern as printed.
     pub height_mm: f64,
     /// Paper of the tiled PDF.
-    pub page: String,
+    pub page: sheetform_pattern::PageSize,
     /// PDF tile rows.
     pub tile_rows: usize,
     /// PDF tile columns.
@@ -331,25 +409,25 @@ pub struct PatternReport {
     /// Valley folds drawn.
     pub valley_fold_count: usize,
     /// Glue tabs placed, narrowed, dropped (when asked for).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tabs: Option<sheetform_pattern::TabReport>,
 }
 
 /// The report every command writes. Keys that do not apply to a command are left out.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct Report {
     /// [`REPORT_FORMAT`].
-    pub format: &'static str,
-    /// `bend`, `check`, …
-    pub command: String,
+    pub format: String,
+    /// Which command wrote it.
+    pub command: Command,
     /// sheetform version.
-    pub sheetform_version: &'static str,
+    pub sheetform_version: String,
     /// Input file, if any.
     pub input: Option<String>,
-    /// `ok`, `inadmissible`, or (check) `developable` / `not developable`.
-    pub status: String,
+    /// How the run ended.
+    pub status: Status,
     /// The model's length unit.
-    pub model_unit: String,
+    pub model_unit: sheetform_mesh::LengthUnit,
     /// Mesh vertices.
     pub vertex_count: usize,
     /// Mesh triangles.
@@ -366,49 +444,49 @@ pub struct Report {
     /// Area of the 3D surface.
     pub area_mm2: f64,
     /// Mesh topology (`check`).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub topology: Option<sheetform_mesh::MeshTopology>,
     /// Vertices merged by `--weld` (`check`).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub welded_vertex_count: Option<usize>,
     /// Whether the shape is admissible (`bend`: no singular point on the sheet).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub admissible: Option<bool>,
     /// Where it is not (`bend`).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub regression_entry: Option<RegressionEntry>,
     /// Curved + planar pieces (`bend`).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub piece_count: Option<usize>,
     /// Rulings over all curved regions (`bend`).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ruling_count: Option<usize>,
     /// Largest angle between the surface normals at the two ends of a ruling (`bend`).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub developability_error_max_rad: Option<f64>,
     /// Per curved region (`bend`).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub regions: Vec<RegionReport>,
     /// The printable pattern (`bend`, `flatten`).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pattern: Option<PatternReport>,
     /// Charts of the pattern (`flatten`).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub charts: Vec<ChartReport>,
     /// How a closed or high-genus mesh was cut into charts (`flatten`).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub segmentation: Option<SegmentationReport>,
     /// The solver's report (`flatten`).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub solver: Option<sheetform_solve::SolverInfo>,
     /// `slit`: the strips, the gap and the mould.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub slit: Option<SlitReport>,
     /// `ffd`: the deformation steps and their restoration.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ffd: Option<FfdReport>,
     /// `photo`: the reconstruction from an annotated photograph.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub photo: Option<PhotoReport>,
     /// Files written (relative to the output directory).
     pub outputs: Vec<String>,
@@ -417,15 +495,20 @@ pub struct Report {
 }
 
 impl Report {
+    /// The JSON Schema of report.json.
+    pub fn json_schema() -> serde_json::Value {
+        serde_json::to_value(schemars::schema_for!(Report)).expect("schema serialises")
+    }
+
     /// An empty report of `command` (fields filled by the pipeline).
-    pub fn new(command: &str, input: Option<String>) -> Self {
+    pub fn new(command: Command, input: Option<String>) -> Self {
         Self {
-            format: REPORT_FORMAT,
-            command: command.into(),
-            sheetform_version: env!("CARGO_PKG_VERSION"),
+            format: REPORT_FORMAT.into(),
+            command,
+            sheetform_version: env!("CARGO_PKG_VERSION").into(),
             input,
-            status: "ok".into(),
-            model_unit: "mm".into(),
+            status: Status::Ok,
+            model_unit: sheetform_mesh::LengthUnit::Mm,
             vertex_count: 0,
             face_count: 0,
             isometry_error_max_relative: None,
@@ -456,7 +539,7 @@ impl Report {
 
 /// `photo`: what the reconstruction from an annotated photograph made (system D,
 /// Fondevilla et al.; the counts of their Table 1 and the developability error of §8.2).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct PhotoReport {
     /// 3D control points solved for (after splitting the curves at their crossings).
     pub control_point_count: usize,
@@ -494,28 +577,28 @@ pub struct PhotoReport {
     /// paper's linear solve (degrees).
     pub developability_error_linear: AngleSummary,
     /// The same after the refinement (absent when it is switched off).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub developability_error_refined: Option<AngleSummary>,
     /// Refinement iterations.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refinement_iterations: Option<usize>,
     /// Whether the refinement met its bound (sine of the error ≤ 1e-12).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refinement_converged: Option<bool>,
     /// Largest move of a control point by the refinement (pixels).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refinement_displacement_max_px: Option<f64>,
     /// Largest slide of a ruling's end along its curve by the refinement (pixels).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refinement_slide_max_px: Option<f64>,
     /// The refinement's bound on the sine of the largest developability error.
     pub refinement_bound: f64,
     /// The developability error of the final model, after the symmetrisation (absent
     /// when it is switched off). The status checks this one against `refinement_bound`.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub developability_error_symmetrized: Option<AngleSummary>,
     /// What the symmetrisation (§7) did (absent when it is switched off).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub symmetrization: Option<sheetform_photo::SymmetrizationInfo>,
     /// Largest depth sensitivity of a curve: how much of an arbitrary shift of the depth
     /// prior it follows (0: the drawing fixes its depth; 1: free).

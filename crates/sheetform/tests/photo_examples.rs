@@ -3,6 +3,7 @@
 //! model's area, no NaN anywhere.
 
 use sheetform::pipeline::{run_photo, PhotoInput, PhotoRunOptions, RunContext};
+use sheetform::report::Status;
 use std::path::PathBuf;
 
 #[test]
@@ -29,11 +30,11 @@ fn every_photo_example_runs_to_an_exact_pattern() {
         // The noisy composite's neck arc is only partly pinned by its mirror pairs (12 %
         // of a prior shift leaks through): its depth is reported undetermined.
         let expected = if name.to_string().contains("composite-perspective") {
-            "not developable"
+            Status::NotDevelopable
         } else if name.to_string().contains("composite-noisy") {
-            "depth undetermined"
+            Status::DepthUndetermined
         } else {
-            "ok"
+            Status::Ok
         };
         assert_eq!(run.report.status, expected, "{name}");
         // Ruled strips have no interior vertex: their patterns are exact isometries.
@@ -41,7 +42,7 @@ fn every_photo_example_runs_to_an_exact_pattern() {
         assert!(iso < 1e-9, "{name}: isometry error {iso}");
         let photo = run.report.photo.as_ref().unwrap();
         assert_eq!(photo.filled_patch_count, 0, "{name}: every patch is ruled");
-        if expected == "ok" {
+        if expected == Status::Ok {
             assert!(photo.developability_error_refined.unwrap().max_deg < 1e-5, "{name}");
             assert!(photo.depth_undetermined_curves.is_empty(), "{name}");
         }
@@ -98,7 +99,7 @@ fn a_patch_without_silhouette_is_filled_by_a_minimal_surface() {
         (photo.patch_count, photo.ruled_patch_count, photo.filled_patch_count),
         (2, 1, 1)
     );
-    assert_eq!(run.report.status, "ok");
+    assert_eq!(run.report.status, Status::Ok);
     let mesh = &run.reconstruction.mesh;
     assert!(mesh.fill_vertex_count > 50, "{}", mesh.fill_vertex_count);
     // The lid: every vertex of the filled patch on the rim's plane.

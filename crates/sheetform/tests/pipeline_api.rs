@@ -7,6 +7,7 @@ use sheetform::pipeline::{
     run_bend, run_check, AssetResolver, BendRunOptions, CheckOptions, ErrorKind, Outcome, OutputSet, PipelineError,
     RunContext,
 };
+use sheetform::report::Status;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
@@ -149,7 +150,7 @@ fn an_inadmissible_shape_is_an_error_that_carries_its_report() {
     assert_eq!(e.kind(), ErrorKind::Inadmissible);
     assert_eq!(e.kind().exit_code(), 3);
     let report = e.report().expect("the report saying where");
-    assert_eq!(report.status, "inadmissible");
+    assert_eq!(report.status, Status::Inadmissible);
     assert_eq!(report.admissible, Some(false));
     let entry = report.regression_entry.as_ref().unwrap();
     let x = entry.flat_point_mm[0];
@@ -164,7 +165,53 @@ fn a_mesh_is_checked_from_memory() {
         [30.0 * a.cos(), 30.0 * a.sin(), 50.0 * v]
     });
     let run = run_check(mesh, &CheckOptions::default(), &RunContext::new(".")).unwrap();
-    assert_eq!(run.report.status, "developable");
+    assert_eq!(run.report.status, Status::Developable);
     assert_eq!(run.outcome, Outcome::Ok);
     assert_eq!(run.report.input, None);
+}
+
+/// report.json is typed both ways: what a run writes reads back into a `Report` that
+/// writes the same JSON (every command's section, the enums as their words), and the
+/// schema names the enums' words.
+#[test]
+fn reports_read_back_into_the_same_typed_report() {
+    use sheetform::pipeline::{run_photo, PhotoInput, PhotoRunOptions};
+    use sheetform::report::Report;
+    let bend = run_bend(
+        &scene("desk.json"),
+        &BendRunOptions::default(),
+        &RunContext::new(examples()),
+    )
+    .unwrap();
+    let photo_dir = examples().join("photo");
+    let tube = PhotoInput::from_text(&std::fs::read_to_string(photo_dir.join("tube.json")).unwrap()).unwrap();
+    let photo = run_photo(&tube, &PhotoRunOptions::default(), &RunContext::new(&photo_dir)).unwrap();
+    let mesh = sheetform::mesh::TriangleMesh::grid(6, 3, |u, v| [40.0 * u, 20.0 * v, 5.0 * (u * 3.0).sin()]);
+    let check = run_check(mesh, &CheckOptions::default(), &RunContext::new(".")).unwrap();
+    for report in [&bend.report, &photo.report, &check.report] {
+        let json = serde_json::to_string(report).unwrap();
+        let back: Report = serde_json::from_str(&json).unwrap_or_else(|e| panic!("{e}: {json}"));
+        // Exactly what was written (report.json leaves out per-vertex lists such as the
+        // topology's boundary flags, so compare what it holds).
+        assert_eq!(
+            serde_json::to_value(&back).unwrap(),
+            serde_json::to_value(report).unwrap()
+        );
+    }
+    let value = serde_json::to_value(&photo.report).unwrap();
+    assert_eq!(value["status"], "ok");
+    assert_eq!(value["command"], "photo");
+    assert_eq!(value["model_unit"], "mm");
+    assert_eq!(value["charts"][0]["method"], "exact");
+    let schema = Report::json_schema();
+    let statuses: Vec<&str> = schema["$defs"]["Status"]["oneOf"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v["const"].as_str().unwrap())
+        .collect();
+    assert!(
+        statuses.contains(&"depth undetermined") && statuses.contains(&"inadmissible"),
+        "{statuses:?}"
+    );
 }

@@ -4,11 +4,17 @@ use crate::common::{repo, sheetform};
 
 #[test]
 fn schemas_are_printed_and_match_the_docs() {
-    for kind in ["bend", "slit", "ffd"] {
+    for (kind, file) in [
+        ("bend", "bend-scene"),
+        ("slit", "slit-scene"),
+        ("ffd", "ffd-scene"),
+        ("photo", "photo-annotation"),
+        ("report", "report"),
+    ] {
         let o = sheetform(&["schema", kind]);
         assert!(o.status.success());
         let printed: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-        let file = format!("docs/schema/{kind}-scene.schema.json");
+        let file = format!("docs/schema/{file}.schema.json");
         let documented: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(repo().join(&file)).unwrap()).unwrap();
         assert_eq!(

@@ -1,6 +1,6 @@
 //! `sheetform bend`: system A (Bo & Wang).
 
-use crate::report::{RegionReport, RegressionEntry, Report, Timings};
+use crate::report::{Command, RegionReport, RegressionEntry, Report, Status, Timings};
 use sheetform_bend::{bend, BendError, BendModel, BendScene, BentSheet};
 use sheetform_io::{glb_bytes, obj_string, stl_bytes, Texture};
 use sheetform_mesh::developability_error;
@@ -136,7 +136,7 @@ pub(crate) fn bend_report(
 ) -> Report {
     let mm = model.unit.millimetres();
     let mesh = &sheet.mesh;
-    let mut report = sheet_mesh_report("bend", input, mesh);
+    let mut report = sheet_mesh_report(Command::Bend, input, mesh);
     report.admissible = Some(true);
     report.ruling_count = Some(sheet.regions.iter().map(|r| r.ruling_count).sum());
     report.developability_error_max_rad = Some(developability_error(mesh).max_radians);
@@ -164,8 +164,8 @@ pub fn inadmissible_report(error: &BendError, unit_mm: f64, input: Option<String
     let BendError::Inadmissible(detail) = error else {
         return None;
     };
-    let mut report = Report::new("bend", input);
-    report.status = "inadmissible".into();
+    let mut report = Report::new(Command::Bend, input);
+    report.status = Status::Inadmissible;
     report.admissible = Some(false);
     report.regression_entry = Some(RegressionEntry {
         message: detail.message.clone(),

@@ -1,6 +1,6 @@
 //! `sheetform check`: topology and developability of any mesh.
 
-use crate::report::{Report, Timings};
+use crate::report::{Command, Report, Status, Timings};
 use sheetform_io::{glb_vertex_colours, ply_vertex_colours};
 use sheetform_mesh::{mesh_topology, LengthUnit, MeshTopology, TriangleMesh, VertexDevelopability};
 use std::path::Path;
@@ -109,14 +109,13 @@ pub fn run_check(mesh: TriangleMesh, options: &CheckOptions, context: &RunContex
         glb_vertex_colours(&mesh, &colours, mm / 1000.0, &name),
     ));
     let exported = Instant::now();
-    let mut report = Report::new("check", options.input.clone());
-    report.model_unit = options.unit.symbol().into();
+    let mut report = Report::new(Command::Check, options.input.clone());
+    report.model_unit = options.unit;
     report.status = if topology.is_clean() && defects.vertices_over_tolerance == 0 {
-        "developable"
+        Status::Developable
     } else {
-        "not developable"
-    }
-    .into();
+        Status::NotDevelopable
+    };
     report.vertex_count = mesh.positions.len();
     report.face_count = mesh.triangles.len();
     report.isometry_error_max_relative = stored.map(|s| s.0);

@@ -1,6 +1,6 @@
 //! `sheetform ffd`: system C (Wang & Tang).
 
-use crate::report::{FfdReport, FfdStepReport, Report, Timings};
+use crate::report::{ChartMethod, Command, FfdReport, FfdStepReport, Report, Status, Timings};
 use sheetform_ffd::{run_design_with_progress, FfdDesign, FfdError, FfdScene, ModelSource, SolverMethod};
 use sheetform_flatten::Chart;
 use sheetform_flatten::{distortion, exact_unfold, ChartSet, UnfoldOptions};
@@ -184,13 +184,13 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
     let (pattern, pattern_report) = pattern_files(&sheet, &name, &options.pattern, context.outputs)?;
     files.extend(pattern);
     let exported = Instant::now();
-    let mut report = sheet_mesh_report("ffd", options.input.clone(), &sheet);
+    let mut report = sheet_mesh_report(Command::Ffd, options.input.clone(), &sheet);
     report.pattern = Some(pattern_report);
     report.charts = restored_charts
         .charts
         .iter()
         .zip(&panel_names)
-        .map(|(c, n)| chart_report(n, "exact", c.faces.len(), &c.distortion))
+        .map(|(c, n)| chart_report(n, ChartMethod::Exact, c.faces.len(), &c.distortion))
         .collect();
     // Linked copies must coincide: the largest distance between vertices of one node.
     let node_positions = assembly.node_positions_of(&restored.positions);
@@ -206,7 +206,7 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
         .map(|c| c.distortion.edge_length_max_relative)
         .fold(0.0, f64::max);
     report.ffd = Some(FfdReport {
-        solver: format!("{:?}", scene.solver.method).to_lowercase(),
+        solver: scene.solver.method,
         bending_weight: scene.solver.bending_weight,
         line_search_memory: scene.solver.line_search_memory,
         panel_count: assembly.panels.len(),
@@ -225,7 +225,7 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
             .iter()
             .map(|s| FfdStepReport {
                 name: s.name.clone(),
-                solver: s.info.solver.clone(),
+                solver: s.info.solver,
                 iterations: s.info.iterations,
                 converged: s.info.converged,
                 bending_weight: s.info.bending_weight,
@@ -247,15 +247,14 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
             .collect(),
     });
     report.status = if design.steps.iter().all(|s| s.info.converged) {
-        "ok"
+        Status::Ok
     } else {
-        "not converged"
-    }
-    .into();
+        Status::NotConverged
+    };
     report.timings = Timings::from_stages(start, parsed, solved, exported);
     report.outputs = output_names(&files);
     context.progress("done", 1.0);
-    let outcome = if report.status == "ok" {
+    let outcome = if report.status == Status::Ok {
         Outcome::Ok
     } else {
         Outcome::OutOfTolerance

@@ -1,6 +1,6 @@
 //! `sheetform flatten`: any mesh laid out in the plane, cut into charts when needed.
 
-use crate::report::{Report, SegmentationReport, Timings};
+use crate::report::{ChartMethod, Command, Report, SegmentationReport, Status, Timings};
 use sheetform_flatten::{
     arap, cut_into_charts, distortion, exact_unfold, lscm, ArapOptions, ChartOptions, ChartSet, Distortion,
     UnfoldOptions,
@@ -104,7 +104,7 @@ pub fn run_flatten(
     };
     let mm = options.unit.millimetres();
     let name = mesh_name(options.input.as_deref());
-    let mut report = Report::new("flatten", options.input.clone());
+    let mut report = Report::new(Command::Flatten, options.input.clone());
     let (sheet, solved) = if use_charts {
         let set = cut_into_charts(&mesh, &options.chart_options)?;
         let solved = Instant::now();
@@ -127,7 +127,14 @@ pub fn run_flatten(
             .charts
             .iter()
             .enumerate()
-            .map(|(c, chart)| chart_report(&sheet.pieces[c].name, "exact", chart.faces.len(), &chart.distortion))
+            .map(|(c, chart)| {
+                chart_report(
+                    &sheet.pieces[c].name,
+                    ChartMethod::Exact,
+                    chart.faces.len(),
+                    &chart.distortion,
+                )
+            })
             .collect();
         let iterations = set.charts.iter().map(|c| c.solver.iterations).sum();
         report.solver = Some(sheetform_solve::SolverInfo {
@@ -165,8 +172,12 @@ pub fn run_flatten(
     // a mesh flattened whole is its own single chart.
     let d = distortion(&sheet.to_triangle_mesh(), &sheet.flat);
     if !use_charts {
-        let method = format!("{:?}", options.method).to_lowercase();
-        report.charts = vec![chart_report(&name, &method, mesh.triangles.len(), &d)];
+        let method = match options.method {
+            FlattenMethod::Exact => ChartMethod::Exact,
+            FlattenMethod::Lscm => ChartMethod::Lscm,
+            FlattenMethod::Arap => ChartMethod::Arap,
+        };
+        report.charts = vec![chart_report(&name, method, mesh.triangles.len(), &d)];
     }
     context.check_cancelled()?;
     context.progress("exporting", 0.8);
@@ -178,8 +189,12 @@ pub fn run_flatten(
     let (pattern, pattern_report) = pattern_files(&sheet, &name, &options.pattern, context.outputs)?;
     files.extend(pattern);
     let exported = Instant::now();
-    report.status = if d.is_overlap_free() { "ok" } else { "overlapping" }.into();
-    report.model_unit = options.unit.symbol().into();
+    report.status = if d.is_overlap_free() {
+        Status::Ok
+    } else {
+        Status::Overlapping
+    };
+    report.model_unit = options.unit;
     report.vertex_count = mesh.positions.len();
     report.face_count = mesh.triangles.len();
     report.isometry_error_max_relative = Some(d.edge_length_max_relative);

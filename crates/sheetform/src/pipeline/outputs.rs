@@ -94,7 +94,7 @@ pub(crate) fn pattern_files(
         scale: options.scale,
         width_mm: hi.x - lo.x,
         height_mm: hi.y - lo.y,
-        page: format!("{:?}", options.page),
+        page: options.page,
         tile_rows: pdf.as_ref().map_or(0, |p| p.rows),
         tile_columns: pdf.as_ref().map_or(0, |p| p.columns),
         piece_count: pattern.pieces.len(),

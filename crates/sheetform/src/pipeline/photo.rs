@@ -1,6 +1,6 @@
 //! `sheetform photo`: system D (Fondevilla et al.).
 
-use crate::report::{PhotoReport, Report, Timings};
+use crate::report::{ChartMethod, Command, PhotoReport, Report, Status, Timings};
 use base64::Engine as _;
 use sheetform_flatten::Chart;
 use sheetform_flatten::{distortion, exact_unfold, lscm, ChartSet, UnfoldOptions};
@@ -68,13 +68,6 @@ pub struct PhotoRun {
     /// How the run ended (the report's `status` says the same).
     pub outcome: Outcome,
 }
-
-/// Status of a photo reconstruction whose refinement did not reach its bound.
-pub const PHOTO_NOT_DEVELOPABLE_STATUS: &str = "not developable";
-
-/// Status of a photo reconstruction in which some curve's depth is not fixed by the
-/// drawing (no mirror pair reaches it): the model is written, the shape is a guess.
-pub const PHOTO_DEPTH_UNDETERMINED_STATUS: &str = "depth undetermined";
 
 /// Runs system D on an annotation (or a drawing): read the photograph through the
 /// context's assets, reconstruct (Fondevilla et al.), unfold every patch and write the
@@ -184,10 +177,10 @@ pub fn run_photo(
         // Ruled strips unfold exactly; a filled (minimal-surface) patch is only nearly
         // developable: least-squares conformal maps when the exact unfolding fails.
         let (flat, solver, method) = match exact_unfold(&patch_mesh, &UnfoldOptions::default()) {
-            Ok(u) => (u.flat, u.solver, "exact"),
+            Ok(u) => (u.flat, u.solver, ChartMethod::Exact),
             Err(_) => {
                 let u = lscm(&patch_mesh)?;
-                (u.flat, u.solver, "lscm")
+                (u.flat, u.solver, ChartMethod::Lscm)
             }
         };
         methods.push(method);
@@ -299,14 +292,14 @@ pub fn run_photo(
         files.push(("annotation.json".into(), json));
     }
     let exported = Instant::now();
-    let mut report = sheet_mesh_report("photo", options.input.clone(), &sheet);
+    let mut report = sheet_mesh_report(Command::Photo, options.input.clone(), &sheet);
     report.pattern = Some(pattern_report);
     report.charts = chart_set
         .charts
         .iter()
         .zip(&groups)
         .zip(&methods)
-        .map(|((c, n), m)| chart_report(n, m, c.faces.len(), &c.distortion))
+        .map(|((c, n), &m)| chart_report(n, m, c.faces.len(), &c.distortion))
         .collect();
     let r = &reconstruction;
     let linear = AngleSummary::of(&r.ruling_errors_linear);
@@ -355,15 +348,15 @@ pub fn run_photo(
     report.ruling_count = Some(r.ruling_count());
     report.developability_error_max_rad = Some(r.ruling_errors_final.iter().copied().fold(0.0, f64::max));
     if !developable {
-        report.status = PHOTO_NOT_DEVELOPABLE_STATUS.into();
+        report.status = Status::NotDevelopable;
     }
     if !r.depth_undetermined_curves().is_empty() {
-        report.status = PHOTO_DEPTH_UNDETERMINED_STATUS.into();
+        report.status = Status::DepthUndetermined;
     }
     report.timings = Timings::from_stages(start, parsed, solved, exported);
     report.outputs = output_names(&files);
     context.progress("done", 1.0);
-    let outcome = if report.status == "ok" {
+    let outcome = if report.status == Status::Ok {
         Outcome::Ok
     } else {
         Outcome::OutOfTolerance

@@ -1,7 +1,7 @@
 //! Report parts shared by the commands: angle defects, colour maps, the fields of every
 //! sheet mesh, charts.
 
-use crate::report::{AngleDefects, ChartReport, Report};
+use crate::report::{AngleDefects, ChartMethod, ChartReport, Command, Report};
 use sheetform_flatten::Distortion;
 use sheetform_io::colour_ramp;
 use sheetform_mesh::{
@@ -47,13 +47,13 @@ pub(crate) fn angle_defects(
 
 /// The report fields every command that makes a [`SheetMesh`] shares: unit, counts, the
 /// isometry error of its flat pattern, angle defects, areas (mm, mm²), pieces.
-pub(crate) fn sheet_mesh_report(command: &str, input: Option<String>, mesh: &SheetMesh) -> Report {
+pub(crate) fn sheet_mesh_report(command: Command, input: Option<String>, mesh: &SheetMesh) -> Report {
     let mm = mesh.unit.millimetres();
     let iso = isometry_error(mesh);
     let triangle_mesh = mesh.to_triangle_mesh();
     let topology = mesh_topology(&triangle_mesh);
     let mut report = Report::new(command, input);
-    report.model_unit = mesh.unit.symbol().into();
+    report.model_unit = mesh.unit;
     report.vertex_count = mesh.vertex_count();
     report.face_count = mesh.triangles.len();
     report.isometry_error_max_relative = Some(iso.max_relative);
@@ -71,10 +71,10 @@ pub(crate) fn sheet_mesh_report(command: &str, input: Option<String>, mesh: &She
 /// defects of ~1e-5). `--tolerance` sets another.
 pub const DEFAULT_ANGLE_TOLERANCE: f64 = 1e-4;
 
-pub(crate) fn chart_report(name: &str, method: &str, face_count: usize, d: &Distortion) -> ChartReport {
+pub(crate) fn chart_report(name: &str, method: ChartMethod, face_count: usize, d: &Distortion) -> ChartReport {
     ChartReport {
         name: name.to_string(),
-        method: method.to_string(),
+        method,
         face_count,
         edge_length_max_relative: d.edge_length_max_relative,
         edge_length_mean_relative: d.edge_length_mean_relative,

@@ -1,6 +1,6 @@
 //! `sheetform slit`: system B (Tsuruta et al.).
 
-use crate::report::{MouldReport, Report, ScanFitReport, SlitReport, StripReport, Timings};
+use crate::report::{Command, MouldReport, Report, ScanFitReport, SlitReport, Status, StripReport, Timings};
 use sheetform_io::{glb_bytes, obj_string, stl_bytes};
 use sheetform_mesh::{Piece, PieceKind, SheetMesh};
 use sheetform_slit::{build_mould, slit_mesh, solve_design, SlitDesign, SlitModel, SlitScene};
@@ -102,11 +102,11 @@ pub fn run_slit(scene: &SlitScene, options: &SlitRunOptions, context: &RunContex
         }
     });
     let exported = Instant::now();
-    let mut report = sheet_mesh_report("slit", options.input.clone(), &mesh);
+    let mut report = sheet_mesh_report(Command::Slit, options.input.clone(), &mesh);
     report.pattern = Some(pattern_report);
     report.slit = Some(SlitReport {
-        solve_mode: format!("{:?}", model.solver.mode).to_lowercase(),
-        gap_handling: format!("{:?}", model.solver.gap).to_lowercase(),
+        solve_mode: model.solver.mode,
+        gap_handling: model.solver.gap,
         subdivision_count: design.level,
         normalised_error: design.normalised_error,
         gap_max_mm: design.gap * mm,
@@ -142,7 +142,7 @@ pub fn run_slit(scene: &SlitScene, options: &SlitRunOptions, context: &RunContex
     let outcome = if design.strips.iter().all(|s| s.converged) {
         Outcome::Ok
     } else {
-        report.status = "not converged".into();
+        report.status = Status::NotConverged;
         Outcome::OutOfTolerance
     };
     context.progress("done", 1.0);
