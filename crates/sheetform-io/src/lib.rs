@@ -10,6 +10,7 @@ mod error;
 mod glb;
 mod mesh_read;
 mod obj;
+mod point_cloud;
 mod stl;
 
 pub use atomic::write_atomic;
@@ -18,4 +19,5 @@ pub use error::IoError;
 pub use glb::{glb_bytes, glb_bytes_projected, glb_vertex_colours, Texture, GLB_FLAT_ATTRIBUTE};
 pub use mesh_read::{mesh_from_bytes, parse_obj, parse_off, parse_ply, parse_stl, read_mesh, MeshReadError};
 pub use obj::obj_string;
+pub use point_cloud::read_points;
 pub use stl::stl_bytes;

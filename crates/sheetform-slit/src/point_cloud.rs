@@ -1,5 +1,5 @@
-//! Scanned points (§4.1): read from `.xyz` or `.ply`, searched with a k-d tree
-//! (the `kiddo` crate) for the nearest point of Eq. 6.
+//! Scanned points (§4.1), parsed by [`sheetform_io::read_points`] (`.xyz` or `.ply`) and
+//! searched with a k-d tree (the `kiddo` crate) for the nearest point of Eq. 6.
 
 use crate::SlitError;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
@@ -68,59 +68,6 @@ impl ScanCloud {
             path: name.to_string(),
             message,
         };
-        let points = if bytes.starts_with(b"ply") {
-            read_ply(bytes).map_err(fail)?
-        } else {
-            read_xyz(bytes).map_err(fail)?
-        };
-        Self::new(points).map_err(fail)
+        Self::new(sheetform_io::read_points(bytes).map_err(fail)?).map_err(fail)
     }
-}
-
-fn read_xyz(bytes: &[u8]) -> Result<Vec<[f64; 3]>, String> {
-    let text = std::str::from_utf8(bytes).map_err(|_| "not UTF-8 text (expected x y z per line)".to_string())?;
-    let mut points = Vec::new();
-    for (n, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let values: Vec<f64> = line
-            .split(|c: char| c.is_whitespace() || c == ',')
-            .filter(|s| !s.is_empty())
-            .take(3)
-            .map(|s| {
-                s.parse::<f64>()
-                    .map_err(|_| format!("line {}: `{s}` is not a number", n + 1))
-            })
-            .collect::<Result<_, _>>()?;
-        if values.len() < 3 {
-            return Err(format!("line {}: expected three coordinates", n + 1));
-        }
-        points.push([values[0], values[1], values[2]]);
-    }
-    Ok(points)
-}
-
-fn read_ply(bytes: &[u8]) -> Result<Vec<[f64; 3]>, String> {
-    use ply_rs_bw::parser::Parser;
-    use ply_rs_bw::ply::{DefaultElement, Property};
-    let mut reader = std::io::Cursor::new(bytes);
-    let ply = Parser::<DefaultElement>::new()
-        .read_ply(&mut reader)
-        .map_err(|e| format!("not a valid PLY file: {e}"))?;
-    let vertices = ply.payload.get("vertex").ok_or("no `vertex` element")?;
-    let value = |v: &DefaultElement, key: &str| -> Result<f64, String> {
-        match v.get(key) {
-            Some(Property::Float(x)) => Ok(f64::from(*x)),
-            Some(Property::Double(x)) => Ok(*x),
-            Some(Property::Int(x)) => Ok(f64::from(*x)),
-            Some(Property::Short(x)) => Ok(f64::from(*x)),
-            _ => Err(format!("vertex property `{key}` missing or not a number")),
-        }
-    };
-    vertices
-        .iter()
-        .map(|v| Ok([value(v, "x")?, value(v, "y")?, value(v, "z")?]))
-        .collect()
 }
