@@ -94,15 +94,10 @@ pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<Ch
     }
     let nf = mesh.triangles.len();
     let key = |a: u32, b: u32| if a < b { [a, b] } else { [b, a] };
-    let mut edge_faces: HashMap<[u32; 2], Vec<u32>> = HashMap::with_capacity(nf * 2);
-    for (f, t) in mesh.triangles.iter().enumerate() {
-        for k in 0..3 {
-            edge_faces.entry(key(t[k], t[(k + 1) % 3])).or_default().push(f as u32);
-        }
-    }
+    let table = sheetform_mesh::EdgeTable::new(&mesh.triangles, mesh.positions.len());
     let mut seams: std::collections::HashSet<[u32; 2]> = std::collections::HashSet::new();
     for (i, &[a, b]) in mesh.seam_edges.iter().enumerate() {
-        if !edge_faces.contains_key(&key(a, b)) {
+        if table.find(a, b).is_none() {
             return Err(FlattenError::Topology {
                 problem: format!(
                     "seam edge {i} ({} – {}, 1-based as in the file) is not an edge of the mesh",
@@ -121,8 +116,7 @@ pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<Ch
     for (f, t) in mesh.triangles.iter().enumerate() {
         for k in 0..3 {
             let e = key(t[k], t[(k + 1) % 3]);
-            if let [a, b] = edge_faces[&e][..] {
-                let g = if a as usize == f { b } else { a };
+            if let Some(g) = table.opposite(f, k) {
                 let crease = normals[f].dot(&normals[g as usize]) < cos_crease;
                 if !crease && !seams.contains(&e) {
                     neighbours[f].push(g);
@@ -194,9 +188,8 @@ pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<Ch
             face_chart[f as usize] = c as u32;
         }
     }
-    let seam_edge_count = edge_faces
-        .values()
-        .filter(|faces| matches!(faces[..], [f, g] if face_chart[f as usize] != face_chart[g as usize]))
+    let seam_edge_count = (0..table.len())
+        .filter(|&e| matches!(table.sides(e), [f, g] if face_chart[f.face as usize] != face_chart[g.face as usize]))
         .count();
     Ok(ChartSet {
         charts,

@@ -33,7 +33,6 @@ fn cross(a: Vec2, b: Vec2) -> f64 {
 pub fn distortion(mesh: &TriangleMesh, flat: &[Vec2]) -> Distortion {
     let mut d = Distortion::default();
     let (mut sum, mut n, mut area_sum) = (0.0, 0usize, 0.0);
-    let mut boundary: std::collections::HashMap<[u32; 2], i32> = std::collections::HashMap::new();
     for (f, t) in mesh.triangles.iter().enumerate() {
         for k in 0..3 {
             let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
@@ -45,12 +44,6 @@ pub fn distortion(mesh: &TriangleMesh, flat: &[Vec2]) -> Distortion {
                 sum += rel;
                 n += 1;
             }
-            let key = if a < b {
-                [a as u32, b as u32]
-            } else {
-                [b as u32, a as u32]
-            };
-            *boundary.entry(key).or_default() += 1;
         }
         let [p, q, r] = t.map(|i| flat[i as usize]);
         let a2 = 0.5 * cross(q - p, r - p);
@@ -71,10 +64,9 @@ pub fn distortion(mesh: &TriangleMesh, flat: &[Vec2]) -> Distortion {
         d.area_mean_relative = area_sum / mesh.triangles.len() as f64;
     }
     // Boundary edges crossing each other (sort by x to skip far pairs).
-    let mut edges: Vec<[Vec2; 2]> = boundary
-        .iter()
-        .filter(|(_, &c)| c == 1)
-        .map(|(k, _)| [flat[k[0] as usize], flat[k[1] as usize]])
+    let mut edges: Vec<[Vec2; 2]> = sheetform_mesh::EdgeTable::new(&mesh.triangles, mesh.positions.len())
+        .boundary_edges()
+        .map(|[a, b]| [flat[a as usize], flat[b as usize]])
         .collect();
     edges.sort_by(|a, b| a[0].x.min(a[1].x).total_cmp(&b[0].x.min(b[1].x)));
     for i in 0..edges.len() {

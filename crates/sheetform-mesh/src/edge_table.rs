@@ -103,6 +103,30 @@ impl EdgeTable {
         self.edges.is_empty()
     }
 
+    /// The edge joining vertices `a` and `b` (either order), by binary search.
+    pub fn find(&self, a: u32, b: u32) -> Option<usize> {
+        self.edges.binary_search(&[a.min(b), a.max(b)]).ok()
+    }
+
+    /// The faces on the edge joining `a` and `b` (empty when it is no edge).
+    pub fn faces_of(&self, a: u32, b: u32) -> impl Iterator<Item = u32> + '_ {
+        self.find(a, b)
+            .map_or(&[][..], |e| self.sides(e))
+            .iter()
+            .map(|s| s.face)
+    }
+
+    /// Edges on exactly one face, as that face runs them (`[from, to]`).
+    pub fn boundary_edges(&self) -> impl Iterator<Item = [u32; 2]> + '_ {
+        (0..self.len()).filter_map(|e| match self.sides(e) {
+            [s] => {
+                let [lo, hi] = self.edges[e];
+                Some(if s.forward { [lo, hi] } else { [hi, lo] })
+            }
+            _ => None,
+        })
+    }
+
     /// The faces on edge `e`.
     pub fn sides(&self, e: usize) -> &[EdgeSide] {
         &self.sides[self.side_offsets[e] as usize..self.side_offsets[e + 1] as usize]
@@ -151,6 +175,18 @@ mod tests {
             for (e, sides) in expected.values().enumerate() {
                 prop_assert_eq!(table.sides(e), &sides[..]);
             }
+            // Lookups either way round, and the boundary as its one face runs it.
+            for (key, sides) in &expected {
+                prop_assert_eq!(table.find(key[1], key[0]), table.edges.binary_search(key).ok());
+                prop_assert_eq!(table.faces_of(key[1], key[0]).collect::<Vec<_>>(), sides.iter().map(|s| s.face).collect::<Vec<_>>());
+            }
+            let boundary: Vec<[u32; 2]> = expected
+                .iter()
+                .filter(|(_, sides)| sides.len() == 1)
+                .map(|(k, sides)| if sides[0].forward { *k } else { [k[1], k[0]] })
+                .collect();
+            prop_assert_eq!(table.boundary_edges().collect::<Vec<_>>(), boundary);
+            prop_assert_eq!(table.faces_of(vertex_count as u32, vertex_count as u32 + 1).count(), 0);
         }
     }
 

@@ -59,7 +59,7 @@ pub struct RulingNormalError {
 
 /// See [`RulingNormalError`].
 pub fn developability_error(mesh: &SheetMesh) -> RulingNormalError {
-    let edge_faces = mesh.edge_faces();
+    let edges = mesh.edge_table();
     let mut out = RulingNormalError::default();
     let mut sum = 0.0;
     let side_of = |f: u32, a: u32, b: u32| -> f64 {
@@ -80,10 +80,7 @@ pub fn developability_error(mesh: &SheetMesh) -> RulingNormalError {
         }
         let first = [r.vertices[0], r.vertices[1]];
         let last = [r.vertices[r.vertices.len() - 2], r.vertices[r.vertices.len() - 1]];
-        let faces_of = |[a, b]: [u32; 2]| {
-            let key = if a < b { [a, b] } else { [b, a] };
-            edge_faces.get(&key).cloned().unwrap_or_default()
-        };
+        let faces_of = |[a, b]: [u32; 2]| edges.faces_of(a, b).collect::<Vec<u32>>();
         let mut worst: Option<f64> = None;
         for side in [1.0, -1.0] {
             let pick = |e: [u32; 2]| faces_of(e).into_iter().find(|&f| side_of(f, e[0], e[1]) * side > 0.0);

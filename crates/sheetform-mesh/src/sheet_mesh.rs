@@ -1,3 +1,4 @@
+use crate::EdgeTable;
 use crate::{LengthUnit, MeshError};
 use nalgebra::{Vector2, Vector3};
 use std::collections::HashMap;
@@ -158,34 +159,19 @@ impl SheetMesh {
         edges
     }
 
-    /// For every undirected edge, the faces that use it.
-    pub fn edge_faces(&self) -> HashMap<[u32; 2], Vec<u32>> {
-        let mut map: HashMap<[u32; 2], Vec<u32>> = HashMap::with_capacity(self.triangles.len() * 3 / 2);
-        for (f, t) in self.triangles.iter().enumerate() {
-            for [a, b] in [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]] {
-                let key = if a < b { [a, b] } else { [b, a] };
-                map.entry(key).or_default().push(f as u32);
-            }
-        }
-        map
+    /// The undirected edges and the faces on each ([`EdgeTable`]).
+    pub fn edge_table(&self) -> EdgeTable {
+        EdgeTable::new(&self.triangles, self.positions.len())
     }
 
     /// Boundary loops of the mesh as directed vertex cycles (edges used by one face,
     /// oriented as in that face, so the outline runs counter-clockwise in the flat
     /// pattern and holes clockwise).
     pub fn boundary_loops(&self) -> Vec<Vec<u32>> {
-        let mut count: HashMap<[u32; 2], (u32, [u32; 2])> = HashMap::new();
-        for t in &self.triangles {
-            for [a, b] in [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]] {
-                let key = if a < b { [a, b] } else { [b, a] };
-                count.entry(key).and_modify(|e| e.0 += 1).or_insert((1, [a, b]));
-            }
-        }
+        let table = self.edge_table();
         let mut next: HashMap<u32, u32> = HashMap::new();
-        for (n, directed) in count.values() {
-            if *n == 1 {
-                next.insert(directed[0], directed[1]);
-            }
+        for [from, to] in table.boundary_edges() {
+            next.insert(from, to);
         }
         let mut starts: Vec<u32> = next.keys().copied().collect();
         starts.sort_unstable();

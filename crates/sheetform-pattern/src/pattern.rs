@@ -319,13 +319,14 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
     for e in &mesh.smooth_edges {
         ruling_edge.insert(key(e[0], e[1]));
     }
-    let edge_faces = mesh.edge_faces();
+    let table = mesh.edge_table();
     let min_fold = options.min_fold_angle_degrees.to_radians();
-    let mut fold_edges: Vec<([u32; 2], f64)> = edge_faces
-        .iter()
-        .filter(|(e, faces)| faces.len() == 2 && !ruling_edge.contains(*e))
-        .filter_map(|(e, faces)| {
-            let (f, g) = (faces[0], faces[1]);
+    let mut fold_edges: Vec<([u32; 2], f64)> = (0..table.len())
+        .filter_map(|k| match table.sides(k) {
+            [f, g] if !ruling_edge.contains(&table.edges[k]) => Some((&table.edges[k], f.face, g.face)),
+            _ => None,
+        })
+        .filter_map(|(e, f, g)| {
             let t = mesh.triangles[f as usize];
             // The edge as the first face runs it, and that face's third vertex.
             let j = (0..3).find(|&j| key(t[j], t[(j + 1) % 3]) == *e)?;

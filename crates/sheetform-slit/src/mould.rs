@@ -32,15 +32,8 @@ impl Mould {
     /// Every edge is used by exactly two triangles, once in each direction (closed and
     /// consistently oriented).
     pub fn is_watertight(&self) -> bool {
-        let mut directed: std::collections::HashMap<[u32; 2], usize> = std::collections::HashMap::new();
-        for t in &self.triangles {
-            for k in 0..3 {
-                *directed.entry([t[k], t[(k + 1) % 3]]).or_default() += 1;
-            }
-        }
-        directed
-            .iter()
-            .all(|(&[a, b], &count)| count == 1 && directed.get(&[b, a]) == Some(&1))
+        let table = sheetform_mesh::EdgeTable::new(&self.triangles, self.positions.len());
+        !table.is_empty() && (0..table.len()).all(|e| matches!(table.sides(e), [a, b] if a.forward != b.forward))
     }
 
     /// Enclosed volume (divergence theorem).
