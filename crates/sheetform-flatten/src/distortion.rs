@@ -1,4 +1,5 @@
 use crate::Vec2;
+use sheetform_geometry::{cross2, segments_cross};
 use sheetform_mesh::TriangleMesh;
 
 /// How far a flattening is from an isometry, and whether it overlaps itself.
@@ -25,10 +26,6 @@ impl Distortion {
     }
 }
 
-fn cross(a: Vec2, b: Vec2) -> f64 {
-    a.x * b.y - a.y * b.x
-}
-
 /// Distortion of the flattening `flat` (one point per vertex) of `mesh`.
 pub fn distortion(mesh: &TriangleMesh, flat: &[Vec2]) -> Distortion {
     let mut d = Distortion::default();
@@ -46,7 +43,7 @@ pub fn distortion(mesh: &TriangleMesh, flat: &[Vec2]) -> Distortion {
             }
         }
         let [p, q, r] = t.map(|i| flat[i as usize]);
-        let a2 = 0.5 * cross(q - p, r - p);
+        let a2 = 0.5 * cross2(q - p, r - p);
         let a3 = mesh.face_area(f);
         if a2 <= 0.0 {
             d.flipped_faces.push(f as u32);
@@ -81,13 +78,7 @@ pub fn distortion(mesh: &TriangleMesh, flat: &[Vec2]) -> Distortion {
             if shares {
                 continue;
             }
-            let (o1, o2, o3, o4) = (
-                cross(b - a, c - a),
-                cross(b - a, dd - a),
-                cross(dd - c, a - c),
-                cross(dd - c, b - c),
-            );
-            if o1 * o2 < 0.0 && o3 * o4 < 0.0 {
+            if segments_cross(a, b, c, dd) {
                 d.boundary_crossings += 1;
             }
         }

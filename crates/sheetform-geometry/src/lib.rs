@@ -24,7 +24,10 @@ pub use curve::{Curve3, ParametricCurve};
 pub use error::GeometryError;
 pub use frame::{curve_frame, CurveFrame, CurveFrameDerivatives};
 pub use helix::Helix;
-pub use polygon::{segment_intersection, signed_area, Polygon, PolygonEdge, RayHit};
+pub use polygon::{
+    cross2, rings_contain, segment_intersection, segments_cross, segments_meet, signed_area, Polygon, PolygonEdge,
+    RayHit,
+};
 pub use rigid::{rotation_about_axis, RigidMotion};
 
 /// A 2D vector or point (flat-sheet coordinates).

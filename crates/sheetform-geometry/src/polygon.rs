@@ -50,6 +50,43 @@ pub fn signed_area(ring: &[Vec2]) -> f64 {
         * 0.5
 }
 
+/// The 2D cross product `a.x b.y − a.y b.x` (twice the signed area of the triangle `0, a, b`).
+pub fn cross2(a: Vec2, b: Vec2) -> f64 {
+    cross(a, b)
+}
+
+/// Whether the closed segments `p0p1` and `q0q1` meet (touching counts).
+pub fn segments_meet(p0: Vec2, p1: Vec2, q0: Vec2, q1: Vec2) -> bool {
+    let (r, s) = (p1 - p0, q1 - q0);
+    let (d1, d2) = (cross(r, q0 - p0), cross(r, q1 - p0));
+    let (d3, d4) = (cross(s, p0 - q0), cross(s, p1 - q0));
+    if segments_cross(p0, p1, q0, q1) {
+        return true;
+    }
+    let on = |a: Vec2, b: Vec2, p: Vec2, d: f64| {
+        d == 0.0 && p.x >= a.x.min(b.x) && p.x <= a.x.max(b.x) && p.y >= a.y.min(b.y) && p.y <= a.y.max(b.y)
+    };
+    on(p0, p1, q0, d1) || on(p0, p1, q1, d2) || on(q0, q1, p0, d3) || on(q0, q1, p1, d4)
+}
+
+/// Whether the segments `p0p1` and `q0q1` cross properly: each one's ends strictly on
+/// either side of the other's line (touching and collinear overlaps do not count).
+pub fn segments_cross(p0: Vec2, p1: Vec2, q0: Vec2, q1: Vec2) -> bool {
+    let (r, s) = (p1 - p0, q1 - q0);
+    cross(r, q0 - p0) * cross(r, q1 - p0) < 0.0 && cross(s, p0 - q0) * cross(s, p1 - q0) < 0.0
+}
+
+/// Whether `p` is inside a set of rings by the even–odd rule (an outline and its holes, or
+/// several loops). Points exactly on a ring may go either way.
+pub fn rings_contain<'a>(rings: impl IntoIterator<Item = &'a [Vec2]>, p: Vec2) -> bool {
+    rings
+        .into_iter()
+        .filter(|r| !r.is_empty() && ring_contains(r, p))
+        .count()
+        % 2
+        == 1
+}
+
 fn cross(a: Vec2, b: Vec2) -> f64 {
     a.x * b.y - a.y * b.x
 }
@@ -429,6 +466,25 @@ mod tests {
         let h = p.line_hits(v(2.0, 2.0), v(1.0, 0.0), |_| true);
         assert_eq!(h.len(), 2);
         assert!((h[0].t + 2.0).abs() < 1e-12 && (h[1].t - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn segment_predicates_and_even_odd_rings() {
+        let v = Vec2::new;
+        assert!(segments_cross(v(0.0, 0.0), v(2.0, 2.0), v(0.0, 2.0), v(2.0, 0.0)));
+        // Touching at an end point: they meet but do not cross.
+        assert!(!segments_cross(v(0.0, 0.0), v(1.0, 1.0), v(1.0, 1.0), v(2.0, 0.0)));
+        assert!(segments_meet(v(0.0, 0.0), v(1.0, 1.0), v(1.0, 1.0), v(2.0, 0.0)));
+        // Collinear overlap meets; parallel apart does not.
+        assert!(segments_meet(v(0.0, 0.0), v(2.0, 0.0), v(1.0, 0.0), v(3.0, 0.0)));
+        assert!(!segments_meet(v(0.0, 0.0), v(2.0, 0.0), v(0.0, 1.0), v(2.0, 1.0)));
+        assert_eq!(cross2(v(1.0, 0.0), v(0.0, 1.0)), 1.0);
+        let square = vec![v(0.0, 0.0), v(4.0, 0.0), v(4.0, 4.0), v(0.0, 4.0)];
+        let hole = vec![v(1.0, 1.0), v(3.0, 1.0), v(3.0, 3.0), v(1.0, 3.0)];
+        let rings = [&square[..], &hole[..]];
+        assert!(rings_contain(rings, v(0.5, 0.5)));
+        assert!(!rings_contain(rings, v(2.0, 2.0)));
+        assert!(!rings_contain(rings, v(5.0, 2.0)));
     }
 
     #[test]

@@ -3,6 +3,7 @@
 use crate::pattern::{Fold, FoldStyle};
 use crate::seam_matching::SeamRun;
 use crate::{PatternError, Vec2};
+use sheetform_geometry::{cross2, segments_meet};
 
 /// Which side of a seam carries the tabs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -50,39 +51,9 @@ pub struct TabReport {
     pub too_short: usize,
 }
 
-fn cross(a: Vec2, b: Vec2) -> f64 {
-    a.x * b.y - a.y * b.x
-}
-
-/// Whether closed segments `p0p1` and `q0q1` meet.
-fn segments_meet(p0: Vec2, p1: Vec2, q0: Vec2, q1: Vec2) -> bool {
-    let (r, s) = (p1 - p0, q1 - q0);
-    let d1 = cross(r, q0 - p0);
-    let d2 = cross(r, q1 - p0);
-    let d3 = cross(s, p0 - q0);
-    let d4 = cross(s, p1 - q0);
-    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0)) {
-        return true;
-    }
-    let on = |a: Vec2, b: Vec2, p: Vec2, d: f64| {
-        d == 0.0 && p.x >= a.x.min(b.x) && p.x <= a.x.max(b.x) && p.y >= a.y.min(b.y) && p.y <= a.y.max(b.y)
-    };
-    on(p0, p1, q0, d1) || on(p0, p1, q1, d2) || on(q0, q1, p0, d3) || on(q0, q1, p1, d4)
-}
-
 /// Even-odd point-in-region over a set of loops.
 fn inside_loops<'a>(loops: impl Iterator<Item = &'a Vec<Vec2>>, p: Vec2) -> bool {
-    let mut inside = false;
-    for l in loops {
-        let n = l.len();
-        for i in 0..n {
-            let (a, b) = (l[i], l[(i + 1) % n]);
-            if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
-                inside = !inside;
-            }
-        }
-    }
-    inside
+    sheetform_geometry::rings_contain(loops.map(Vec::as_slice), p)
 }
 
 /// Loops with their tabs spliced in, the tab-base folds per loop, and the report.
@@ -155,7 +126,7 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
                 let len = chord.norm();
                 let straight = (a..=run.start + e).all(|i| {
                     let d = point(i + 1) - point(i);
-                    let dist = cross(chord, point(i + 1) - p0).abs() / len.max(f64::MIN_POSITIVE);
+                    let dist = cross2(chord, point(i + 1) - p0).abs() / len.max(f64::MIN_POSITIVE);
                     d.dot(&chord) >= d.norm() * len * 10f64.to_radians().cos() && dist <= 0.1 * width
                 });
                 if !straight {
