@@ -479,8 +479,8 @@ mod tests {
         assert!(segments_meet(v(0.0, 0.0), v(2.0, 0.0), v(1.0, 0.0), v(3.0, 0.0)));
         assert!(!segments_meet(v(0.0, 0.0), v(2.0, 0.0), v(0.0, 1.0), v(2.0, 1.0)));
         assert_eq!(cross2(v(1.0, 0.0), v(0.0, 1.0)), 1.0);
-        let square = vec![v(0.0, 0.0), v(4.0, 0.0), v(4.0, 4.0), v(0.0, 4.0)];
-        let hole = vec![v(1.0, 1.0), v(3.0, 1.0), v(3.0, 3.0), v(1.0, 3.0)];
+        let square = [v(0.0, 0.0), v(4.0, 0.0), v(4.0, 4.0), v(0.0, 4.0)];
+        let hole = [v(1.0, 1.0), v(3.0, 1.0), v(3.0, 3.0), v(1.0, 3.0)];
         let rings = [&square[..], &hole[..]];
         assert!(rings_contain(rings, v(0.5, 0.5)));
         assert!(!rings_contain(rings, v(2.0, 2.0)));
