@@ -9,8 +9,8 @@ use sheetform::flatten::ChartOptions;
 use sheetform::io::read_mesh;
 use sheetform::pipeline::{
     run_bend, run_check, run_ffd, run_flatten, run_photo, run_slit, write_outputs, BendRunOptions, ChartMode,
-    CheckOptions, FfdRunOptions, FlattenMethod, FlattenOptions, PhotoInput, PhotoRunOptions, PipelineError, RunContext,
-    SlitRunOptions,
+    CheckOptions, FfdRunOptions, FlattenMethod, FlattenOptions, Outcome, PhotoInput, PhotoRunOptions, PipelineError,
+    RunContext, SlitRunOptions,
 };
 use sheetform::slit::SlitScene;
 use std::io::IsTerminal;
@@ -108,6 +108,14 @@ pub(crate) fn flatten_command(
             mesh.display(),
             d.flipped_faces.len(),
             d.boundary_crossings,
+            output.display()
+        );
+    } else if run.outcome == Outcome::OutOfTolerance {
+        eprintln!(
+            "sheetform: {}: the pattern stretches an edge by {:.1} % (bound {:.1} %); written to {}, but out of tolerance: cut it into charts (--charts always) or allow more (--max-distortion)",
+            mesh.display(),
+            100.0 * d.edge_length_max_relative,
+            100.0 * options.chart_options.max_edge_distortion,
             output.display()
         );
     } else if !quiet {

@@ -51,6 +51,10 @@ pub enum Status {
     /// `photo`: the drawing leaves some curve's depth free.
     #[serde(rename = "depth undetermined")]
     DepthUndetermined,
+    /// `flatten`: the pattern stretches an edge by more than the distortion bound;
+    /// `ffd`: a restoration ended above its defect tolerance.
+    #[serde(rename = "out of tolerance")]
+    OutOfTolerance,
 }
 
 impl Status {
@@ -64,6 +68,7 @@ impl Status {
             Self::Overlapping => "overlapping",
             Self::NotConverged => "not converged",
             Self::DepthUndetermined => "depth undetermined",
+            Self::OutOfTolerance => "out of tolerance",
         }
     }
 }

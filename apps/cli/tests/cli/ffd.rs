@@ -103,7 +103,9 @@ fn ffd_examples_restore_developability_and_write_every_output() {
     assert!(ffd["linked_node_count"].as_u64().unwrap() > 0, "the seam is linked");
     assert!(ffd["angle_defects_before"]["angle_defect_max_rad"].as_f64().unwrap() > 1e-5);
     assert!(ffd["angle_defects_after"]["angle_defect_max_rad"].as_f64().unwrap() <= 1e-8);
-    // The paper's solver runs from the command line too and lowers G.
+    // The paper's solver runs from the command line too and lowers G; it stops on the
+    // change of G, short of the 1e-10 rad defect tolerance, and the report says so
+    // (status `out of tolerance`, exit 5) instead of `ok`.
     let tmp = tempfile::tempdir().unwrap();
     let scene = repo().join("examples/ffd/two-panels.json");
     let o = sheetform(&[
@@ -114,9 +116,12 @@ fn ffd_examples_restore_developability_and_write_every_output() {
         "--solver",
         "paper",
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let step = &report(tmp.path())["ffd"]["steps"][0];
+    assert_eq!(o.status.code(), Some(5), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(tmp.path());
+    assert_eq!(r["status"], "out of tolerance");
+    let step = &r["ffd"]["steps"][0];
     assert_eq!(step["solver"], "paper");
+    assert!(step["angle_defect_max_after_rad"].as_f64().unwrap() > 1e-10);
     assert!(
         step["developability_g_after_rad2"].as_f64().unwrap()
             < 0.1 * step["developability_g_before_rad2"].as_f64().unwrap()

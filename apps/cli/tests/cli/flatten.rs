@@ -193,3 +193,57 @@ fn flatten_with_lscm_handles_a_nearly_developable_mesh() {
     assert_eq!(r["charts"][0]["flipped_face_count"], 0);
     assert!(r["charts"][0]["edge_length_mean_relative"].as_f64().unwrap() < lscm_mean);
 }
+
+/// A disk that cannot flatten within the distortion bound (a deep dome flattened whole,
+/// as the default chart mode leaves a disk) is written but never called ok: status
+/// `out of tolerance`, exit 5; with a bound it meets, ok.
+#[test]
+fn a_flattening_over_the_distortion_bound_is_flagged() {
+    let tmp = tempfile::tempdir().unwrap();
+    // A hemisphere-like dome over a square grid: far from developable.
+    let n = 16;
+    let mut obj = String::new();
+    for i in 0..=n {
+        for j in 0..=n {
+            let (x, y) = (i as f64 / n as f64 - 0.5, j as f64 / n as f64 - 0.5);
+            obj += &format!(
+                "v {} {} {}\n",
+                100.0 * x,
+                100.0 * y,
+                60.0 * (1.0 - 2.0 * (x * x + y * y))
+            );
+        }
+    }
+    let id = |i: usize, j: usize| i * (n + 1) + j + 1;
+    for i in 0..n {
+        for j in 0..n {
+            obj += &format!(
+                "f {} {} {}\nf {} {} {}\n",
+                id(i, j),
+                id(i + 1, j),
+                id(i + 1, j + 1),
+                id(i, j),
+                id(i + 1, j + 1),
+                id(i, j + 1)
+            );
+        }
+    }
+    let path = tmp.path().join("dome.obj");
+    std::fs::write(&path, obj).unwrap();
+    let out = tmp.path().join("out");
+    let run = |extra: &[&str]| {
+        let mut args = vec!["flatten", path.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"];
+        args.extend_from_slice(extra);
+        sheetform(&args)
+    };
+    let o = run(&["--method", "lscm"]);
+    assert_eq!(o.status.code(), Some(5), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(&out);
+    assert_eq!(r["status"], "out of tolerance");
+    let e = r["charts"][0]["edge_length_max_relative"].as_f64().unwrap();
+    assert!(e > 0.01, "the dome stretches its edges: {e}");
+    assert!(out.join("pattern.svg").exists(), "written all the same");
+    let o = run(&["--method", "lscm", "--max-distortion", "0.9"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(report(&out)["status"], "ok");
+}

@@ -246,10 +246,22 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
             })
             .collect(),
     });
-    report.status = if design.steps.iter().all(|s| s.info.converged) {
-        Status::Ok
-    } else {
+    // The bound the report states: every restoration stopped by its rule and, unless no
+    // restoration was asked for (`none`), ended within the defect tolerance (the paper's
+    // method stops on the change of G, which does not promise the tolerance).
+    let tolerance = scene.solver.tolerance_rad;
+    let restoring = scene.solver.method != SolverMethod::None;
+    report.status = if !design.steps.iter().all(|s| s.info.converged) {
         Status::NotConverged
+    } else if restoring
+        && design
+            .steps
+            .iter()
+            .any(|s| s.info.angle_defect_max_after_rad > tolerance)
+    {
+        Status::OutOfTolerance
+    } else {
+        Status::Ok
     };
     report.timings = Timings::from_stages(start, parsed, solved, exported);
     report.outputs = output_names(&files);

@@ -189,10 +189,16 @@ pub fn run_flatten(
     let (pattern, pattern_report) = pattern_files(&sheet, &name, &options.pattern, context.outputs)?;
     files.extend(pattern);
     let exported = Instant::now();
-    report.status = if d.is_overlap_free() {
-        Status::Ok
-    } else {
+    // The bound the report states: no overlap, and no edge stretched by more than the
+    // distortion bound (whole meshes included: a hemisphere flattened whole is refused
+    // as out of tolerance, not called ok).
+    let within = d.edge_length_max_relative <= options.chart_options.max_edge_distortion;
+    report.status = if !d.is_overlap_free() {
         Status::Overlapping
+    } else if !within {
+        Status::OutOfTolerance
+    } else {
+        Status::Ok
     };
     report.model_unit = options.unit;
     report.vertex_count = mesh.positions.len();
@@ -208,10 +214,12 @@ pub fn run_flatten(
     report.timings = Timings::from_stages(start, parsed, solved, exported);
     Ok(FlattenRun {
         sheet,
-        outcome: if d.is_overlap_free() {
-            Outcome::Ok
-        } else {
+        outcome: if !d.is_overlap_free() {
             Outcome::Overlapping
+        } else if !within {
+            Outcome::OutOfTolerance
+        } else {
+            Outcome::Ok
         },
         distortion: d,
         files,
