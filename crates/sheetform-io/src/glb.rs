@@ -163,6 +163,31 @@ fn unit_normals(normals: Vec<nalgebra::Vector3<f64>>) -> Vec<f32> {
         .collect()
 }
 
+/// Which model axis points up. glTF's is `+Y`; a model built `+Z`-up (a bent sheet lying
+/// in the `xy` plane, FFD panels) gets a root-node rotation of −90° about `x`
+/// (`(x, y, z) ↦ (x, z, −y)`), so that it stands upright in every glTF viewer while its
+/// coordinates stay the model's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum UpAxis {
+    /// `+Y` up (glTF's own; photos, slit sheets, most mesh files).
+    #[default]
+    Y,
+    /// `+Z` up.
+    Z,
+}
+
+impl UpAxis {
+    /// The glTF node of the mesh, rotated to Y-up when needed.
+    fn node(self, name: &str) -> serde_json::Value {
+        let mut node = json!({"mesh": 0, "name": name});
+        if self == Self::Z {
+            let h = std::f64::consts::FRAC_1_SQRT_2;
+            node["rotation"] = json!([-h, 0.0, 0.0, h]);
+        }
+        node
+    }
+}
+
 /// glTF 2.0 binary (`.glb`) of the bent sheet.
 ///
 /// Lengths are converted to metres, glTF's unit. One mesh with one primitive per piece
@@ -170,8 +195,8 @@ fn unit_normals(normals: Vec<nalgebra::Vector3<f64>>) -> Vec<f32> {
 /// vertex attributes `POSITION`, `NORMAL`, `TEXCOORD_0` (the flat pattern's bounding
 /// box mapped onto the unit square, for a texture) and [`GLB_FLAT_ATTRIBUTE`] (the flat
 /// pattern at 1:1 in metres). With a `texture`, every material shows it.
-pub fn glb_bytes(mesh: &SheetMesh, name: &str, texture: Option<Texture<'_>>) -> Vec<u8> {
-    glb_with_texcoords(mesh, name, texture, None)
+pub fn glb_bytes(mesh: &SheetMesh, name: &str, texture: Option<Texture<'_>>, up: UpAxis) -> Vec<u8> {
+    glb_with_texcoords(mesh, name, texture, None, up)
 }
 
 /// [`glb_bytes`] with the texture mapped by explicit per-vertex coordinates
@@ -181,13 +206,19 @@ pub fn glb_bytes(mesh: &SheetMesh, name: &str, texture: Option<Texture<'_>>) -> 
 ///
 /// # Panics
 /// If `texcoords` does not have one entry per vertex.
-pub fn glb_bytes_projected(mesh: &SheetMesh, name: &str, texture: Texture<'_>, texcoords: &[[f32; 2]]) -> Vec<u8> {
+pub fn glb_bytes_projected(
+    mesh: &SheetMesh,
+    name: &str,
+    texture: Texture<'_>,
+    texcoords: &[[f32; 2]],
+    up: UpAxis,
+) -> Vec<u8> {
     assert_eq!(
         texcoords.len(),
         mesh.positions.len(),
         "one texture coordinate per vertex"
     );
-    glb_with_texcoords(mesh, name, Some(texture), Some(texcoords))
+    glb_with_texcoords(mesh, name, Some(texture), Some(texcoords), up)
 }
 
 fn glb_with_texcoords(
@@ -195,6 +226,7 @@ fn glb_with_texcoords(
     name: &str,
     texture: Option<Texture<'_>>,
     texcoords: Option<&[[f32; 2]]>,
+    up: UpAxis,
 ) -> Vec<u8> {
     let to_m = mesh.unit.millimetres() / 1000.0;
     let mut b = GlbBuilder::default();
@@ -257,7 +289,7 @@ fn glb_with_texcoords(
     let mut doc = json!({
         "scene": 0,
         "scenes": [{"nodes": [0]}],
-        "nodes": [{"mesh": 0, "name": name}],
+        "nodes": [up.node(name)],
         "meshes": [{"name": name, "primitives": primitives, "extras": {"flat_attribute": GLB_FLAT_ATTRIBUTE, "flat_unit": "m", "model_unit": mesh.unit.symbol()}}],
         "materials": materials,
     });
@@ -273,7 +305,13 @@ fn glb_with_texcoords(
 /// glTF 2.0 binary of any triangle mesh with a colour per vertex (`COLOR_0`, linear RGB
 /// in [0, 1]), unlit-looking (rough, non-metallic, double-sided): a colour map of a
 /// per-vertex measure. `to_metres` converts the mesh's lengths to metres.
-pub fn glb_vertex_colours(mesh: &TriangleMesh, colours: &[[f32; 3]], to_metres: f64, name: &str) -> Vec<u8> {
+pub fn glb_vertex_colours(
+    mesh: &TriangleMesh,
+    colours: &[[f32; 3]],
+    to_metres: f64,
+    name: &str,
+    up: UpAxis,
+) -> Vec<u8> {
     let mut b = GlbBuilder::default();
     let pos: Vec<f32> = mesh
         .positions
@@ -306,7 +344,7 @@ pub fn glb_vertex_colours(mesh: &TriangleMesh, colours: &[[f32; 3]], to_metres: 
     let doc = json!({
         "scene": 0,
         "scenes": [{"nodes": [0]}],
-        "nodes": [{"mesh": 0, "name": name}],
+        "nodes": [up.node(name)],
         "meshes": [{"name": name, "primitives": [{"attributes": {"POSITION": position, "NORMAL": normal, "COLOR_0": colour}, "indices": indices, "material": 0, "mode": 4}]}],
         "materials": [{"name": "colour map", "doubleSided": true, "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 1.0}}],
     });
@@ -367,8 +405,9 @@ mod tests {
     #[test]
     fn texture_is_embedded_and_spans_the_pattern() {
         let png = b"\x89PNG\r\n\x1a\n0000";
-        let glb = glb_bytes(&square(), "s", Some(Texture::from_bytes(png).unwrap()));
+        let glb = glb_bytes(&square(), "s", Some(Texture::from_bytes(png).unwrap()), UpAxis::Y);
         let doc = json_chunk(&glb);
+        assert!(doc["nodes"][0].get("rotation").is_none(), "Y-up needs no rotation");
         assert_eq!(doc["images"][0]["mimeType"], "image/png");
         assert_eq!(
             doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"],
@@ -381,5 +420,26 @@ mod tests {
         let pos = floats(&glb, &doc, prim["POSITION"].as_u64().unwrap() as usize);
         assert!((pos[3] - 0.002).abs() < 1e-9);
         assert!(Texture::from_bytes(b"GIF89a").is_none());
+    }
+
+    /// A Z-up model gets the root rotation that stands it upright: the rotation maps the
+    /// model's +Z (its up) to glTF's +Y and its +Y to −Z.
+    #[test]
+    fn a_z_up_model_is_turned_to_y_up() {
+        let glb = glb_bytes(&square(), "s", None, UpAxis::Z);
+        let doc = json_chunk(&glb);
+        let q: Vec<f64> = doc["nodes"][0]["rotation"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        let rotation = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[3], q[0], q[1], q[2]));
+        let up = rotation * Vector3::z();
+        assert!((up - Vector3::y()).norm() < 1e-12, "{up}");
+        let forward = rotation * Vector3::y();
+        assert!((forward + Vector3::z()).norm() < 1e-12, "{forward}");
+        let colours = glb_vertex_colours(&square().to_triangle_mesh(), &[[0.0; 3]; 4], 1e-3, "c", UpAxis::Z);
+        assert!(json_chunk(&colours)["nodes"][0]["rotation"].is_array());
     }
 }

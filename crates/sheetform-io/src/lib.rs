@@ -16,7 +16,7 @@ mod stl;
 pub use atomic::write_atomic;
 pub use colour_map::{colour_ramp, ply_vertex_colours};
 pub use error::IoError;
-pub use glb::{glb_bytes, glb_bytes_projected, glb_vertex_colours, Texture, GLB_FLAT_ATTRIBUTE};
+pub use glb::{glb_bytes, glb_bytes_projected, glb_vertex_colours, Texture, UpAxis, GLB_FLAT_ATTRIBUTE};
 pub use mesh_read::{mesh_from_bytes, parse_obj, parse_off, parse_ply, parse_stl, read_mesh, MeshReadError};
 pub use obj::obj_string;
 pub use point_cloud::read_points;

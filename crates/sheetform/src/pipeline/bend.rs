@@ -2,7 +2,7 @@
 
 use crate::report::{Command, RegionReport, RegressionEntry, Report, Status, Timings};
 use sheetform_bend::{bend, BendError, BendModel, BendScene, BentSheet};
-use sheetform_io::{glb_bytes, obj_string, stl_bytes, Texture};
+use sheetform_io::{glb_bytes, obj_string, stl_bytes, Texture, UpAxis};
 use sheetform_mesh::developability_error;
 
 use super::context::RunContext;
@@ -89,7 +89,7 @@ pub fn run_bend(scene: &BendScene, options: &BendRunOptions, context: &RunContex
     if context.renders_all() {
         files.push(("model.obj".into(), obj_string(&sheet.mesh, &name).into_bytes()));
     }
-    files.push(("model.glb".into(), glb_bytes(&sheet.mesh, &name, texture)));
+    files.push(("model.glb".into(), glb_bytes(&sheet.mesh, &name, texture, UpAxis::Z)));
     if context.renders_all() {
         files.push(("model.stl".into(), stl_bytes(&sheet.mesh)));
     }

@@ -1,7 +1,7 @@
 //! `sheetform check`: topology and developability of any mesh.
 
 use crate::report::{Command, Report, Status, Timings};
-use sheetform_io::{glb_vertex_colours, ply_vertex_colours};
+use sheetform_io::{glb_vertex_colours, ply_vertex_colours, UpAxis};
 use sheetform_mesh::{mesh_topology, LengthUnit, MeshTopology, TriangleMesh, VertexDevelopability};
 use std::path::Path;
 
@@ -106,7 +106,7 @@ pub fn run_check(mesh: TriangleMesh, options: &CheckOptions, context: &RunContex
     }
     files.push((
         "developability.glb".to_string(),
-        glb_vertex_colours(&mesh, &colours, mm / 1000.0, &name),
+        glb_vertex_colours(&mesh, &colours, mm / 1000.0, &name, UpAxis::Y),
     ));
     let exported = Instant::now();
     let mut report = Report::new(Command::Check, options.input.clone());

@@ -5,7 +5,7 @@ use sheetform_ffd::{run_design_with_progress, FfdDesign, FfdError, FfdScene, Mod
 use sheetform_flatten::Chart;
 use sheetform_flatten::{distortion, exact_unfold, ChartSet, UnfoldOptions};
 use sheetform_io::{glb_bytes, obj_string, stl_bytes};
-use sheetform_io::{glb_vertex_colours, mesh_from_bytes, ply_vertex_colours};
+use sheetform_io::{glb_vertex_colours, mesh_from_bytes, ply_vertex_colours, UpAxis};
 use sheetform_mesh::{mesh_topology, SheetMesh};
 use std::path::Path;
 
@@ -144,7 +144,7 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
     let colours_after = defect_colours(&after_vertices.angle_defect, FFD_DEFECT_TOLERANCE, top);
     let mut files: RenderedFiles = vec![
         ("model.obj".into(), obj_string(&sheet, &name).into_bytes()),
-        ("model.glb".into(), glb_bytes(&sheet, &name, None)),
+        ("model.glb".into(), glb_bytes(&sheet, &name, None, UpAxis::Z)),
         ("model.stl".into(), stl_bytes(&sheet)),
         (
             "deformed.obj".into(),
@@ -152,7 +152,7 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
         ),
         (
             "deformed.glb".into(),
-            glb_bytes(&deformed_sheet, &format!("{name} (plain FFD)"), None),
+            glb_bytes(&deformed_sheet, &format!("{name} (plain FFD)"), None, UpAxis::Z),
         ),
         (
             "developability-before.ply".into(),
@@ -166,7 +166,7 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
         ),
         (
             "developability-before.glb".into(),
-            glb_vertex_colours(&deformed, &colours_before, mm / 1000.0, &name),
+            glb_vertex_colours(&deformed, &colours_before, mm / 1000.0, &name, UpAxis::Z),
         ),
         (
             "developability-after.ply".into(),
@@ -174,7 +174,7 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
         ),
         (
             "developability-after.glb".into(),
-            glb_vertex_colours(&restored, &colours_after, mm / 1000.0, &name),
+            glb_vertex_colours(&restored, &colours_after, mm / 1000.0, &name, UpAxis::Z),
         ),
     ];
     if !context.renders_all() {

@@ -5,7 +5,7 @@ use sheetform_flatten::{
     arap, cut_into_charts, distortion, exact_unfold, lscm, ArapOptions, ChartOptions, ChartSet, Distortion,
     UnfoldOptions,
 };
-use sheetform_io::{glb_bytes, obj_string};
+use sheetform_io::{glb_bytes, obj_string, UpAxis};
 use sheetform_mesh::{mesh_topology, LengthUnit, Piece, PieceKind, SheetMesh, TriangleMesh};
 use sheetform_pattern::{arrange_in_rows, point_bounds, rotated, smallest_bounding_rotation};
 
@@ -185,7 +185,7 @@ pub fn run_flatten(
     if context.renders_all() {
         files.push(("model.obj".to_string(), obj_string(&sheet, &name).into_bytes()));
     }
-    files.push(("model.glb".to_string(), glb_bytes(&sheet, &name, None)));
+    files.push(("model.glb".to_string(), glb_bytes(&sheet, &name, None, UpAxis::Y)));
     let (pattern, pattern_report) = pattern_files(&sheet, &name, &options.pattern, context.outputs)?;
     files.extend(pattern);
     let exported = Instant::now();

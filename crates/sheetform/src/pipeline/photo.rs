@@ -4,7 +4,7 @@ use crate::report::{ChartMethod, Command, PhotoReport, Report, Status, Timings};
 use base64::Engine as _;
 use sheetform_flatten::Chart;
 use sheetform_flatten::{distortion, exact_unfold, lscm, ChartSet, UnfoldOptions};
-use sheetform_io::glb_bytes_projected;
+use sheetform_io::{glb_bytes_projected, UpAxis};
 use sheetform_io::{obj_string, stl_bytes, Texture};
 use sheetform_mesh::{Ruling, SheetMesh, TriangleMesh};
 use sheetform_photo::{
@@ -268,7 +268,7 @@ pub fn run_photo(
     }
     files.push((
         "model.glb".into(),
-        glb_bytes_projected(&sheet, &name, texture, &texcoords),
+        glb_bytes_projected(&sheet, &name, texture, &texcoords, UpAxis::Y),
     ));
     if all {
         files.push(("model.stl".into(), stl_bytes(&sheet)));

@@ -1,7 +1,7 @@
 //! `sheetform slit`: system B (Tsuruta et al.).
 
 use crate::report::{Command, MouldReport, Report, ScanFitReport, SlitReport, Status, StripReport, Timings};
-use sheetform_io::{glb_bytes, obj_string, stl_bytes};
+use sheetform_io::{glb_bytes, obj_string, stl_bytes, UpAxis};
 use sheetform_mesh::{Piece, PieceKind, SheetMesh};
 use sheetform_slit::{build_mould, slit_mesh, solve_design, SlitDesign, SlitModel, SlitScene};
 
@@ -71,7 +71,7 @@ pub fn run_slit(scene: &SlitScene, options: &SlitRunOptions, context: &RunContex
     if all {
         files.push(("model.obj".into(), obj_string(&mesh, &name).into_bytes()));
     }
-    files.push(("model.glb".into(), glb_bytes(&mesh, &name, None)));
+    files.push(("model.glb".into(), glb_bytes(&mesh, &name, None, UpAxis::Y)));
     if all {
         files.push(("model.stl".into(), stl_bytes(&mesh)));
     }
