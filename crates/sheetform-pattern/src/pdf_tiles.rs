@@ -54,6 +54,10 @@ pub struct TiledPdf {
     pub rows: usize,
     /// Tile columns.
     pub columns: usize,
+    /// Pages printed: the tiles of the `rows × columns` grid that show part of the
+    /// pattern (a tile with no line and no label on it is left out; every printed page
+    /// names its place in the grid).
+    pub page_count: usize,
 }
 
 /// Points per millimetre.
@@ -63,7 +67,8 @@ const PT: f64 = 72.0 / 25.4;
 ///
 /// Each page prints the window of the pattern that falls in its printable area (the page
 /// less `margin_mm`); neighbouring windows overlap by `overlap_mm`, marked with dashed
-/// lines to align them. Every page carries corner registration marks, its position
+/// lines to align them. Windows with nothing of the pattern in them (no cut or fold line,
+/// label or sheet outline crosses them) are not printed. Every page carries corner registration marks, its position
 /// (`row r, column c of R × C`), and a scale bar of `scale_bar_mm` to check the printer
 /// did not scale the page ("print at 100 %"). Cut lines red, fold lines grey dashed,
 /// labels blue (Helvetica).
@@ -103,11 +108,16 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
     pdf.type1_font(font).base_font(Name(b"Helvetica"));
     for r in 0..rows {
         for c in 0..columns {
+            // Pattern window of this tile: x from wx, y down from wy.
+            let (wx, wy) = (origin.x + c as f64 * sx, origin.y - r as f64 * sy);
+            // (The last tile is printed when nothing was: a PDF has at least one page.)
+            let last = r + 1 == rows && c + 1 == columns && page_ids.is_empty();
+            if !last && !window_shows(pattern, Vec2::new(wx, wy - ah), Vec2::new(wx + aw, wy)) {
+                continue;
+            }
             let (page_id, content_id) = (Ref::new(next), Ref::new(next + 1));
             next += 2;
             page_ids.push(page_id);
-            // Pattern window of this tile: x from wx, y down from wy.
-            let (wx, wy) = (origin.x + c as f64 * sx, origin.y - r as f64 * sy);
             let to_page = |p: Vec2| (((p.x - wx + m) * PT) as f32, ((p.y - (wy - ah) + m + 12.0) * PT) as f32);
             let mut content = Content::new();
             // Clip to the printable area.
@@ -249,11 +259,39 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
         .kids(page_ids.iter().copied())
         .count(page_ids.len() as i32);
     pdf.catalog(catalog).pages(tree);
+    let page_count = page_ids.len();
     Ok(TiledPdf {
         bytes: pdf.finish(),
         rows,
         columns,
+        page_count,
     })
+}
+
+/// Whether any line, label or sheet outline of the pattern falls in the window
+/// `[lo, hi]` (pattern millimetres).
+fn window_shows(pattern: &Pattern, lo: Vec2, hi: Vec2) -> bool {
+    let inside = |p: Vec2| p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y;
+    let corners = [lo, Vec2::new(hi.x, lo.y), hi, Vec2::new(lo.x, hi.y)];
+    let crosses = |a: Vec2, b: Vec2| {
+        inside(a)
+            || inside(b)
+            || (0..4).any(|k| sheetform_geometry::segments_meet(a, b, corners[k], corners[(k + 1) % 4]))
+    };
+    pattern
+        .cut_loops()
+        .any(|l| (0..l.len()).any(|i| crosses(l[i], l[(i + 1) % l.len()])))
+        || pattern.folds().any(|f| crosses(f.a, f.b))
+        || pattern.labels().any(|label| inside(label.position))
+        || pattern.sheets.iter().any(|(corner, size)| {
+            let q = [
+                *corner,
+                corner + Vec2::new(size.x, 0.0),
+                corner + size,
+                corner + Vec2::new(0.0, size.y),
+            ];
+            (0..4).any(|k| crosses(q[k], q[(k + 1) % 4]))
+        })
 }
 
 /// A straight stroke between two page points given in millimetres.

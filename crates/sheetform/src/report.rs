@@ -403,6 +403,8 @@ pub struct PatternReport {
     pub tile_rows: usize,
     /// PDF tile columns.
     pub tile_columns: usize,
+    /// Pages of the tiled PDF: the tiles that show part of the pattern.
+    pub page_count: usize,
     /// Pieces to cut (connected parts of the pattern).
     pub piece_count: usize,
     /// Sheets the pieces are packed on (0 when not packed).

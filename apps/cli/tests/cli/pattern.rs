@@ -60,8 +60,10 @@ fn patterns_are_readable_and_at_true_scale_in_dxf_and_pdf() {
         (d["width"].as_f64().unwrap() - 300.0).abs() < 1e-6 && (d["height"].as_f64().unwrap() - 140.0).abs() < 1e-6,
         "{d}"
     );
-    // The PDF renders, one page per tile, A4.
-    let pages = r["pattern"]["tile_rows"].as_u64().unwrap() * r["pattern"]["tile_columns"].as_u64().unwrap();
+    // The PDF renders, one page per tile that shows the pattern, A4.
+    let pages = r["pattern"]["page_count"].as_u64().unwrap();
+    let tiles = r["pattern"]["tile_rows"].as_u64().unwrap() * r["pattern"]["tile_columns"].as_u64().unwrap();
+    assert!(pages >= 1 && pages <= tiles);
     let render = Command::new("pdftoppm")
         .args(["-r", "10", "-png"])
         .arg(tmp.path().join("pattern.pdf"))
@@ -127,4 +129,66 @@ fn pattern_scale_units_and_paper_options() {
     ]);
     assert_eq!(bad.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("scale"));
+}
+
+/// No blank pages: the desk's pattern (a 1 020 mm square sheet with a hole in the middle)
+/// tiles into 5 × 6 A4 windows, and only those that show a line or a label are printed
+/// (14 of 30); pdfinfo counts the pages and every one renders with red cut-line pixels.
+#[test]
+fn empty_tiles_are_not_printed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = sheetform(&[
+        "bend",
+        repo().join("examples/desk.json").to_str().unwrap(),
+        "-o",
+        tmp.path().to_str().unwrap(),
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(tmp.path());
+    let tiles = r["pattern"]["tile_rows"].as_u64().unwrap() * r["pattern"]["tile_columns"].as_u64().unwrap();
+    let pages = r["pattern"]["page_count"].as_u64().unwrap();
+    assert!(pages < tiles, "{pages} pages of {tiles} tiles");
+    let info = Command::new("pdfinfo")
+        .arg(tmp.path().join("pattern.pdf"))
+        .output()
+        .expect("pdfinfo runs");
+    let text = String::from_utf8_lossy(&info.stdout);
+    let counted: u64 = text
+        .lines()
+        .find_map(|l| l.strip_prefix("Pages:"))
+        .and_then(|n| n.trim().parse().ok())
+        .expect("pdfinfo prints the page count");
+    assert_eq!(counted, pages, "{text}");
+    // Every page shows part of the pattern: some strongly red pixel (a cut line).
+    // Rendered as raw PPM (P6: a text header of magic, size and maximum, then RGB bytes).
+    let render = Command::new("pdftoppm")
+        .args(["-r", "20"])
+        .arg(tmp.path().join("pattern.pdf"))
+        .arg(tmp.path().join("page"))
+        .output()
+        .expect("pdftoppm runs");
+    assert!(render.status.success(), "{}", String::from_utf8_lossy(&render.stderr));
+    let mut rendered = 0;
+    for entry in std::fs::read_dir(tmp.path()).unwrap() {
+        let path = entry.unwrap().path();
+        if !path.file_name().unwrap().to_string_lossy().starts_with("page") {
+            continue;
+        }
+        rendered += 1;
+        let bytes = std::fs::read(&path).unwrap();
+        // Skip the three header lines.
+        let mut newlines = 0;
+        let start = bytes
+            .iter()
+            .position(|&b| {
+                newlines += usize::from(b == b'\n');
+                newlines == 3
+            })
+            .unwrap()
+            + 1;
+        let red = bytes[start..].chunks(3).any(|p| p[0] > 150 && p[1] < 90 && p[2] < 90);
+        assert!(red, "{} shows no cut line", path.display());
+    }
+    assert_eq!(rendered as u64, pages);
 }

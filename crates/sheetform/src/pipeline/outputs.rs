@@ -97,6 +97,7 @@ pub(crate) fn pattern_files(
         page: options.page,
         tile_rows: pdf.as_ref().map_or(0, |p| p.rows),
         tile_columns: pdf.as_ref().map_or(0, |p| p.columns),
+        page_count: pdf.as_ref().map_or(0, |p| p.page_count),
         piece_count: pattern.pieces.len(),
         sheet_count: pattern.sheets.len(),
         seam_count: pattern.seam_count,
