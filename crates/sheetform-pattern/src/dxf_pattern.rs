@@ -1,6 +1,6 @@
 use crate::{FoldStyle, Pattern, PatternError, Vec2};
 use dxf::entities::{Entity, EntityType, Line, LwPolyline, Text};
-use dxf::enums::{AcadVersion, Units};
+use dxf::enums::{AcadVersion, DrawingUnits, Units};
 use dxf::tables::Layer;
 use dxf::{Color, Drawing, LwPolylineVertex, Point};
 
@@ -27,10 +27,12 @@ impl DxfUnit {
 }
 
 /// The pattern as DXF (AutoCAD R2000, so that LWPOLYLINE entities are kept), coordinates
-/// in `unit` with `$INSUNITS` set accordingly. Layers: `CUT` (closed LWPOLYLINEs, glue tabs
-/// included, red), `FOLD` (LINEs: mountain folds red, valley folds blue, bending guides
-/// and tab bases grey, as entity colours), `LABEL` (TEXT: piece names and seam IDs) and
-/// `SHEET` (sheet outlines, when packed).
+/// in `unit` with `$INSUNITS` and `$MEASUREMENT` set accordingly and `$EXTMIN`/`$EXTMAX`
+/// around the pattern. Layers: `CUT` (closed LWPOLYLINEs, glue tabs included, red),
+/// `MOUNTAIN` and `VALLEY` (LINEs: mountain folds red, valley folds blue), `FOLD` (bending
+/// guides and tab bases, grey), `LABEL` (TEXT: piece names and seam IDs) and `SHEET` (sheet
+/// outlines, when packed). The dxf crate writes the table heads without handles (ezdxf
+/// repairs 7 of them on reading; issue 23).
 ///
 /// # Errors
 /// The writer fails (it does not on valid input).
@@ -43,7 +45,25 @@ pub fn dxf_bytes(pattern: &Pattern, unit: DxfUnit) -> Result<Vec<u8>, PatternErr
         DxfUnit::Cm => Units::Centimeters,
         DxfUnit::In => Units::Inches,
     };
-    for (name, colour) in [("CUT", 1u8), ("FOLD", 8), ("LABEL", 5), ("SHEET", 7)] {
+    // $MEASUREMENT agrees with $INSUNITS, and $EXTMIN/$EXTMAX frame the pattern (CAD
+    // programs zoom to them).
+    drawing.header.drawing_units = match unit {
+        DxfUnit::In => DrawingUnits::English,
+        DxfUnit::Mm | DxfUnit::Cm => DrawingUnits::Metric,
+    };
+    let (lo, hi) = pattern.bounds();
+    if lo.x.is_finite() && hi.x.is_finite() {
+        drawing.header.minimum_drawing_extents = Point::new(lo.x * k, lo.y * k, 0.0);
+        drawing.header.maximum_drawing_extents = Point::new(hi.x * k, hi.y * k, 0.0);
+    }
+    for (name, colour) in [
+        ("CUT", 1u8),
+        ("MOUNTAIN", 1),
+        ("VALLEY", 5),
+        ("FOLD", 8),
+        ("LABEL", 5),
+        ("SHEET", 7),
+    ] {
         drawing.add_layer(Layer {
             name: name.into(),
             color: Color::from_index(colour),
@@ -73,12 +93,16 @@ pub fn dxf_bytes(pattern: &Pattern, unit: DxfUnit) -> Result<Vec<u8>, PatternErr
             Point::new(f.a.x * k, f.a.y * k, 0.0),
             Point::new(f.b.x * k, f.b.y * k, 0.0),
         )));
-        e.common.layer = "FOLD".into();
-        e.common.color = Color::from_index(match f.style {
-            FoldStyle::Mountain => 1,
-            FoldStyle::Valley => 5,
-            FoldStyle::Guide | FoldStyle::TabBase => 8,
-        });
+        // Mountain and valley folds on layers of their own (a cutter or plotter takes them
+        // as different tools: score from the front or the back); guides and tab bases
+        // stay on FOLD.
+        let (layer, colour) = match f.style {
+            FoldStyle::Mountain => ("MOUNTAIN", 1),
+            FoldStyle::Valley => ("VALLEY", 5),
+            FoldStyle::Guide | FoldStyle::TabBase => ("FOLD", 8),
+        };
+        e.common.layer = layer.into();
+        e.common.color = Color::from_index(colour);
         drawing.add_entity(e);
     }
     for label in pattern.labels() {

@@ -187,7 +187,11 @@ for p in polys:
 print(json.dumps({"errors": len(auditor.errors), "closed": all(p.closed for p in polys), "count": len(polys),
   "area": area, "width": max(xs) - min(xs), "height": max(ys) - min(ys),
   "layers": sorted(l.dxf.name for l in doc.layers), "insunits": doc.header.get('$INSUNITS', 0),
-  "folds": len([e for e in doc.modelspace().query('LINE') if e.dxf.layer == 'FOLD'])}))
+  "folds": len([e for e in doc.modelspace().query('LINE') if e.dxf.layer in ('FOLD', 'MOUNTAIN', 'VALLEY')]),
+  "mountain": len([e for e in doc.modelspace().query('LINE') if e.dxf.layer == 'MOUNTAIN']),
+  "valley": len([e for e in doc.modelspace().query('LINE') if e.dxf.layer == 'VALLEY']),
+  "fixes": len(auditor.fixes), "measurement": doc.header.get('$MEASUREMENT', 0),
+  "extmin": list(doc.header.get('$EXTMIN', (0, 0, 0)))[:2], "extmax": list(doc.header.get('$EXTMAX', (0, 0, 0)))[:2]}))
 "#;
     let o = Command::new("python3")
         .arg("-c")

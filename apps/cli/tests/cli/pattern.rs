@@ -47,6 +47,14 @@ fn patterns_are_readable_and_at_true_scale_in_dxf_and_pdf() {
     assert_eq!(d["closed"], true);
     assert_eq!(d["count"], 2, "outline and one hole: {d}");
     assert_eq!(d["insunits"], 4, "millimetres");
+    assert_eq!(d["measurement"], 1, "metric, as the units say");
+    // The extents frame the pattern (its cut outline here).
+    let extent = |k: &str, i: usize| d[k][i].as_f64().unwrap();
+    assert!(
+        (extent("extmax", 0) - extent("extmin", 0) - d["width"].as_f64().unwrap()).abs() < 1e-6
+            && (extent("extmax", 1) - extent("extmin", 1) - d["height"].as_f64().unwrap()).abs() < 1e-6,
+        "{d}"
+    );
     assert!(d["folds"].as_u64().unwrap() > 10);
     for layer in ["CUT", "FOLD", "LABEL"] {
         assert!(d["layers"].as_array().unwrap().iter().any(|l| l == layer), "{d}");
