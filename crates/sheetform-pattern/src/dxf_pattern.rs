@@ -31,8 +31,8 @@ impl DxfUnit {
 /// around the pattern. Layers: `CUT` (closed LWPOLYLINEs, glue tabs included, red),
 /// `MOUNTAIN` and `VALLEY` (LINEs: mountain folds red, valley folds blue), `FOLD` (bending
 /// guides and tab bases, grey), `LABEL` (TEXT: piece names and seam IDs) and `SHEET` (sheet
-/// outlines, when packed). The dxf crate writes the table heads without handles (ezdxf
-/// repairs 7 of them on reading; issue 23).
+/// outlines, when packed). Every table head gets a handle (the dxf crate leaves them out;
+/// see `with_table_handles`), so ezdxf reads the file without repairs.
 ///
 /// # Errors
 /// The writer fails (it does not on valid input).
@@ -130,5 +130,80 @@ pub fn dxf_bytes(pattern: &Pattern, unit: DxfUnit) -> Result<Vec<u8>, PatternErr
     }
     let mut out = Vec::new();
     drawing.save(&mut out).map_err(|e| PatternError::Dxf(e.to_string()))?;
-    Ok(out)
+    let text = String::from_utf8(out).map_err(|e| PatternError::Dxf(e.to_string()))?;
+    Ok(with_table_handles(&text).into_bytes())
+}
+
+/// The DXF text with a handle (group 5, from `$HANDSEED` on, which is moved past them)
+/// and a null owner (330) on every table head: the dxf crate leaves them out, and
+/// readers such as ezdxf then repair the file. A text without `$HANDSEED` is returned as
+/// is.
+fn with_table_handles(text: &str) -> String {
+    let newline = if text.contains("\r\n") { "\r\n" } else { "\n" };
+    let lines: Vec<&str> = text.lines().collect();
+    let mut pairs: Vec<(String, String)> = lines
+        .chunks(2)
+        .filter(|c| c.len() == 2)
+        .map(|c| (c[0].trim().to_string(), c[1].to_string()))
+        .collect();
+    let Some(seed_at) = pairs
+        .iter()
+        .position(|(code, value)| code == "9" && value.trim() == "$HANDSEED")
+        .map(|i| i + 1)
+    else {
+        return text.to_string();
+    };
+    let Ok(mut seed) = u64::from_str_radix(pairs[seed_at].1.trim(), 16) else {
+        return text.to_string();
+    };
+    let mut out: Vec<(String, String)> = Vec::with_capacity(pairs.len() + 32);
+    let mut i = 0;
+    while i < pairs.len() {
+        let head = pairs[i].0 == "0" && pairs[i].1.trim() == "TABLE" && pairs.get(i + 1).is_some_and(|p| p.0 == "2");
+        out.push(std::mem::take(&mut pairs[i]));
+        if head {
+            out.push(std::mem::take(&mut pairs[i + 1]));
+            out.push(("5".into(), format!("{seed:X}")));
+            out.push(("330".into(), "0".into()));
+            seed += 1;
+            i += 2;
+        } else {
+            i += 1;
+        }
+    }
+    // $HANDSEED is in the header, before any table: its index is unchanged.
+    out[seed_at].1 = format!("{seed:X}");
+    let mut result = String::with_capacity(text.len() + 256);
+    for (code, value) in out {
+        result.push_str(&code);
+        result.push_str(newline);
+        result.push_str(&value);
+        result.push_str(newline);
+    }
+    result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Table heads get consecutive handles from $HANDSEED, which moves past them; other
+    /// pairs are untouched.
+    #[test]
+    fn table_heads_get_handles_from_the_seed() {
+        let text = "  0\nSECTION\n  2\nHEADER\n  9\n$HANDSEED\n  5\n1F\n  0\nENDSEC\n  0\nSECTION\n  2\nTABLES\n  0\nTABLE\n  2\nLTYPE\n100\nAcDbSymbolTable\n  0\nENDTAB\n  0\nTABLE\n  2\nLAYER\n  0\nENDTAB\n  0\nENDSEC\n  0\nEOF\n";
+        let fixed = with_table_handles(text);
+        let lines: Vec<&str> = fixed.lines().collect();
+        let after = |name: &str| {
+            let at = lines.iter().position(|l| *l == name).unwrap();
+            (lines[at + 1], lines[at + 2], lines[at + 3], lines[at + 4])
+        };
+        assert_eq!(after("LTYPE"), ("5", "1F", "330", "0"));
+        assert_eq!(after("LAYER"), ("5", "20", "330", "0"));
+        let seed = lines.iter().position(|l| *l == "$HANDSEED").unwrap();
+        assert_eq!(lines[seed + 2], "21");
+        assert!(fixed.ends_with("EOF\n"));
+        // Without a seed nothing changes.
+        assert_eq!(with_table_handles("  0\nEOF\n"), "  0\nEOF\n");
+    }
 }

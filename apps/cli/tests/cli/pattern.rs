@@ -48,6 +48,7 @@ fn patterns_are_readable_and_at_true_scale_in_dxf_and_pdf() {
     assert_eq!(d["count"], 2, "outline and one hole: {d}");
     assert_eq!(d["insunits"], 4, "millimetres");
     assert_eq!(d["measurement"], 1, "metric, as the units say");
+    assert_eq!(d["fixes"], 0, "ezdxf repairs nothing: {d}");
     // The extents frame the pattern (its cut outline here).
     let extent = |k: &str, i: usize| d[k][i].as_f64().unwrap();
     assert!(
