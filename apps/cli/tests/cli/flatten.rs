@@ -133,28 +133,7 @@ fn flatten_cuts_the_wingnut_into_flat_charts_with_seam_ids_tabs_and_sheets() {
 fn flatten_with_lscm_handles_a_nearly_developable_mesh() {
     let tmp = tempfile::tempdir().unwrap();
     // A shallow paraboloid cap: not developable, flattens with small distortion.
-    let n = 20;
-    let mut obj = String::new();
-    for i in 0..=n {
-        for j in 0..=n {
-            let (x, y) = (i as f64 / n as f64 - 0.5, j as f64 / n as f64 - 0.5);
-            obj += &format!("v {} {} {}\n", 100.0 * x, 100.0 * y, 10.0 * (1.0 - x * x - y * y));
-        }
-    }
-    let id = |i: usize, j: usize| i * (n + 1) + j + 1;
-    for i in 0..n {
-        for j in 0..n {
-            obj += &format!(
-                "f {} {} {}\nf {} {} {}\n",
-                id(i, j),
-                id(i + 1, j),
-                id(i + 1, j + 1),
-                id(i, j),
-                id(i + 1, j + 1),
-                id(i, j + 1)
-            );
-        }
-    }
+    let obj = grid_obj(20, |x, y| 10.0 * (1.0 - x * x - y * y));
     let path = tmp.path().join("cap.obj");
     std::fs::write(&path, obj).unwrap();
     let out = tmp.path().join("out");
@@ -201,33 +180,7 @@ fn flatten_with_lscm_handles_a_nearly_developable_mesh() {
 fn a_flattening_over_the_distortion_bound_is_flagged() {
     let tmp = tempfile::tempdir().unwrap();
     // A hemisphere-like dome over a square grid: far from developable.
-    let n = 16;
-    let mut obj = String::new();
-    for i in 0..=n {
-        for j in 0..=n {
-            let (x, y) = (i as f64 / n as f64 - 0.5, j as f64 / n as f64 - 0.5);
-            obj += &format!(
-                "v {} {} {}\n",
-                100.0 * x,
-                100.0 * y,
-                60.0 * (1.0 - 2.0 * (x * x + y * y))
-            );
-        }
-    }
-    let id = |i: usize, j: usize| i * (n + 1) + j + 1;
-    for i in 0..n {
-        for j in 0..n {
-            obj += &format!(
-                "f {} {} {}\nf {} {} {}\n",
-                id(i, j),
-                id(i + 1, j),
-                id(i + 1, j + 1),
-                id(i, j),
-                id(i + 1, j + 1),
-                id(i, j + 1)
-            );
-        }
-    }
+    let obj = grid_obj(16, |x, y| 60.0 * (1.0 - 2.0 * (x * x + y * y)));
     let path = tmp.path().join("dome.obj");
     std::fs::write(&path, obj).unwrap();
     let out = tmp.path().join("out");
@@ -246,4 +199,31 @@ fn a_flattening_over_the_distortion_bound_is_flagged() {
     let o = run(&["--method", "lscm", "--max-distortion", "0.9"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(report(&out)["status"], "ok");
+}
+
+/// An OBJ of the height field `z = height(x, y)` over a 100 mm square centred on the origin
+/// (`x, y` in [−0.5, 0.5]), `n × n` cells, two triangles each.
+fn grid_obj(n: usize, height: impl Fn(f64, f64) -> f64) -> String {
+    let mut obj = String::new();
+    for i in 0..=n {
+        for j in 0..=n {
+            let (x, y) = (i as f64 / n as f64 - 0.5, j as f64 / n as f64 - 0.5);
+            obj += &format!("v {} {} {}\n", 100.0 * x, 100.0 * y, height(x, y));
+        }
+    }
+    let id = |i: usize, j: usize| i * (n + 1) + j + 1;
+    for i in 0..n {
+        for j in 0..n {
+            obj += &format!(
+                "f {} {} {}\nf {} {} {}\n",
+                id(i, j),
+                id(i + 1, j),
+                id(i + 1, j + 1),
+                id(i, j),
+                id(i + 1, j + 1),
+                id(i, j + 1)
+            );
+        }
+    }
+    obj
 }
