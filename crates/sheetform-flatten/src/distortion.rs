@@ -74,7 +74,10 @@ pub fn distortion(mesh: &TriangleMesh, flat: &[Vec2]) -> Distortion {
             if c.x.min(dd.x) > max_x {
                 break;
             }
-            let shares = [a, b].iter().any(|p| [c, dd].iter().any(|q| (p - q).norm() == 0.0));
+            // Edges meeting at a vertex, or at two copies of a vertex that lie on the same
+            // point up to rounding (where the pieces of a net touch), only touch.
+            let near = 1e-9 * (b - a).norm().max((dd - c).norm());
+            let shares = [a, b].iter().any(|p| [c, dd].iter().any(|q| (p - q).norm() <= near));
             if shares {
                 continue;
             }

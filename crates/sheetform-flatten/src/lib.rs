@@ -1,13 +1,14 @@
 //! Flattening triangle meshes into patterns: exact unfolding of developable meshes from
 //! their intrinsic edge lengths, least-squares conformal maps for meshes that are only
 //! nearly developable, as-rigid-as-possible flattening, distortion and overlap measures,
-//! rigid 2D alignment, and cutting closed or high-genus meshes into charts that each
-//! flatten without overlap.
+//! rigid 2D alignment, cutting closed or high-genus meshes into charts that each
+//! flatten without overlap, and edge unfolding of faceted meshes into nets.
 
 mod alignment;
 mod arap;
 mod chart_segmentation;
 mod distortion;
+mod edge_unfolding;
 mod error;
 mod exact_unfolding;
 mod lscm;
@@ -16,6 +17,7 @@ pub use alignment::{align_rigid, RigidAlignment};
 pub use arap::{arap, ArapOptions};
 pub use chart_segmentation::{cut_into_charts, Chart, ChartOptions, ChartSet};
 pub use distortion::{distortion, Distortion};
+pub use edge_unfolding::{unfold_net, Net, NetOptions, MAX_NET_WORK};
 pub use error::FlattenError;
 pub use exact_unfolding::{exact_unfold, UnfoldOptions, Unfolding};
 pub use lscm::lscm;

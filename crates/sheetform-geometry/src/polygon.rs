@@ -76,6 +76,36 @@ pub fn segments_cross(p0: Vec2, p1: Vec2, q0: Vec2, q1: Vec2) -> bool {
     cross(r, q0 - p0) * cross(r, q1 - p0) < 0.0 && cross(s, p0 - q0) * cross(s, p1 - q0) < 0.0
 }
 
+/// Whether the interiors of two triangles overlap by more than `tolerance` (a length):
+/// the separating axis test over the six edge normals, the triangles counted as
+/// disjoint when, along one of them, their projections overlap by at most `tolerance`.
+/// Triangles that only touch (a shared edge or vertex, or lying side by side) do not
+/// overlap; a tolerance of a small fraction of the edge lengths absorbs rounding. For
+/// convex polygons a separating line, when one exists, is parallel to an edge, so the
+/// test is exact. Either vertex order.
+pub fn triangles_overlap(a: [Vec2; 3], b: [Vec2; 3], tolerance: f64) -> bool {
+    for tri in [a, b] {
+        for k in 0..3 {
+            let edge = tri[(k + 1) % 3] - tri[k];
+            let length = edge.norm();
+            if length == 0.0 {
+                continue;
+            }
+            let axis = Vec2::new(-edge.y, edge.x) / length;
+            let span = |t: [Vec2; 3]| {
+                t.iter()
+                    .map(|p| p.dot(&axis))
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| (lo.min(x), hi.max(x)))
+            };
+            let ((a0, a1), (b0, b1)) = (span(a), span(b));
+            if a1.min(b1) - a0.max(b0) <= tolerance {
+                return false;
+            }
+        }
+    }
+    true
+}
+
 /// Whether `p` is inside a set of rings by the even–odd rule (an outline and its holes, or
 /// several loops). Points exactly on a ring may go either way.
 pub fn rings_contain<'a>(rings: impl IntoIterator<Item = &'a [Vec2]>, p: Vec2) -> bool {
@@ -492,5 +522,22 @@ mod tests {
         let (s, t) = segment_intersection(v(0.0, 0.0), v(2.0, 0.0), v(1.0, -1.0), v(1.0, 1.0)).unwrap();
         assert!((s - 0.5).abs() < 1e-15 && (t - 0.5).abs() < 1e-15);
         assert!(segment_intersection(v(0.0, 0.0), v(1.0, 0.0), v(0.0, 1.0), v(1.0, 1.0)).is_none());
+    }
+
+    #[test]
+    fn triangles_overlap_only_with_interiors_in_common() {
+        let v = |x: f64, y: f64| Vec2::new(x, y);
+        let t = [v(0.0, 0.0), v(1.0, 0.0), v(0.0, 1.0)];
+        // Sharing an edge, sharing a vertex, apart: no overlap.
+        assert!(!triangles_overlap(t, [v(1.0, 0.0), v(1.0, 1.0), v(0.0, 1.0)], 1e-12));
+        assert!(!triangles_overlap(t, [v(1.0, 0.0), v(2.0, 0.0), v(2.0, 1.0)], 1e-12));
+        assert!(!triangles_overlap(t, [v(3.0, 3.0), v(4.0, 3.0), v(3.0, 4.0)], 1e-12));
+        // Crossing, one inside the other, the same triangle: overlap.
+        assert!(triangles_overlap(t, [v(0.5, -0.5), v(0.5, 0.5), v(-0.5, 0.5)], 1e-12));
+        assert!(triangles_overlap(t, [v(0.1, 0.1), v(0.3, 0.1), v(0.1, 0.3)], 1e-12));
+        assert!(triangles_overlap(t, [t[2], t[0], t[1]], 1e-12));
+        // A sliver of overlap below the tolerance is touching.
+        assert!(!triangles_overlap(t, [v(0.999_999, 0.0), v(2.0, 0.0), v(2.0, 1.0)], 1e-3));
+        assert!(triangles_overlap(t, [v(0.9, 0.0), v(2.0, 0.0), v(2.0, 1.0)], 1e-3));
     }
 }

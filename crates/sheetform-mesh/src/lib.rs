@@ -6,9 +6,11 @@
 //! developability measures (angle defects, Gaussian curvature, Wang & Tang's `D[M]`, `G[X]`).
 
 mod developability;
+mod edge_cut;
 mod edge_table;
 mod error;
 mod metrics;
+pub mod primitives;
 mod sheet_mesh;
 mod topology;
 mod triangle_mesh;
@@ -16,6 +18,7 @@ mod unit;
 mod vertex_normals;
 
 pub use developability::{developability_summary, vertex_developability, DevelopabilitySummary, VertexDevelopability};
+pub use edge_cut::{cut_along_edges, CutMesh};
 pub use edge_table::{EdgeSide, EdgeTable};
 pub use error::MeshError;
 pub use metrics::{developability_error, isometry_error, IsometryError, RulingNormalError};

@@ -1,0 +1,527 @@
+//! Edge unfolding of a faceted mesh into a net: pieces that are exact copies of the faces,
+//! joined along the edges that are folded, with no piece overlapping itself.
+
+use crate::{distortion, Chart, FlattenError, Vec2};
+use rustc_hash::FxHashMap;
+use sheetform_geometry::triangles_overlap;
+use sheetform_mesh::{cut_along_edges, mesh_topology_with_edges, EdgeTable, TriangleMesh};
+use sheetform_solve::SolverInfo;
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+type Vec3 = nalgebra::Vector3<f64>;
+
+/// Knobs of [`unfold_net`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NetOptions {
+    /// Starting faces tried; the net with the fewest pieces (then the shortest cut) is
+    /// kept. Capped so that attempts × faces stays within [`MAX_NET_WORK`]. Default 12.
+    pub attempts: usize,
+    /// Join small pieces to a neighbour along one of their cut edges wherever they fit
+    /// without overlap. Default true.
+    pub merge_pieces: bool,
+}
+
+impl Default for NetOptions {
+    fn default() -> Self {
+        Self {
+            attempts: 12,
+            merge_pieces: true,
+        }
+    }
+}
+
+/// Work budget of [`unfold_net`], in faces placed over all attempts (about a second).
+pub const MAX_NET_WORK: usize = 4_000_000;
+
+/// A net: the pieces (charts whose flattening is an exact copy of every face) and how
+/// the mesh was cut.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Net {
+    /// The pieces, largest first.
+    pub pieces: Vec<Chart>,
+    /// Piece of every mesh face.
+    pub face_piece: Vec<u32>,
+    /// Edges kept whole across which the surface bends (the folds to make).
+    pub fold_edge_count: usize,
+    /// Edges with two faces that were cut (where pieces are glued back together).
+    pub cut_edge_count: usize,
+    /// Total length of the cut edges (model units; every cut edge counted once).
+    pub cut_length: f64,
+    /// Starting faces tried.
+    pub attempts: usize,
+    /// Pieces joined to a neighbour after the growth.
+    pub merged_piece_count: usize,
+}
+
+/// Unfolds `mesh` into a net: a forest of faces joined across edges, each tree laid flat
+/// by hinging every face about its parent edge, with no two faces of one piece overlapping.
+///
+/// 1. **Growth** (greedy, Prim-like): a piece starts from a seed face laid flat; the
+///    edges of its border wait in a priority queue, coplanar neighbours first (so flat
+///    polygons of a faceted model stay whole, their diagonals never drawn), then by the
+///    distance of the neighbour's flat centroid from the seed's (the piece grows as a
+///    compact disk, which is what keeps nets of convex and nearly convex shapes in few
+///    pieces). A popped neighbour not yet placed is laid flat across the edge — an exact
+///    copy: the third corner from the law of cosines, `x = (w·e)/|e|`, `h = |e×w|/|e|`,
+///    on the left of the edge as the face runs it — and kept when it overlaps no face of
+///    the piece ([`triangles_overlap`] against the faces in the same cells of a uniform
+///    grid, tolerance `1e-9 ×` the mean edge length); otherwise the edge is cut and the
+///    face waits for another edge or a later piece. A new piece starts from a face that
+///    was refused (so pieces follow one another across the surface), else from any face
+///    left. User seams (`mesh.seam_edges`) are always cut.
+/// 2. **Attempts**: the growth is run from `options.attempts` seeds spread over the mesh
+///    and the net with the fewest pieces, then the shortest total cut, is kept.
+/// 3. **Merging**: a piece, smallest first, is hinged onto a neighbouring piece across
+///    one of the edges cut between them when it fits there without overlap (this gathers
+///    the single faces and slivers a greedy growth leaves behind).
+///
+/// The result has zero distortion by construction: every flat face is congruent to its 3D
+/// face up to rounding. Published tools choose the spanning tree the same way in spirit
+/// (Blender's Export Paper Model grows islands by edge priority, Pepakura and
+/// rodrigorc/papercraft split overlapping islands); steepest-edge unfolding (Schlickrieder
+/// 1997) is an alternative for convex polyhedra that this method does not need.
+///
+/// # Errors
+/// Non-manifold, degenerate or non-orientable meshes (named); user seams that are not mesh
+/// edges; an empty mesh.
+pub fn unfold_net(mesh: &TriangleMesh, options: &NetOptions) -> Result<Net, FlattenError> {
+    let (topology, table) = mesh_topology_with_edges(mesh);
+    let problems = crate::exact_unfolding::topology_problems(&topology);
+    if !problems.is_empty() {
+        return Err(FlattenError::Topology {
+            problem: problems.join("; "),
+        });
+    }
+    let nf = mesh.triangles.len();
+    if nf == 0 {
+        return Err(FlattenError::Topology {
+            problem: "the mesh has no faces".into(),
+        });
+    }
+    let mut forced_cut = vec![false; table.len()];
+    for (i, &[a, b]) in mesh.seam_edges.iter().enumerate() {
+        let e = table.find(a, b).ok_or_else(|| FlattenError::Topology {
+            problem: format!(
+                "seam edge {i} ({} – {}, 1-based as in the file) is not an edge of the mesh",
+                a + 1,
+                b + 1
+            ),
+        })?;
+        forced_cut[e] = true;
+    }
+    let faces = FaceGeometry::new(mesh, &table);
+    let attempts = options.attempts.clamp(1, (MAX_NET_WORK / nf).max(1));
+    let mut best: Option<Growth> = None;
+    for i in 0..attempts {
+        let seed = if i == 0 { faces.central } else { (i * nf / attempts) as u32 };
+        let growth = grow(&faces, &table, &forced_cut, seed);
+        let better = best.as_ref().is_none_or(|b| {
+            (growth.piece_count, growth.cut_length(&faces, &table)) < (b.piece_count, b.cut_length(&faces, &table))
+        });
+        tracing::debug!(seed, pieces = growth.piece_count, "net attempt");
+        if better {
+            best = Some(growth);
+        }
+    }
+    let mut growth = best.expect("at least one attempt");
+    let before_merge = growth.piece_count;
+    if options.merge_pieces {
+        merge_pieces(&faces, &table, &forced_cut, &mut growth);
+    }
+    let merged_piece_count = before_merge - growth.piece_count;
+
+    // The pieces as charts: cut the mesh along every edge not kept.
+    let cut: Vec<[u32; 2]> = (0..table.len())
+        .filter(|&e| !growth.kept[e])
+        .map(|e| table.edges[e])
+        .collect();
+    let opened = cut_along_edges(mesh, &cut);
+    let mut flat = vec![Vec2::zeros(); opened.mesh.positions.len()];
+    for (f, t) in opened.mesh.triangles.iter().enumerate() {
+        for k in 0..3 {
+            flat[t[k] as usize] = growth.flat[f][k];
+        }
+    }
+    let mut members: Vec<Vec<u32>> = vec![Vec::new(); growth.piece_count];
+    for f in 0..nf {
+        members[growth.piece[f] as usize].push(f as u32);
+    }
+    members.sort_by(|a, b| b.len().cmp(&a.len()).then(a[0].cmp(&b[0])));
+    let mut face_piece = vec![0u32; nf];
+    let mut pieces = Vec::with_capacity(members.len());
+    let mut local = vec![u32::MAX; opened.mesh.positions.len()];
+    for (p, piece_faces) in members.into_iter().enumerate() {
+        let mut vertices = Vec::new();
+        let mut piece_flat = Vec::new();
+        let mut positions = Vec::new();
+        let triangles: Vec<[u32; 3]> = piece_faces
+            .iter()
+            .map(|&f| {
+                face_piece[f as usize] = p as u32;
+                opened.mesh.triangles[f as usize].map(|v| {
+                    if local[v as usize] == u32::MAX {
+                        local[v as usize] = vertices.len() as u32;
+                        vertices.push(opened.origin[v as usize]);
+                        piece_flat.push(flat[v as usize]);
+                        positions.push(opened.mesh.positions[v as usize]);
+                    }
+                    local[v as usize]
+                })
+            })
+            .collect();
+        let sub = TriangleMesh {
+            positions,
+            face_groups: vec![0; triangles.len()],
+            triangles: triangles.clone(),
+            groups: vec!["piece".into()],
+            corner_uvs: None,
+            seam_edges: Vec::new(),
+        };
+        let d = distortion(&sub, &piece_flat);
+        pieces.push(Chart {
+            faces: piece_faces,
+            vertices,
+            triangles,
+            flat: piece_flat,
+            distortion: d,
+            solver: SolverInfo {
+                converged: true,
+                ..Default::default()
+            },
+        });
+    }
+    let two_sided = |e: usize| table.sides(e).len() == 2;
+    let fold_edge_count = (0..table.len())
+        .filter(|&e| growth.kept[e] && two_sided(e) && faces.dihedral[e] > FLAT_DIHEDRAL)
+        .count();
+    let cut_edge_count = (0..table.len()).filter(|&e| !growth.kept[e] && two_sided(e)).count();
+    Ok(Net {
+        cut_length: growth.cut_length(&faces, &table),
+        pieces,
+        face_piece,
+        fold_edge_count,
+        cut_edge_count,
+        attempts,
+        merged_piece_count,
+    })
+}
+
+/// Normals closer than this (radians) count as coplanar: such edges are kept first and
+/// are no folds.
+const FLAT_DIHEDRAL: f64 = 1e-6;
+
+/// What the growth needs of every face and edge, computed once.
+struct FaceGeometry<'a> {
+    mesh: &'a TriangleMesh,
+    /// Unsigned angle between the normals of the two faces on each edge (0 on the boundary).
+    dihedral: Vec<f64>,
+    /// Overlap tolerance (model units).
+    tolerance: f64,
+    /// Grid cell size (model units).
+    cell: f64,
+    /// The face nearest the centroid of all faces (the first seed).
+    central: u32,
+}
+
+impl<'a> FaceGeometry<'a> {
+    fn new(mesh: &'a TriangleMesh, table: &EdgeTable) -> Self {
+        let nf = mesh.triangles.len();
+        let normals: Vec<Vec3> = (0..nf).map(|f| mesh.face_normal(f)).collect();
+        let dihedral = (0..table.len())
+            .map(|e| match table.sides(e) {
+                [f, g] => {
+                    let (n, m) = (normals[f.face as usize], normals[g.face as usize]);
+                    n.cross(&m).norm().atan2(n.dot(&m))
+                }
+                _ => 0.0,
+            })
+            .collect();
+        let mean_edge = table
+            .edges
+            .iter()
+            .map(|&[a, b]| (mesh.positions[a as usize] - mesh.positions[b as usize]).norm())
+            .sum::<f64>()
+            / table.len().max(1) as f64;
+        let centroid = |f: usize| {
+            let t = mesh.triangles[f];
+            (mesh.positions[t[0] as usize] + mesh.positions[t[1] as usize] + mesh.positions[t[2] as usize]) / 3.0
+        };
+        let middle = (0..nf).map(centroid).sum::<Vec3>() / nf as f64;
+        let central = (0..nf)
+            .min_by(|&a, &b| (centroid(a) - middle).norm().total_cmp(&(centroid(b) - middle).norm()))
+            .unwrap_or(0) as u32;
+        Self {
+            mesh,
+            dihedral,
+            tolerance: 1e-9 * mean_edge,
+            cell: 2.0 * mean_edge.max(f64::MIN_POSITIVE),
+            central,
+        }
+    }
+
+    fn corner(&self, f: u32, k: usize) -> Vec3 {
+        self.mesh.positions[self.mesh.triangles[f as usize][k % 3] as usize]
+    }
+
+    /// Face `f` laid flat with its corner `k` at `a` and corner `k + 1` at `b`: the flat
+    /// positions of its three corners (the third on the left of `a → b`).
+    fn hinge(&self, f: u32, k: usize, a: Vec2, b: Vec2) -> [Vec2; 3] {
+        let (p, q, r) = (self.corner(f, k), self.corner(f, k + 1), self.corner(f, k + 2));
+        let (e, w) = (q - p, r - p);
+        let length = e.norm();
+        let x = w.dot(&e) / length;
+        let h = e.cross(&w).norm() / length;
+        let u = (b - a).normalize();
+        let c = a + u * x + Vec2::new(-u.y, u.x) * h;
+        let mut out = [Vec2::zeros(); 3];
+        out[k % 3] = a;
+        out[(k + 1) % 3] = b;
+        out[(k + 2) % 3] = c;
+        out
+    }
+
+    /// Face `f` laid flat on its own, corner 0 at the origin, edge 0 along +x.
+    fn alone(&self, f: u32) -> [Vec2; 3] {
+        let length = (self.corner(f, 1) - self.corner(f, 0)).norm();
+        self.hinge(f, 0, Vec2::zeros(), Vec2::new(length, 0.0))
+    }
+}
+
+/// The faces of each piece in a uniform grid of their flat bounding boxes.
+#[derive(Default)]
+struct OverlapGrid {
+    cells: FxHashMap<(i64, i64), Vec<u32>>,
+}
+
+impl OverlapGrid {
+    fn range(cell: f64, t: &[Vec2; 3]) -> (i64, i64, i64, i64) {
+        let lo = t[0].inf(&t[1]).inf(&t[2]);
+        let hi = t[0].sup(&t[1]).sup(&t[2]);
+        (
+            (lo.x / cell).floor() as i64,
+            (hi.x / cell).floor() as i64,
+            (lo.y / cell).floor() as i64,
+            (hi.y / cell).floor() as i64,
+        )
+    }
+
+    fn insert(&mut self, cell: f64, t: &[Vec2; 3], f: u32) {
+        let (x0, x1, y0, y1) = Self::range(cell, t);
+        for x in x0..=x1 {
+            for y in y0..=y1 {
+                self.cells.entry((x, y)).or_default().push(f);
+            }
+        }
+    }
+
+    /// Whether `t` overlaps a face of the grid.
+    fn overlaps(&self, cell: f64, t: &[Vec2; 3], flat: &[[Vec2; 3]], tolerance: f64) -> bool {
+        let (x0, x1, y0, y1) = Self::range(cell, t);
+        for x in x0..=x1 {
+            for y in y0..=y1 {
+                if let Some(list) = self.cells.get(&(x, y)) {
+                    if list
+                        .iter()
+                        .any(|&g| triangles_overlap(*t, flat[g as usize], tolerance))
+                    {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
+    }
+}
+
+/// One growth of a net.
+struct Growth {
+    /// Flat corners of every face (in its piece's frame).
+    flat: Vec<[Vec2; 3]>,
+    /// Piece of every face.
+    piece: Vec<u32>,
+    /// Edges kept whole (a fold or a flat hinge inside a piece).
+    kept: Vec<bool>,
+    piece_count: usize,
+}
+
+impl Growth {
+    fn cut_length(&self, faces: &FaceGeometry, table: &EdgeTable) -> f64 {
+        (0..table.len())
+            .filter(|&e| !self.kept[e] && table.sides(e).len() == 2)
+            .map(|e| {
+                let [a, b] = table.edges[e];
+                (faces.mesh.positions[a as usize] - faces.mesh.positions[b as usize]).norm()
+            })
+            .sum()
+    }
+}
+
+/// Grows a net from `seed` (step 1 of [`unfold_net`]).
+fn grow(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], seed: u32) -> Growth {
+    let mesh = faces.mesh;
+    let nf = mesh.triangles.len();
+    let mut growth = Growth {
+        flat: vec![[Vec2::zeros(); 3]; nf],
+        piece: vec![u32::MAX; nf],
+        kept: vec![false; table.len()],
+        piece_count: 0,
+    };
+    let mut refused: Vec<u32> = Vec::new();
+    let mut next_any = 0usize;
+    let mut start = Some(seed);
+    // (flat-first class, distance bits) → (from face, its corner of the edge, to face).
+    let mut queue: BinaryHeap<Reverse<((u8, u64), u32, u8, u32)>> = BinaryHeap::new();
+    while let Some(s) = start {
+        let p = growth.piece_count as u32;
+        growth.piece_count += 1;
+        let mut grid = OverlapGrid::default();
+        growth.flat[s as usize] = faces.alone(s);
+        growth.piece[s as usize] = p;
+        grid.insert(faces.cell, &growth.flat[s as usize], s);
+        let centre = |t: &[Vec2; 3]| (t[0] + t[1] + t[2]) / 3.0;
+        let origin = centre(&growth.flat[s as usize]);
+        let push = |f: u32, growth: &Growth, queue: &mut BinaryHeap<_>| {
+            for k in 0..3 {
+                let e = table.face_edges[f as usize][k];
+                if e == u32::MAX || forced_cut[e as usize] {
+                    continue;
+                }
+                if let Some(g) = table.opposite(f as usize, k) {
+                    if growth.piece[g as usize] == u32::MAX {
+                        let class = u8::from(faces.dihedral[e as usize] > FLAT_DIHEDRAL);
+                        let t = &growth.flat[f as usize];
+                        let middle = (t[k] + t[(k + 1) % 3]) * 0.5;
+                        let distance = (middle - origin).norm();
+                        queue.push(Reverse(((class, distance.to_bits()), f, k as u8, g)));
+                    }
+                }
+            }
+        };
+        push(s, &growth, &mut queue);
+        while let Some(Reverse((_, f, k, g))) = queue.pop() {
+            if growth.piece[g as usize] != u32::MAX {
+                continue;
+            }
+            let k = k as usize;
+            let (a, b) = (mesh.triangles[f as usize][k], mesh.triangles[f as usize][(k + 1) % 3]);
+            // g runs the edge b → a.
+            let Some(j) = (0..3).find(|&j| {
+                mesh.triangles[g as usize][j] == b && mesh.triangles[g as usize][(j + 1) % 3] == a
+            }) else {
+                continue;
+            };
+            let t = faces.hinge(
+                g,
+                j,
+                growth.flat[f as usize][(k + 1) % 3],
+                growth.flat[f as usize][k],
+            );
+            if grid.overlaps(faces.cell, &t, &growth.flat, faces.tolerance) {
+                refused.push(g);
+                continue;
+            }
+            growth.flat[g as usize] = t;
+            growth.piece[g as usize] = p;
+            growth.kept[table.face_edges[f as usize][k] as usize] = true;
+            grid.insert(faces.cell, &t, g);
+            push(g, &growth, &mut queue);
+        }
+        start = refused
+            .drain(..)
+            .find(|&f| growth.piece[f as usize] == u32::MAX)
+            .or_else(|| {
+                while next_any < nf && growth.piece[next_any] != u32::MAX {
+                    next_any += 1;
+                }
+                (next_any < nf).then_some(next_any as u32)
+            });
+    }
+    growth
+}
+
+/// Hinges small pieces onto neighbouring pieces where they fit (step 3 of [`unfold_net`]).
+fn merge_pieces(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], growth: &mut Growth) {
+    let mesh = faces.mesh;
+    let nf = mesh.triangles.len();
+    // Work budget: overlap tests in all.
+    let mut budget = 20 * MAX_NET_WORK;
+    loop {
+        if budget < nf {
+            return;
+        }
+        budget -= nf;
+        let mut members: Vec<Vec<u32>> = vec![Vec::new(); growth.piece_count];
+        for f in 0..nf {
+            members[growth.piece[f] as usize].push(f as u32);
+        }
+        let mut order: Vec<usize> = (0..members.len()).collect();
+        order.sort_by_key(|&p| members[p].len());
+        let mut merged = None;
+        'pieces: for &p in &order {
+            for &f in &members[p] {
+                for k in 0..3 {
+                    let e = table.face_edges[f as usize][k];
+                    if e == u32::MAX || forced_cut[e as usize] || growth.kept[e as usize] {
+                        continue;
+                    }
+                    let Some(g) = table.opposite(f as usize, k) else { continue };
+                    let q = growth.piece[g as usize] as usize;
+                    if q == p {
+                        continue;
+                    }
+                    let cost = members[p].len() * 8 + members[q].len();
+                    if budget < cost {
+                        return;
+                    }
+                    budget -= cost;
+                    // Move piece p so that f's edge k lies on g's copy of the edge.
+                    let (a, b) = (mesh.triangles[f as usize][k], mesh.triangles[f as usize][(k + 1) % 3]);
+                    let Some(j) = (0..3).find(|&j| {
+                        mesh.triangles[g as usize][j] == b && mesh.triangles[g as usize][(j + 1) % 3] == a
+                    }) else {
+                        continue;
+                    };
+                    let (from_a, from_b) = (growth.flat[f as usize][k], growth.flat[f as usize][(k + 1) % 3]);
+                    let (to_a, to_b) = (growth.flat[g as usize][(j + 1) % 3], growth.flat[g as usize][j]);
+                    let (u, v) = ((from_b - from_a).normalize(), (to_b - to_a).normalize());
+                    let (cos, sin) = (u.dot(&v), u.x * v.y - u.y * v.x);
+                    let motion = |x: Vec2| {
+                        let d = x - from_a;
+                        to_a + Vec2::new(cos * d.x - sin * d.y, sin * d.x + cos * d.y)
+                    };
+                    let mut grid = OverlapGrid::default();
+                    for &h in &members[q] {
+                        grid.insert(faces.cell, &growth.flat[h as usize], h);
+                    }
+                    let moved: Vec<[Vec2; 3]> = members[p]
+                        .iter()
+                        .map(|&h| growth.flat[h as usize].map(motion))
+                        .collect();
+                    if moved
+                        .iter()
+                        .any(|t| grid.overlaps(faces.cell, t, &growth.flat, faces.tolerance))
+                    {
+                        continue;
+                    }
+                    merged = Some((p, q, e, moved));
+                    break 'pieces;
+                }
+            }
+        }
+        let Some((p, q, e, moved)) = merged else { return };
+        for (&h, t) in members[p].iter().zip(moved) {
+            growth.flat[h as usize] = t;
+            growth.piece[h as usize] = q as u32;
+        }
+        growth.kept[e as usize] = true;
+        // Renumber: the last piece takes p's number.
+        let last = (growth.piece_count - 1) as u32;
+        for x in growth.piece.iter_mut() {
+            if *x == last {
+                *x = p as u32;
+            }
+        }
+        growth.piece_count -= 1;
+    }
+}
