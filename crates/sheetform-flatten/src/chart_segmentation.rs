@@ -60,6 +60,9 @@ pub struct ChartSet {
     pub initial_chart_count: usize,
     /// How many times a chart was split in two.
     pub split_count: usize,
+    /// Charts made flat by cutting them open along shortest edge paths (from cone points
+    /// to the boundary, between boundary loops) instead of splitting them.
+    pub opened_count: usize,
 }
 
 /// Cuts `mesh` into charts and flattens each.
@@ -68,11 +71,21 @@ pub struct ChartSet {
 ///    creases (the angle between the two face normals above
 ///    `options.crease_angle_degrees`) separate the initial charts, the connected sets of
 ///    faces between them.
-/// 2. **Split until flat**: a chart is accepted when it is a topological disk (one
-///    component, one boundary loop, Euler characteristic 1) and its exact unfolding
+/// 2. **Open along straight seams**: a chart is accepted when it is a topological disk
+///    (one component, one boundary loop, Euler characteristic 1) and its exact unfolding
 ///    ([`exact_unfold`], the least-squares layout of its edge lengths) has no flipped face,
 ///    no crossing boundary edges and no edge length changed by more than
-///    `options.max_edge_distortion`. Otherwise it is split in two: the two faces farthest
+///    `options.max_edge_distortion`. A developable surface that is not yet such a disk —
+///    a tube (two boundary loops), a cone (an interior vertex whose angle sum is not 2π,
+///    a cone point), a closed surface with a few cone points — is first cut open the way
+///    a pattern maker would, along one seam: shortest edge paths (Dijkstra on the edge
+///    lengths) join each cone point and each further boundary loop to the boundary (or,
+///    without boundary, to the first cone point), nearest first. On a tube or cone
+///    meshed along its rulings that seam is one ruling, so it comes out in one piece.
+///    This is tried when there are at most [`MAX_CONE_POINTS`] cone points (|angle
+///    defect| above `1e-6` rad) and [`MAX_SEAM_LOOPS`] boundary loops and genus 0; the
+///    opened chart must pass the same test.
+/// 3. **Split until flat**: otherwise the chart is split in two: the two faces farthest
 ///    apart (double breadth-first search over the face adjacency) seed two regions that
 ///    grow breadth-first at the same pace, so both halves are connected. A single triangle
 ///    always flattens exactly, so the splitting ends.
@@ -149,6 +162,7 @@ pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<Ch
     let initial_chart_count = pending.len();
     let mut charts: Vec<Chart> = Vec::new();
     let mut split_count = 0;
+    let mut opened_count = 0;
     let mut in_chart = vec![u32::MAX; nf];
     while let Some(faces) = pending.pop() {
         let (sub, vertices) = submesh(mesh, &faces);
@@ -158,6 +172,22 @@ pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<Ch
             Some((_, d)) => d.is_overlap_free() && d.edge_length_max_relative <= options.max_edge_distortion,
             None => false,
         };
+        if !accept && !out_of_budget {
+            if let Some((opened, origin, unfolding, d)) = open_to_disk(&sub) {
+                if d.is_overlap_free() && d.edge_length_max_relative <= options.max_edge_distortion {
+                    opened_count += 1;
+                    charts.push(Chart {
+                        faces,
+                        vertices: origin.iter().map(|&v| vertices[v as usize]).collect(),
+                        triangles: opened.triangles,
+                        flat: unfolding.flat,
+                        distortion: d,
+                        solver: unfolding.solver,
+                    });
+                    continue;
+                }
+            }
+        }
         if accept || faces.len() == 1 || (out_of_budget && attempt.is_some()) {
             let (unfolding, d) = attempt.expect("a single triangle or an accepted chart unfolds");
             charts.push(Chart {
@@ -197,7 +227,133 @@ pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<Ch
         seam_edge_count,
         initial_chart_count,
         split_count,
+        opened_count,
     })
+}
+
+/// Most cone points a chart may have to be opened along seams rather than split.
+pub const MAX_CONE_POINTS: usize = 8;
+/// Most boundary loops a chart may have to be opened along seams rather than split.
+pub const MAX_SEAM_LOOPS: usize = 16;
+
+/// Step 2 of [`cut_into_charts`]: `sub` cut open along shortest edge paths into a disk
+/// with no interior cone point, with the vertex of `sub` each new vertex copies, its
+/// exact unfolding and distortion; `None` when the chart is not a genus-0 surface with
+/// few cone points and loops, or needs no cut, or does not unfold.
+fn open_to_disk(sub: &TriangleMesh) -> Option<(TriangleMesh, Vec<u32>, crate::Unfolding, Distortion)> {
+    let topology = mesh_topology(sub);
+    let loops = topology.boundary_loop_count;
+    // Genus 0: χ = 2 − b.
+    if topology.component_count != 1 || topology.euler_characteristic + loops as i64 != 2 || loops > MAX_SEAM_LOOPS {
+        return None;
+    }
+    let defects = sheetform_mesh::vertex_developability(sub, &topology).angle_defect;
+    let mut cone_points: Vec<u32> = (0..sub.positions.len() as u32)
+        .filter(|&v| defects[v as usize].abs() > 1e-6)
+        .collect();
+    if cone_points.len() > MAX_CONE_POINTS || (loops <= 1 && cone_points.is_empty()) {
+        return None;
+    }
+    let nv = sub.positions.len();
+    let table = sheetform_mesh::EdgeTable::new(&sub.triangles, nv);
+    let mut adjacency: Vec<Vec<(u32, f64)>> = vec![Vec::new(); nv];
+    for &[a, b] in &table.edges {
+        let l = (sub.positions[a as usize] - sub.positions[b as usize]).norm();
+        adjacency[a as usize].push((b, l));
+        adjacency[b as usize].push((a, l));
+    }
+    // Boundary loop of every boundary vertex (union–find over boundary edges).
+    let mut parent: Vec<u32> = (0..nv as u32).collect();
+    fn find(parent: &mut [u32], mut x: u32) -> u32 {
+        while parent[x as usize] != x {
+            parent[x as usize] = parent[parent[x as usize] as usize];
+            x = parent[x as usize];
+        }
+        x
+    }
+    for [a, b] in table.boundary_edges() {
+        let (x, y) = (find(&mut parent, a), find(&mut parent, b));
+        parent[x as usize] = y;
+    }
+    let mut loop_of = vec![u32::MAX; nv];
+    let mut members: HashMap<u32, Vec<u32>> = HashMap::new();
+    for v in 0..nv as u32 {
+        if topology.boundary_vertex[v as usize] {
+            loop_of[v as usize] = find(&mut parent, v);
+            members.entry(loop_of[v as usize]).or_default().push(v);
+        }
+    }
+    // The cut tree grows from the first boundary loop (or the first cone point); reaching
+    // a loop adds the whole loop.
+    let mut in_tree = vec![false; nv];
+    let first_loop = (0..nv).find(|&v| loop_of[v] != u32::MAX).map(|v| loop_of[v]);
+    let add_to_tree = |v: u32, in_tree: &mut Vec<bool>| {
+        if !in_tree[v as usize] && loop_of[v as usize] != u32::MAX {
+            for &w in &members[&loop_of[v as usize]] {
+                in_tree[w as usize] = true;
+            }
+        }
+        in_tree[v as usize] = true;
+    };
+    match first_loop {
+        Some(l) => {
+            let v = loop_of.iter().position(|&x| x == l)? as u32;
+            add_to_tree(v, &mut in_tree);
+        }
+        None => {
+            let c = cone_points.remove(0);
+            add_to_tree(c, &mut in_tree);
+        }
+    }
+    let mut cut: Vec<[u32; 2]> = Vec::new();
+    loop {
+        let is_target = |v: usize, in_tree: &[bool]| {
+            !in_tree[v] && (cone_points.contains(&(v as u32)) || loop_of[v] != u32::MAX)
+        };
+        if !(0..nv).any(|v| is_target(v, &in_tree)) {
+            break;
+        }
+        // Dijkstra from the tree to the nearest target.
+        let mut distance = vec![f64::INFINITY; nv];
+        let mut previous = vec![u32::MAX; nv];
+        let mut queue = std::collections::BinaryHeap::new();
+        for v in 0..nv {
+            if in_tree[v] {
+                distance[v] = 0.0;
+                queue.push(std::cmp::Reverse((0u64, v as u32)));
+            }
+        }
+        let mut reached = None;
+        while let Some(std::cmp::Reverse((bits, v))) = queue.pop() {
+            let d = f64::from_bits(bits);
+            if d > distance[v as usize] {
+                continue;
+            }
+            if is_target(v as usize, &in_tree) {
+                reached = Some(v);
+                break;
+            }
+            for &(w, l) in &adjacency[v as usize] {
+                let nd = d + l;
+                if nd < distance[w as usize] {
+                    distance[w as usize] = nd;
+                    previous[w as usize] = v;
+                    queue.push(std::cmp::Reverse((nd.to_bits(), w)));
+                }
+            }
+        }
+        let mut v = reached?;
+        add_to_tree(v, &mut in_tree);
+        while previous[v as usize] != u32::MAX {
+            let p = previous[v as usize];
+            cut.push([p, v]);
+            add_to_tree(p, &mut in_tree);
+            v = p;
+        }
+    }
+    let opened = sheetform_mesh::cut_along_edges(sub, &cut);
+    let (unfolding, d) = flatten_chart(&opened.mesh)?;
+    Some((opened.mesh, opened.origin, unfolding, d))
 }
 
 /// The faces as a mesh of their own (vertices renumbered), with the mesh vertex of each.

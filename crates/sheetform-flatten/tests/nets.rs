@@ -18,10 +18,18 @@ fn assert_exact_and_overlap_free(mesh: &TriangleMesh, net: &Net) {
     for piece in &net.pieces {
         assert!(piece.distortion.edge_length_max_relative < 1e-10, "{:?}", piece.distortion);
         assert!(piece.distortion.is_overlap_free(), "{:?}", piece.distortion);
-        let tris: Vec<[_; 3]> = piece.triangles.iter().map(|t| t.map(|v| piece.flat[v as usize])).collect();
+        let mut tris: Vec<[_; 3]> = piece.triangles.iter().map(|t| t.map(|v| piece.flat[v as usize])).collect();
         let scale = tris.iter().flatten().map(|p| p.norm()).fold(0.0, f64::max);
+        // Every pair whose x ranges meet (sweep over the smallest x).
+        let x_range = |t: &[nalgebra::Vector2<f64>; 3]| {
+            (t[0].x.min(t[1].x).min(t[2].x), t[0].x.max(t[1].x).max(t[2].x))
+        };
+        tris.sort_by(|a, b| x_range(a).0.total_cmp(&x_range(b).0));
         for i in 0..tris.len() {
             for j in i + 1..tris.len() {
+                if x_range(&tris[j]).0 > x_range(&tris[i]).1 {
+                    break;
+                }
                 assert!(!triangles_overlap(tris[i], tris[j], 1e-7 * scale), "faces {i} and {j} overlap");
             }
         }
@@ -32,33 +40,108 @@ fn assert_exact_and_overlap_free(mesh: &TriangleMesh, net: &Net) {
     assert!(seen.iter().all(|&n| n == 1));
 }
 
+/// Piece counts on the shapes a maker tries first (at most, in one piece where the
+/// papercraft tools make one), every net exact and free of overlaps.
 #[test]
-fn net_piece_counts() {
-    let cases: Vec<(&str, TriangleMesh)> = vec![
-        ("box", primitives::cuboid([1.0, 2.0, 3.0])),
-        ("icosphere1", primitives::icosphere(1.0, 1)),
-        ("icosphere2", primitives::icosphere(1.0, 2)),
-        ("icosphere3", primitives::icosphere(1.0, 3)),
-        ("torus", primitives::torus(2.0, 0.7, 32, 16)),
-        ("cylinder", primitives::cylinder(1.0, 2.0, 32, true)),
-        ("cone", primitives::cone(1.0, 2.0, 32, true)),
-        ("hemisphere", primitives::hemisphere(1.0, 8, 32)),
-        ("wingnut", wingnut()),
+fn nets_of_primitives_are_exact_overlap_free_and_in_few_pieces() {
+    let cases: Vec<(&str, TriangleMesh, usize)> = vec![
+        ("box", primitives::cuboid([1.0, 2.0, 3.0]), 1),
+        ("icosahedron", primitives::icosphere(1.0, 0), 1),
+        ("icosphere 1", primitives::icosphere(1.0, 1), 5),
+        ("icosphere 2", primitives::icosphere(1.0, 2), 5),
+        ("icosphere 3", primitives::icosphere(1.0, 3), 5),
+        ("closed cylinder", primitives::cylinder(1.0, 2.0, 32, true), 1),
+        ("closed cone", primitives::cone(1.0, 2.0, 32, true), 1),
+        ("hemisphere", primitives::hemisphere(1.0, 8, 32), 1),
+        ("torus", primitives::torus(2.0, 0.7, 32, 16), 30),
     ];
-    for (name, mesh) in cases {
-        let t = std::time::Instant::now();
+    for (name, mesh, most) in cases {
         let net = unfold_net(&mesh, &NetOptions::default()).unwrap();
-        eprintln!(
-            "{name}: {} faces, {} pieces (merged {}), folds {}, cuts {}, {:.1} ms, sizes {:?}",
-            mesh.triangles.len(),
-            net.pieces.len(),
-            net.merged_piece_count,
-            net.fold_edge_count,
-            net.cut_edge_count,
-            t.elapsed().as_secs_f64() * 1e3,
-            net.pieces.iter().map(|p| p.faces.len()).collect::<Vec<_>>()
-        );
+        assert!(net.pieces.len() <= most, "{name}: {} pieces", net.pieces.len());
         assert_exact_and_overlap_free(&mesh, &net);
     }
 }
 
+#[test]
+fn a_box_unfolds_into_one_cross_of_six_rectangles_joined_by_five_folds() {
+    let mesh = primitives::cuboid([1.0, 2.0, 3.0]);
+    let net = unfold_net(&mesh, &NetOptions::default()).unwrap();
+    assert_eq!(net.pieces.len(), 1);
+    // The diagonals are kept (coplanar, no fold); five of the twelve box edges are folds,
+    // seven are cut.
+    assert_eq!((net.fold_edge_count, net.cut_edge_count), (5, 7));
+    let area: f64 = net.pieces[0]
+        .triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| net.pieces[0].flat[v as usize]);
+            0.5 * ((b - a).x * (c - a).y - (b - a).y * (c - a).x)
+        })
+        .sum();
+    assert!((area - 22.0).abs() < 1e-12, "{area}");
+}
+
+#[test]
+fn user_seams_are_always_cut_and_must_be_edges() {
+    let mut mesh = primitives::cuboid([1.0, 1.0, 1.0]);
+    // The four edges around the top side: it comes off as its own piece.
+    mesh.seam_edges = vec![[4, 5], [5, 7], [7, 6], [6, 4]];
+    let net = unfold_net(&mesh, &NetOptions::default()).unwrap();
+    assert_eq!(net.pieces.len(), 2);
+    assert_eq!(net.pieces[1].faces.len(), 2);
+    mesh.seam_edges = vec![[0, 7]];
+    let e = unfold_net(&mesh, &NetOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("seam edge 0"), "{e}");
+}
+
+#[test]
+fn the_wingnut_unfolds_exactly_without_overlap() {
+    let mesh = wingnut();
+    let net = unfold_net(&mesh, &NetOptions::default()).unwrap();
+    assert_exact_and_overlap_free(&mesh, &net);
+    // The body in one piece holding most faces.
+    assert!(net.pieces[0].faces.len() * 2 > mesh.triangles.len());
+}
+
+/// The classic developables with a boundary come out whole, cut along one ruling.
+#[test]
+fn an_open_tube_and_an_open_cone_are_cut_along_one_ruling_into_one_exact_piece() {
+    use sheetform_flatten::{cut_into_charts, ChartOptions};
+    for (name, mesh, sections) in [
+        ("tube", primitives::cylinder(1.0, 2.0, 32, false), 32),
+        ("cone", primitives::cone(1.0, 2.0, 32, false), 32),
+        ("fine cone", primitives::cone(3.0, 1.0, 200, false), 200),
+    ] {
+        let set = cut_into_charts(&mesh, &ChartOptions::default()).unwrap();
+        assert_eq!(set.charts.len(), 1, "{name}");
+        assert_eq!((set.opened_count, set.split_count), (1, 0), "{name}");
+        let chart = &set.charts[0];
+        assert!(chart.distortion.edge_length_max_relative <= 1e-10, "{name}: {:?}", chart.distortion);
+        assert!(chart.distortion.is_overlap_free());
+        // One seam: exactly one mesh edge is cut (two more chart vertices than mesh ones
+        // on a tube, one more on a cone whose apex is an end of the seam).
+        let extra = chart.vertices.len() - mesh.positions.len();
+        assert_eq!(extra, if name == "tube" { 2 } else { 1 }, "{name}");
+        // The pattern is the development: a tube's is a rectangle of the perimeter by the
+        // height; a cone's a sector of the slant height.
+        if name == "tube" {
+            // A rectangle, perimeter × height: its diameter is the diagonal and every
+            // point lies within it (a staircase seam would reach further).
+            let perimeter = sections as f64 * 2.0 * (std::f64::consts::PI / sections as f64).sin();
+            let diameter = chart
+                .flat
+                .iter()
+                .flat_map(|p| chart.flat.iter().map(move |q| (p - q).norm()))
+                .fold(0.0, f64::max);
+            assert!((diameter - (perimeter * perimeter + 4.0).sqrt()).abs() < 1e-9, "{diameter}");
+        } else {
+            let apex = chart.vertices.iter().position(|&v| v as usize == sections).unwrap();
+            let slant = (mesh.positions[0] - mesh.positions[sections]).norm();
+            for (i, p) in chart.flat.iter().enumerate() {
+                if i != apex {
+                    assert!(((p - chart.flat[apex]).norm() - slant).abs() < 1e-9);
+                }
+            }
+        }
+    }
+}
