@@ -83,7 +83,7 @@ pub struct ChartSet {
 ///    without boundary, to the first cone point), nearest first. On a tube or cone
 ///    meshed along its rulings that seam is one ruling, so it comes out in one piece.
 ///    This is tried when there are at most [`MAX_CONE_POINTS`] cone points (|angle
-///    defect| above `1e-6` rad) and [`MAX_SEAM_LOOPS`] boundary loops and genus 0; the
+///    defect| above [`crate::CONE_POINT_DEFECT`]) and [`MAX_SEAM_LOOPS`] boundary loops and genus 0; the
 ///    opened chart must pass the same test.
 /// 3. **Split until flat**: otherwise the chart is split in two: the two faces farthest
 ///    apart (double breadth-first search over the face adjacency) seed two regions that
@@ -249,7 +249,7 @@ fn open_to_disk(sub: &TriangleMesh) -> Option<(TriangleMesh, Vec<u32>, crate::Un
     }
     let defects = sheetform_mesh::vertex_developability(sub, &topology).angle_defect;
     let mut cone_points: Vec<u32> = (0..sub.positions.len() as u32)
-        .filter(|&v| defects[v as usize].abs() > 1e-6)
+        .filter(|&v| defects[v as usize].abs() > crate::CONE_POINT_DEFECT)
         .collect();
     if cone_points.len() > MAX_CONE_POINTS || (loops <= 1 && cone_points.is_empty()) {
         return None;
@@ -504,8 +504,22 @@ mod tests {
     }
 
     #[test]
-    fn without_creases_a_closed_surface_is_split_until_every_chart_is_a_flat_disk() {
+    fn without_creases_a_cube_is_opened_along_seams_through_its_eight_corners() {
         let mesh = cube(3);
+        let options = ChartOptions {
+            crease_angle_degrees: 180.0,
+            ..Default::default()
+        };
+        let set = cut_into_charts(&mesh, &options).unwrap();
+        assert_eq!((set.initial_chart_count, set.opened_count, set.split_count), (1, 1, 0));
+        assert_eq!(set.charts.len(), 1);
+        assert!(set.charts[0].distortion.edge_length_max_relative < 1e-10);
+        assert!(set.charts[0].distortion.is_overlap_free());
+    }
+
+    #[test]
+    fn without_creases_a_sphere_is_split_until_every_chart_is_a_flat_disk() {
+        let mesh = sheetform_mesh::primitives::icosphere(1.0, 2);
         let options = ChartOptions {
             crease_angle_degrees: 180.0,
             ..Default::default()

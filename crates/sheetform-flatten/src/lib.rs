@@ -11,14 +11,16 @@ mod distortion;
 mod edge_unfolding;
 mod error;
 mod exact_unfolding;
+mod layout_choice;
 mod lscm;
 
 pub use alignment::{align_rigid, RigidAlignment};
 pub use arap::{arap, ArapOptions};
-pub use chart_segmentation::{cut_into_charts, Chart, ChartOptions, ChartSet};
+pub use chart_segmentation::{cut_into_charts, Chart, ChartOptions, ChartSet, MAX_CONE_POINTS, MAX_SEAM_LOOPS};
 pub use distortion::{distortion, Distortion};
 pub use edge_unfolding::{unfold_net, Net, NetOptions, MAX_NET_WORK};
 pub use error::FlattenError;
+pub use layout_choice::{choose_layout, Layout, LayoutChoice, CONE_POINT_DEFECT, FACETED_FOLD_DEGREES};
 pub use exact_unfolding::{exact_unfold, UnfoldOptions, Unfolding};
 pub use lscm::lscm;
 
