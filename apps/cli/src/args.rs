@@ -156,8 +156,9 @@ pub(crate) struct PatternArgs {
     /// Leave out the seam IDs printed on both sides of every seam.
     #[arg(long)]
     pub(crate) no_seam_labels: bool,
-    /// Glue tabs along seams: on one side of each seam, or alternating between seams.
-    #[arg(long, value_enum, default_value_t = Tabs::None)]
+    /// Glue tabs along seams: on one side of each seam, alternating between seams, or
+    /// none; `auto`: on one side of each seam of a net (`flatten`), none otherwise.
+    #[arg(long, value_enum, default_value_t = Tabs::Auto)]
     pub(crate) tabs: Tabs,
     /// Glue tab depth (mm).
     #[arg(long, value_name = "MM", default_value_t = 5.0)]
@@ -196,6 +197,7 @@ pub(crate) fn parse_sheet(text: &str) -> Result<(f64, f64), String> {
 
 #[derive(Clone, Copy, PartialEq, clap::ValueEnum)]
 pub(crate) enum Tabs {
+    Auto,
     None,
     One,
     Alternate,
@@ -204,7 +206,11 @@ pub(crate) enum Tabs {
 /// How `flatten` cuts a mesh into charts.
 #[derive(clap::Args, Clone, Copy)]
 pub(crate) struct ChartArgs {
-    /// When to cut into charts: `auto` when the mesh is not a disk or has seams.
+    /// Layout: `auto` picks what a maker expects (a developable disk whole; a tube or
+    /// cone in one piece cut along a ruling; a faceted model as a net; a finely meshed
+    /// curved surface in charts within --max-distortion); `net` unfolds the facets edge
+    /// by edge (exact, folds on kept edges, glue tabs on cut ones); `smooth` always cuts
+    /// smooth charts; `never` flattens whole (opening only the user's seams).
     #[arg(long, value_enum, default_value_t = Charts::Auto)]
     pub(crate) charts: Charts,
     /// Edges folded by more than this (degrees) become seams between charts.
@@ -218,7 +224,9 @@ pub(crate) struct ChartArgs {
 #[derive(Clone, Copy, clap::ValueEnum)]
 pub(crate) enum Charts {
     Auto,
-    Always,
+    Net,
+    #[value(alias = "always")]
+    Smooth,
     Never,
 }
 
@@ -257,7 +265,7 @@ impl From<PatternArgs> for PatternOutputOptions {
             },
             min_fold_angle_degrees: a.min_fold_angle,
             seam_labels: !a.no_seam_labels,
-            tabs: (a.tabs != Tabs::None).then_some(TabOptions {
+            tabs: matches!(a.tabs, Tabs::One | Tabs::Alternate).then_some(TabOptions {
                 width_mm: a.tab_width,
                 angle_degrees: a.tab_angle,
                 sides: if a.tabs == Tabs::Alternate {

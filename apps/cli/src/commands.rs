@@ -2,11 +2,12 @@
 //! with a context rooted at the scene's directory, write the outputs, print a summary and
 //! return the exit code the library decided.
 
-use crate::args::{ChartArgs, Charts, Method, PatternArgs, SchemaFormat, SolverArg, Unit};
+use crate::args::{ChartArgs, Charts, Method, PatternArgs, SchemaFormat, SolverArg, Tabs, Unit};
 use indicatif::{ProgressBar, ProgressStyle};
 use sheetform::bend::BendScene;
 use sheetform::flatten::ChartOptions;
 use sheetform::io::read_mesh;
+use sheetform::pattern::{TabOptions, TabSides};
 use sheetform::pipeline::{
     run_bend, run_check, run_ffd, run_flatten, run_photo, run_slit, write_outputs, BendRunOptions, ChartMode,
     CheckOptions, FfdRunOptions, FlattenMethod, FlattenOptions, Outcome, PhotoInput, PhotoRunOptions, PipelineError,
@@ -81,14 +82,23 @@ pub(crate) fn flatten_command(
         Method::Lscm => FlattenMethod::Lscm,
         Method::Arap => FlattenMethod::Arap,
     };
+    // `--tabs auto`: a net gets tabs on one side of every seam.
+    let net_tabs = (pattern.tabs == Tabs::Auto).then_some(TabOptions {
+        width_mm: pattern.tab_width,
+        angle_degrees: pattern.tab_angle,
+        sides: TabSides::One,
+    });
     let options = FlattenOptions {
         weld,
         unit: units.into(),
+        net_tabs,
+        net_options: Default::default(),
         pattern: pattern.into(),
         method,
         charts: match charts.charts {
             Charts::Auto => ChartMode::Auto,
-            Charts::Always => ChartMode::Always,
+            Charts::Net => ChartMode::Net,
+            Charts::Smooth => ChartMode::Smooth,
             Charts::Never => ChartMode::Never,
         },
         chart_options: ChartOptions {
@@ -112,7 +122,7 @@ pub(crate) fn flatten_command(
         );
     } else if run.outcome == Outcome::OutOfTolerance {
         eprintln!(
-            "sheetform: {}: the pattern stretches an edge by {:.1} % (bound {:.1} %); written to {}, but out of tolerance: cut it into charts (--charts always) or allow more (--max-distortion)",
+            "sheetform: {}: the pattern stretches an edge by {:.1} % (bound {:.1} %); written to {}, but out of tolerance: cut it into charts (--charts smooth) or allow more (--max-distortion)",
             mesh.display(),
             100.0 * d.edge_length_max_relative,
             100.0 * options.chart_options.max_edge_distortion,

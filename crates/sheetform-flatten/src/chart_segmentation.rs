@@ -307,9 +307,8 @@ fn open_to_disk(sub: &TriangleMesh) -> Option<(TriangleMesh, Vec<u32>, crate::Un
     }
     let mut cut: Vec<[u32; 2]> = Vec::new();
     loop {
-        let is_target = |v: usize, in_tree: &[bool]| {
-            !in_tree[v] && (cone_points.contains(&(v as u32)) || loop_of[v] != u32::MAX)
-        };
+        let is_target =
+            |v: usize, in_tree: &[bool]| !in_tree[v] && (cone_points.contains(&(v as u32)) || loop_of[v] != u32::MAX);
         if !(0..nv).any(|v| is_target(v, &in_tree)) {
             break;
         }

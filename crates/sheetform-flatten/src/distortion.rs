@@ -1,5 +1,5 @@
 use crate::Vec2;
-use sheetform_geometry::{cross2, segments_cross};
+use sheetform_geometry::cross2;
 use sheetform_mesh::TriangleMesh;
 
 /// How far a flattening is from an isometry, and whether it overlaps itself.
@@ -81,10 +81,25 @@ pub fn distortion(mesh: &TriangleMesh, flat: &[Vec2]) -> Distortion {
             if shares {
                 continue;
             }
-            if segments_cross(a, b, c, dd) {
+            if crosses_beyond_rounding(a, b, c, dd) {
                 d.boundary_crossings += 1;
             }
         }
     }
     d
+}
+
+/// Whether segments `ab` and `cd` cross properly with every end more than `1e-9` of the
+/// longer segment's length from the other segment's line: a vertex of a net lying on
+/// another piece's edge up to rounding touches, it does not cross.
+fn crosses_beyond_rounding(a: Vec2, b: Vec2, c: Vec2, d: Vec2) -> bool {
+    let (r, s) = (b - a, d - c);
+    let (lr, ls) = (r.norm(), s.norm());
+    if lr == 0.0 || ls == 0.0 {
+        return false;
+    }
+    let tolerance = 1e-9 * lr.max(ls);
+    let (d1, d2) = (cross2(r, c - a) / lr, cross2(r, d - a) / lr);
+    let (d3, d4) = (cross2(s, a - c) / ls, cross2(s, b - c) / ls);
+    d1 * d2 < 0.0 && d3 * d4 < 0.0 && d1.abs().min(d2.abs()) > tolerance && d3.abs().min(d4.abs()) > tolerance
 }

@@ -75,6 +75,9 @@ pub struct Net {
 /// 3. **Merging**: a piece, smallest first, is hinged onto a neighbouring piece across
 ///    one of the edges cut between them when it fits there without overlap (this gathers
 ///    the single faces and slivers a greedy growth leaves behind).
+/// 4. **No zero-width slits**: a cut edge whose two faces lie in one piece with the edge
+///    on the same place of both (around a flat interior vertex, where a tree of faces
+///    has to leave one edge cut) is joined again.
 ///
 /// The result has zero distortion by construction: every flat face is congruent to its 3D
 /// face up to rounding. Published tools choose the spanning tree the same way in spirit
@@ -114,7 +117,11 @@ pub fn unfold_net(mesh: &TriangleMesh, options: &NetOptions) -> Result<Net, Flat
     let attempts = options.attempts.clamp(1, (MAX_NET_WORK / nf).max(1));
     let mut best: Option<Growth> = None;
     for i in 0..attempts {
-        let seed = if i == 0 { faces.central } else { (i * nf / attempts) as u32 };
+        let seed = if i == 0 {
+            faces.central
+        } else {
+            (i * nf / attempts) as u32
+        };
         let growth = grow(&faces, &table, &forced_cut, seed);
         let better = best.as_ref().is_none_or(|b| {
             (growth.piece_count, growth.cut_length(&faces, &table)) < (b.piece_count, b.cut_length(&faces, &table))
@@ -130,6 +137,7 @@ pub fn unfold_net(mesh: &TriangleMesh, options: &NetOptions) -> Result<Net, Flat
         merge_pieces(&faces, &table, &forced_cut, &mut growth);
     }
     let merged_piece_count = before_merge - growth.piece_count;
+    close_closed_slits(&faces, &table, &forced_cut, &mut growth);
 
     // The pieces as charts: cut the mesh along every edge not kept.
     let cut: Vec<[u32; 2]> = (0..table.len())
@@ -321,10 +329,7 @@ impl OverlapGrid {
         for x in x0..=x1 {
             for y in y0..=y1 {
                 if let Some(list) = self.cells.get(&(x, y)) {
-                    if list
-                        .iter()
-                        .any(|&g| triangles_overlap(*t, flat[g as usize], tolerance))
-                    {
+                    if list.iter().any(|&g| triangles_overlap(*t, flat[g as usize], tolerance)) {
                         return true;
                     }
                 }
@@ -406,17 +411,12 @@ fn grow(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], seed: u32)
             let k = k as usize;
             let (a, b) = (mesh.triangles[f as usize][k], mesh.triangles[f as usize][(k + 1) % 3]);
             // g runs the edge b → a.
-            let Some(j) = (0..3).find(|&j| {
-                mesh.triangles[g as usize][j] == b && mesh.triangles[g as usize][(j + 1) % 3] == a
-            }) else {
+            let Some(j) =
+                (0..3).find(|&j| mesh.triangles[g as usize][j] == b && mesh.triangles[g as usize][(j + 1) % 3] == a)
+            else {
                 continue;
             };
-            let t = faces.hinge(
-                g,
-                j,
-                growth.flat[f as usize][(k + 1) % 3],
-                growth.flat[f as usize][k],
-            );
+            let t = faces.hinge(g, j, growth.flat[f as usize][(k + 1) % 3], growth.flat[f as usize][k]);
             if grid.overlaps(faces.cell, &t, &growth.flat, faces.tolerance) {
                 refused.push(g);
                 continue;
@@ -438,6 +438,34 @@ fn grow(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], seed: u32)
             });
     }
     growth
+}
+
+/// Keeps the cut edges whose two faces lie in one piece with the edge in the same place on
+/// both (step 4 of [`unfold_net`]): around a flat interior vertex (the centre of a cap,
+/// a point of a flat polygon) a tree of faces must leave one edge cut, a slit of zero
+/// width that is no cut at all; it is joined again.
+fn close_closed_slits(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], growth: &mut Growth) {
+    let mesh = faces.mesh;
+    for e in 0..table.len() {
+        if growth.kept[e] || forced_cut[e] {
+            continue;
+        }
+        let [f, g] = table.sides(e) else { continue };
+        let (f, g) = (f.face as usize, g.face as usize);
+        if growth.piece[f] != growth.piece[g] {
+            continue;
+        }
+        let [a, b] = table.edges[e];
+        let at = |face: usize, v: u32| {
+            let k = mesh.triangles[face].iter().position(|&w| w == v).expect("edge vertex");
+            growth.flat[face][k]
+        };
+        let length = (at(f, a) - at(f, b)).norm();
+        let tolerance = 1e-9 * length.max(faces.tolerance);
+        if (at(f, a) - at(g, a)).norm() <= tolerance && (at(f, b) - at(g, b)).norm() <= tolerance {
+            growth.kept[e] = true;
+        }
+    }
 }
 
 /// Hinges small pieces onto neighbouring pieces where they fit (step 3 of [`unfold_net`]).
@@ -465,7 +493,9 @@ fn merge_pieces(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], gr
                     if e == u32::MAX || forced_cut[e as usize] || growth.kept[e as usize] {
                         continue;
                     }
-                    let Some(g) = table.opposite(f as usize, k) else { continue };
+                    let Some(g) = table.opposite(f as usize, k) else {
+                        continue;
+                    };
                     let q = growth.piece[g as usize] as usize;
                     if q == p {
                         continue;
@@ -477,9 +507,9 @@ fn merge_pieces(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], gr
                     budget -= cost;
                     // Move piece p so that f's edge k lies on g's copy of the edge.
                     let (a, b) = (mesh.triangles[f as usize][k], mesh.triangles[f as usize][(k + 1) % 3]);
-                    let Some(j) = (0..3).find(|&j| {
-                        mesh.triangles[g as usize][j] == b && mesh.triangles[g as usize][(j + 1) % 3] == a
-                    }) else {
+                    let Some(j) = (0..3)
+                        .find(|&j| mesh.triangles[g as usize][j] == b && mesh.triangles[g as usize][(j + 1) % 3] == a)
+                    else {
                         continue;
                     };
                     let (from_a, from_b) = (growth.flat[f as usize][k], growth.flat[f as usize][(k + 1) % 3]);

@@ -107,7 +107,10 @@ mod tests {
     #[test]
     fn the_choice_follows_the_shape() {
         let layout = |m: &TriangleMesh| choose_layout(m, 30.0).layout;
-        assert_eq!(layout(&TriangleMesh::grid(8, 8, |u, v| [u, v, 0.3 * u * u])), Layout::Whole);
+        assert_eq!(
+            layout(&TriangleMesh::grid(8, 8, |u, v| [u, v, 0.3 * u * u])),
+            Layout::Whole
+        );
         assert_eq!(layout(&primitives::cylinder(1.0, 2.0, 32, false)), Layout::Charts);
         assert_eq!(layout(&primitives::cone(1.0, 2.0, 32, false)), Layout::Charts);
         for m in [

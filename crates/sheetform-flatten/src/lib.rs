@@ -20,8 +20,8 @@ pub use chart_segmentation::{cut_into_charts, Chart, ChartOptions, ChartSet, MAX
 pub use distortion::{distortion, Distortion};
 pub use edge_unfolding::{unfold_net, Net, NetOptions, MAX_NET_WORK};
 pub use error::FlattenError;
-pub use layout_choice::{choose_layout, Layout, LayoutChoice, CONE_POINT_DEFECT, FACETED_FOLD_DEGREES};
 pub use exact_unfolding::{exact_unfold, UnfoldOptions, Unfolding};
+pub use layout_choice::{choose_layout, Layout, LayoutChoice, CONE_POINT_DEFECT, FACETED_FOLD_DEGREES};
 pub use lscm::lscm;
 
 /// A 2D point on the pattern.

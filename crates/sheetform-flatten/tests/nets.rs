@@ -16,21 +16,31 @@ fn wingnut() -> TriangleMesh {
 fn assert_exact_and_overlap_free(mesh: &TriangleMesh, net: &Net) {
     let mut seen = vec![0; mesh.triangles.len()];
     for piece in &net.pieces {
-        assert!(piece.distortion.edge_length_max_relative < 1e-10, "{:?}", piece.distortion);
+        assert!(
+            piece.distortion.edge_length_max_relative < 1e-10,
+            "{:?}",
+            piece.distortion
+        );
         assert!(piece.distortion.is_overlap_free(), "{:?}", piece.distortion);
-        let mut tris: Vec<[_; 3]> = piece.triangles.iter().map(|t| t.map(|v| piece.flat[v as usize])).collect();
+        let mut tris: Vec<[_; 3]> = piece
+            .triangles
+            .iter()
+            .map(|t| t.map(|v| piece.flat[v as usize]))
+            .collect();
         let scale = tris.iter().flatten().map(|p| p.norm()).fold(0.0, f64::max);
         // Every pair whose x ranges meet (sweep over the smallest x).
-        let x_range = |t: &[nalgebra::Vector2<f64>; 3]| {
-            (t[0].x.min(t[1].x).min(t[2].x), t[0].x.max(t[1].x).max(t[2].x))
-        };
+        let x_range =
+            |t: &[nalgebra::Vector2<f64>; 3]| (t[0].x.min(t[1].x).min(t[2].x), t[0].x.max(t[1].x).max(t[2].x));
         tris.sort_by(|a, b| x_range(a).0.total_cmp(&x_range(b).0));
         for i in 0..tris.len() {
             for j in i + 1..tris.len() {
                 if x_range(&tris[j]).0 > x_range(&tris[i]).1 {
                     break;
                 }
-                assert!(!triangles_overlap(tris[i], tris[j], 1e-7 * scale), "faces {i} and {j} overlap");
+                assert!(
+                    !triangles_overlap(tris[i], tris[j], 1e-7 * scale),
+                    "faces {i} and {j} overlap"
+                );
             }
         }
         for &f in &piece.faces {
@@ -116,7 +126,11 @@ fn an_open_tube_and_an_open_cone_are_cut_along_one_ruling_into_one_exact_piece()
         assert_eq!(set.charts.len(), 1, "{name}");
         assert_eq!((set.opened_count, set.split_count), (1, 0), "{name}");
         let chart = &set.charts[0];
-        assert!(chart.distortion.edge_length_max_relative <= 1e-10, "{name}: {:?}", chart.distortion);
+        assert!(
+            chart.distortion.edge_length_max_relative <= 1e-10,
+            "{name}: {:?}",
+            chart.distortion
+        );
         assert!(chart.distortion.is_overlap_free());
         // One seam: exactly one mesh edge is cut (two more chart vertices than mesh ones
         // on a tube, one more on a cone whose apex is an end of the seam).
@@ -133,7 +147,10 @@ fn an_open_tube_and_an_open_cone_are_cut_along_one_ruling_into_one_exact_piece()
                 .iter()
                 .flat_map(|p| chart.flat.iter().map(move |q| (p - q).norm()))
                 .fold(0.0, f64::max);
-            assert!((diameter - (perimeter * perimeter + 4.0).sqrt()).abs() < 1e-9, "{diameter}");
+            assert!(
+                (diameter - (perimeter * perimeter + 4.0).sqrt()).abs() < 1e-9,
+                "{diameter}"
+            );
         } else {
             let apex = chart.vertices.iter().position(|&v| v as usize == sections).unwrap();
             let slant = (mesh.positions[0] - mesh.positions[sections]).norm();

@@ -25,8 +25,8 @@ pub use error::GeometryError;
 pub use frame::{curve_frame, CurveFrame, CurveFrameDerivatives};
 pub use helix::Helix;
 pub use polygon::{
-    cross2, rings_contain, segment_intersection, segments_cross, segments_meet, signed_area, triangles_overlap, Polygon, PolygonEdge,
-    RayHit,
+    cross2, rings_contain, segment_intersection, segments_cross, segments_meet, signed_area, triangles_overlap,
+    Polygon, PolygonEdge, RayHit,
 };
 pub use rigid::{rotation_about_axis, RigidMotion};
 

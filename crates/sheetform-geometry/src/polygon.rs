@@ -537,7 +537,11 @@ mod tests {
         assert!(triangles_overlap(t, [v(0.1, 0.1), v(0.3, 0.1), v(0.1, 0.3)], 1e-12));
         assert!(triangles_overlap(t, [t[2], t[0], t[1]], 1e-12));
         // A sliver of overlap below the tolerance is touching.
-        assert!(!triangles_overlap(t, [v(0.999_999, 0.0), v(2.0, 0.0), v(2.0, 1.0)], 1e-3));
+        assert!(!triangles_overlap(
+            t,
+            [v(0.999_999, 0.0), v(2.0, 0.0), v(2.0, 1.0)],
+            1e-3
+        ));
         assert!(triangles_overlap(t, [v(0.9, 0.0), v(2.0, 0.0), v(2.0, 1.0)], 1e-3));
     }
 }

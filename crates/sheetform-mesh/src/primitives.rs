@@ -42,10 +42,7 @@ pub fn cuboid(size: [f64; 3]) -> TriangleMesh {
         [0, 4, 6, 2], // x−
         [1, 3, 7, 5], // x+
     ];
-    let triangles = quads
-        .iter()
-        .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
-        .collect();
+    let triangles = quads.iter().flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]]).collect();
     mesh("box", positions, triangles)
 }
 
@@ -189,9 +186,7 @@ pub fn cone(radius: f64, height: f64, sections: usize, capped: bool) -> Triangle
     let mut positions: Vec<Vec3> = circle(radius, 0.0, n).collect();
     positions.push(Vec3::new(0.0, 0.0, height));
     let apex = n as u32;
-    let mut triangles: Vec<[u32; 3]> = (0..n)
-        .map(|i| [i as u32, ((i + 1) % n) as u32, apex])
-        .collect();
+    let mut triangles: Vec<[u32; 3]> = (0..n).map(|i| [i as u32, ((i + 1) % n) as u32, apex]).collect();
     if capped {
         let ring: Vec<u32> = (0..n as u32).collect();
         cap(&mut positions, &mut triangles, &ring, Vec3::zeros(), false);
@@ -242,14 +237,23 @@ mod tests {
         let cases = [
             (cuboid([1.0, 2.0, 3.0]), 2, 6.0),
             (icosphere(1.0, 3), 2, 4.0 / 3.0 * std::f64::consts::PI),
-            (torus(2.0, 0.5, 48, 24), 0, 2.0 * std::f64::consts::PI.powi(2) * 2.0 * 0.25),
+            (
+                torus(2.0, 0.5, 48, 24),
+                0,
+                2.0 * std::f64::consts::PI.powi(2) * 2.0 * 0.25,
+            ),
             (cylinder(1.0, 2.0, 64, true), 2, std::f64::consts::PI * 2.0),
             (cone(1.0, 2.0, 64, true), 2, std::f64::consts::PI * 2.0 / 3.0),
         ];
         for (m, euler, v) in cases {
             let t = mesh_topology(&m);
             assert!(t.is_clean() && t.consistently_oriented, "{}: {t:?}", m.groups[0]);
-            assert_eq!((t.euler_characteristic, t.boundary_loop_count), (euler, 0), "{}", m.groups[0]);
+            assert_eq!(
+                (t.euler_characteristic, t.boundary_loop_count),
+                (euler, 0),
+                "{}",
+                m.groups[0]
+            );
             // Outward: positive volume within the discretisation error.
             let rel = (volume(&m) - v) / v;
             assert!(rel < 1e-12 && rel > -0.02, "{}: {} vs {v}", m.groups[0], volume(&m));

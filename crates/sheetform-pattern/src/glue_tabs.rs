@@ -47,8 +47,12 @@ pub struct TabReport {
     pub narrowed: usize,
     /// Tabs left out because even a quarter width overlapped something.
     pub dropped: usize,
-    /// Seam stretches too short (under twice the tab width) to take a tab.
+    /// Seam stretches too short (under half the tab width) to take a tab.
     pub too_short: usize,
+    /// Tabs that did not fit on the wanted side of their seam and were placed on the
+    /// other side instead (counted in `placed`, not in `dropped`).
+    #[serde(default)]
+    pub moved_to_other_side: usize,
 }
 
 /// Even-odd point-in-region over a set of loops.
@@ -104,12 +108,15 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
         .iter()
         .flat_map(|l| (0..l.len()).map(move |i| [l[i], l[(i + 1) % l.len()]]))
         .collect();
-    for run in runs {
+    // Seams whose tab could not be placed on the wanted side: tried on the other side.
+    let mut failed: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
+    let passes = runs.iter().map(|r| (0, r)).chain(runs.iter().map(|r| (1, r)));
+    for (pass, run) in passes {
         let wanted_side = match options.sides {
             TabSides::One => 0,
             TabSides::Alternate => (run.seam % 2) as u8,
         };
-        if run.side != wanted_side {
+        if (pass == 0) != (run.side == wanted_side) || (pass == 1 && failed.get(&run.seam).is_none_or(|&n| n == 0)) {
             continue;
         }
         let l = &loops[run.loop_index];
@@ -139,14 +146,24 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
             let (p0, p1) = (point(from), point(to));
             let chord = p1 - p0;
             let len = chord.norm();
-            if len < 2.0 * width {
-                report.too_short += 1;
+            if len < 0.5 * width {
+                if pass == 0 {
+                    report.too_short += 1;
+                }
+                continue;
+            }
+            if pass == 1 && failed.get(&run.seam).is_none_or(|&n| n == 0) {
                 continue;
             }
             let d = chord / len;
             let out = Vec2::new(d.y, -d.x);
             let mut placed_tab = None;
-            for (attempt, w) in [width, 0.5 * width, 0.25 * width].into_iter().enumerate() {
+            // Full, half and quarter width, as far as the stretch is twice as long.
+            for (attempt, w) in [width, 0.5 * width, 0.25 * width]
+                .into_iter()
+                .enumerate()
+                .filter(|&(_, w)| len >= 2.0 * w)
+            {
                 let inset = (w * cot).min(0.45 * len);
                 let q0 = p0 + out * w + d * inset;
                 let q1 = p1 + out * w - d * inset;
@@ -182,6 +199,11 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
             match placed_tab {
                 Some(outer) => {
                     report.placed += 1;
+                    if pass == 1 {
+                        report.moved_to_other_side += 1;
+                        report.dropped -= 1;
+                        *failed.get_mut(&run.seam).expect("a failed seam") -= 1;
+                    }
                     placed.push(PlacedTab {
                         loop_index: run.loop_index,
                         from: from % n,
@@ -189,7 +211,11 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
                         outer,
                     });
                 }
-                None => report.dropped += 1,
+                None if pass == 0 => {
+                    *failed.entry(run.seam).or_default() += 1;
+                    report.dropped += 1;
+                }
+                None => {}
             }
         }
     }

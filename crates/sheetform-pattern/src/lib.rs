@@ -7,6 +7,7 @@
 mod dxf_pattern;
 mod error;
 mod glue_tabs;
+mod label_placement;
 mod pattern;
 mod pdf_tiles;
 mod seam_matching;

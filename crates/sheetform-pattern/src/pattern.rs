@@ -1,4 +1,5 @@
 use crate::glue_tabs::{add_glue_tabs, TabOptions, TabReport};
+use crate::label_placement::{place_labels, LabelRequest, LabelSpot};
 use crate::seam_matching::{match_seams, SeamRun};
 use crate::sheet_packing::{pack_pieces, SheetOptions};
 use crate::{PatternError, Vec2};
@@ -83,6 +84,11 @@ pub struct Pattern {
     pub seam_count: usize,
     /// Glue tabs placed and dropped.
     pub tabs: TabReport,
+    /// Labels printed smaller than asked so that they fit inside their piece off every
+    /// line.
+    pub labels_shrunk: usize,
+    /// Labels left out: nowhere in their piece was free of lines and other labels.
+    pub labels_dropped: usize,
 }
 
 /// Knobs of [`pattern_from_mesh`].
@@ -156,6 +162,8 @@ impl Pattern {
             sheets: vec![(Vec2::zeros(), size)],
             seam_count: self.seam_count,
             tabs: self.tabs,
+            labels_shrunk: self.labels_shrunk,
+            labels_dropped: self.labels_dropped,
         }
     }
 }
@@ -185,7 +193,7 @@ impl PatternPiece {
                 .iter()
                 .map(|l| Label {
                     position: f(l.position),
-                    angle_radians: l.angle_radians + turn,
+                    angle_radians: upright(l.angle_radians + turn),
                     ..l.clone()
                 })
                 .collect(),
@@ -196,6 +204,20 @@ impl PatternPiece {
     /// Axis-aligned bounds of the cut loops.
     pub fn bounds(&self) -> (Vec2, Vec2) {
         point_bounds(self.cut.iter().flatten())
+    }
+}
+
+/// A text direction turned by half a turn if needed so that the text reads upright:
+/// within (−90°, 90°] of +x.
+pub(crate) fn upright(angle: f64) -> f64 {
+    use std::f64::consts::{FRAC_PI_2, PI, TAU};
+    let a = (angle + PI).rem_euclid(TAU) - PI;
+    if a > FRAC_PI_2 {
+        a - PI
+    } else if a <= -FRAC_PI_2 {
+        a + PI
+    } else {
+        a
     }
 }
 
@@ -337,7 +359,8 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
         })
         .collect();
     fold_edges.sort_by_key(|x| x.0);
-    for ([a, b], angle) in fold_edges {
+    for (chain, angle) in merge_collinear_folds(&fold_edges, |v| at(v)) {
+        let (a, b) = (chain[0], *chain.last().expect("a chain has two ends"));
         pieces[vertex_part(a, &mut parent)].folds.push(Fold {
             a: at(a),
             b: at(b),
@@ -365,61 +388,107 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
         }
     }
 
-    // Piece labels at the centroid of each mesh piece's largest triangle.
+    // Piece names: spots at the centroids of each mesh piece's largest triangles.
     let label_height = 4.0;
+    let mut requests: Vec<LabelRequest> = Vec::new();
+    let mut by_piece: Vec<Vec<(f64, Vec2, usize)>> = vec![Vec::new(); mesh.pieces.len()];
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        let [a, b, c] = t.map(at);
+        let area = ((b - a).x * (c - a).y - (b - a).y * (c - a).x).abs();
+        by_piece[mesh.face_pieces[f] as usize].push((area, (a + b + c) / 3.0, f));
+    }
     for (p, piece) in mesh.pieces.iter().enumerate() {
-        let best = mesh
-            .triangles
-            .iter()
-            .enumerate()
-            .filter(|(f, _)| mesh.face_pieces[*f] as usize == p)
-            .map(|(f, t)| {
-                let [a, b, c] = t.map(at);
-                (
-                    ((b - a).x * (c - a).y - (b - a).y * (c - a).x).abs(),
-                    (a + b + c) / 3.0,
-                    f,
-                )
+        let spots = &mut by_piece[p];
+        spots.sort_by(|x, y| y.0.total_cmp(&x.0));
+        let Some(&(_, _, f)) = spots.first() else { continue };
+        // The largest triangles' centroids first, then a grid over the piece from its
+        // area centroid outwards (for pieces of narrow faces, where the open room lies
+        // across several faces).
+        let total: f64 = spots.iter().map(|x| x.0).sum();
+        let centre = spots.iter().map(|x| x.1 * x.0).sum::<Vec2>() / total.max(f64::MIN_POSITIVE);
+        let (lo, hi) = point_bounds(spots.iter().map(|x| &x.1));
+        let mut grid: Vec<Vec2> = (0..NAME_GRID * NAME_GRID)
+            .map(|i| {
+                let (u, v) = ((i % NAME_GRID) as f64 + 0.5, (i / NAME_GRID) as f64 + 0.5);
+                lo + (hi - lo).component_mul(&Vec2::new(u, v)) / NAME_GRID as f64
             })
-            .max_by(|x, y| x.0.total_cmp(&y.0));
-        if let Some((_, c, f)) = best {
-            pieces[face_part[f]].labels.push(Label {
-                position: c,
-                text: piece.name.clone(),
-                height_mm: label_height,
-                angle_radians: 0.0,
-                kind: LabelKind::Piece,
-            });
-        }
+            .collect();
+        grid.sort_by(|a, b| (a - centre).norm().total_cmp(&(b - centre).norm()));
+        requests.push(LabelRequest {
+            piece: face_part[f],
+            text: piece.name.clone(),
+            kind: LabelKind::Piece,
+            height_mm: label_height,
+            spots: spots
+                .iter()
+                .take(MAX_LABEL_SPOTS)
+                .map(|x| x.1)
+                .chain(grid)
+                .map(|point| LabelSpot {
+                    point,
+                    inward: Vec2::zeros(),
+                    direction: 0.0,
+                })
+                .collect(),
+        });
     }
 
-    // Seams: boundary stretches that meet in 3D, with matching IDs.
+    // Seams: boundary stretches that meet in 3D, with matching IDs; spots along the run
+    // from its middle edge outwards, the text along the edge inside the piece.
     let runs: Vec<SeamRun> = match_seams(mesh, &loops, 1e-9 * mesh_scale(mesh));
     let seam_count = runs.iter().map(|r| r.seam + 1).max().unwrap_or(0);
     if options.seam_labels {
         let seam_height = 3.0;
         for r in &runs {
-            // The middle edge of the run, label set inside the piece (left of the loop).
             let l = &loops[r.loop_index];
-            let mid = r.start + r.edges / 2;
-            let (a, b) = (at(l[mid % l.len()]), at(l[(mid + 1) % l.len()]));
-            let d = b - a;
-            if d.norm() == 0.0 {
-                continue;
+            let middle = r.edges / 2;
+            let mut spots = Vec::new();
+            for step in 0..r.edges.min(MAX_LABEL_SPOTS) {
+                // 0, +1, −1, +2, −2, … from the middle edge.
+                let offset = (step as isize + 1) / 2 * if step % 2 == 1 { 1 } else { -1 };
+                let k = middle as isize + offset;
+                if k < 0 || k >= r.edges as isize {
+                    continue;
+                }
+                let i = r.start + k as usize;
+                let (a, b) = (at(l[i % l.len()]), at(l[(i + 1) % l.len()]));
+                let d = b - a;
+                if d.norm() == 0.0 {
+                    continue;
+                }
+                let inward = Vec2::new(-d.y, d.x).normalize();
+                let fractions: &[f64] = if step == 0 { &[0.5, 0.3, 0.7] } else { &[0.5] };
+                for &t in fractions {
+                    spots.push(LabelSpot {
+                        point: a + d * t,
+                        inward,
+                        direction: d.y.atan2(d.x),
+                    });
+                }
             }
-            let inward = Vec2::new(-d.y, d.x).normalize();
-            pieces[loop_part[r.loop_index]].labels.push(Label {
-                position: (a + b) * 0.5 + inward * (0.9 * seam_height),
+            requests.push(LabelRequest {
+                piece: loop_part[r.loop_index],
                 text: format!("{}", r.seam + 1),
-                height_mm: seam_height,
-                angle_radians: d.y.atan2(d.x),
                 kind: LabelKind::Seam,
+                height_mm: seam_height,
+                spots,
             });
         }
     }
 
-    // Cut loops, then tabs on them.
+    // Labels placed against the pieces' own outlines and folds (tabs lie outside).
     let mut loop_points: Vec<Vec<Vec2>> = loops.iter().map(|l| l.iter().map(|&v| at(v)).collect()).collect();
+    for (i, points) in loop_points.iter().enumerate() {
+        pieces[loop_part[i]].cut.push(points.clone());
+    }
+    // Seam IDs first (they belong at their edge), names where room is left.
+    requests.sort_by_key(|r| r.kind == LabelKind::Piece);
+    let placement = place_labels(&mut pieces, &requests);
+    for piece in &mut pieces {
+        piece.cut.clear();
+    }
+
+    // Cut loops, then tabs on them.
     let mut tabs = TabReport::default();
     let mut tab_folds: Vec<Vec<Fold>> = vec![Vec::new(); loops.len()];
     if let Some(tab_options) = &options.tabs {
@@ -429,7 +498,7 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
         tabs = report;
     }
     for (i, points) in loop_points.into_iter().enumerate() {
-        pieces[loop_part[i]].cut.push(points);
+        pieces[loop_part[i]].cut.push(without_collinear_points(points));
         pieces[loop_part[i]].folds.append(&mut tab_folds[i]);
     }
 
@@ -438,12 +507,111 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
         sheets: Vec::new(),
         seam_count,
         tabs,
+        labels_shrunk: placement.shrunk,
+        labels_dropped: placement.dropped,
     };
     if let Some(sheet) = &options.sheet {
         pack_pieces(&mut pattern, sheet)?;
     }
     Ok(pattern)
 }
+
+/// Fold edges `([a, b], signed angle)` joined into straight lines: at a vertex where
+/// exactly two fold edges meet, run on in a straight line (within `1e-9` of their length)
+/// and fold the same way by the same angle (within 0.5°), they become one line. Returns
+/// each line's vertex chain and its mean signed angle (radians).
+fn merge_collinear_folds(edges: &[([u32; 2], f64)], at: impl Fn(u32) -> Vec2) -> Vec<(Vec<u32>, f64)> {
+    let mut at_vertex: HashMap<u32, Vec<usize>> = HashMap::new();
+    for (i, ([a, b], _)) in edges.iter().enumerate() {
+        at_vertex.entry(*a).or_default().push(i);
+        at_vertex.entry(*b).or_default().push(i);
+    }
+    let other = |i: usize, v: u32| {
+        if edges[i].0[0] == v {
+            edges[i].0[1]
+        } else {
+            edges[i].0[0]
+        }
+    };
+    // The edge continuing edge `i` straight on through its end `v`, if any.
+    let continues = |i: usize, v: u32| -> Option<usize> {
+        let here = &at_vertex[&v];
+        let [x, y] = here.as_slice() else { return None };
+        let j = if *x == i { *y } else { *x };
+        let (p, q, r) = (at(other(i, v)), at(v), at(other(j, v)));
+        let (d1, d2) = (q - p, r - q);
+        let straight = (d1.x * d2.y - d1.y * d2.x).abs() <= 1e-9 * d1.norm() * d2.norm() && d1.dot(&d2) > 0.0;
+        let same = (edges[i].1 - edges[j].1).abs() <= 0.5f64.to_radians() && edges[i].1.signum() == edges[j].1.signum();
+        (straight && same).then_some(j)
+    };
+    let mut used = vec![false; edges.len()];
+    let mut lines = Vec::new();
+    for start in 0..edges.len() {
+        if used[start] {
+            continue;
+        }
+        // Walk back to one end of the line, then forward along it.
+        let (mut i, mut v) = (start, edges[start].0[0]);
+        let mut steps = 0;
+        while let Some(j) = continues(i, v) {
+            if j == start || steps > edges.len() {
+                break;
+            }
+            v = other(j, v);
+            i = j;
+            steps += 1;
+        }
+        // `i` is the end edge, `v` its free end: walk forward.
+        let mut chain = vec![v];
+        let mut angles = 0.0;
+        let mut count = 0;
+        loop {
+            used[i] = true;
+            angles += edges[i].1;
+            count += 1;
+            v = other(i, v);
+            chain.push(v);
+            match continues(i, v) {
+                Some(j) if !used[j] => i = j,
+                _ => break,
+            }
+        }
+        lines.push((chain, angles / count as f64));
+    }
+    lines
+}
+
+/// A closed loop without the points that lie on the straight line through their
+/// neighbours (within `1e-9` of the neighbours' distance): the same outline, fewer points.
+fn without_collinear_points(points: Vec<Vec2>) -> Vec<Vec2> {
+    let n = points.len();
+    if n <= 3 {
+        return points;
+    }
+    let mut kept: Vec<Vec2> = Vec::with_capacity(n);
+    for i in 0..n {
+        let p = points[i];
+        let previous = *kept.last().unwrap_or(&points[n - 1]);
+        let next = points[(i + 1) % n];
+        let (d1, d2) = (p - previous, next - p);
+        let collinear =
+            (d1.x * d2.y - d1.y * d2.x).abs() <= 1e-9 * (next - previous).norm_squared() && d1.dot(&d2) > 0.0;
+        if !collinear {
+            kept.push(p);
+        }
+    }
+    if kept.len() < 3 {
+        points
+    } else {
+        kept
+    }
+}
+
+/// Spots tried per label (the largest triangles for a name, edges along the seam for an
+/// ID).
+const MAX_LABEL_SPOTS: usize = 24;
+/// Grid of further spots for a piece name (per side).
+const NAME_GRID: usize = 12;
 
 /// Largest extent of the mesh's 3D bounding box (for tolerances).
 fn mesh_scale(mesh: &SheetMesh) -> f64 {
@@ -583,5 +751,46 @@ mod tests {
             "{areas:?}"
         );
         assert!(pattern.folds().any(|f| f.style == FoldStyle::TabBase));
+    }
+
+    #[test]
+    fn collinear_folds_merge_into_one_line_and_collinear_cut_points_go() {
+        // Five vertices on the x axis, then a turn up: edges 0-1-2-3 straight, same angle;
+        // 3-4 a different angle; 2-5 a branch (three edges meet at 2: no merge there).
+        let points = [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (3.0, 0.0), (4.0, 0.0), (2.0, 1.0)];
+        let at = |v: u32| Vec2::new(points[v as usize].0, points[v as usize].1);
+        let a = 0.5;
+        let lines = merge_collinear_folds(&[([0, 1], a), ([1, 2], a), ([2, 3], a), ([3, 4], -a)], at);
+        // Each line from its lower end.
+        let mut chains: Vec<Vec<u32>> = lines
+            .iter()
+            .map(|l| {
+                let mut c = l.0.clone();
+                if c[0] > c[c.len() - 1] {
+                    c.reverse();
+                }
+                c
+            })
+            .collect();
+        chains.sort();
+        assert_eq!(chains, vec![vec![0, 1, 2, 3], vec![3, 4]]);
+        let merged = lines.iter().find(|l| l.0.len() == 4).unwrap();
+        assert!((merged.1 - a).abs() < 1e-15);
+        let branched = merge_collinear_folds(&[([0, 1], a), ([1, 2], a), ([2, 3], a), ([2, 5], a)], at);
+        assert_eq!(branched.len(), 3);
+        // A square with points along its sides keeps its four corners.
+        let square: Vec<Vec2> = [
+            (0.0, 0.0),
+            (0.5, 0.0),
+            (1.0, 0.0),
+            (1.0, 0.5),
+            (1.0, 1.0),
+            (0.0, 1.0),
+            (0.0, 0.5),
+        ]
+        .iter()
+        .map(|&(x, y)| Vec2::new(x, y))
+        .collect();
+        assert_eq!(without_collinear_points(square).len(), 4);
     }
 }

@@ -11,7 +11,8 @@ fn escape(s: &str) -> String {
 /// The pattern as SVG at true size: the document is `W mm × H mm` and one user unit is
 /// one millimetre, so it prints and laser-cuts at 1:1. Layers (Inkscape layer groups,
 /// plain `<g id>` for other tools): `cut` (the loops, glue tabs included, red hairline),
-/// `fold` with sub-groups `fold-mountain` (red dash-dot), `fold-valley` (blue dashed),
+/// `fold` with sub-groups `fold-mountain` (red dash-dot), `fold-valley` (blue dashed;
+/// both with their fold angle as `data-fold-angle-degrees`),
 /// `fold-guide` (bending guides: rulings, grey dotted) and `fold-tab` (tab bases, grey
 /// dotted), `labels` (piece names and seam IDs), and `sheets` (sheet outlines, when
 /// packed). The y axis is flipped so the pattern reads as seen from the sheet's printed
@@ -65,9 +66,15 @@ pub fn svg_bytes(pattern: &Pattern, title: &str, margin_mm: f64) -> Vec<u8> {
             r#"<g id="{id}" inkscape:groupmode="layer" inkscape:label="{id}" stroke="{colour}" stroke-dasharray="{dash}">"#
         );
         for f in pattern.folds().filter(|f| f.style == style) {
+            // Folds carry their dihedral angle (how far to fold), for cutters and readers.
+            let angle = if matches!(style, FoldStyle::Mountain | FoldStyle::Valley) {
+                format!(r#" data-fold-angle-degrees="{:.1}""#, f.angle_degrees)
+            } else {
+                String::new()
+            };
             let _ = writeln!(
                 s,
-                r#"<line x1="{:.4}" y1="{:.4}" x2="{:.4}" y2="{:.4}"/>"#,
+                r#"<line x1="{:.4}" y1="{:.4}" x2="{:.4}" y2="{:.4}"{angle}/>"#,
                 px(f.a.x),
                 py(f.a.y),
                 px(f.b.x),

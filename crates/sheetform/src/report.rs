@@ -378,6 +378,10 @@ pub struct SegmentationReport {
     /// Charts split in two because they were not disks or flattened with too much
     /// distortion or with overlaps.
     pub split_count: usize,
+    /// Charts cut open along straight seams (from cone points to the boundary, between
+    /// boundary loops) to become flat disks.
+    #[serde(default)]
+    pub opened_chart_count: usize,
     /// Mesh edges cut open (each appears on two charts).
     pub seam_edge_count: usize,
     /// User-given seam edges (OBJ `l`).
@@ -386,6 +390,25 @@ pub struct SegmentationReport {
     pub crease_angle_degrees: f64,
     /// Distortion bound each chart had to meet.
     pub max_edge_distortion_relative: f64,
+}
+
+/// The net of a faceted mesh (`flatten` with the net layout).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct NetReport {
+    /// Pieces of the net.
+    pub piece_count: usize,
+    /// Edges kept whole across which the surface bends (folds to make).
+    pub fold_edge_count: usize,
+    /// Edges cut (glued back together, with a seam ID and a glue tab).
+    pub cut_edge_count: usize,
+    /// Total length of the cut edges in 3D.
+    pub cut_length_mm: f64,
+    /// User-given seam edges (OBJ `l`), always cut.
+    pub user_seam_edge_count: usize,
+    /// Starting faces tried (the net with the fewest pieces kept).
+    pub attempt_count: usize,
+    /// Pieces joined to a neighbour after the growth.
+    pub merged_piece_count: usize,
 }
 
 /// The printable pattern (`bend`, `flatten`).
@@ -418,6 +441,16 @@ pub struct PatternReport {
     /// Glue tabs placed, narrowed, dropped (when asked for).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tabs: Option<sheetform_pattern::TabReport>,
+    /// Labels printed (piece names and seam IDs), each upright, inside its piece, over no
+    /// line and no other label.
+    #[serde(default)]
+    pub label_count: usize,
+    /// Labels printed smaller than asked to fit.
+    #[serde(default)]
+    pub label_shrunk_count: usize,
+    /// Labels left out: no room in their piece off every line (tiny faces).
+    #[serde(default)]
+    pub label_dropped_count: usize,
 }
 
 /// The report every command writes. Keys that do not apply to a command are left out.
@@ -480,9 +513,18 @@ pub struct Report {
     /// Charts of the pattern (`flatten`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub charts: Vec<ChartReport>,
+    /// How the mesh was laid out (`flatten`): whole, charts or net.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layout: Option<sheetform_flatten::Layout>,
+    /// Why that layout (`flatten`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layout_reason: Option<String>,
     /// How a closed or high-genus mesh was cut into charts (`flatten`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub segmentation: Option<SegmentationReport>,
+    /// The net (`flatten` with the net layout).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub net: Option<NetReport>,
     /// The solver's report (`flatten`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub solver: Option<sheetform_solve::SolverInfo>,
@@ -533,7 +575,10 @@ impl Report {
             regions: vec![],
             pattern: None,
             charts: vec![],
+            layout: None,
+            layout_reason: None,
             segmentation: None,
+            net: None,
             solver: None,
             slit: None,
             ffd: None,

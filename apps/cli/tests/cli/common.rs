@@ -207,3 +207,106 @@ print(json.dumps({"errors": len(auditor.errors), "closed": all(p.closed for p in
     );
     serde_json::from_slice(&o.stdout).unwrap()
 }
+
+/// Labels of an SVG pattern whose text box (0.55 em per character wide, 0.7 em high:
+/// the glyphs' extent, a little inside the box the placement keeps free) meets a cut or
+/// fold line or another label's box, or leaves every cut loop. Read from the file as a
+/// viewer draws it (position, font size, rotation).
+pub(crate) fn svg_labels_over_lines(svg: &str) -> usize {
+    let attr = |tag: &str, name: &str| -> f64 {
+        let key = format!(r#" {name}=""#);
+        let start = tag.find(&key).unwrap() + key.len();
+        tag[start..start + tag[start..].find('"').unwrap()].parse().unwrap()
+    };
+    let mut segments: Vec<([f64; 2], [f64; 2])> = Vec::new();
+    let loops = svg_cut_loops(svg);
+    for l in &loops {
+        for i in 0..l.len() {
+            segments.push((l[i], l[(i + 1) % l.len()]));
+        }
+    }
+    for line in svg.split("<line ").skip(1) {
+        let tag = format!(" {}", &line[..line.find("/>").unwrap()]);
+        let tag = tag.as_str();
+        segments.push(([attr(tag, "x1"), attr(tag, "y1")], [attr(tag, "x2"), attr(tag, "y2")]));
+    }
+    // Each label as (centre, direction, half width, half height).
+    let boxes: Vec<([f64; 2], [f64; 2], f64, f64)> = svg
+        .split("<text ")
+        .skip(1)
+        .map(|t| {
+            let tag = &t[..t.find('>').unwrap()];
+            let text = &t[t.find('>').unwrap() + 1..t.find("</text>").unwrap()];
+            let (x, y, size) = (attr(tag, "x"), attr(tag, "y"), attr(tag, "font-size"));
+            let rotate = tag.find("rotate(").map_or(0.0, |i| {
+                tag[i + 7..].split_whitespace().next().unwrap().parse::<f64>().unwrap()
+            });
+            let (s, c) = rotate.to_radians().sin_cos();
+            (
+                [x, y],
+                [c, s],
+                0.5 * 0.55 * size * text.chars().count() as f64,
+                0.35 * size,
+            )
+        })
+        .collect();
+    let local = |b: &([f64; 2], [f64; 2], f64, f64), p: [f64; 2]| {
+        let d = [p[0] - b.0[0], p[1] - b.0[1]];
+        [d[0] * b.1[0] + d[1] * b.1[1], -d[0] * b.1[1] + d[1] * b.1[0]]
+    };
+    let corners = |b: &([f64; 2], [f64; 2], f64, f64)| {
+        [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].map(|(u, v)| {
+            [
+                b.0[0] + u * b.2 * b.1[0] - v * b.3 * b.1[1],
+                b.0[1] + u * b.2 * b.1[1] + v * b.3 * b.1[0],
+            ]
+        })
+    };
+    // A segment meets a box when clipping it to the box leaves something.
+    let meets = |b: &([f64; 2], [f64; 2], f64, f64), p: [f64; 2], q: [f64; 2]| {
+        let (p, q) = (local(b, p), local(b, q));
+        let (mut t0, mut t1) = (0.0f64, 1.0f64);
+        for axis in 0..2 {
+            let half = if axis == 0 { b.2 } else { b.3 };
+            let d = q[axis] - p[axis];
+            for (num, den) in [(half - p[axis], d), (half + p[axis], -d)] {
+                if den == 0.0 {
+                    if num < 0.0 {
+                        return false;
+                    }
+                } else if den > 0.0 {
+                    t1 = t1.min(num / den);
+                } else {
+                    t0 = t0.max(num / den);
+                }
+            }
+        }
+        t0 <= t1
+    };
+    let inside = |p: [f64; 2]| {
+        let mut crossings = 0;
+        for l in &loops {
+            for i in 0..l.len() {
+                let (a, b) = (l[i], l[(i + 1) % l.len()]);
+                if (a[1] > p[1]) != (b[1] > p[1]) && p[0] < a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]) {
+                    crossings += 1;
+                }
+            }
+        }
+        crossings % 2 == 1
+    };
+    let mut bad = 0;
+    for (i, b) in boxes.iter().enumerate() {
+        let c = corners(b);
+        let over_line = segments.iter().any(|&(p, q)| meets(b, p, q));
+        let outside = !c.iter().all(|&p| inside(p));
+        let over_label = boxes[..i].iter().any(|o| {
+            let oc = corners(o);
+            (0..4).any(|k| meets(o, c[k], c[(k + 1) % 4])) || oc.iter().any(|&p| meets(b, p, p))
+        });
+        if over_line || outside || over_label {
+            bad += 1;
+        }
+    }
+    bad
+}

@@ -55,6 +55,8 @@ fn flatten_cuts_the_wingnut_into_flat_charts_with_seam_ids_tabs_and_sheets() {
     let o = sheetform(&[
         "flatten",
         shared("wingnut.obj").to_str().unwrap(),
+        "--charts",
+        "smooth",
         "--scale",
         "40",
         "--tabs",

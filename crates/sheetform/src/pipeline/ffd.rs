@@ -124,6 +124,7 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
             seam_edge_count: 0,
             initial_chart_count: assembly.panels.len(),
             split_count: 0,
+            opened_count: 0,
         })
     };
     let tab_room = options
@@ -131,9 +132,23 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
         .tabs
         .map_or(0.0, |t| 2.5 * t.width_mm / (mm * options.pattern.scale));
     let restored_charts = charts(&last.restored)?;
-    let sheet = sheet_from_charts(&restored, &restored_charts, &name, Some(&panel_names), unit, tab_room);
+    let sheet = sheet_from_charts(
+        &restored,
+        &restored_charts.charts,
+        &name,
+        Some(&panel_names),
+        unit,
+        tab_room,
+    );
     let deformed_charts = charts(&last.deformed)?;
-    let deformed_sheet = sheet_from_charts(&deformed, &deformed_charts, &name, Some(&panel_names), unit, tab_room);
+    let deformed_sheet = sheet_from_charts(
+        &deformed,
+        &deformed_charts.charts,
+        &name,
+        Some(&panel_names),
+        unit,
+        tab_room,
+    );
     // Colour maps on one logarithmic scale, from 1e-8 rad (blue) to the largest defect
     // before restoration (red), so the two maps compare directly (the paper's Fig. 4).
     let topology = mesh_topology(&deformed);

@@ -1,12 +1,13 @@
 //! `sheetform flatten`: any mesh laid out in the plane, cut into charts when needed.
 
-use crate::report::{ChartMethod, Command, Report, SegmentationReport, Status, Timings};
+use crate::report::{ChartMethod, Command, NetReport, Report, SegmentationReport, Status, Timings};
 use sheetform_flatten::{
-    arap, cut_into_charts, distortion, exact_unfold, lscm, ArapOptions, ChartOptions, ChartSet, Distortion,
-    UnfoldOptions,
+    arap, choose_layout, cut_into_charts, distortion, exact_unfold, lscm, unfold_net, ArapOptions, Chart, ChartOptions,
+    Distortion, Layout, NetOptions, UnfoldOptions,
 };
 use sheetform_io::{glb_bytes, obj_string, UpAxis};
 use sheetform_mesh::{mesh_topology, LengthUnit, Piece, PieceKind, SheetMesh, TriangleMesh};
+use sheetform_pattern::TabOptions;
 use sheetform_pattern::{arrange_in_rows, point_bounds, rotated, smallest_bounding_rotation};
 
 type Vec2 = nalgebra::Vector2<f64>;
@@ -32,28 +33,40 @@ pub enum FlattenMethod {
     Arap,
 }
 
-/// When `flatten` cuts the mesh into charts.
+/// How `flatten` lays the mesh out: whole, in smooth charts or as a net.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum ChartMode {
-    /// When the mesh is not a single disk (closed, several pieces, handles, holes) or
-    /// has user seams.
+    /// What a maker would expect ([`sheetform_flatten::choose_layout`]): a developable
+    /// disk whole, a developable with cone points or several boundaries in charts opened
+    /// along straight seams, a faceted model as a net, a finely meshed curved surface in
+    /// charts within the distortion bound. A disk given `--method lscm` or `arap` stays
+    /// whole.
     #[default]
     Auto,
-    /// Always (a disk is still cut along sharp creases and split where it would distort).
-    Always,
-    /// Never (a mesh that is not a disk is refused).
+    /// Always smooth charts (a disk is still cut along sharp creases and split where it
+    /// would distort).
+    Smooth,
+    /// Always a net: the facets unfolded edge by edge, exact, folded along kept edges.
+    Net,
+    /// Never cut, apart from the user's seams (a mesh that is not a disk after them is
+    /// refused).
     Never,
 }
 
 /// Knobs of `sheetform flatten`.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct FlattenOptions {
     /// Layout method (for a mesh flattened whole; charts use exact unfolding).
     pub method: FlattenMethod,
-    /// When to cut into charts.
+    /// Whole, charts or net.
     pub charts: ChartMode,
     /// How to cut into charts.
     pub chart_options: ChartOptions,
+    /// How to unfold a net.
+    pub net_options: NetOptions,
+    /// Glue tabs of a net when `pattern.tabs` asks for none (`None`: a net without tabs).
+    /// Default: tabs on one side of every seam, as the papercraft tools print them.
+    pub net_tabs: Option<TabOptions>,
     /// How the pattern is written.
     pub pattern: PatternOutputOptions,
     /// Merge vertices closer than this (model units) first.
@@ -62,6 +75,22 @@ pub struct FlattenOptions {
     pub unit: LengthUnit,
     /// Where the mesh came from (recorded in the report; its file stem names the pieces).
     pub input: Option<String>,
+}
+
+impl Default for FlattenOptions {
+    fn default() -> Self {
+        Self {
+            method: FlattenMethod::default(),
+            charts: ChartMode::default(),
+            chart_options: ChartOptions::default(),
+            net_options: NetOptions::default(),
+            net_tabs: Some(TabOptions::default()),
+            pattern: PatternOutputOptions::default(),
+            weld: None,
+            unit: LengthUnit::default(),
+            input: None,
+        }
+    }
 }
 
 /// A finished flattening.
@@ -97,77 +126,101 @@ pub fn run_flatten(
     context.progress("flattening", 0.1);
     let topology = mesh_topology(&mesh);
     let disk = topology.component_count == 1 && topology.boundary_loop_count == 1 && topology.euler_characteristic == 1;
-    let use_charts = match options.charts {
-        ChartMode::Always => true,
-        ChartMode::Never => false,
-        ChartMode::Auto => !disk || !mesh.seam_edges.is_empty(),
+    let (layout, reason) = match options.charts {
+        ChartMode::Auto if disk && options.method != FlattenMethod::Exact => (
+            Layout::Whole,
+            "a disk with a whole-mesh method (--method lscm or arap): flattened whole".to_string(),
+        ),
+        ChartMode::Auto => {
+            let choice = choose_layout(&mesh, options.chart_options.crease_angle_degrees);
+            (choice.layout, choice.reason)
+        }
+        ChartMode::Smooth => (Layout::Charts, "smooth charts asked for".into()),
+        ChartMode::Net => (Layout::Net, "a net asked for".into()),
+        ChartMode::Never => (Layout::Whole, "no charts asked for: flattened whole".into()),
     };
     let mm = options.unit.millimetres();
     let name = mesh_name(options.input.as_deref());
     let mut report = Report::new(Command::Flatten, options.input.clone());
-    let (sheet, solved) = if use_charts {
-        let set = cut_into_charts(&mesh, &options.chart_options)?;
-        let solved = Instant::now();
-        // Room between charts for glue tabs (model units).
-        let tab_room = options
-            .pattern
-            .tabs
-            .map_or(0.0, |t| 2.5 * t.width_mm / (mm * options.pattern.scale));
-        let sheet = sheet_from_charts(&mesh, &set, &name, None, options.unit, tab_room);
-        report.segmentation = Some(SegmentationReport {
-            chart_count: set.charts.len(),
-            initial_chart_count: set.initial_chart_count,
-            split_count: set.split_count,
-            seam_edge_count: set.seam_edge_count,
-            user_seam_edge_count: mesh.seam_edges.len(),
-            crease_angle_degrees: options.chart_options.crease_angle_degrees,
-            max_edge_distortion_relative: options.chart_options.max_edge_distortion,
-        });
-        report.charts = set
-            .charts
-            .iter()
-            .enumerate()
-            .map(|(c, chart)| {
-                chart_report(
-                    &sheet.pieces[c].name,
-                    ChartMethod::Exact,
-                    chart.faces.len(),
-                    &chart.distortion,
-                )
-            })
-            .collect();
-        let iterations = set.charts.iter().map(|c| c.solver.iterations).sum();
-        report.solver = Some(sheetform_solve::SolverInfo {
-            iterations,
-            cost: set.charts.iter().map(|c| c.solver.cost).sum(),
-            initial_cost: set.charts.iter().map(|c| c.solver.initial_cost).sum(),
-            gradient_norm: set.charts.iter().map(|c| c.solver.gradient_norm).fold(0.0, f64::max),
-            converged: set.charts.iter().all(|c| c.solver.converged),
-        });
-        (sheet, solved)
-    } else {
-        let unfolding = match options.method {
-            FlattenMethod::Exact => exact_unfold(&mesh, &UnfoldOptions::default())?,
-            FlattenMethod::Lscm => lscm(&mesh)?,
-            FlattenMethod::Arap => arap(&mesh, &ArapOptions::default())?,
-        };
-        let solved = Instant::now();
-        let sheet = SheetMesh {
-            positions: mesh.positions.clone(),
-            flat: unfolding.flat.clone(),
-            triangles: mesh.triangles.clone(),
-            face_pieces: vec![0; mesh.triangles.len()],
-            pieces: vec![Piece {
-                name: name.clone(),
-                kind: PieceKind::Chart,
-            }],
-            rulings: vec![],
-            smooth_edges: vec![],
-            unit: options.unit,
-        };
-        report.solver = Some(unfolding.solver);
-        (sheet, solved)
+    report.layout = Some(layout);
+    report.layout_reason = Some(reason);
+    // A net gets glue tabs unless the pattern options say otherwise.
+    let mut pattern_options = options.pattern.clone();
+    if layout == Layout::Net && pattern_options.tabs.is_none() {
+        pattern_options.tabs = options.net_tabs;
+    }
+    // Room between charts for glue tabs (model units).
+    let tab_room = pattern_options
+        .tabs
+        .map_or(0.0, |t| 2.5 * t.width_mm / (mm * pattern_options.scale));
+    let (sheet, solved) = match layout {
+        Layout::Charts => {
+            let set = cut_into_charts(&mesh, &options.chart_options)?;
+            let solved = Instant::now();
+            let sheet = sheet_from_charts(&mesh, &set.charts, &name, None, options.unit, tab_room);
+            report.segmentation = Some(SegmentationReport {
+                chart_count: set.charts.len(),
+                initial_chart_count: set.initial_chart_count,
+                split_count: set.split_count,
+                opened_chart_count: set.opened_count,
+                seam_edge_count: set.seam_edge_count,
+                user_seam_edge_count: mesh.seam_edges.len(),
+                crease_angle_degrees: options.chart_options.crease_angle_degrees,
+                max_edge_distortion_relative: options.chart_options.max_edge_distortion,
+            });
+            report.charts = charts_report(&sheet, &set.charts);
+            report.solver = Some(sum_solvers(&set.charts));
+            (sheet, solved)
+        }
+        Layout::Net => {
+            context.progress("unfolding a net", 0.2);
+            let net = unfold_net(&mesh, &options.net_options)?;
+            let solved = Instant::now();
+            let sheet = sheet_from_charts(&mesh, &net.pieces, &name, None, options.unit, tab_room);
+            report.net = Some(NetReport {
+                piece_count: net.pieces.len(),
+                fold_edge_count: net.fold_edge_count,
+                cut_edge_count: net.cut_edge_count,
+                cut_length_mm: net.cut_length * mm,
+                user_seam_edge_count: mesh.seam_edges.len(),
+                attempt_count: net.attempts,
+                merged_piece_count: net.merged_piece_count,
+            });
+            report.charts = charts_report(&sheet, &net.pieces);
+            (sheet, solved)
+        }
+        Layout::Whole => {
+            // The user's seams are opened first (the mesh then has to be a disk).
+            let opened = if mesh.seam_edges.is_empty() {
+                None
+            } else {
+                Some(sheetform_mesh::cut_along_edges(&mesh, &mesh.seam_edges).mesh)
+            };
+            let whole = opened.as_ref().unwrap_or(&mesh);
+            let unfolding = match options.method {
+                FlattenMethod::Exact => exact_unfold(whole, &UnfoldOptions::default())?,
+                FlattenMethod::Lscm => lscm(whole)?,
+                FlattenMethod::Arap => arap(whole, &ArapOptions::default())?,
+            };
+            let solved = Instant::now();
+            let sheet = SheetMesh {
+                positions: whole.positions.clone(),
+                flat: unfolding.flat.clone(),
+                triangles: whole.triangles.clone(),
+                face_pieces: vec![0; whole.triangles.len()],
+                pieces: vec![Piece {
+                    name: name.clone(),
+                    kind: PieceKind::Chart,
+                }],
+                rulings: vec![],
+                smooth_edges: vec![],
+                unit: options.unit,
+            };
+            report.solver = Some(unfolding.solver);
+            (sheet, solved)
+        }
     };
+    let use_charts = layout != Layout::Whole;
     // Distortion and overlaps over the whole pattern (charts against each other too);
     // a mesh flattened whole is its own single chart.
     let d = distortion(&sheet.to_triangle_mesh(), &sheet.flat);
@@ -186,7 +239,7 @@ pub fn run_flatten(
         files.push(("model.obj".to_string(), obj_string(&sheet, &name).into_bytes()));
     }
     files.push(("model.glb".to_string(), glb_bytes(&sheet, &name, None, UpAxis::Y)));
-    let (pattern, pattern_report) = pattern_files(&sheet, &name, &options.pattern, context.outputs)?;
+    let (pattern, pattern_report) = pattern_files(&sheet, &name, &pattern_options, context.outputs)?;
     files.extend(pattern);
     let exported = Instant::now();
     // The bound the report states: no overlap, and no edge stretched by more than the
@@ -227,21 +280,48 @@ pub fn run_flatten(
     })
 }
 
+/// One report entry per chart (exact unfolding), named as the sheet's pieces.
+fn charts_report(sheet: &SheetMesh, charts: &[Chart]) -> Vec<crate::report::ChartReport> {
+    charts
+        .iter()
+        .enumerate()
+        .map(|(c, chart)| {
+            chart_report(
+                &sheet.pieces[c].name,
+                ChartMethod::Exact,
+                chart.faces.len(),
+                &chart.distortion,
+            )
+        })
+        .collect()
+}
+
+/// The charts' solver reports summed (iterations, costs) or combined (worst gradient,
+/// all converged).
+fn sum_solvers(charts: &[Chart]) -> sheetform_solve::SolverInfo {
+    sheetform_solve::SolverInfo {
+        iterations: charts.iter().map(|c| c.solver.iterations).sum(),
+        cost: charts.iter().map(|c| c.solver.cost).sum(),
+        initial_cost: charts.iter().map(|c| c.solver.initial_cost).sum(),
+        gradient_norm: charts.iter().map(|c| c.solver.gradient_norm).fold(0.0, f64::max),
+        converged: charts.iter().all(|c| c.solver.converged),
+    }
+}
+
 /// The charts as one [`SheetMesh`]: every chart keeps its own copy of its seam vertices
 /// (same 3D position, own flat position), one piece per chart, the charts' flat layouts
 /// set side by side in rows (`gap` apart plus `extra_gap`, model units) so that the
 /// pattern (and the OBJ `vt`) has no chart over another.
 pub(crate) fn sheet_from_charts(
     mesh: &TriangleMesh,
-    set: &ChartSet,
+    charts: &[Chart],
     name: &str,
     piece_names: Option<&[String]>,
     unit: LengthUnit,
     extra_gap: f64,
 ) -> SheetMesh {
     // Each chart turned to its smallest bounding rectangle, landscape.
-    let turned: Vec<Vec<Vec2>> = set
-        .charts
+    let turned: Vec<Vec<Vec2>> = charts
         .iter()
         .map(|c| {
             let (angle, _) = smallest_bounding_rotation(&c.flat);
@@ -258,7 +338,7 @@ pub(crate) fn sheet_from_charts(
     let area: f64 = sizes.iter().map(|(_, s)| s.x * s.y).sum();
     let gap = 0.02 * area.sqrt() + extra_gap;
     let corners = arrange_in_rows(&sizes.iter().map(|s| s.1).collect::<Vec<_>>(), 1.5 * area.sqrt(), gap);
-    let digits = set.charts.len().to_string().len().max(2);
+    let digits = charts.len().to_string().len().max(2);
     let mut sheet = SheetMesh {
         positions: Vec::new(),
         flat: Vec::new(),
@@ -269,7 +349,7 @@ pub(crate) fn sheet_from_charts(
         smooth_edges: vec![],
         unit,
     };
-    for (c, chart) in set.charts.iter().enumerate() {
+    for (c, chart) in charts.iter().enumerate() {
         let offset = sheet.positions.len() as u32;
         let shift = corners[c] - sizes[c].0;
         sheet

@@ -104,6 +104,9 @@ pub(crate) fn pattern_files(
         mountain_fold_count: pattern.folds().filter(|f| f.style == FoldStyle::Mountain).count(),
         valley_fold_count: pattern.folds().filter(|f| f.style == FoldStyle::Valley).count(),
         tabs: options.tabs.map(|_| pattern.tabs),
+        label_count: pattern.labels().count(),
+        label_shrunk_count: pattern.labels_shrunk,
+        label_dropped_count: pattern.labels_dropped,
     };
     let mut files = vec![(
         "pattern.svg".to_string(),

@@ -200,12 +200,13 @@ pub fn run_photo(
         seam_edge_count: 0,
         initial_chart_count: groups.len(),
         split_count: 0,
+        opened_count: 0,
     };
     let tab_room = options
         .pattern
         .tabs
         .map_or(0.0, |t| 2.5 * t.width_mm / (mm * options.pattern.scale));
-    let mut sheet = sheet_from_charts(&model, &chart_set, &name, Some(&groups), unit, tab_room);
+    let mut sheet = sheet_from_charts(&model, &chart_set.charts, &name, Some(&groups), unit, tab_room);
     // The strips' rulings are bending guides (the pattern draws rulings as guides, never
     // as mountain or valley folds), the zipper edges between them smooth edges (drawn as
     // neither): each in its chart's numbering of the sheet.

@@ -1,0 +1,171 @@
+//! `sheetform flatten` on the shapes a maker tries first, meshes written by a generator
+//! (as trimesh makes them): nets of faceted models, one-piece patterns of tubes and cones,
+//! honest exit codes.
+
+use crate::common::{
+    cut_intersections, ezdxf_cut, obj_isometry_error, read_obj, report, sheetform, svg_cut_loops,
+    svg_labels_over_lines, validate_glb,
+};
+use sheetform::mesh::{primitives, TriangleMesh};
+use std::path::{Path, PathBuf};
+
+/// `mesh` as an OBJ file (positions, faces, the seams as `l` lines) in `dir`.
+fn write_obj(dir: &Path, name: &str, mesh: &TriangleMesh) -> PathBuf {
+    let mut text = String::new();
+    for p in &mesh.positions {
+        text += &format!("v {} {} {}\n", p.x, p.y, p.z);
+    }
+    for t in &mesh.triangles {
+        text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    for [a, b] in &mesh.seam_edges {
+        text += &format!("l {} {}\n", a + 1, b + 1);
+    }
+    let path = dir.join(format!("{name}.obj"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn flatten(mesh: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec!["flatten", mesh.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"];
+    args.extend_from_slice(extra);
+    sheetform(&args)
+}
+
+/// Faceted models become nets: exact (every OBJ `vt` edge equal to its 3D edge), in the
+/// piece counts of the papercraft tools for a box (one cross), a cylinder and a cone with
+/// their caps, a hemisphere, a handful for an icosphere; cut outlines (glue tabs
+/// included) that touch nowhere; DXF read by ezdxf without repairs; a valid GLB.
+#[test]
+fn faceted_models_unfold_into_exact_nets_in_few_pieces() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cases = [
+        ("box", primitives::cuboid([40.0, 60.0, 80.0]), 1),
+        ("icosphere", primitives::icosphere(50.0, 2), 5),
+        ("cylinder", primitives::cylinder(30.0, 80.0, 32, true), 1),
+        ("cone", primitives::cone(30.0, 80.0, 32, true), 1),
+        ("hemisphere", primitives::hemisphere(50.0, 8, 32), 1),
+        ("torus", primitives::torus(60.0, 20.0, 32, 16), 40),
+    ];
+    for (name, mesh, most) in cases {
+        let path = write_obj(tmp.path(), name, &mesh);
+        let out = tmp.path().join(name);
+        let o = flatten(&path, &out, &[]);
+        assert!(o.status.success(), "{name}: {}", String::from_utf8_lossy(&o.stderr));
+        let r = report(&out);
+        assert_eq!(r["layout"], "net", "{name}: {}", r["layout_reason"]);
+        assert_eq!(r["status"], "ok", "{name}");
+        let pieces = r["net"]["piece_count"].as_u64().unwrap() as usize;
+        assert!(pieces >= 1 && pieces <= most, "{name}: {pieces} pieces");
+        assert_eq!(r["pattern"]["piece_count"].as_u64().unwrap() as usize, pieces, "{name}");
+        assert!(r["isometry_error_max_relative"].as_f64().unwrap() <= 1e-10, "{name}");
+        assert!(obj_isometry_error(&read_obj(&out.join("model.obj"))) <= 1e-10, "{name}");
+        // Glue tabs by default on a net, and outlines that cross nowhere.
+        assert!(r["pattern"]["tabs"]["placed"].as_u64().unwrap() > 0, "{name}");
+        let svg = std::fs::read_to_string(out.join("pattern.svg")).unwrap();
+        let loops = svg_cut_loops(&svg);
+        assert_eq!(loops.len(), pieces, "{name}");
+        assert_eq!(cut_intersections(&loops), 0, "{name}");
+        // Labels upright inside their pieces, over no line and no other label.
+        assert_eq!(svg_labels_over_lines(&svg), 0, "{name}");
+        assert!(r["pattern"]["label_count"].as_u64().unwrap() > 0, "{name}");
+        let dxf = ezdxf_cut(&out.join("pattern.dxf"));
+        assert_eq!(
+            (dxf["errors"].as_u64(), dxf["fixes"].as_u64()),
+            (Some(0), Some(0)),
+            "{name}"
+        );
+        assert!(dxf["mountain"].as_u64().unwrap() > 0, "{name}");
+        validate_glb(&[out.join("model.glb")]);
+    }
+    // A box: one cross of six rectangles, five folds, all mountains seen from outside.
+    let r = report(&tmp.path().join("box"));
+    assert_eq!(r["net"]["fold_edge_count"], 5);
+    assert_eq!(r["pattern"]["mountain_fold_count"], 5);
+    assert_eq!(r["pattern"]["valley_fold_count"], 0);
+    let area = 2.0 * (40.0 * 60.0 + 40.0 * 80.0 + 60.0 * 80.0);
+    assert!((r["flat_area_mm2"].as_f64().unwrap() - area).abs() < 1e-9 * area);
+}
+
+/// The classic developables with a boundary come out in one exact piece, cut along one
+/// straight seam; a user's seam is honoured even without charts.
+#[test]
+fn an_open_tube_and_an_open_cone_come_out_in_one_exact_piece() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (name, mesh) in [
+        ("tube", primitives::cylinder(30.0, 80.0, 48, false)),
+        ("cone", primitives::cone(30.0, 80.0, 48, false)),
+    ] {
+        let path = write_obj(tmp.path(), name, &mesh);
+        let out = tmp.path().join(name);
+        let o = flatten(&path, &out, &[]);
+        assert!(o.status.success(), "{name}: {}", String::from_utf8_lossy(&o.stderr));
+        let r = report(&out);
+        assert_eq!(r["layout"], "charts", "{name}");
+        assert_eq!(r["segmentation"]["chart_count"], 1, "{name}");
+        assert_eq!(r["segmentation"]["opened_chart_count"], 1, "{name}");
+        assert_eq!(r["pattern"]["piece_count"], 1, "{name}");
+        assert!(r["isometry_error_max_relative"].as_f64().unwrap() <= 1e-10, "{name}");
+    }
+    // The tube with a user seam along one ruling (vertex 0 at the bottom, 48 above it),
+    // flattened whole: the seam opens it into the rectangle.
+    let mut tube = primitives::cylinder(30.0, 80.0, 48, false);
+    tube.seam_edges = vec![[0, 48]];
+    let path = write_obj(tmp.path(), "seamed", &tube);
+    let out = tmp.path().join("seamed");
+    let o = flatten(&path, &out, &["--charts", "never"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(&out);
+    assert_eq!(r["layout"], "whole");
+    assert_eq!(r["pattern"]["piece_count"], 1);
+    assert!(r["isometry_error_max_relative"].as_f64().unwrap() <= 1e-10);
+}
+
+/// What cannot be flattened within the bound is never called ok: a finely meshed dome
+/// flattened whole overlaps itself (exact unfolding, exit 4) or stretches (LSCM, exit 5);
+/// by default it is cut into charts that meet the bound.
+#[test]
+fn a_dome_flattened_whole_is_out_of_tolerance_and_in_charts_within_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dome = primitives::hemisphere(50.0, 24, 96);
+    let path = write_obj(tmp.path(), "dome", &dome);
+    let out = tmp.path().join("whole");
+    let o = flatten(&path, &out, &["--charts", "never"]);
+    assert_eq!(o.status.code(), Some(4), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(report(&out)["status"], "overlapping");
+    let o = flatten(&path, &out, &["--charts", "never", "--method", "lscm"]);
+    assert_eq!(o.status.code(), Some(5), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(report(&out)["status"], "out of tolerance");
+    let out = tmp.path().join("auto");
+    let o = flatten(&path, &out, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(&out);
+    assert_eq!(r["layout"], "charts", "{}", r["layout_reason"]);
+    assert!(r["isometry_error_max_relative"].as_f64().unwrap() <= 0.01);
+    // As a net it is exact.
+    let out = tmp.path().join("net");
+    let o = flatten(&path, &out, &["--charts", "net"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(report(&out)["isometry_error_max_relative"].as_f64().unwrap() <= 1e-10);
+}
+
+/// The label check reads what a viewer draws and can fail: a label across a fold, one
+/// outside the piece, and one on another are found; a free one is not.
+#[test]
+fn the_label_check_finds_labels_over_lines_outside_or_on_each_other() {
+    let svg = |texts: &str| {
+        format!(
+            r#"<svg><g id="cut"><path d="M0,0 L40,0 L40,40 L0,40 Z"/></g><g id="fold"><line x1="20" y1="0" x2="20" y2="40"/></g><g id="labels">{texts}</g></svg>"#
+        )
+    };
+    let text = |x: f64, y: f64, angle: f64, t: &str| {
+        format!(r#"<text class="seam" x="{x}" y="{y}" font-size="3" transform="rotate({angle} {x} {y})">{t}</text>"#)
+    };
+    assert_eq!(svg_labels_over_lines(&svg(&text(10.0, 10.0, 0.0, "12"))), 0);
+    assert_eq!(svg_labels_over_lines(&svg(&text(20.0, 10.0, 0.0, "12"))), 1);
+    assert_eq!(svg_labels_over_lines(&svg(&text(16.0, 10.0, 90.0, "123456"))), 0);
+    assert_eq!(svg_labels_over_lines(&svg(&text(16.0, 10.0, 0.0, "123456"))), 1);
+    assert_eq!(svg_labels_over_lines(&svg(&text(50.0, 10.0, 0.0, "1"))), 1);
+    let two = text(10.0, 10.0, 0.0, "12") + &text(10.5, 10.5, 0.0, "34");
+    assert_eq!(svg_labels_over_lines(&svg(&two)), 1);
+}
