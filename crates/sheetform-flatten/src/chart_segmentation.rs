@@ -63,6 +63,8 @@ pub struct ChartSet {
     /// Charts made flat by cutting them open along shortest edge paths (from cone points
     /// to the boundary, between boundary loops) instead of splitting them.
     pub opened_count: usize,
+    /// Small charts (slivers left by the splitting) joined to a neighbour.
+    pub merged_count: usize,
 }
 
 /// Cuts `mesh` into charts and flattens each.
@@ -89,10 +91,14 @@ pub struct ChartSet {
 ///    apart (double breadth-first search over the face adjacency) seed two regions that
 ///    grow breadth-first at the same pace, so both halves are connected. A single triangle
 ///    always flattens exactly, so the splitting ends.
+/// 4. **No slivers**: a chart of at most [`SMALL_CHART_FACES`] faces (and 2 % of the
+///    mesh's) is joined to the
+///    neighbour it shares the most edges with (across a crease too, never across a user
+///    seam) when the union passes the acceptance test.
 ///
 /// Departure from published segmenters (D-charts, feature-based seams): no seam
-/// straightening or chart merging; the splits follow the face graph, so chart borders
-/// are staircase-like on fine meshes. What is guaranteed is the acceptance test above.
+/// straightening; the splits follow the face graph, so chart borders are staircase-like
+/// on fine meshes. What is guaranteed is the acceptance test above.
 ///
 /// # Errors
 /// Non-manifold, degenerate or non-orientable meshes (named), seam edges that are not
@@ -211,6 +217,7 @@ pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<Ch
         pending.push(a);
         pending.push(b);
     }
+    let merged_count = merge_small_charts(mesh, &table, &seams, &mut charts, options);
     charts.sort_by(|a, b| b.faces.len().cmp(&a.faces.len()).then(a.faces[0].cmp(&b.faces[0])));
     let mut face_chart = vec![0u32; nf];
     for (c, chart) in charts.iter().enumerate() {
@@ -228,7 +235,93 @@ pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<Ch
         initial_chart_count,
         split_count,
         opened_count,
+        merged_count,
     })
+}
+
+/// Charts of at most this many faces (and at most 2 % of the mesh's faces) are slivers:
+/// [`cut_into_charts`] tries to merge them into a neighbour.
+pub const SMALL_CHART_FACES: usize = 32;
+
+/// Step 4 of [`cut_into_charts`]: each chart of at most [`SMALL_CHART_FACES`] faces (and
+/// 2 % of the mesh's),
+/// smallest first, is joined to the neighbouring chart it shares the most edges with
+/// (across creases too, never across a user seam) when the union still passes the
+/// acceptance test; returns how many were merged.
+fn merge_small_charts(
+    mesh: &TriangleMesh,
+    table: &sheetform_mesh::EdgeTable,
+    seams: &std::collections::HashSet<[u32; 2]>,
+    charts: &mut Vec<Chart>,
+    options: &ChartOptions,
+) -> usize {
+    let nf = mesh.triangles.len();
+    let mut merged = 0;
+    // Work budget in faces unfolded.
+    let mut budget = 50 * nf + 10_000;
+    loop {
+        let mut face_chart = vec![u32::MAX; nf];
+        for (c, chart) in charts.iter().enumerate() {
+            for &f in &chart.faces {
+                face_chart[f as usize] = c as u32;
+            }
+        }
+        let small = SMALL_CHART_FACES.min(nf / 50);
+        let mut order: Vec<usize> = (0..charts.len()).filter(|&c| charts[c].faces.len() <= small).collect();
+        order.sort_by_key(|&c| charts[c].faces.len());
+        let mut joined = None;
+        'small: for &c in &order {
+            // Neighbours by the number of edges shared (user seams excluded).
+            let mut shared: HashMap<u32, usize> = HashMap::new();
+            for &f in &charts[c].faces {
+                for k in 0..3 {
+                    let t = mesh.triangles[f as usize];
+                    let (a, b) = (t[k], t[(k + 1) % 3]);
+                    if seams.contains(&[a.min(b), a.max(b)]) {
+                        continue;
+                    }
+                    if let Some(g) = table.opposite(f as usize, k) {
+                        let d = face_chart[g as usize];
+                        if d != c as u32 {
+                            *shared.entry(d).or_default() += 1;
+                        }
+                    }
+                }
+            }
+            let mut neighbours: Vec<(u32, usize)> = shared.into_iter().collect();
+            neighbours.sort_by(|x, y| y.1.cmp(&x.1).then(x.0.cmp(&y.0)));
+            for (d, _) in neighbours {
+                let d = d as usize;
+                let faces: Vec<u32> = charts[d].faces.iter().chain(&charts[c].faces).copied().collect();
+                if budget < faces.len() {
+                    break 'small;
+                }
+                budget -= faces.len();
+                let (sub, vertices) = submesh(mesh, &faces);
+                if let Some((unfolding, dist)) = flatten_chart(&sub) {
+                    if dist.is_overlap_free() && dist.edge_length_max_relative <= options.max_edge_distortion {
+                        joined = Some((
+                            c,
+                            d,
+                            Chart {
+                                faces,
+                                vertices,
+                                triangles: sub.triangles,
+                                flat: unfolding.flat,
+                                distortion: dist,
+                                solver: unfolding.solver,
+                            },
+                        ));
+                        break 'small;
+                    }
+                }
+            }
+        }
+        let Some((c, d, union)) = joined else { return merged };
+        charts[d] = union;
+        charts.swap_remove(c);
+        merged += 1;
+    }
 }
 
 /// Most cone points a chart may have to be opened along seams rather than split.

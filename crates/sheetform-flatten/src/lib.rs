@@ -16,7 +16,9 @@ mod lscm;
 
 pub use alignment::{align_rigid, RigidAlignment};
 pub use arap::{arap, ArapOptions};
-pub use chart_segmentation::{cut_into_charts, Chart, ChartOptions, ChartSet, MAX_CONE_POINTS, MAX_SEAM_LOOPS};
+pub use chart_segmentation::{
+    cut_into_charts, Chart, ChartOptions, ChartSet, MAX_CONE_POINTS, MAX_SEAM_LOOPS, SMALL_CHART_FACES,
+};
 pub use distortion::{distortion, Distortion};
 pub use edge_unfolding::{unfold_net, Net, NetOptions, MAX_NET_WORK};
 pub use error::FlattenError;

@@ -466,6 +466,17 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
                     });
                 }
             }
+            // Then the same spots further in, for edges at tight corners.
+            let deeper: Vec<LabelSpot> = [1.5, 3.0]
+                .iter()
+                .flat_map(|&depth| {
+                    spots.iter().map(move |s| LabelSpot {
+                        point: s.point + s.inward * depth * seam_height,
+                        ..*s
+                    })
+                })
+                .collect();
+            spots.extend(deeper);
             requests.push(LabelRequest {
                 piece: loop_part[r.loop_index],
                 text: format!("{}", r.seam + 1),

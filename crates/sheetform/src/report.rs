@@ -382,6 +382,9 @@ pub struct SegmentationReport {
     /// boundary loops) to become flat disks.
     #[serde(default)]
     pub opened_chart_count: usize,
+    /// Small charts (slivers) joined to a neighbour.
+    #[serde(default)]
+    pub merged_chart_count: usize,
     /// Mesh edges cut open (each appears on two charts).
     pub seam_edge_count: usize,
     /// User-given seam edges (OBJ `l`).

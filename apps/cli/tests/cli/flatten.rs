@@ -1,8 +1,8 @@
 //! `sheetform flatten`: exact unfolding, charts, LSCM.
 
 use crate::common::{
-    cut_intersections, ezdxf_cut, obj_isometry_error, read_obj, report, shared, sheetform, svg_cut_loops, svg_texts,
-    validate_glb,
+    cut_intersections, ezdxf_cut, obj_isometry_error, read_obj, report, shared, sheetform, svg_cut_loops,
+    svg_labels_over_lines, svg_texts, validate_glb,
 };
 
 #[test]
@@ -74,6 +74,8 @@ fn flatten_cuts_the_wingnut_into_flat_charts_with_seam_ids_tabs_and_sheets() {
     let seg = &r["segmentation"];
     let charts = seg["chart_count"].as_u64().unwrap() as usize;
     assert!(charts > 1 && seg["seam_edge_count"].as_u64().unwrap() > 0);
+    // Slivers left by the splitting are joined to their neighbours.
+    assert!(seg["merged_chart_count"].as_u64().unwrap() > 0, "{seg}");
     assert_eq!(r["charts"].as_array().unwrap().len(), charts);
     for c in r["charts"].as_array().unwrap() {
         assert!(c["edge_length_max_relative"].as_f64().unwrap() <= 0.01, "{c}");
@@ -104,14 +106,20 @@ fn flatten_cuts_the_wingnut_into_flat_charts_with_seam_ids_tabs_and_sheets() {
     let cut_area: f64 = loops.iter().map(|l| area(l).abs()).sum();
     let flat_area = r["flat_area_mm2"].as_f64().unwrap() * 40.0 * 40.0;
     assert!(cut_area > flat_area, "{cut_area} vs {flat_area}");
-    // Seam IDs: every seam's ID is printed on both of its sides.
+    // Seam IDs: every seam's ID is printed on both of its sides, but where a side had no
+    // room off every line (counted in the report); no label lies over a line.
     let ids = svg_texts(&svg, "seam");
     let seams = p["seam_count"].as_u64().unwrap() as usize;
     assert!(seams > 0);
+    let mut missing = 0;
     for id in 1..=seams {
         let n = ids.iter().filter(|t| **t == id.to_string()).count();
-        assert_eq!(n, 2, "seam {id} is labelled {n} times");
+        assert!(n <= 2, "seam {id} is labelled {n} times");
+        missing += 2 - n;
     }
+    assert!(missing as u64 <= p["label_dropped_count"].as_u64().unwrap());
+    assert!(missing * 20 <= 2 * seams, "{missing} of {} seam IDs missing", 2 * seams);
+    assert_eq!(svg_labels_over_lines(&svg), 0);
     // Packed onto 600 × 400 sheets: each sheet file's cut loops lie inside its sheet.
     let sheets = p["sheet_count"].as_u64().unwrap() as usize;
     assert!(sheets >= 1);

@@ -125,6 +125,7 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
             initial_chart_count: assembly.panels.len(),
             split_count: 0,
             opened_count: 0,
+            merged_count: 0,
         })
     };
     let tab_room = options

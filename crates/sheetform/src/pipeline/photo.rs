@@ -201,6 +201,7 @@ pub fn run_photo(
         initial_chart_count: groups.len(),
         split_count: 0,
         opened_count: 0,
+        merged_count: 0,
     };
     let tab_room = options
         .pattern
