@@ -173,6 +173,9 @@ pub(crate) struct PatternArgs {
     /// Gap between packed pieces and from the sheet's edges (mm).
     #[arg(long, value_name = "MM", default_value_t = 5.0)]
     pub(crate) sheet_gap: f64,
+    /// Most pages the PDF may print; a pattern that needs more is refused.
+    #[arg(long, value_name = "PAGES", default_value_t = sheetform::pattern::DEFAULT_MAX_PAGES)]
+    pub(crate) max_pages: usize,
 }
 
 pub(crate) fn parse_sheet(text: &str) -> Result<(f64, f64), String> {
@@ -279,6 +282,7 @@ impl From<PatternArgs> for PatternOutputOptions {
                 height_mm: h,
                 gap_mm: a.sheet_gap,
             }),
+            max_pdf_pages: a.max_pages,
         }
     }
 }

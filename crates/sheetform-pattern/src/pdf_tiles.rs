@@ -32,7 +32,24 @@ pub struct PdfOptions {
     pub overlap_mm: f64,
     /// Length of the scale bar (millimetres).
     pub scale_bar_mm: f64,
+    /// Most pages to print: a pattern that needs more is refused (with the count and how
+    /// to raise this), not printed on a ream of paper. Default [`DEFAULT_MAX_PAGES`].
+    pub max_pages: usize,
+    /// Draw the sheets' outlines (off when the sheets are the pages themselves).
+    pub sheet_outlines: bool,
 }
+
+impl PdfOptions {
+    /// Width and height (mm) of the printable area of a page: the paper less the margins
+    /// and the 12 mm footer for the scale bar.
+    pub fn printable_area(&self) -> (f64, f64) {
+        let (pw, ph) = self.page.millimetres();
+        (pw - 2.0 * self.margin_mm, ph - 2.0 * self.margin_mm - 12.0)
+    }
+}
+
+/// Default page cap of [`PdfOptions`].
+pub const DEFAULT_MAX_PAGES: usize = 100;
 
 impl Default for PdfOptions {
     fn default() -> Self {
@@ -41,6 +58,8 @@ impl Default for PdfOptions {
             margin_mm: 12.0,
             overlap_mm: 10.0,
             scale_bar_mm: 50.0,
+            max_pages: DEFAULT_MAX_PAGES,
+            sheet_outlines: true,
         }
     }
 }
@@ -50,7 +69,8 @@ impl Default for PdfOptions {
 pub struct TiledPdf {
     /// The PDF file.
     pub bytes: Vec<u8>,
-    /// Tile rows (top to bottom) and columns (left to right).
+    /// Tile rows (top to bottom) and columns (left to right) of the grid (of the largest
+    /// sheet when the pattern is packed on sheets, each sheet tiled on its own).
     pub rows: usize,
     /// Tile columns.
     pub columns: usize,
@@ -63,7 +83,9 @@ pub struct TiledPdf {
 /// Points per millimetre.
 const PT: f64 = 72.0 / 25.4;
 
-/// The pattern at true scale on as many pages as it needs.
+/// The pattern at true scale on as many pages as it needs; a pattern packed on sheets
+/// sheet by sheet (a sheet within the printable area on one page, captioned with its
+/// number), at most `options.max_pages` pages.
 ///
 /// Each page prints the window of the pattern that falls in its printable area (the page
 /// less `margin_mm`); neighbouring windows overlap by `overlap_mm`, marked with dashed
@@ -74,31 +96,53 @@ const PT: f64 = 72.0 / 25.4;
 /// labels blue (Helvetica).
 ///
 /// # Errors
-/// Margins or overlap that leave no printable area.
+/// Margins or overlap that leave no printable area; more pages than `options.max_pages`.
 pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, PatternError> {
     let (pw, ph) = options.page.millimetres();
     let (m, o) = (options.margin_mm, options.overlap_mm);
-    let (aw, ah) = (pw - 2.0 * m, ph - 2.0 * m - 12.0); // 12 mm footer for the scale bar
+    let (aw, ah) = options.printable_area();
     if !(m >= 0.0 && o >= 0.0 && aw > o + 10.0 && ah > o + 10.0) {
         return Err(PatternError::Option {
             option: "margin_mm/overlap_mm",
             message: "leave no printable area on the page".into(),
         });
     }
-    let (lo, hi) = pattern.bounds();
-    let (lo, hi) = if lo.x.is_finite() {
-        (lo, hi)
+    // A packed pattern is printed sheet by sheet (a sheet that fits the printable area on
+    // one page), an unpacked one as a whole.
+    let parts: Vec<Pattern> = if pattern.sheets.is_empty() {
+        vec![pattern.clone()]
     } else {
-        (Vec2::zeros(), Vec2::zeros())
+        (0..pattern.sheets.len()).map(|s| pattern.sheet_pattern(s)).collect()
     };
-    let (w, h) = (hi.x - lo.x, hi.y - lo.y);
     let (sx, sy) = (aw - o, ah - o);
-    let columns = ((w - o).max(0.0) / sx).ceil().max(1.0) as usize;
-    let rows = ((h - o).max(0.0) / sy).ceil().max(1.0) as usize;
-    // Centre the pattern in the tiled area.
-    let (tw, th) = (columns as f64 * sx + o, rows as f64 * sy + o);
-    let origin = Vec2::new(lo.x - 0.5 * (tw - w), hi.y + 0.5 * (th - h));
-
+    let grids: Vec<(usize, usize, Vec2)> = parts
+        .iter()
+        .map(|part| {
+            let (lo, hi) = part.bounds();
+            let (lo, hi) = if lo.x.is_finite() {
+                (lo, hi)
+            } else {
+                (Vec2::zeros(), Vec2::zeros())
+            };
+            let (w, h) = (hi.x - lo.x, hi.y - lo.y);
+            // (Float to integer casts saturate: an absurd size gives a huge count, refused
+            // below before anything is drawn.)
+            let columns = ((w - o).max(0.0) / sx).ceil().max(1.0) as usize;
+            let rows = ((h - o).max(0.0) / sy).ceil().max(1.0) as usize;
+            // Centre the part in its tiled area.
+            let (tw, th) = (columns as f64 * sx + o, rows as f64 * sy + o);
+            (rows, columns, Vec2::new(lo.x - 0.5 * (tw - w), hi.y + 0.5 * (th - h)))
+        })
+        .collect();
+    let tiles = grids
+        .iter()
+        .fold(0usize, |n, &(r, c, _)| n.saturating_add(r.saturating_mul(c)));
+    // Empty tiles are skipped, so the grid may hold more tiles than pages get printed;
+    // a grid far beyond the cap is refused before any tile is looked at.
+    if tiles > options.max_pages.saturating_mul(16) {
+        return Err(too_many_pages(tiles, options));
+    }
+    let sheet_count = parts.len();
     let mut pdf = Pdf::new();
     let catalog = Ref::new(1);
     let tree = Ref::new(2);
@@ -106,153 +150,170 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
     let mut next = 4;
     let mut page_ids = Vec::new();
     pdf.type1_font(font).base_font(Name(b"Helvetica"));
-    for r in 0..rows {
-        for c in 0..columns {
-            // Pattern window of this tile: x from wx, y down from wy.
-            let (wx, wy) = (origin.x + c as f64 * sx, origin.y - r as f64 * sy);
-            // (The last tile is printed when nothing was: a PDF has at least one page.)
-            let last = r + 1 == rows && c + 1 == columns && page_ids.is_empty();
-            if !last && !window_shows(pattern, Vec2::new(wx, wy - ah), Vec2::new(wx + aw, wy)) {
-                continue;
-            }
-            let (page_id, content_id) = (Ref::new(next), Ref::new(next + 1));
-            next += 2;
-            page_ids.push(page_id);
-            let to_page = |p: Vec2| (((p.x - wx + m) * PT) as f32, ((p.y - (wy - ah) + m + 12.0) * PT) as f32);
-            let mut content = Content::new();
-            // Clip to the printable area.
-            content.save_state();
-            content.rect(
-                (m * PT) as f32,
-                ((m + 12.0) * PT) as f32,
-                (aw * PT) as f32,
-                (ah * PT) as f32,
-            );
-            content.clip_nonzero();
-            content.end_path();
-            content.set_line_width(0.4);
-            content.set_stroke_rgb(0.85, 0.0, 0.0);
-            for cycle in pattern.cut_loops() {
-                for (i, p) in cycle.iter().enumerate() {
-                    let (x, y) = to_page(*p);
-                    if i == 0 {
-                        content.move_to(x, y);
-                    } else {
-                        content.line_to(x, y);
-                    }
+    for (k, (pattern, &(rows, columns, origin))) in parts.iter().zip(&grids).enumerate() {
+        for r in 0..rows {
+            for c in 0..columns {
+                // Pattern window of this tile: x from wx, y down from wy.
+                let (wx, wy) = (origin.x + c as f64 * sx, origin.y - r as f64 * sy);
+                // (The last tile is printed when nothing was: a PDF has at least one page.)
+                let last = k + 1 == sheet_count && r + 1 == rows && c + 1 == columns && page_ids.is_empty();
+                if !last && !window_shows(pattern, Vec2::new(wx, wy - ah), Vec2::new(wx + aw, wy)) {
+                    continue;
                 }
-                content.close_path();
-                content.stroke();
-            }
-            content.set_line_width(0.3);
-            // Origami convention: mountain dash-dot red, valley dashed blue; guides and
-            // tab bases dotted grey.
-            for style in [
-                FoldStyle::Mountain,
-                FoldStyle::Valley,
-                FoldStyle::Guide,
-                FoldStyle::TabBase,
-            ] {
-                match style {
-                    FoldStyle::Mountain => {
-                        content.set_stroke_rgb(0.8, 0.2, 0.2);
-                        content.set_dash_pattern([4.0, 1.5, 1.0, 1.5], 0.0);
+                let (page_id, content_id) = (Ref::new(next), Ref::new(next + 1));
+                next += 2;
+                page_ids.push(page_id);
+                let to_page = |p: Vec2| (((p.x - wx + m) * PT) as f32, ((p.y - (wy - ah) + m + 12.0) * PT) as f32);
+                let mut content = Content::new();
+                // Clip to the printable area.
+                content.save_state();
+                content.rect(
+                    (m * PT) as f32,
+                    ((m + 12.0) * PT) as f32,
+                    (aw * PT) as f32,
+                    (ah * PT) as f32,
+                );
+                content.clip_nonzero();
+                content.end_path();
+                content.set_line_width(0.4);
+                content.set_stroke_rgb(0.85, 0.0, 0.0);
+                for cycle in pattern.cut_loops() {
+                    for (i, p) in cycle.iter().enumerate() {
+                        let (x, y) = to_page(*p);
+                        if i == 0 {
+                            content.move_to(x, y);
+                        } else {
+                            content.line_to(x, y);
+                        }
                     }
-                    FoldStyle::Valley => {
-                        content.set_stroke_rgb(0.2, 0.35, 0.8);
-                        content.set_dash_pattern([3.0, 2.0], 0.0);
-                    }
-                    FoldStyle::Guide | FoldStyle::TabBase => {
-                        content.set_stroke_rgb(0.55, 0.55, 0.55);
-                        content.set_dash_pattern([1.0, 2.0], 0.0);
-                    }
-                }
-                for f in pattern.folds().filter(|f| f.style == style) {
-                    let ((x0, y0), (x1, y1)) = (to_page(f.a), to_page(f.b));
-                    content.move_to(x0, y0);
-                    content.line_to(x1, y1);
+                    content.close_path();
                     content.stroke();
                 }
-            }
-            content.set_dash_pattern([], 0.0);
-            content.set_fill_rgb(0.2, 0.3, 0.65);
-            for label in pattern.labels() {
-                let (x, y) = to_page(label.position);
-                let size = (label.height_mm * PT * 1.4) as f32;
-                let width = ascii(&label.text).len() as f32 * size * 0.55;
-                let (s, c) = (label.angle_radians as f32).sin_cos();
+                content.set_line_width(0.3);
+                // Origami convention: mountain dash-dot red, valley dashed blue; guides and
+                // tab bases dotted grey.
+                for style in [
+                    FoldStyle::Mountain,
+                    FoldStyle::Valley,
+                    FoldStyle::Guide,
+                    FoldStyle::TabBase,
+                ] {
+                    match style {
+                        FoldStyle::Mountain => {
+                            content.set_stroke_rgb(0.8, 0.2, 0.2);
+                            content.set_dash_pattern([4.0, 1.5, 1.0, 1.5], 0.0);
+                        }
+                        FoldStyle::Valley => {
+                            content.set_stroke_rgb(0.2, 0.35, 0.8);
+                            content.set_dash_pattern([3.0, 2.0], 0.0);
+                        }
+                        FoldStyle::Guide | FoldStyle::TabBase => {
+                            content.set_stroke_rgb(0.55, 0.55, 0.55);
+                            content.set_dash_pattern([1.0, 2.0], 0.0);
+                        }
+                    }
+                    for f in pattern.folds().filter(|f| f.style == style) {
+                        let ((x0, y0), (x1, y1)) = (to_page(f.a), to_page(f.b));
+                        content.move_to(x0, y0);
+                        content.line_to(x1, y1);
+                        content.stroke();
+                    }
+                }
+                content.set_dash_pattern([], 0.0);
+                content.set_fill_rgb(0.2, 0.3, 0.65);
+                for label in pattern.labels() {
+                    let (x, y) = to_page(label.position);
+                    let size = (label.height_mm * PT * 1.4) as f32;
+                    let width = ascii(&label.text).len() as f32 * size * 0.55;
+                    let (s, c) = (label.angle_radians as f32).sin_cos();
+                    content.begin_text();
+                    content.set_font(Name(b"F1"), size);
+                    // Centred on the anchor, turned with the label.
+                    let (dx, dy) = (-0.5 * width, -0.35 * size);
+                    content.set_text_matrix([c, s, -s, c, x + c * dx - s * dy, y + s * dx + c * dy]);
+                    content.show(Str(ascii(&label.text).as_bytes()));
+                    content.end_text();
+                }
+                // Sheet outlines (packed patterns), thin black.
+                content.set_stroke_rgb(0.0, 0.0, 0.0);
+                content.set_line_width(0.2);
+                for (corner, size) in pattern.sheets.iter().filter(|_| options.sheet_outlines) {
+                    let (x0, y0) = to_page(*corner);
+                    let (x1, y1) = to_page(corner + size);
+                    content.rect(x0, y0, x1 - x0, y1 - y0);
+                    content.stroke();
+                }
+                // Overlap guides (dashed blue) where this tile meets its neighbours.
+                content.set_stroke_rgb(0.3, 0.5, 0.9);
+                content.set_dash_pattern([1.0, 2.0], 0.0);
+                let (left, bottom, right, top) = (m, m + 12.0, m + aw, m + 12.0 + ah);
+                if c + 1 < columns {
+                    line(&mut content, right - o, bottom, right - o, top);
+                }
+                if c > 0 {
+                    line(&mut content, left + o, bottom, left + o, top);
+                }
+                if r + 1 < rows {
+                    line(&mut content, left, bottom + o, right, bottom + o);
+                }
+                if r > 0 {
+                    line(&mut content, left, top - o, right, top - o);
+                }
+                content.restore_state();
+                // Registration marks at the printable area's corners.
+                content.set_line_width(0.3);
+                content.set_stroke_rgb(0.0, 0.0, 0.0);
+                for (x, y) in [(left, bottom), (right, bottom), (left, top), (right, top)] {
+                    line(&mut content, x - 4.0, y, x + 4.0, y);
+                    line(&mut content, x, y - 4.0, x, y + 4.0);
+                }
+                // Scale bar with 10 mm ticks, and the tile's place.
+                let (bx, by) = (m, m + 3.0);
+                content.set_line_width(0.6);
+                line(&mut content, bx, by, bx + options.scale_bar_mm, by);
+                let ticks = (options.scale_bar_mm / 10.0).floor() as usize;
+                for t in 0..=ticks {
+                    let x = bx + 10.0 * t as f64;
+                    line(&mut content, x, by, x, by + 2.0);
+                }
+                content.set_fill_rgb(0.0, 0.0, 0.0);
+                let sheet = if sheet_count > 1 {
+                    format!("sheet {} of {sheet_count}    ", k + 1)
+                } else {
+                    String::new()
+                };
+                let tile = if rows * columns > 1 {
+                    format!(
+                        "tile row {} column {} of {} x {}    overlap {:.0} mm",
+                        r + 1,
+                        c + 1,
+                        rows,
+                        columns,
+                        o
+                    )
+                } else {
+                    String::new()
+                };
+                let caption = format!(
+                    "{:.0} mm: measure to check 100 % scale    {sheet}{tile}",
+                    options.scale_bar_mm
+                );
                 content.begin_text();
-                content.set_font(Name(b"F1"), size);
-                // Centred on the anchor, turned with the label.
-                let (dx, dy) = (-0.5 * width, -0.35 * size);
-                content.set_text_matrix([c, s, -s, c, x + c * dx - s * dy, y + s * dx + c * dy]);
-                content.show(Str(ascii(&label.text).as_bytes()));
+                content.set_font(Name(b"F1"), 7.0);
+                content.next_line(((bx + options.scale_bar_mm + 4.0) * PT) as f32, (by * PT) as f32);
+                content.show(Str(caption.as_bytes()));
                 content.end_text();
+                pdf.stream(content_id, &content.finish());
+                let mut page = pdf.page(page_id);
+                page.media_box(Rect::new(0.0, 0.0, (pw * PT) as f32, (ph * PT) as f32));
+                page.parent(tree);
+                page.contents(content_id);
+                page.resources().fonts().pair(Name(b"F1"), font);
+                drop(page);
+                if page_ids.len() > options.max_pages {
+                    return Err(too_many_pages(page_ids.len(), options));
+                }
             }
-            // Sheet outlines (packed patterns), thin black.
-            content.set_stroke_rgb(0.0, 0.0, 0.0);
-            content.set_line_width(0.2);
-            for (corner, size) in &pattern.sheets {
-                let (x0, y0) = to_page(*corner);
-                let (x1, y1) = to_page(corner + size);
-                content.rect(x0, y0, x1 - x0, y1 - y0);
-                content.stroke();
-            }
-            // Overlap guides (dashed blue) where this tile meets its neighbours.
-            content.set_stroke_rgb(0.3, 0.5, 0.9);
-            content.set_dash_pattern([1.0, 2.0], 0.0);
-            let (left, bottom, right, top) = (m, m + 12.0, m + aw, m + 12.0 + ah);
-            if c + 1 < columns {
-                line(&mut content, right - o, bottom, right - o, top);
-            }
-            if c > 0 {
-                line(&mut content, left + o, bottom, left + o, top);
-            }
-            if r + 1 < rows {
-                line(&mut content, left, bottom + o, right, bottom + o);
-            }
-            if r > 0 {
-                line(&mut content, left, top - o, right, top - o);
-            }
-            content.restore_state();
-            // Registration marks at the printable area's corners.
-            content.set_line_width(0.3);
-            content.set_stroke_rgb(0.0, 0.0, 0.0);
-            for (x, y) in [(left, bottom), (right, bottom), (left, top), (right, top)] {
-                line(&mut content, x - 4.0, y, x + 4.0, y);
-                line(&mut content, x, y - 4.0, x, y + 4.0);
-            }
-            // Scale bar with 10 mm ticks, and the tile's place.
-            let (bx, by) = (m, m + 3.0);
-            content.set_line_width(0.6);
-            line(&mut content, bx, by, bx + options.scale_bar_mm, by);
-            let ticks = (options.scale_bar_mm / 10.0).floor() as usize;
-            for t in 0..=ticks {
-                let x = bx + 10.0 * t as f64;
-                line(&mut content, x, by, x, by + 2.0);
-            }
-            content.set_fill_rgb(0.0, 0.0, 0.0);
-            let caption = format!(
-                "{:.0} mm: measure to check 100 % scale    tile row {} column {} of {} x {}    overlap {:.0} mm",
-                options.scale_bar_mm,
-                r + 1,
-                c + 1,
-                rows,
-                columns,
-                o
-            );
-            content.begin_text();
-            content.set_font(Name(b"F1"), 7.0);
-            content.next_line(((bx + options.scale_bar_mm + 4.0) * PT) as f32, (by * PT) as f32);
-            content.show(Str(caption.as_bytes()));
-            content.end_text();
-            pdf.stream(content_id, &content.finish());
-            let mut page = pdf.page(page_id);
-            page.media_box(Rect::new(0.0, 0.0, (pw * PT) as f32, (ph * PT) as f32));
-            page.parent(tree);
-            page.contents(content_id);
-            page.resources().fonts().pair(Name(b"F1"), font);
-            drop(page);
         }
     }
     pdf.pages(tree)
@@ -262,10 +323,21 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
     let page_count = page_ids.len();
     Ok(TiledPdf {
         bytes: pdf.finish(),
-        rows,
-        columns,
+        rows: grids.iter().map(|g| g.0).max().unwrap_or(1),
+        columns: grids.iter().map(|g| g.1).max().unwrap_or(1),
         page_count,
     })
+}
+
+/// The error for a PDF over the page cap.
+fn too_many_pages(pages: usize, options: &PdfOptions) -> PatternError {
+    PatternError::Option {
+        option: "max_pages",
+        message: format!(
+            "the PDF would print more than {} {:?} pages ({pages} or more); shrink the pattern (--scale), pack it on sheets (--sheet), or raise the cap (--max-pages)",
+            options.max_pages, options.page
+        ),
+    }
 }
 
 /// Whether any line, label or sheet outline of the pattern falls in the window

@@ -431,6 +431,10 @@ pub struct PatternReport {
     pub tile_columns: usize,
     /// Pages of the tiled PDF: the tiles that show part of the pattern.
     pub page_count: usize,
+    /// Whether the PDF prints the pieces packed onto its pages (one page each, fewer
+    /// pages than tiling the layout) rather than tiles of the layout.
+    #[serde(default)]
+    pub pieces_packed_on_pages: bool,
     /// Pieces to cut (connected parts of the pattern).
     pub piece_count: usize,
     /// Sheets the pieces are packed on (0 when not packed).

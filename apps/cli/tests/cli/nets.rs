@@ -78,8 +78,20 @@ fn faceted_models_unfold_into_exact_nets_in_few_pieces() {
         assert!(dxf["mountain"].as_u64().unwrap() > 0, "{name}");
         validate_glb(&[out.join("model.glb")]);
     }
-    // A box: one cross of six rectangles, five folds, all mountains seen from outside.
+    // A box: one cross of six rectangles, five folds, all mountains seen from outside,
+    // turned to print on one A4 page (the layout as it lies needs two).
     let r = report(&tmp.path().join("box"));
+    assert_eq!(r["pattern"]["page_count"], 1);
+    assert_eq!(r["pattern"]["pieces_packed_on_pages"], true);
+    let render = std::process::Command::new("pdftoppm")
+        .args(["-r", "20", "-png"])
+        .arg(tmp.path().join("box/pattern.pdf"))
+        .arg(tmp.path().join("box/page"))
+        .output()
+        .expect("pdftoppm runs");
+    assert!(render.status.success(), "{}", String::from_utf8_lossy(&render.stderr));
+    assert!(tmp.path().join("box/page-1.png").exists());
+    assert!(!tmp.path().join("box/page-2.png").exists());
     assert_eq!(r["net"]["fold_edge_count"], 5);
     assert_eq!(r["pattern"]["mountain_fold_count"], 5);
     assert_eq!(r["pattern"]["valley_fold_count"], 0);
@@ -168,4 +180,24 @@ fn the_label_check_finds_labels_over_lines_outside_or_on_each_other() {
     assert_eq!(svg_labels_over_lines(&svg(&text(50.0, 10.0, 0.0, "1"))), 1);
     let two = text(10.0, 10.0, 0.0, "12") + &text(10.5, 10.5, 0.0, "34");
     assert_eq!(svg_labels_over_lines(&svg(&two)), 1);
+}
+
+/// A pattern that needs more pages than the cap is refused before anything is written,
+/// the message saying how to go on.
+#[test]
+fn a_pdf_over_the_page_cap_is_refused_with_the_way_out() {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = write_obj(tmp.path(), "box", &primitives::cuboid([400.0, 600.0, 800.0]));
+    let out = tmp.path().join("out");
+    let o = flatten(&path, &out, &["--max-pages", "3"]);
+    assert_eq!(o.status.code(), Some(1));
+    let message = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        message.contains("max_pages") && message.contains("--max-pages"),
+        "{message}"
+    );
+    assert!(!out.exists());
+    let o = flatten(&path, &out, &["--max-pages", "500"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(report(&out)["pattern"]["page_count"].as_u64().unwrap() > 3);
 }

@@ -5,8 +5,8 @@ use crate::report::{PatternReport, Report};
 use sheetform_io::write_atomic;
 use sheetform_mesh::SheetMesh;
 use sheetform_pattern::{
-    dxf_bytes, pattern_from_mesh, pdf_tiled, svg_bytes, DxfUnit, FoldStyle, PageSize, PatternOptions, PdfOptions,
-    SheetOptions, TabOptions,
+    dxf_bytes, pack_pieces, pattern_from_mesh, pdf_tiled, smallest_bounding_rotation, svg_bytes, DxfUnit, FoldStyle,
+    PageSize, PatternOptions, PdfOptions, SheetOptions, TabOptions, DEFAULT_MAX_PAGES,
 };
 use std::path::Path;
 
@@ -42,6 +42,60 @@ pub struct PatternOutputOptions {
     pub tabs: Option<TabOptions>,
     /// Pack the pieces onto sheets of this size (`None`: keep the layout).
     pub sheet: Option<SheetOptions>,
+    /// Most pages the PDF may have (a pattern that needs more is refused).
+    pub max_pdf_pages: usize,
+}
+
+/// Gap between pieces packed onto the PDF's pages (mm).
+const PAGE_PACKING_GAP_MM: f64 = 4.0;
+
+/// Most pieces for which packing onto pages is tried (each try renders a PDF).
+const MAX_PAGE_PACKED_PIECES: usize = 2_000;
+
+/// Sheets made of whole page tiles to pack a pattern's pieces on for printing: one page,
+/// and the smallest grids of `c × r` tiles (their overlaps included) that hold the largest
+/// piece either way round, with a column or a row more.
+fn page_sheets(pattern: &sheetform_pattern::Pattern, pdf: &PdfOptions) -> Vec<SheetOptions> {
+    let (aw, ah) = pdf.printable_area();
+    let o = pdf.overlap_mm;
+    let (sx, sy) = (aw - o, ah - o);
+    let gap = PAGE_PACKING_GAP_MM;
+    // The largest piece, turned to its smallest bounding rectangle.
+    let largest = pattern
+        .pieces
+        .iter()
+        .map(|p| {
+            let points: Vec<_> = p.cut.iter().flatten().copied().collect();
+            smallest_bounding_rotation(&points).1
+        })
+        .fold(
+            nalgebra::Vector2::zeros(),
+            |m: nalgebra::Vector2<f64>, s| {
+                if s.x * s.y > m.x * m.y {
+                    s
+                } else {
+                    m
+                }
+            },
+        );
+    let tiles = |length: f64, step: f64| ((length + 2.0 * gap - o).max(0.0) / step).ceil().max(1.0) as usize;
+    let mut grids = vec![(1, 1)];
+    for (w, h) in [(largest.x, largest.y), (largest.y, largest.x)] {
+        let (c, r) = (tiles(w, sx), tiles(h, sy));
+        if c * r > 1 && c * r <= 64 {
+            grids.extend([(c, r), (c + 1, r), (c, r + 1)]);
+        }
+    }
+    grids.sort_unstable();
+    grids.dedup();
+    grids
+        .into_iter()
+        .map(|(c, r)| SheetOptions {
+            width_mm: c as f64 * sx + o,
+            height_mm: r as f64 * sy + o,
+            gap_mm: gap,
+        })
+        .collect()
 }
 
 impl Default for PatternOutputOptions {
@@ -54,6 +108,7 @@ impl Default for PatternOutputOptions {
             seam_labels: true,
             tabs: None,
             sheet: None,
+            max_pdf_pages: DEFAULT_MAX_PAGES,
         }
     }
 }
@@ -79,13 +134,37 @@ pub(crate) fn pattern_files(
     )?;
     let all = outputs == OutputSet::All;
     let pdf = if all {
-        Some(pdf_tiled(
-            &pattern,
-            &PdfOptions {
-                page: options.page,
-                ..Default::default()
-            },
-        )?)
+        let pdf_options = PdfOptions {
+            page: options.page,
+            max_pages: options.max_pdf_pages,
+            ..Default::default()
+        };
+        let tiled = pdf_tiled(&pattern, &pdf_options);
+        // Several pieces and no sheets asked for: the pieces are also packed onto sheets
+        // of whole pages (turned to fit, a sheet of one page or of a few tiles for pieces
+        // larger than a page); the PDF with the fewest pages is kept.
+        let mut best = tiled.map(|t| (t, false));
+        if pattern.sheets.is_empty() && !pattern.pieces.is_empty() && pattern.pieces.len() <= MAX_PAGE_PACKED_PIECES {
+            for sheet in page_sheets(&pattern, &pdf_options) {
+                let mut paged = pattern.clone();
+                if pack_pieces(&mut paged, &sheet).is_err() {
+                    continue;
+                }
+                let packed = pdf_tiled(
+                    &paged,
+                    &PdfOptions {
+                        sheet_outlines: false,
+                        ..pdf_options
+                    },
+                );
+                if let Ok(p) = packed {
+                    if best.as_ref().is_err() || best.as_ref().is_ok_and(|b| p.page_count < b.0.page_count) {
+                        best = Ok((p, true));
+                    }
+                }
+            }
+        }
+        Some(best?)
     } else {
         None
     };
@@ -95,9 +174,10 @@ pub(crate) fn pattern_files(
         width_mm: hi.x - lo.x,
         height_mm: hi.y - lo.y,
         page: options.page,
-        tile_rows: pdf.as_ref().map_or(0, |p| p.rows),
-        tile_columns: pdf.as_ref().map_or(0, |p| p.columns),
-        page_count: pdf.as_ref().map_or(0, |p| p.page_count),
+        tile_rows: pdf.as_ref().map_or(0, |p| p.0.rows),
+        tile_columns: pdf.as_ref().map_or(0, |p| p.0.columns),
+        page_count: pdf.as_ref().map_or(0, |p| p.0.page_count),
+        pieces_packed_on_pages: pdf.as_ref().is_some_and(|p| p.1),
         piece_count: pattern.pieces.len(),
         sheet_count: pattern.sheets.len(),
         seam_count: pattern.seam_count,
@@ -112,7 +192,7 @@ pub(crate) fn pattern_files(
         "pattern.svg".to_string(),
         svg_bytes(&pattern, &format!("{title}: flat pattern"), 10.0),
     )];
-    if let Some(pdf) = pdf {
+    if let Some((pdf, _)) = pdf {
         files.push(("pattern.dxf".to_string(), dxf_bytes(&pattern, options.dxf_unit)?));
         files.push(("pattern.pdf".to_string(), pdf.bytes));
         // One cutter file per sheet when packed.
