@@ -359,7 +359,7 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
         })
         .collect();
     fold_edges.sort_by_key(|x| x.0);
-    for (chain, angle) in merge_collinear_folds(&fold_edges, &at) {
+    for (chain, angle) in merge_collinear_folds(&fold_edges, at) {
         let (a, b) = (chain[0], *chain.last().expect("a chain has two ends"));
         pieces[vertex_part(a, &mut parent)].folds.push(Fold {
             a: at(a),

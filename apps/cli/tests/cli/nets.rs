@@ -201,3 +201,20 @@ fn a_pdf_over_the_page_cap_is_refused_with_the_way_out() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(report(&out)["pattern"]["page_count"].as_u64().unwrap() > 3);
 }
+
+/// A finely faceted model whose net would come in a hundred scraps is cut into a handful
+/// of smooth charts instead, and the report says why.
+#[test]
+fn the_wingnut_is_cut_into_charts_rather_than_a_net_of_scraps() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let o = flatten(&crate::common::shared("wingnut.obj"), &out, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(&out);
+    assert_eq!(r["layout"], "charts");
+    let reason = r["layout_reason"].as_str().unwrap();
+    assert!(reason.contains("the net needs"), "{reason}");
+    let charts = r["segmentation"]["chart_count"].as_u64().unwrap();
+    assert!(charts <= 25, "{charts}");
+    assert_eq!(r["status"], "ok");
+}

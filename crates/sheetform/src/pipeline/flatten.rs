@@ -18,6 +18,9 @@ use super::outputs::{output_names, pattern_files, PatternOutputOptions};
 use super::sheet_report::{angle_defects, chart_report, DEFAULT_ANGLE_TOLERANCE};
 use std::time::Instant;
 
+/// With `--charts auto`, a net of more pieces than this is compared with smooth charts.
+pub const AUTO_NET_HANDFUL: usize = 8;
+
 /// How `flatten` lays a mesh out in the plane.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum FlattenMethod {
@@ -39,8 +42,9 @@ pub enum ChartMode {
     /// What a maker would expect ([`sheetform_flatten::choose_layout`]): a developable
     /// disk whole, a developable with cone points or several boundaries in charts opened
     /// along straight seams, a faceted model as a net, a finely meshed curved surface in
-    /// charts within the distortion bound. A disk given `--method lscm` or `arap` stays
-    /// whole.
+    /// charts within the distortion bound. A net of more than [`AUTO_NET_HANDFUL`]
+    /// pieces gives way to smooth charts when they need fewer than half as many. A disk
+    /// given `--method lscm` or `arap` stays whole.
     #[default]
     Auto,
     /// Always smooth charts (a disk is still cut along sharp creases and split where it
@@ -139,6 +143,31 @@ pub fn run_flatten(
         ChartMode::Net => (Layout::Net, "a net asked for".into()),
         ChartMode::Never => (Layout::Whole, "no charts asked for: flattened whole".into()),
     };
+    // A net of many pieces is kept only when smooth charts (within the distortion bound)
+    // would not need far fewer: a finely faceted model cut into a handful of charts is
+    // easier to make than a net of a hundred scraps.
+    let (mut layout, mut reason) = (layout, reason);
+    let (mut net, mut chart_set) = (None, None);
+    if layout == Layout::Net {
+        context.progress("unfolding a net", 0.2);
+        let unfolded = unfold_net(&mesh, &options.net_options)?;
+        if options.charts == ChartMode::Auto && unfolded.pieces.len() > AUTO_NET_HANDFUL {
+            context.check_cancelled()?;
+            let set = cut_into_charts(&mesh, &options.chart_options)?;
+            if 2 * set.charts.len() < unfolded.pieces.len() {
+                reason = format!(
+                    "{reason}; but the net needs {} pieces and smooth charts within the distortion bound {}: cut into charts",
+                    unfolded.pieces.len(),
+                    set.charts.len()
+                );
+                layout = Layout::Charts;
+                chart_set = Some(set);
+            }
+        }
+        if layout == Layout::Net {
+            net = Some(unfolded);
+        }
+    }
     let mm = options.unit.millimetres();
     let name = mesh_name(options.input.as_deref());
     let mut report = Report::new(Command::Flatten, options.input.clone());
@@ -155,7 +184,10 @@ pub fn run_flatten(
         .map_or(0.0, |t| 2.5 * t.width_mm / (mm * pattern_options.scale));
     let (sheet, solved) = match layout {
         Layout::Charts => {
-            let set = cut_into_charts(&mesh, &options.chart_options)?;
+            let set = match chart_set.take() {
+                Some(set) => set,
+                None => cut_into_charts(&mesh, &options.chart_options)?,
+            };
             let solved = Instant::now();
             let sheet = sheet_from_charts(&mesh, &set.charts, &name, None, options.unit, tab_room);
             report.segmentation = Some(SegmentationReport {
@@ -174,8 +206,7 @@ pub fn run_flatten(
             (sheet, solved)
         }
         Layout::Net => {
-            context.progress("unfolding a net", 0.2);
-            let net = unfold_net(&mesh, &options.net_options)?;
+            let net = net.take().expect("a net layout was unfolded above");
             let solved = Instant::now();
             let sheet = sheet_from_charts(&mesh, &net.pieces, &name, None, options.unit, tab_room);
             report.net = Some(NetReport {
