@@ -362,6 +362,10 @@ impl Growth {
     }
 }
 
+/// An edge waiting in the growth's queue: `((flat first, distance bits), from face, its
+/// corner starting the edge, face across)`, ordered by the key.
+type HingeCandidate = ((u8, u64), u32, u8, u32);
+
 /// Grows a net from `seed` (step 1 of [`unfold_net`]).
 fn grow(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], seed: u32) -> Growth {
     let mesh = faces.mesh;
@@ -375,8 +379,7 @@ fn grow(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], seed: u32)
     let mut refused: Vec<u32> = Vec::new();
     let mut next_any = 0usize;
     let mut start = Some(seed);
-    // (flat-first class, distance bits) → (from face, its corner of the edge, to face).
-    let mut queue: BinaryHeap<Reverse<((u8, u64), u32, u8, u32)>> = BinaryHeap::new();
+    let mut queue: BinaryHeap<Reverse<HingeCandidate>> = BinaryHeap::new();
     while let Some(s) = start {
         let p = growth.piece_count as u32;
         growth.piece_count += 1;
@@ -446,8 +449,8 @@ fn grow(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], seed: u32)
 /// width that is no cut at all; it is joined again.
 fn close_closed_slits(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], growth: &mut Growth) {
     let mesh = faces.mesh;
-    for e in 0..table.len() {
-        if growth.kept[e] || forced_cut[e] {
+    for (e, &forced) in forced_cut.iter().enumerate() {
+        if growth.kept[e] || forced {
             continue;
         }
         let [f, g] = table.sides(e) else { continue };

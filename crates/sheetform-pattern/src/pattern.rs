@@ -414,20 +414,29 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
             })
             .collect();
         grid.sort_by(|a, b| (a - centre).norm().total_cmp(&(b - centre).norm()));
+        let points: Vec<Vec2> = spots.iter().take(MAX_LABEL_SPOTS).map(|x| x.1).chain(grid).collect();
+        // Level first; then along the piece's longest fold (a name fits between the folds
+        // of a faceted tube running with them), then upright.
+        let along_fold = pieces[face_part[f]]
+            .folds
+            .iter()
+            .max_by(|a, b| (a.b - a.a).norm().total_cmp(&(b.b - b.a).norm()))
+            .map(|fold| upright((fold.b - fold.a).y.atan2((fold.b - fold.a).x)));
+        let directions = [Some(0.0), along_fold, Some(std::f64::consts::FRAC_PI_2)];
         requests.push(LabelRequest {
             piece: face_part[f],
             text: piece.name.clone(),
             kind: LabelKind::Piece,
             height_mm: label_height,
-            spots: spots
-                .iter()
-                .take(MAX_LABEL_SPOTS)
-                .map(|x| x.1)
-                .chain(grid)
-                .map(|point| LabelSpot {
-                    point,
-                    inward: Vec2::zeros(),
-                    direction: 0.0,
+            spots: directions
+                .into_iter()
+                .flatten()
+                .flat_map(|direction| {
+                    points.iter().map(move |&point| LabelSpot {
+                        point,
+                        inward: Vec2::zeros(),
+                        direction,
+                    })
                 })
                 .collect(),
         });

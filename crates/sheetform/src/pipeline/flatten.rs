@@ -174,7 +174,7 @@ pub fn run_flatten(
     report.layout = Some(layout);
     report.layout_reason = Some(reason);
     // A net gets glue tabs unless the pattern options say otherwise.
-    let mut pattern_options = options.pattern.clone();
+    let mut pattern_options = options.pattern;
     if layout == Layout::Net && pattern_options.tabs.is_none() {
         pattern_options.tabs = options.net_tabs;
     }
