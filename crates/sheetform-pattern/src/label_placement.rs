@@ -206,6 +206,7 @@ mod tests {
             }],
             labels: vec![],
             sheet: 0,
+            placement: Default::default(),
         }
     }
 

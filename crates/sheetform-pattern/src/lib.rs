@@ -19,7 +19,7 @@ pub use error::PatternError;
 pub use glue_tabs::{add_glue_tabs, TabOptions, TabReport, TabSides, TabbedLoops};
 pub use pattern::{
     pattern_from_mesh, point_bounds, signed_fold_angle, Fold, FoldStyle, Label, LabelKind, Pattern, PatternOptions,
-    PatternPiece,
+    PatternPiece, PatternTexture, Placement,
 };
 pub use pdf_tiles::{pdf_tiled, PageSize, PdfOptions, TiledPdf, DEFAULT_MAX_PAGES};
 pub use seam_matching::{match_seams, SeamRun};

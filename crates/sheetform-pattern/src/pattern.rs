@@ -71,6 +71,51 @@ pub struct PatternPiece {
     pub labels: Vec<Label>,
     /// Sheet the piece is packed on (0 without packing).
     pub sheet: usize,
+    /// Where the piece has been moved since the pattern was made (packing turns and
+    /// moves pieces): the rigid motion from the pattern's first layout to the piece's
+    /// place now, which is where its part of the texture goes.
+    pub placement: Placement,
+}
+
+/// A rigid motion of the plane, `p ↦ R p + t` with `R = [[a, c], [b, d]]` (column-major,
+/// as SVG's and PDF's `matrix(a, b, c, d, e, f)`) and `t = (e, f)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Placement(pub [f64; 6]);
+
+impl Default for Placement {
+    fn default() -> Self {
+        Placement([1.0, 0.0, 0.0, 1.0, 0.0, 0.0])
+    }
+}
+
+impl Placement {
+    /// The motion applied to a point.
+    pub fn apply(&self, p: Vec2) -> Vec2 {
+        let [a, b, c, d, e, f] = self.0;
+        Vec2::new(a * p.x + c * p.y + e, b * p.x + d * p.y + f)
+    }
+
+    /// This motion followed by the rigid map `g` (read off from three points).
+    pub fn then(&self, g: impl Fn(Vec2) -> Vec2) -> Placement {
+        let o = g(self.apply(Vec2::zeros()));
+        let x = g(self.apply(Vec2::new(1.0, 0.0))) - o;
+        let y = g(self.apply(Vec2::new(0.0, 1.0))) - o;
+        Placement([x.x, x.y, y.x, y.y, o.x, o.y])
+    }
+}
+
+/// An image printed on the sheet (a texture of `bend`), stretched over a rectangle of the
+/// pattern's first layout.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PatternTexture {
+    /// The encoded image (PNG or JPEG).
+    pub bytes: Vec<u8>,
+    /// `image/png` or `image/jpeg`.
+    pub mime_type: String,
+    /// Lower-left corner of the image on the pattern (mm, first layout).
+    pub origin: Vec2,
+    /// Width and height the image covers (mm).
+    pub size: Vec2,
 }
 
 /// A cutting pattern in millimetres at print scale.
@@ -89,6 +134,8 @@ pub struct Pattern {
     pub labels_shrunk: usize,
     /// Labels left out: nowhere in their piece was free of lines and other labels.
     pub labels_dropped: usize,
+    /// An image printed on the pieces (each piece shows its part, moved with it).
+    pub texture: Option<PatternTexture>,
 }
 
 /// Knobs of [`pattern_from_mesh`].
@@ -164,6 +211,7 @@ impl Pattern {
             tabs: self.tabs,
             labels_shrunk: self.labels_shrunk,
             labels_dropped: self.labels_dropped,
+            texture: self.texture.clone(),
         }
     }
 }
@@ -198,6 +246,7 @@ impl PatternPiece {
                 })
                 .collect(),
             sheet: self.sheet,
+            placement: self.placement.then(&f),
         }
     }
 
@@ -319,6 +368,7 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
             folds: Vec::new(),
             labels: Vec::new(),
             sheet: 0,
+            placement: Placement::default(),
         })
         .collect();
 
@@ -529,6 +579,7 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
         tabs,
         labels_shrunk: placement.shrunk,
         labels_dropped: placement.dropped,
+        texture: None,
     };
     if let Some(sheet) = &options.sheet {
         pack_pieces(&mut pattern, sheet)?;

@@ -150,6 +150,16 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
     let mut next = 4;
     let mut page_ids = Vec::new();
     pdf.type1_font(font).base_font(Name(b"Helvetica"));
+    // The texture, once per document.
+    let texture = match &pattern.texture {
+        Some(t) => {
+            let id = Ref::new(next);
+            next += 1;
+            embed_texture(&mut pdf, id, t)?;
+            Some((id, t))
+        }
+        None => None,
+    };
     for (k, (pattern, &(rows, columns, origin))) in parts.iter().zip(&grids).enumerate() {
         for r in 0..rows {
             for c in 0..columns {
@@ -175,6 +185,34 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                 );
                 content.clip_nonzero();
                 content.end_path();
+                // The texture under each piece, moved with it, clipped to its outline.
+                if let Some((_, t)) = texture {
+                    for piece in &pattern.pieces {
+                        content.save_state();
+                        for cycle in &piece.cut {
+                            for (i, p) in cycle.iter().enumerate() {
+                                let (x, y) = to_page(*p);
+                                if i == 0 {
+                                    content.move_to(x, y);
+                                } else {
+                                    content.line_to(x, y);
+                                }
+                            }
+                            content.close_path();
+                        }
+                        content.clip_even_odd();
+                        content.end_path();
+                        // The image's unit square → first layout → the piece's place → page.
+                        let corner = |u: f64, v: f64| {
+                            let q = piece.placement.apply(t.origin + Vec2::new(u * t.size.x, v * t.size.y));
+                            to_page(q)
+                        };
+                        let (o, x, y) = (corner(0.0, 0.0), corner(1.0, 0.0), corner(0.0, 1.0));
+                        content.transform([x.0 - o.0, x.1 - o.1, y.0 - o.0, y.1 - o.1, o.0, o.1]);
+                        content.x_object(Name(b"Im1"));
+                        content.restore_state();
+                    }
+                }
                 content.set_line_width(0.4);
                 content.set_stroke_rgb(0.85, 0.0, 0.0);
                 for cycle in pattern.cut_loops() {
@@ -308,7 +346,12 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                 page.media_box(Rect::new(0.0, 0.0, (pw * PT) as f32, (ph * PT) as f32));
                 page.parent(tree);
                 page.contents(content_id);
-                page.resources().fonts().pair(Name(b"F1"), font);
+                let mut resources = page.resources();
+                resources.fonts().pair(Name(b"F1"), font);
+                if let Some((id, _)) = texture {
+                    resources.x_objects().pair(Name(b"Im1"), id);
+                }
+                drop(resources);
                 drop(page);
                 if page_ids.len() > options.max_pages {
                     return Err(too_many_pages(page_ids.len(), options));
@@ -338,6 +381,25 @@ fn too_many_pages(pages: usize, options: &PdfOptions) -> PatternError {
             options.max_pages, options.page
         ),
     }
+}
+
+/// Writes the texture as an image XObject of 8-bit RGB samples (PNG or JPEG decoded;
+/// uncompressed, which keeps the writer free of an encoder).
+fn embed_texture(pdf: &mut Pdf, id: Ref, texture: &crate::PatternTexture) -> Result<(), PatternError> {
+    let bad = |e: String| PatternError::Option {
+        option: "texture",
+        message: format!("cannot be printed on the PDF: {e}"),
+    };
+    let rgb = image::load_from_memory(&texture.bytes)
+        .map_err(|e| bad(e.to_string()))?
+        .to_rgb8();
+    let (w, h) = rgb.dimensions();
+    let mut xobject = pdf.image_xobject(id, rgb.as_raw());
+    xobject.width(w as i32);
+    xobject.height(h as i32);
+    xobject.color_space().device_rgb();
+    xobject.bits_per_component(8);
+    Ok(())
 }
 
 /// Whether any line, label or sheet outline of the pattern falls in the window
@@ -397,6 +459,7 @@ mod tests {
                 folds: vec![],
                 labels: vec![],
                 sheet: 0,
+                placement: Default::default(),
             }],
             ..Default::default()
         }

@@ -222,6 +222,7 @@ mod tests {
             folds: vec![],
             labels: vec![],
             sheet: 0,
+            placement: Default::default(),
         }
     }
 

@@ -1,4 +1,5 @@
-use crate::{FoldStyle, LabelKind, Pattern};
+use crate::{FoldStyle, LabelKind, Pattern, PatternTexture, Vec2};
+use base64::Engine as _;
 use std::fmt::Write;
 
 fn escape(s: &str) -> String {
@@ -38,6 +39,9 @@ pub fn svg_bytes(pattern: &Pattern, title: &str, margin_mm: f64) -> Vec<u8> {
         s,
         "<desc>1 user unit = 1 mm. Layers: cut, fold (mountain, valley, guide, tab), labels, sheets.</desc>"
     );
+    if let Some(texture) = &pattern.texture {
+        write_texture(&mut s, pattern, texture, &px, &py);
+    }
     let _ = writeln!(
         s,
         r##"<g id="cut" inkscape:groupmode="layer" inkscape:label="cut" fill="none" stroke="#e00000" stroke-width="0.1">"##
@@ -120,4 +124,62 @@ pub fn svg_bytes(pattern: &Pattern, title: &str, margin_mm: f64) -> Vec<u8> {
     }
     let _ = writeln!(s, "</g>\n</svg>");
     s.into_bytes()
+}
+
+/// The `texture` layer: the image once in `<defs>`, and per piece a `<use>` of it moved
+/// with the piece (its [`crate::Placement`]) and clipped to the piece's cut loops.
+fn write_texture(
+    s: &mut String,
+    pattern: &Pattern,
+    texture: &PatternTexture,
+    px: &impl Fn(f64) -> f64,
+    py: &impl Fn(f64) -> f64,
+) {
+    let data = base64::engine::general_purpose::STANDARD.encode(&texture.bytes);
+    let _ = writeln!(s, "<defs>");
+    // The image in its own frame: 1 unit = 1 mm, y down from its top-left corner.
+    let _ = writeln!(
+        s,
+        r#"<image id="texture-image" width="{:.4}" height="{:.4}" preserveAspectRatio="none" href="data:{};base64,{data}"/>"#,
+        texture.size.x,
+        texture.size.y,
+        escape(&texture.mime_type)
+    );
+    for (k, piece) in pattern.pieces.iter().enumerate() {
+        let mut d = String::new();
+        for cycle in &piece.cut {
+            for (i, p) in cycle.iter().enumerate() {
+                let _ = write!(d, "{}{:.4},{:.4} ", if i == 0 { "M" } else { "L" }, px(p.x), py(p.y));
+            }
+            d.push_str("Z ");
+        }
+        let _ = writeln!(
+            s,
+            r#"<clipPath id="piece-{k}"><path d="{}" clip-rule="evenodd"/></clipPath>"#,
+            d.trim_end()
+        );
+    }
+    let _ = writeln!(s, "</defs>");
+    let _ = writeln!(
+        s,
+        r#"<g id="texture" inkscape:groupmode="layer" inkscape:label="texture">"#
+    );
+    for (k, piece) in pattern.pieces.iter().enumerate() {
+        // Image frame (u right, v down) → first layout (mm, y up) → the piece's place →
+        // the SVG's user space.
+        let to_svg = |u: f64, v: f64| {
+            let q = piece
+                .placement
+                .apply(Vec2::new(texture.origin.x + u, texture.origin.y + texture.size.y - v));
+            Vec2::new(px(q.x), py(q.y))
+        };
+        let (o, x, y) = (to_svg(0.0, 0.0), to_svg(1.0, 0.0), to_svg(0.0, 1.0));
+        let (x, y) = (x - o, y - o);
+        let _ = writeln!(
+            s,
+            r##"<g clip-path="url(#piece-{k})"><use href="#texture-image" transform="matrix({:.6} {:.6} {:.6} {:.6} {:.4} {:.4})"/></g>"##,
+            x.x, x.y, y.x, y.y, o.x, o.y
+        );
+    }
+    let _ = writeln!(s, "</g>");
 }

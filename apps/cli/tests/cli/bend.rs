@@ -2,6 +2,7 @@
 
 use crate::common::{examples, obj_isometry_error, read_obj, repo, report, sheetform, validate_glb};
 use std::path::Path;
+use std::process::Command;
 
 #[test]
 fn every_example_bends_into_an_exact_isometry_with_all_outputs() {
@@ -309,4 +310,71 @@ fn a_scene_cannot_read_files_outside_its_directory() {
         assert!(stderr.contains("texture"), "{stderr}");
         assert!(!out.exists(), "nothing is written");
     }
+}
+
+/// A texture printed on the bent sheet reaches the pattern: the SVG embeds the image once
+/// and shows it on every piece, clipped to it; the PDF prints it (its pages, rendered by
+/// pdftoppm, are tinted by the image where they were white); the OBJ names a material
+/// whose map fits the 1:1 `vt` onto the image, written beside it.
+#[test]
+fn a_texture_is_printed_on_the_pattern_and_named_by_the_obj() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/textured-sheet.json");
+    let o = sheetform(&[
+        "bend",
+        scene.to_str().unwrap(),
+        "-o",
+        tmp.path().to_str().unwrap(),
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let source =
+        std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/textures/grid-240x120mm.png"))
+            .unwrap();
+    assert_eq!(std::fs::read(tmp.path().join("texture.png")).unwrap(), source);
+    let mtl = std::fs::read_to_string(tmp.path().join("model.mtl")).unwrap();
+    assert!(mtl.contains("newmtl sheet") && mtl.contains("map_Kd -s ") && mtl.trim_end().ends_with("texture.png"));
+    let obj = std::fs::read_to_string(tmp.path().join("model.obj")).unwrap();
+    assert!(obj.starts_with("mtllib model.mtl\nusemtl sheet\n"));
+    let r = crate::common::report(tmp.path());
+    let pieces = r["pattern"]["piece_count"].as_u64().unwrap() as usize;
+    let svg = std::fs::read_to_string(tmp.path().join("pattern.svg")).unwrap();
+    assert_eq!(svg.matches(r#"<image id="texture-image""#).count(), 1);
+    assert!(svg.contains(r#"href="data:image/png;base64,"#));
+    assert_eq!(svg.matches(r##"<use href="#texture-image""##).count(), pieces);
+    assert_eq!(svg.matches("<clipPath id=\"piece-").count(), pieces);
+    // The PDF's pages, rendered: the image's warm squares cover a good part of them.
+    let render = Command::new("pdftoppm")
+        .args(["-r", "20"])
+        .arg(tmp.path().join("pattern.pdf"))
+        .arg(tmp.path().join("page"))
+        .output()
+        .expect("pdftoppm runs");
+    assert!(render.status.success(), "{}", String::from_utf8_lossy(&render.stderr));
+    let page = std::fs::read(tmp.path().join("page-1.ppm")).unwrap();
+    // P6 header: magic, width, height, maxval, then RGB bytes.
+    let mut fields = 0;
+    let mut start = 0;
+    let mut previous_space = true;
+    for (i, &b) in page.iter().enumerate() {
+        let space = b.is_ascii_whitespace();
+        if space && !previous_space {
+            fields += 1;
+            if fields == 4 {
+                start = i + 1;
+                break;
+            }
+        }
+        previous_space = space;
+    }
+    let pixels: Vec<&[u8]> = page[start..].chunks(3).collect();
+    let warm = pixels
+        .iter()
+        .filter(|p| p[0] < 245 && p[0] as i32 > p[2] as i32 + 12)
+        .count();
+    assert!(
+        warm * 10 > pixels.len(),
+        "{warm} of {} pixels show the texture",
+        pixels.len()
+    );
 }

@@ -87,13 +87,22 @@ pub fn run_bend(scene: &BendScene, options: &BendRunOptions, context: &RunContex
     };
     let mut files: Vec<(String, Vec<u8>)> = Vec::new();
     if context.renders_all() {
-        files.push(("model.obj".into(), obj_string(&sheet.mesh, &name).into_bytes()));
+        let mut obj = obj_string(&sheet.mesh, &name);
+        if let Some(t) = texture {
+            // The OBJ shows the texture too: a material whose map scales the 1:1 `vt`
+            // onto the image, and the image beside it.
+            let (mtl, image) = textured_material(&sheet.mesh, t);
+            obj = format!("mtllib model.mtl\nusemtl sheet\n{obj}");
+            files.push(("model.mtl".into(), mtl.into_bytes()));
+            files.push(image);
+        }
+        files.push(("model.obj".into(), obj.into_bytes()));
     }
     files.push(("model.glb".into(), glb_bytes(&sheet.mesh, &name, texture, UpAxis::Z)));
     if context.renders_all() {
         files.push(("model.stl".into(), stl_bytes(&sheet.mesh)));
     }
-    let (pattern, pattern_report) = pattern_files(&sheet.mesh, &name, &options.pattern, context.outputs)?;
+    let (pattern, pattern_report) = pattern_files(&sheet.mesh, &name, &options.pattern, context.outputs, texture)?;
     files.extend(pattern);
     let frames = if context.renders_all() {
         options.animate_frames
@@ -176,4 +185,27 @@ pub fn inadmissible_report(error: &BendError, unit_mm: f64, input: Option<String
     });
     report.outputs = vec!["report.json".into()];
     Some(report)
+}
+
+/// `model.mtl` for a textured sheet and the image file it names. The OBJ's `vt` is the
+/// flat pattern at 1:1 (model units), so the map is scaled and offset onto it
+/// (`map_Kd -s 1/W 1/H 1 -o −x0/W −y0/H 0`, W × H the pattern's bounding box from
+/// (x0, y0)): the image spans the pattern's bounding box, as in the GLB and on the SVG
+/// and PDF pattern.
+fn textured_material(mesh: &sheetform_mesh::SheetMesh, texture: Texture<'_>) -> (String, (String, Vec<u8>)) {
+    let (lo, hi) = mesh.flat_bounds();
+    let size = (hi - lo).sup(&nalgebra::Vector2::repeat(f64::MIN_POSITIVE));
+    let file = if texture.mime_type == "image/jpeg" {
+        "texture.jpg"
+    } else {
+        "texture.png"
+    };
+    let mtl = format!(
+        "# sheetform: the sheet's printed texture; vt is the flat pattern at 1:1\nnewmtl sheet\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nillum 1\nmap_Kd -s {} {} 1 -o {} {} 0 {file}\n",
+        1.0 / size.x,
+        1.0 / size.y,
+        -lo.x / size.x,
+        -lo.y / size.y
+    );
+    (mtl, (file.to_string(), texture.bytes.to_vec()))
 }

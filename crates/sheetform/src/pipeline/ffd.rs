@@ -197,7 +197,7 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
         // A preview shows the models (GLB) only.
         files.retain(|(n, _)| n.ends_with(".glb"));
     }
-    let (pattern, pattern_report) = pattern_files(&sheet, &name, &options.pattern, context.outputs)?;
+    let (pattern, pattern_report) = pattern_files(&sheet, &name, &options.pattern, context.outputs, None)?;
     files.extend(pattern);
     let exported = Instant::now();
     let mut report = sheet_mesh_report(Command::Ffd, options.input.clone(), &sheet);

@@ -271,7 +271,7 @@ pub fn run_flatten(
         files.push(("model.obj".to_string(), obj_string(&sheet, &name).into_bytes()));
     }
     files.push(("model.glb".to_string(), glb_bytes(&sheet, &name, None, UpAxis::Y)));
-    let (pattern, pattern_report) = pattern_files(&sheet, &name, &pattern_options, context.outputs)?;
+    let (pattern, pattern_report) = pattern_files(&sheet, &name, &pattern_options, context.outputs, None)?;
     files.extend(pattern);
     let exported = Instant::now();
     // The bound the report states: no overlap, and no edge stretched by more than the

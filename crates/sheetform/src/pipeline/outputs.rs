@@ -2,11 +2,11 @@
 //! and report into a directory.
 
 use crate::report::{PatternReport, Report};
-use sheetform_io::write_atomic;
+use sheetform_io::{write_atomic, Texture};
 use sheetform_mesh::SheetMesh;
 use sheetform_pattern::{
     dxf_bytes, pack_pieces, pattern_from_mesh, pdf_tiled, smallest_bounding_rotation, svg_bytes, DxfUnit, FoldStyle,
-    PageSize, PatternOptions, PdfOptions, SheetOptions, TabOptions, DEFAULT_MAX_PAGES,
+    PageSize, PatternOptions, PatternTexture, PdfOptions, SheetOptions, TabOptions, DEFAULT_MAX_PAGES,
 };
 use std::path::Path;
 
@@ -114,14 +114,16 @@ impl Default for PatternOutputOptions {
 }
 
 /// `pattern.svg`, `pattern.dxf` and `pattern.pdf` of a mesh (only the SVG for a
-/// preview), all from one [`sheetform_pattern::Pattern`], and the report of it.
+/// preview), all from one [`sheetform_pattern::Pattern`], and the report of it; a
+/// texture printed on the sheet is printed on the SVG and PDF pieces.
 pub(crate) fn pattern_files(
     mesh: &SheetMesh,
     title: &str,
     options: &PatternOutputOptions,
     outputs: OutputSet,
+    texture: Option<Texture<'_>>,
 ) -> Result<(RenderedFiles, PatternReport), PipelineError> {
-    let pattern = pattern_from_mesh(
+    let mut pattern = pattern_from_mesh(
         mesh,
         &PatternOptions {
             scale: options.scale,
@@ -132,6 +134,18 @@ pub(crate) fn pattern_files(
             ..Default::default()
         },
     )?;
+    // A texture printed on the sheet is printed on the pattern too: the image spans the
+    // flat pattern's bounding box, as in the GLB's texture coordinates.
+    if let Some(t) = texture {
+        let k = mesh.unit.millimetres() * options.scale;
+        let (lo, hi) = mesh.flat_bounds();
+        pattern.texture = Some(PatternTexture {
+            bytes: t.bytes.to_vec(),
+            mime_type: t.mime_type.to_string(),
+            origin: lo * k,
+            size: (hi - lo) * k,
+        });
+    }
     let all = outputs == OutputSet::All;
     let pdf = if all {
         let pdf_options = PdfOptions {
