@@ -176,6 +176,19 @@ pub(crate) struct PatternArgs {
     /// Most pages the PDF may print; a pattern that needs more is refused.
     #[arg(long, value_name = "PAGES", default_value_t = sheetform::pattern::DEFAULT_MAX_PAGES)]
     pub(crate) max_pages: usize,
+    /// Seam allowance (mm) outside every piece for fabric or leather: the design outline
+    /// becomes a stitch line, notches mark both ends and the middle of every seam.
+    #[arg(long, value_name = "MM", default_value_t = 0.0)]
+    pub(crate) seam_allowance: f64,
+    /// Leave out the notches of a seam allowance.
+    #[arg(long)]
+    pub(crate) no_notches: bool,
+    /// Laser kerf (mm): cut lines move out by half of it so parts keep their size.
+    #[arg(long, value_name = "MM", default_value_t = 0.0)]
+    pub(crate) kerf: f64,
+    /// A grain line on every piece along the direction that runs up the model (+z).
+    #[arg(long)]
+    pub(crate) grain_lines: bool,
 }
 
 pub(crate) fn parse_sheet(text: &str) -> Result<(f64, f64), String> {
@@ -283,6 +296,12 @@ impl From<PatternArgs> for PatternOutputOptions {
                 gap_mm: a.sheet_gap,
             }),
             max_pdf_pages: a.max_pages,
+            allowance: sheetform::pattern::MaterialAllowance {
+                seam_allowance_mm: a.seam_allowance,
+                notches: !a.no_notches,
+                kerf_mm: a.kerf,
+                grain_lines: a.grain_lines,
+            },
         }
     }
 }

@@ -63,6 +63,8 @@ pub fn dxf_bytes(pattern: &Pattern, unit: DxfUnit) -> Result<Vec<u8>, PatternErr
         ("FOLD", 8),
         ("LABEL", 5),
         ("SHEET", 7),
+        ("STITCH", 3),
+        ("GRAIN", 8),
     ] {
         drawing.add_layer(Layer {
             name: name.into(),
@@ -100,6 +102,10 @@ pub fn dxf_bytes(pattern: &Pattern, unit: DxfUnit) -> Result<Vec<u8>, PatternErr
             FoldStyle::Mountain => ("MOUNTAIN", 1),
             FoldStyle::Valley => ("VALLEY", 5),
             FoldStyle::Guide | FoldStyle::TabBase => ("FOLD", 8),
+            // Notches are cuts; the stitch line and the grain line are drawn, not cut.
+            FoldStyle::Notch => ("CUT", 1),
+            FoldStyle::Stitch => ("STITCH", 3),
+            FoldStyle::Grain => ("GRAIN", 8),
         };
         e.common.layer = layer.into();
         e.common.color = Color::from_index(colour);

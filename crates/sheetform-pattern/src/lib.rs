@@ -8,6 +8,7 @@ mod dxf_pattern;
 mod error;
 mod glue_tabs;
 mod label_placement;
+mod material_allowance;
 mod pattern;
 mod pdf_tiles;
 mod seam_matching;
@@ -17,6 +18,7 @@ mod svg_pattern;
 pub use dxf_pattern::{dxf_bytes, DxfUnit};
 pub use error::PatternError;
 pub use glue_tabs::{add_glue_tabs, TabOptions, TabReport, TabSides, TabbedLoops};
+pub use material_allowance::{MaterialAllowance, MAX_ALLOWANCE_MM};
 pub use pattern::{
     pattern_from_mesh, point_bounds, signed_fold_angle, Fold, FoldStyle, Label, LabelKind, Pattern, PatternOptions,
     PatternPiece, PatternTexture, Placement,

@@ -1,5 +1,6 @@
 use crate::glue_tabs::{add_glue_tabs, TabOptions, TabReport};
 use crate::label_placement::{place_labels, LabelRequest, LabelSpot};
+use crate::material_allowance::{add_kerf, add_seam_allowance, MaterialAllowance};
 use crate::seam_matching::{match_seams, SeamRun};
 use crate::sheet_packing::{pack_pieces, SheetOptions};
 use crate::{PatternError, Vec2};
@@ -19,6 +20,12 @@ pub enum FoldStyle {
     Guide,
     /// The base of a glue tab (folded back under the neighbouring piece).
     TabBase,
+    /// The design outline inside a seam allowance: where to sew or glue.
+    Stitch,
+    /// A notch: a short cut into the seam allowance that matches the pieces.
+    Notch,
+    /// The grain line: how to lay the piece on the fabric's straight grain.
+    Grain,
 }
 
 /// A fold or score line.
@@ -153,6 +160,8 @@ pub struct PatternOptions {
     pub tabs: Option<TabOptions>,
     /// Pack the pieces onto sheets of this size (`None`: keep the mesh's flat layout).
     pub sheet: Option<SheetOptions>,
+    /// Seam allowance, notches, grain lines, kerf.
+    pub allowance: MaterialAllowance,
 }
 
 impl Default for PatternOptions {
@@ -164,6 +173,7 @@ impl Default for PatternOptions {
             seam_labels: true,
             tabs: None,
             sheet: None,
+            allowance: MaterialAllowance::default(),
         }
     }
 }
@@ -319,6 +329,13 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
             message: format!("must be a non-negative number, got {}", options.min_fold_angle_degrees),
         });
     }
+    options.allowance.validate()?;
+    if options.allowance.seam_allowance_mm > 0.0 && options.tabs.is_some() {
+        return Err(PatternError::Option {
+            option: "seam_allowance_mm",
+            message: "a seam allowance and glue tabs both add material along the seams: choose one".into(),
+        });
+    }
     let k = mesh.unit.millimetres() * options.scale;
     let at = |v: u32| mesh.flat[v as usize] * k;
 
@@ -435,6 +452,12 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
                     angle_degrees: 0.0,
                 });
             }
+        }
+    }
+
+    if options.allowance.grain_lines {
+        for (part, grain) in grain_lines(mesh, &face_part, &at) {
+            pieces[part].folds.push(grain);
         }
     }
 
@@ -572,6 +595,37 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
         pieces[loop_part[i]].folds.append(&mut tab_folds[i]);
     }
 
+    // Material allowances: the seam allowance (notches at both ends and the middle of
+    // every seam run), then the kerf.
+    let allowance = options.allowance;
+    if allowance.seam_allowance_mm > 0.0 {
+        let mut notches: Vec<Vec<(Vec2, Vec2)>> = vec![Vec::new(); pieces.len()];
+        if allowance.notches {
+            for r in &runs {
+                let l = &loops[r.loop_index];
+                let n = l.len();
+                for step in [0, r.edges / 2, r.edges] {
+                    let i = r.start + step;
+                    // Outward: right of the counter-clockwise loop, averaged over the two
+                    // edges at the point.
+                    let (prev, here, next) = (at(l[(i + n - 1) % n]), at(l[i % n]), at(l[(i + 1) % n]));
+                    let d = (here - prev).normalize() + (next - here).normalize();
+                    if d.norm() > 1e-9 {
+                        notches[loop_part[r.loop_index]].push((here, Vec2::new(d.y, -d.x).normalize()));
+                    }
+                }
+            }
+        }
+        for (piece, points) in pieces.iter_mut().zip(&notches) {
+            add_seam_allowance(piece, allowance.seam_allowance_mm, points);
+        }
+    }
+    if allowance.kerf_mm > 0.0 {
+        for piece in &mut pieces {
+            add_kerf(piece, allowance.kerf_mm);
+        }
+    }
+
     let mut pattern = Pattern {
         pieces,
         sheets: Vec::new(),
@@ -676,6 +730,84 @@ fn without_collinear_points(points: Vec<Vec2>) -> Vec<Vec2> {
     } else {
         kept
     }
+}
+
+/// The grain line of every mesh piece on the pattern part holding it: the flat direction
+/// of steepest ascent of the model's height z (the area-weighted mean over the piece's
+/// faces of the gradient of z, linear on each flat triangle), drawn through the piece's
+/// area centroid over 40 % of its extent that way, with arrow heads; a piece whose mean
+/// gradient is under 0.2 (lying nearly level) gets none, nor one whose line would leave
+/// it.
+fn grain_lines(mesh: &SheetMesh, face_part: &[usize], at: &impl Fn(u32) -> Vec2) -> Vec<(usize, Fold)> {
+    let mut out = Vec::new();
+    for p in 0..mesh.pieces.len() {
+        let (mut gradient, mut centre, mut area, mut part) = (Vec2::zeros(), Vec2::zeros(), 0.0, None);
+        let mut points = Vec::new();
+        for (f, t) in mesh.triangles.iter().enumerate() {
+            if mesh.face_pieces[f] as usize != p {
+                continue;
+            }
+            part = Some(face_part[f]);
+            let [a, b, c] = t.map(at);
+            let [za, zb, zc] = t.map(|v| mesh.positions[v as usize].z);
+            let (e1, e2) = (b - a, c - a);
+            let det = e1.x * e2.y - e1.y * e2.x;
+            if det.abs() <= f64::MIN_POSITIVE {
+                continue;
+            }
+            // Solve [e1ᵀ; e2ᵀ] g = [zb − za; zc − za] (z in model units per pattern mm).
+            let (r1, r2) = (zb - za, zc - za);
+            let g = Vec2::new(r1 * e2.y - r2 * e1.y, e1.x * r2 - e2.x * r1) / det;
+            let weight = 0.5 * det.abs();
+            gradient += g * weight;
+            centre += (a + b + c) / 3.0 * weight;
+            area += weight;
+            points.extend([a, b, c]);
+        }
+        let Some(part) = part else { continue };
+        if area <= 0.0 {
+            continue;
+        }
+        let (g, centre) = (gradient / area, centre / area);
+        // Model units per pattern mm: compare with the scale of 1 (z rising as fast as
+        // the piece runs).
+        let k = mesh.unit.millimetres();
+        if g.norm() * k < 0.2 {
+            continue;
+        }
+        let d = g.normalize();
+        let extent = points
+            .iter()
+            .map(|q| (q - centre).dot(&d))
+            .fold(0.0f64, |m, x| m.max(x.abs()));
+        let (a, b) = (centre - d * 0.4 * extent, centre + d * 0.4 * extent);
+        out.push((
+            part,
+            Fold {
+                a,
+                b,
+                style: FoldStyle::Grain,
+                angle_degrees: 0.0,
+            },
+        ));
+        // Arrow heads at both ends.
+        let head = (0.04 * extent).clamp(2.0, 8.0);
+        let side = Vec2::new(-d.y, d.x);
+        for (tip, back) in [(b, -d), (a, d)] {
+            for s in [1.0, -1.0] {
+                out.push((
+                    part,
+                    Fold {
+                        a: tip,
+                        b: tip + (back + side * s * 0.5) * head,
+                        style: FoldStyle::Grain,
+                        angle_degrees: 0.0,
+                    },
+                ));
+            }
+        }
+    }
+    out
 }
 
 /// Spots tried per label (the largest triangles for a name, edges along the seam for an

@@ -229,12 +229,16 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                 }
                 content.set_line_width(0.3);
                 // Origami convention: mountain dash-dot red, valley dashed blue; guides and
-                // tab bases dotted grey.
+                // tab bases dotted grey; stitch lines dashed green, notches solid red (cuts),
+                // grain lines solid dark grey.
                 for style in [
                     FoldStyle::Mountain,
                     FoldStyle::Valley,
                     FoldStyle::Guide,
                     FoldStyle::TabBase,
+                    FoldStyle::Stitch,
+                    FoldStyle::Notch,
+                    FoldStyle::Grain,
                 ] {
                     match style {
                         FoldStyle::Mountain => {
@@ -248,6 +252,18 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                         FoldStyle::Guide | FoldStyle::TabBase => {
                             content.set_stroke_rgb(0.55, 0.55, 0.55);
                             content.set_dash_pattern([1.0, 2.0], 0.0);
+                        }
+                        FoldStyle::Stitch => {
+                            content.set_stroke_rgb(0.1, 0.55, 0.25);
+                            content.set_dash_pattern([2.0, 1.5], 0.0);
+                        }
+                        FoldStyle::Notch => {
+                            content.set_stroke_rgb(0.85, 0.0, 0.0);
+                            content.set_dash_pattern([], 0.0);
+                        }
+                        FoldStyle::Grain => {
+                            content.set_stroke_rgb(0.3, 0.3, 0.3);
+                            content.set_dash_pattern([], 0.0);
                         }
                     }
                     for f in pattern.folds().filter(|f| f.style == style) {

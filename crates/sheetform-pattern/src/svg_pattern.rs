@@ -15,8 +15,9 @@ fn escape(s: &str) -> String {
 /// `fold` with sub-groups `fold-mountain` (red dash-dot), `fold-valley` (blue dashed;
 /// both with their fold angle as `data-fold-angle-degrees`),
 /// `fold-guide` (bending guides: rulings, grey dotted) and `fold-tab` (tab bases, grey
-/// dotted), `labels` (piece names and seam IDs), and `sheets` (sheet outlines, when
-/// packed). The y axis is flipped so the pattern reads as seen from the sheet's printed
+/// dotted), `stitch` (the design outline inside a seam allowance, green dashed), `notch`
+/// (cuts into the allowance, red), `grain` (grain lines, grey), `labels` (piece names
+/// and seam IDs), and `sheets` (sheet outlines, when packed). The y axis is flipped so the pattern reads as seen from the sheet's printed
 /// side; `margin_mm` surrounds it.
 pub fn svg_bytes(pattern: &Pattern, title: &str, margin_mm: f64) -> Vec<u8> {
     let (lo, hi) = pattern.bounds();
@@ -64,6 +65,9 @@ pub fn svg_bytes(pattern: &Pattern, title: &str, margin_mm: f64) -> Vec<u8> {
         (FoldStyle::Valley, "fold-valley", "#3050c0", "2,1.2"),
         (FoldStyle::Guide, "fold-guide", "#9a9a9a", "1,1"),
         (FoldStyle::TabBase, "fold-tab", "#9a9a9a", "0.6,0.6"),
+        (FoldStyle::Stitch, "stitch", "#20a040", "2,1.5"),
+        (FoldStyle::Notch, "notch", "#e00000", "none"),
+        (FoldStyle::Grain, "grain", "#505050", "none"),
     ] {
         let _ = writeln!(
             s,

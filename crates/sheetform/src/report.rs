@@ -448,6 +448,18 @@ pub struct PatternReport {
     /// Glue tabs placed, narrowed, dropped (when asked for).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tabs: Option<sheetform_pattern::TabReport>,
+    /// Seam allowance added outside every piece (0: none).
+    #[serde(default)]
+    pub seam_allowance_mm: f64,
+    /// Laser kerf compensated on the cut lines (0: none).
+    #[serde(default)]
+    pub kerf_mm: f64,
+    /// Notches cut into the seam allowance.
+    #[serde(default)]
+    pub notch_count: usize,
+    /// Pieces with a grain line.
+    #[serde(default)]
+    pub grain_line_count: usize,
     /// Labels printed (piece names and seam IDs), each upright, inside its piece, over no
     /// line and no other label.
     #[serde(default)]

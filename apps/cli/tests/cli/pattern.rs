@@ -1,6 +1,6 @@
 //! Pattern outputs read back by outside tools: DXF (ezdxf), PDF (pdftoppm), scales, units, sheets.
 
-use crate::common::{ezdxf_cut, repo, report, shared, sheetform};
+use crate::common::{cut_intersections, ezdxf_cut, repo, report, shared, sheetform, svg_cut_loops};
 use std::process::Command;
 
 #[test]
@@ -200,4 +200,101 @@ fn empty_tiles_are_not_printed() {
         assert!(red, "{} shows no cut line", path.display());
     }
     assert_eq!(rendered as u64, pages);
+}
+
+/// Material allowances: a seam allowance keeps every point of the design outline (the
+/// stitch line) exactly the allowance inside the cut line, with notches across it and a
+/// grain line per piece, in the SVG and in the DXF's layers; a kerf grows the cut by half
+/// its width on every side; a seam allowance and glue tabs together are refused.
+#[test]
+fn seam_allowance_notches_grain_and_kerf_are_where_they_belong() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("skirt");
+    let scene = repo().join("examples/ffd/skirt.json");
+    let o = sheetform(&[
+        "ffd",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+        "--seam-allowance",
+        "10",
+        "--grain-lines",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(&out);
+    let p = &r["pattern"];
+    let pieces = p["piece_count"].as_u64().unwrap();
+    assert_eq!(p["seam_allowance_mm"], 10.0);
+    assert_eq!(p["grain_line_count"].as_u64().unwrap(), pieces);
+    assert!(p["notch_count"].as_u64().unwrap() >= 3 * p["seam_count"].as_u64().unwrap());
+    let svg = std::fs::read_to_string(out.join("pattern.svg")).unwrap();
+    let loops = svg_cut_loops(&svg);
+    assert_eq!(loops.len() as u64, pieces);
+    assert_eq!(cut_intersections(&loops), 0);
+    // Every stitch-line point is 10 mm from the nearest cut line (mitred corners only
+    // further), and inside it.
+    let layer = &svg[svg.find(r#"<g id="stitch""#).unwrap()..];
+    let layer = &layer[..layer.find("</g>").unwrap()];
+    let number = |tag: &str, key: &str| -> f64 {
+        let start = tag.find(&format!(" {key}=\"")).unwrap() + key.len() + 3;
+        tag[start..start + tag[start..].find('"').unwrap()].parse().unwrap()
+    };
+    let mut checked = 0;
+    for line in layer.split("<line").skip(1) {
+        let p = [number(line, "x1"), number(line, "y1")];
+        let distance = loops
+            .iter()
+            .flat_map(|l| (0..l.len()).map(move |i| (l[i], l[(i + 1) % l.len()])))
+            .map(|(a, b)| {
+                let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+                let t = (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+                ((a[0] + t * dx - p[0]).powi(2) + (a[1] + t * dy - p[1]).powi(2)).sqrt()
+            })
+            .fold(f64::INFINITY, f64::min);
+        assert!(distance >= 10.0 - 1e-3, "a stitch point {distance} mm from the cut");
+        checked += 1;
+    }
+    assert!(checked > 100);
+    let dxf = ezdxf_cut(&out.join("pattern.dxf"));
+    assert_eq!(dxf["errors"], 0);
+    for layer in ["STITCH", "GRAIN"] {
+        assert!(dxf["layers"].as_array().unwrap().iter().any(|l| l == layer), "{dxf}");
+    }
+
+    // Kerf: the bent rectangle's cut grows by 0.2 mm on every side.
+    let scene = repo().join("examples/bent-rectangle.json");
+    let size = |extra: &[&str]| {
+        let out = tmp.path().join("kerf");
+        let mut args = vec!["bend", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"];
+        args.extend_from_slice(extra);
+        let o = sheetform(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let d = ezdxf_cut(&out.join("pattern.dxf"));
+        (d["width"].as_f64().unwrap(), d["height"].as_f64().unwrap())
+    };
+    let (w0, h0) = size(&[]);
+    let (w, h) = size(&["--kerf", "0.4"]);
+    assert!(
+        (w - w0 - 0.4).abs() < 1e-4 && (h - h0 - 0.4).abs() < 1e-4,
+        "{w0} × {h0} → {w} × {h}"
+    );
+    let out = tmp.path().join("kerf");
+    assert_eq!(report(&out)["pattern"]["kerf_mm"], 0.4);
+
+    // Tabs and a seam allowance both: refused, nothing written.
+    let out = tmp.path().join("both");
+    let o = sheetform(&[
+        "bend",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--seam-allowance",
+        "5",
+        "--tabs",
+        "one",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("seam_allowance_mm"));
+    assert!(!out.exists());
 }

@@ -128,10 +128,7 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
             merged_count: 0,
         })
     };
-    let tab_room = options
-        .pattern
-        .tabs
-        .map_or(0.0, |t| 2.5 * t.width_mm / (mm * options.pattern.scale));
+    let tab_room = options.pattern.room_between_pieces(mm);
     let restored_charts = charts(&last.restored)?;
     let sheet = sheet_from_charts(
         &restored,

@@ -173,15 +173,14 @@ pub fn run_flatten(
     let mut report = Report::new(Command::Flatten, options.input.clone());
     report.layout = Some(layout);
     report.layout_reason = Some(reason);
-    // A net gets glue tabs unless the pattern options say otherwise.
+    // A net gets glue tabs unless the pattern options say otherwise (or ask for a seam
+    // allowance instead).
     let mut pattern_options = options.pattern;
-    if layout == Layout::Net && pattern_options.tabs.is_none() {
+    if layout == Layout::Net && pattern_options.tabs.is_none() && pattern_options.allowance.seam_allowance_mm == 0.0 {
         pattern_options.tabs = options.net_tabs;
     }
     // Room between charts for glue tabs (model units).
-    let tab_room = pattern_options
-        .tabs
-        .map_or(0.0, |t| 2.5 * t.width_mm / (mm * pattern_options.scale));
+    let tab_room = pattern_options.room_between_pieces(mm);
     let (sheet, solved) = match layout {
         Layout::Charts => {
             let set = match chart_set.take() {

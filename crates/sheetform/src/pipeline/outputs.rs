@@ -6,7 +6,8 @@ use sheetform_io::{write_atomic, Texture};
 use sheetform_mesh::SheetMesh;
 use sheetform_pattern::{
     dxf_bytes, pack_pieces, pattern_from_mesh, pdf_tiled, smallest_bounding_rotation, svg_bytes, DxfUnit, FoldStyle,
-    PageSize, PatternOptions, PatternTexture, PdfOptions, SheetOptions, TabOptions, DEFAULT_MAX_PAGES,
+    MaterialAllowance, PageSize, PatternOptions, PatternTexture, PdfOptions, SheetOptions, TabOptions,
+    DEFAULT_MAX_PAGES,
 };
 use std::path::Path;
 
@@ -44,6 +45,18 @@ pub struct PatternOutputOptions {
     pub sheet: Option<SheetOptions>,
     /// Most pages the PDF may have (a pattern that needs more is refused).
     pub max_pdf_pages: usize,
+    /// Seam allowance, notches, grain lines, kerf.
+    pub allowance: MaterialAllowance,
+}
+
+impl PatternOutputOptions {
+    /// Room to keep between pieces laid side by side (model units, `mm` millimetres per
+    /// unit) for what grows outside them on the pattern: glue tabs, seam allowance, kerf.
+    pub fn room_between_pieces(&self, mm: f64) -> f64 {
+        let tabs = self.tabs.map_or(0.0, |t| 2.5 * t.width_mm);
+        let allowance = 2.0 * (self.allowance.seam_allowance_mm + self.allowance.kerf_mm);
+        (tabs + allowance) / (mm * self.scale)
+    }
 }
 
 /// Gap between pieces packed onto the PDF's pages (mm).
@@ -109,6 +122,7 @@ impl Default for PatternOutputOptions {
             tabs: None,
             sheet: None,
             max_pdf_pages: DEFAULT_MAX_PAGES,
+            allowance: MaterialAllowance::default(),
         }
     }
 }
@@ -131,6 +145,7 @@ pub(crate) fn pattern_files(
             seam_labels: options.seam_labels,
             tabs: options.tabs,
             sheet: options.sheet,
+            allowance: options.allowance,
             ..Default::default()
         },
     )?;
@@ -198,6 +213,10 @@ pub(crate) fn pattern_files(
         mountain_fold_count: pattern.folds().filter(|f| f.style == FoldStyle::Mountain).count(),
         valley_fold_count: pattern.folds().filter(|f| f.style == FoldStyle::Valley).count(),
         tabs: options.tabs.map(|_| pattern.tabs),
+        seam_allowance_mm: options.allowance.seam_allowance_mm,
+        kerf_mm: options.allowance.kerf_mm,
+        notch_count: pattern.folds().filter(|f| f.style == FoldStyle::Notch).count(),
+        grain_line_count: pattern.folds().filter(|f| f.style == FoldStyle::Grain).count() / 5,
         label_count: pattern.labels().count(),
         label_shrunk_count: pattern.labels_shrunk,
         label_dropped_count: pattern.labels_dropped,

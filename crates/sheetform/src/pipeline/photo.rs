@@ -203,10 +203,7 @@ pub fn run_photo(
         opened_count: 0,
         merged_count: 0,
     };
-    let tab_room = options
-        .pattern
-        .tabs
-        .map_or(0.0, |t| 2.5 * t.width_mm / (mm * options.pattern.scale));
+    let tab_room = options.pattern.room_between_pieces(mm);
     let mut sheet = sheet_from_charts(&model, &chart_set.charts, &name, Some(&groups), unit, tab_room);
     // The strips' rulings are bending guides (the pattern draws rulings as guides, never
     // as mountain or valley folds), the zipper edges between them smooth edges (drawn as

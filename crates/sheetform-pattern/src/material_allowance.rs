@@ -1,0 +1,191 @@
+//! Material allowances on a pattern: seam allowance with notches and grain lines for
+//! fabric and leather, kerf compensation for laser-cut card and plywood.
+
+use crate::pattern::{Fold, FoldStyle, PatternPiece};
+use crate::{PatternError, Vec2};
+use geo::algorithm::buffer::{BufferStyle, LineJoin};
+use geo::{Buffer, LineString, Polygon};
+
+/// What the material needs around the design lines (every command's pattern; all zero by
+/// default: the pattern is the design as it is).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MaterialAllowance {
+    /// Seam allowance (mm) added outside every piece for sewing or gluing: the design
+    /// outline becomes the stitch line and the cut line moves out by this much (mitred
+    /// corners; those sharper than 30° cut square). Fabric and leather panels.
+    pub seam_allowance_mm: f64,
+    /// Notches: short cuts into the seam allowance at both ends and the middle of every
+    /// seam, to match pieces when sewing (with a seam allowance only).
+    pub notches: bool,
+    /// Laser kerf (mm): the width the beam burns away. The cut line moves out by half of
+    /// it (holes shrink by half of it) so that the parts come out at their design size.
+    pub kerf_mm: f64,
+    /// A grain line on every piece: the direction on the flat piece that runs up the
+    /// model (+z), where the fabric's straight grain should lie (pieces lying level get
+    /// none).
+    pub grain_lines: bool,
+}
+
+/// Largest seam allowance or kerf accepted (mm).
+pub const MAX_ALLOWANCE_MM: f64 = 100.0;
+
+impl MaterialAllowance {
+    /// Whether anything is to be added.
+    pub fn is_none(&self) -> bool {
+        self.seam_allowance_mm == 0.0 && self.kerf_mm == 0.0 && !self.grain_lines
+    }
+
+    /// Checks the sizes: finite, non-negative, at most [`MAX_ALLOWANCE_MM`].
+    ///
+    /// # Errors
+    /// The option named, with the value and the bound.
+    pub fn validate(&self) -> Result<(), PatternError> {
+        for (option, value) in [("seam_allowance_mm", self.seam_allowance_mm), ("kerf_mm", self.kerf_mm)] {
+            if !(value.is_finite() && (0.0..=MAX_ALLOWANCE_MM).contains(&value)) {
+                return Err(PatternError::Option {
+                    option,
+                    message: format!("must be between 0 and {MAX_ALLOWANCE_MM} mm, got {value}"),
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A piece's cut loops moved out by `distance` (mm): the region of the piece (outline
+/// counter-clockwise, holes clockwise, even–odd) buffered with mitred joins (geo's
+/// `Buffer`; corners sharper than 30° are cut square instead of running out into a
+/// spike), its exterior and interior rings as the new loops.
+fn offset_loops(loops: &[Vec<Vec2>], distance: f64) -> Vec<Vec<Vec2>> {
+    let ring = |l: &Vec<Vec2>| LineString::from(l.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>());
+    let area = |l: &Vec<Vec2>| sheetform_geometry::signed_area(l);
+    let outers: Vec<&Vec<Vec2>> = loops.iter().filter(|l| area(l) > 0.0).collect();
+    let holes: Vec<&Vec<Vec2>> = loops.iter().filter(|l| area(l) < 0.0).collect();
+    let mut out = Vec::new();
+    for outer in outers {
+        let inside: Vec<LineString> = holes
+            .iter()
+            .filter(|h| sheetform_geometry::rings_contain([outer.as_slice()], h[0]))
+            .map(|h| ring(h))
+            .collect();
+        let polygon = Polygon::new(ring(outer), inside);
+        let style = BufferStyle::new(distance).line_join(LineJoin::Miter(std::f64::consts::FRAC_PI_6));
+        for p in polygon.buffer_with_style(style) {
+            let to_points = |r: &LineString| {
+                let mut points: Vec<Vec2> = r.coords().map(|c| Vec2::new(c.x, c.y)).collect();
+                if points.len() > 1 && points.first() == points.last() {
+                    points.pop();
+                }
+                points
+            };
+            let mut exterior = to_points(p.exterior());
+            if sheetform_geometry::signed_area(&exterior) < 0.0 {
+                exterior.reverse();
+            }
+            out.push(exterior);
+            for interior in p.interiors() {
+                let mut hole = to_points(interior);
+                if sheetform_geometry::signed_area(&hole) > 0.0 {
+                    hole.reverse();
+                }
+                out.push(hole);
+            }
+        }
+    }
+    out
+}
+
+/// Adds the seam allowance to a piece: its loops become stitch lines, its cut loops the
+/// loops moved out by the allowance; notches at `notch_points` (points on the stitch line
+/// with the outward direction there) cross the allowance.
+pub(crate) fn add_seam_allowance(piece: &mut PatternPiece, allowance_mm: f64, notch_points: &[(Vec2, Vec2)]) {
+    for l in &piece.cut {
+        for i in 0..l.len() {
+            piece.folds.push(Fold {
+                a: l[i],
+                b: l[(i + 1) % l.len()],
+                style: FoldStyle::Stitch,
+                angle_degrees: 0.0,
+            });
+        }
+    }
+    for &(point, outward) in notch_points {
+        piece.folds.push(Fold {
+            a: point,
+            b: point + outward * (0.6 * allowance_mm),
+            style: FoldStyle::Notch,
+            angle_degrees: 0.0,
+        });
+    }
+    piece.cut = offset_loops(&piece.cut, allowance_mm);
+}
+
+/// Moves a piece's cut loops out by half the kerf.
+pub(crate) fn add_kerf(piece: &mut PatternPiece, kerf_mm: f64) {
+    piece.cut = offset_loops(&piece.cut, 0.5 * kerf_mm);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn area(loops: &[Vec<Vec2>]) -> f64 {
+        loops.iter().map(|l| sheetform_geometry::signed_area(l)).sum()
+    }
+
+    fn square_with_hole() -> PatternPiece {
+        let v = |x: f64, y: f64| Vec2::new(x, y);
+        PatternPiece {
+            name: "p".into(),
+            cut: vec![
+                vec![v(0.0, 0.0), v(100.0, 0.0), v(100.0, 100.0), v(0.0, 100.0)],
+                vec![v(40.0, 40.0), v(40.0, 60.0), v(60.0, 60.0), v(60.0, 40.0)],
+            ],
+            folds: vec![],
+            labels: vec![],
+            sheet: 0,
+            placement: Default::default(),
+        }
+    }
+
+    #[test]
+    fn a_seam_allowance_grows_the_outline_and_keeps_the_design_as_stitch_lines() {
+        let mut piece = square_with_hole();
+        add_seam_allowance(&mut piece, 10.0, &[(Vec2::new(50.0, 0.0), Vec2::new(0.0, -1.0))]);
+        // Mitred corners: the outline becomes 120 × 120; the 20 mm hole shrinks by 10 mm
+        // on each side and closes.
+        assert!((area(&piece.cut) - 120.0 * 120.0).abs() < 1e-3, "{}", area(&piece.cut));
+        assert_eq!(piece.folds.iter().filter(|f| f.style == FoldStyle::Stitch).count(), 8);
+        let notch = piece.folds.iter().find(|f| f.style == FoldStyle::Notch).unwrap();
+        assert!((notch.b - Vec2::new(50.0, -6.0)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn kerf_moves_the_cut_out_by_half_its_width_and_shrinks_holes() {
+        let mut piece = square_with_hole();
+        add_kerf(&mut piece, 0.2);
+        let expected = 100.2 * 100.2 - 19.8 * 19.8;
+        // geo's boolean engine rounds to an integer grid: about 1e-7 of the size.
+        assert!(
+            (area(&piece.cut) - expected).abs() < 1e-3,
+            "{} vs {expected}",
+            area(&piece.cut)
+        );
+        assert_eq!(piece.cut.len(), 2);
+    }
+
+    #[test]
+    fn allowances_are_bounded() {
+        let bad = MaterialAllowance {
+            kerf_mm: f64::NAN,
+            ..Default::default()
+        };
+        assert!(bad.validate().unwrap_err().to_string().contains("kerf_mm"));
+        let huge = MaterialAllowance {
+            seam_allowance_mm: 1e6,
+            ..Default::default()
+        };
+        assert!(huge.validate().is_err());
+        assert!(MaterialAllowance::default().validate().is_ok() && MaterialAllowance::default().is_none());
+    }
+}
