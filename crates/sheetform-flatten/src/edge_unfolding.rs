@@ -113,25 +113,38 @@ pub fn unfold_net(mesh: &TriangleMesh, options: &NetOptions) -> Result<Net, Flat
         })?;
         forced_cut[e] = true;
     }
+    // Every growth is tried as it is and with the fans of saddle vertices cut in two
+    // (which pays on surfaces of negative curvature, where a growth closing around a
+    // saddle leaves a face out).
+    let mut saddle_cut = forced_cut.clone();
+    for e in saddle_cuts(mesh, &table, &topology) {
+        saddle_cut[e] = true;
+    }
+    let variants: Vec<&[bool]> = if saddle_cut == forced_cut {
+        vec![&forced_cut]
+    } else {
+        vec![&forced_cut, &saddle_cut]
+    };
     let faces = FaceGeometry::new(mesh, &table);
-    let attempts = options.attempts.clamp(1, (MAX_NET_WORK / nf).max(1));
-    let mut best: Option<Growth> = None;
-    for i in 0..attempts {
+    let attempts = options.attempts.clamp(1, (MAX_NET_WORK / (nf * variants.len())).max(1));
+    let mut best: Option<(Growth, usize)> = None;
+    for (i, variant) in (0..attempts).flat_map(|i| (0..variants.len()).map(move |v| (i, v))) {
         let seed = if i == 0 {
             faces.central
         } else {
             (i * nf / attempts) as u32
         };
-        let growth = grow(&faces, &table, &forced_cut, seed);
-        let better = best.as_ref().is_none_or(|b| {
+        let growth = grow(&faces, &table, variants[variant], seed);
+        let better = best.as_ref().is_none_or(|(b, _)| {
             (growth.piece_count, growth.cut_length(&faces, &table)) < (b.piece_count, b.cut_length(&faces, &table))
         });
-        tracing::debug!(seed, pieces = growth.piece_count, "net attempt");
+        tracing::debug!(seed, variant, pieces = growth.piece_count, "net attempt");
         if better {
-            best = Some(growth);
+            best = Some((growth, variant));
         }
     }
-    let mut growth = best.expect("at least one attempt");
+    let (mut growth, variant) = best.expect("at least one attempt");
+    let forced_cut = variants[variant].to_vec();
     let before_merge = growth.piece_count;
     if options.merge_pieces {
         merge_pieces(&faces, &table, &forced_cut, &mut growth);
@@ -557,4 +570,64 @@ fn merge_pieces(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], gr
         }
         growth.piece_count -= 1;
     }
+}
+
+/// Two edges at every saddle vertex (an interior vertex whose angles add up to more than
+/// 2π) that split its fan into two chains of nearly equal angle: cut there, neither chain
+/// wraps around past itself when laid flat (each is under 2π while the excess is under
+/// 2π).
+fn saddle_cuts(mesh: &TriangleMesh, table: &EdgeTable, topology: &sheetform_mesh::MeshTopology) -> Vec<usize> {
+    let nv = mesh.positions.len();
+    // For each vertex: (next neighbour around it, angle of the face between) per face.
+    let mut fan: Vec<Vec<(u32, u32, f64)>> = vec![Vec::new(); nv];
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            let (v, a, b) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+            let (p, q) = (
+                mesh.positions[a as usize] - mesh.positions[v as usize],
+                mesh.positions[b as usize] - mesh.positions[v as usize],
+            );
+            fan[v as usize].push((a, b, p.cross(&q).norm().atan2(p.dot(&q))));
+        }
+    }
+    let mut cuts = Vec::new();
+    for v in 0..nv {
+        if topology.boundary_vertex[v] || fan[v].is_empty() {
+            continue;
+        }
+        let total: f64 = fan[v].iter().map(|x| x.2).sum();
+        if total <= std::f64::consts::TAU + 1e-6 {
+            continue;
+        }
+        // Order the fan: a_0 → a_1 → … around v.
+        let mut order = vec![fan[v][0]];
+        while order.len() < fan[v].len() {
+            let last = order.last().expect("non-empty").1;
+            match fan[v].iter().find(|x| x.0 == last) {
+                Some(&next) if next.0 != order[0].0 => order.push(next),
+                _ => break,
+            }
+        }
+        if order.len() != fan[v].len() {
+            continue;
+        }
+        let k = order.len();
+        let mut best = (f64::INFINITY, 0, 0);
+        for i in 0..k {
+            let mut sum = 0.0;
+            for j in 1..k {
+                sum += order[(i + j - 1) % k].2;
+                let miss = (sum - 0.5 * total).abs();
+                if miss < best.0 {
+                    best = (miss, i, (i + j) % k);
+                }
+            }
+        }
+        for index in [best.1, best.2] {
+            if let Some(e) = table.find(v as u32, order[index].0) {
+                cuts.push(e);
+            }
+        }
+    }
+    cuts
 }

@@ -63,7 +63,7 @@ fn nets_of_primitives_are_exact_overlap_free_and_in_few_pieces() {
         ("closed cylinder", primitives::cylinder(1.0, 2.0, 32, true), 1),
         ("closed cone", primitives::cone(1.0, 2.0, 32, true), 1),
         ("hemisphere", primitives::hemisphere(1.0, 8, 32), 1),
-        ("torus", primitives::torus(2.0, 0.7, 32, 16), 30),
+        ("torus", primitives::torus(2.0, 0.7, 32, 16), 25),
     ];
     for (name, mesh, most) in cases {
         let net = unfold_net(&mesh, &NetOptions::default()).unwrap();
