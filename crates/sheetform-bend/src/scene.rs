@@ -34,6 +34,15 @@ pub struct BendScene {
     /// domain, so the bent sheet shows it without distortion (Fig. 6). Embedded in the GLB.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub texture: Option<String>,
+    /// Which axis of the 3D coordinates (the control curves) points up: `"z"` (the
+    /// default: the flat sheet lies in the `xy` plane) or `"y"`. The GLB and OBJ are
+    /// written `+Y` up, a `+Z`-up scene turned.
+    #[serde(default = "z_up")]
+    pub up_axis: sheetform_mesh::UpAxis,
+}
+
+fn z_up() -> sheetform_mesh::UpAxis {
+    sheetform_mesh::UpAxis::Z
 }
 
 /// One curved region: a straight segment on the flat sheet and the 3D control curve it

@@ -32,6 +32,15 @@ pub struct FfdScene {
     /// How developability is restored.
     #[serde(default)]
     pub solver: SolverSpec,
+    /// Which axis of the model points up: `"z"` (the default, as the procedural garments
+    /// are built) or `"y"` (as most mesh files are written). The GLB and OBJ are written
+    /// `+Y` up, a `+Z`-up model turned.
+    #[serde(default = "z_up")]
+    pub up_axis: sheetform_mesh::UpAxis,
+}
+
+fn z_up() -> sheetform_mesh::UpAxis {
+    sheetform_mesh::UpAxis::Z
 }
 
 fn default_name() -> String {

@@ -1,4 +1,5 @@
 use serde_json::json;
+use sheetform_mesh::UpAxis;
 use sheetform_mesh::{PieceKind, SheetMesh, TriangleMesh};
 
 /// Name of the application-specific glTF vertex attribute that holds the flat-sheet
@@ -163,29 +164,16 @@ fn unit_normals(normals: Vec<nalgebra::Vector3<f64>>) -> Vec<f32> {
         .collect()
 }
 
-/// Which model axis points up. glTF's is `+Y`; a model built `+Z`-up (a bent sheet lying
-/// in the `xy` plane, FFD panels) gets a root-node rotation of −90° about `x`
-/// (`(x, y, z) ↦ (x, z, −y)`), so that it stands upright in every glTF viewer while its
-/// coordinates stay the model's.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum UpAxis {
-    /// `+Y` up (glTF's own; photos, slit sheets, most mesh files).
-    #[default]
-    Y,
-    /// `+Z` up.
-    Z,
-}
-
-impl UpAxis {
-    /// The glTF node of the mesh, rotated to Y-up when needed.
-    fn node(self, name: &str) -> serde_json::Value {
-        let mut node = json!({"mesh": 0, "name": name});
-        if self == Self::Z {
-            let h = std::f64::consts::FRAC_1_SQRT_2;
-            node["rotation"] = json!([-h, 0.0, 0.0, h]);
-        }
-        node
+/// The glTF node of the mesh, rotated to Y-up when needed: a model built `+Z`-up gets a
+/// root-node rotation of −90° about `x` (`(x, y, z) ↦ (x, z, −y)`), so that it stands
+/// upright in every glTF viewer while its coordinates stay the model's.
+fn up_node(up: UpAxis, name: &str) -> serde_json::Value {
+    let mut node = json!({"mesh": 0, "name": name});
+    if up == UpAxis::Z {
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        node["rotation"] = json!([-h, 0.0, 0.0, h]);
     }
+    node
 }
 
 /// glTF 2.0 binary (`.glb`) of the bent sheet.
@@ -289,7 +277,7 @@ fn glb_with_texcoords(
     let mut doc = json!({
         "scene": 0,
         "scenes": [{"nodes": [0]}],
-        "nodes": [up.node(name)],
+        "nodes": [up_node(up, name)],
         "meshes": [{"name": name, "primitives": primitives, "extras": {"flat_attribute": GLB_FLAT_ATTRIBUTE, "flat_unit": "m", "model_unit": mesh.unit.symbol()}}],
         "materials": materials,
     });
@@ -344,7 +332,7 @@ pub fn glb_vertex_colours(
     let doc = json!({
         "scene": 0,
         "scenes": [{"nodes": [0]}],
-        "nodes": [up.node(name)],
+        "nodes": [up_node(up, name)],
         "meshes": [{"name": name, "primitives": [{"attributes": {"POSITION": position, "NORMAL": normal, "COLOR_0": colour}, "indices": indices, "material": 0, "mode": 4}]}],
         "materials": [{"name": "colour map", "doubleSided": true, "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 1.0}}],
     });

@@ -25,5 +25,5 @@ pub use metrics::{developability_error, isometry_error, IsometryError, RulingNor
 pub use sheet_mesh::{Piece, PieceKind, Ruling, SheetMesh};
 pub use topology::{mesh_topology, mesh_topology_with_edges, MeshTopology};
 pub use triangle_mesh::{coincident_vertices, TriangleMesh};
-pub use unit::LengthUnit;
+pub use unit::{LengthUnit, UpAxis};
 pub use vertex_normals::area_weighted_normals;

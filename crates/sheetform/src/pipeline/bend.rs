@@ -2,7 +2,7 @@
 
 use crate::report::{Command, RegionReport, RegressionEntry, Report, Status, Timings};
 use sheetform_bend::{bend, BendError, BendModel, BendScene, BentSheet};
-use sheetform_io::{glb_bytes, obj_string, stl_bytes, Texture, UpAxis};
+use sheetform_io::{glb_bytes, obj_string, stl_bytes, Texture};
 use sheetform_mesh::developability_error;
 
 use super::context::RunContext;
@@ -87,7 +87,7 @@ pub fn run_bend(scene: &BendScene, options: &BendRunOptions, context: &RunContex
     };
     let mut files: Vec<(String, Vec<u8>)> = Vec::new();
     if context.renders_all() {
-        let mut obj = obj_string(&sheet.mesh, &name);
+        let mut obj = obj_string(&sheet.mesh, &name, scene.up_axis);
         if let Some(t) = texture {
             // The OBJ shows the texture too: a material whose map scales the 1:1 `vt`
             // onto the image, and the image beside it.
@@ -98,7 +98,10 @@ pub fn run_bend(scene: &BendScene, options: &BendRunOptions, context: &RunContex
         }
         files.push(("model.obj".into(), obj.into_bytes()));
     }
-    files.push(("model.glb".into(), glb_bytes(&sheet.mesh, &name, texture, UpAxis::Z)));
+    files.push((
+        "model.glb".into(),
+        glb_bytes(&sheet.mesh, &name, texture, scene.up_axis),
+    ));
     if context.renders_all() {
         files.push(("model.stl".into(), stl_bytes(&sheet.mesh)));
     }
@@ -119,7 +122,7 @@ pub fn run_bend(scene: &BendScene, options: &BendRunOptions, context: &RunContex
         let frame = sheet.frame(&model, t)?;
         files.push((
             format!("frames/frame-{i:04}.obj"),
-            obj_string(&frame, &format!("{name} t={t:.4}")).into_bytes(),
+            obj_string(&frame, &format!("{name} t={t:.4}"), scene.up_axis).into_bytes(),
         ));
         context.progress("animating", 0.5 + 0.5 * (i + 1) as f64 / frames as f64);
     }

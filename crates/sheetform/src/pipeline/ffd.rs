@@ -5,7 +5,7 @@ use sheetform_ffd::{run_design_with_progress, FfdDesign, FfdError, FfdScene, Mod
 use sheetform_flatten::Chart;
 use sheetform_flatten::{distortion, exact_unfold, ChartSet, UnfoldOptions};
 use sheetform_io::{glb_bytes, obj_string, stl_bytes};
-use sheetform_io::{glb_vertex_colours, mesh_from_bytes, ply_vertex_colours, UpAxis};
+use sheetform_io::{glb_vertex_colours, mesh_from_bytes, ply_vertex_colours};
 use sheetform_mesh::{mesh_topology, SheetMesh};
 use std::path::Path;
 
@@ -156,16 +156,19 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
     let colours_before = defect_colours(&before_vertices.angle_defect, FFD_DEFECT_TOLERANCE, top);
     let colours_after = defect_colours(&after_vertices.angle_defect, FFD_DEFECT_TOLERANCE, top);
     let mut files: RenderedFiles = vec![
-        ("model.obj".into(), obj_string(&sheet, &name).into_bytes()),
-        ("model.glb".into(), glb_bytes(&sheet, &name, None, UpAxis::Z)),
+        (
+            "model.obj".into(),
+            obj_string(&sheet, &name, scene.up_axis).into_bytes(),
+        ),
+        ("model.glb".into(), glb_bytes(&sheet, &name, None, scene.up_axis)),
         ("model.stl".into(), stl_bytes(&sheet)),
         (
             "deformed.obj".into(),
-            obj_string(&deformed_sheet, &format!("{name} (plain FFD)")).into_bytes(),
+            obj_string(&deformed_sheet, &format!("{name} (plain FFD)"), scene.up_axis).into_bytes(),
         ),
         (
             "deformed.glb".into(),
-            glb_bytes(&deformed_sheet, &format!("{name} (plain FFD)"), None, UpAxis::Z),
+            glb_bytes(&deformed_sheet, &format!("{name} (plain FFD)"), None, scene.up_axis),
         ),
         (
             "developability-before.ply".into(),
@@ -179,7 +182,7 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
         ),
         (
             "developability-before.glb".into(),
-            glb_vertex_colours(&deformed, &colours_before, mm / 1000.0, &name, UpAxis::Z),
+            glb_vertex_colours(&deformed, &colours_before, mm / 1000.0, &name, scene.up_axis),
         ),
         (
             "developability-after.ply".into(),
@@ -187,7 +190,7 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
         ),
         (
             "developability-after.glb".into(),
-            glb_vertex_colours(&restored, &colours_after, mm / 1000.0, &name, UpAxis::Z),
+            glb_vertex_colours(&restored, &colours_after, mm / 1000.0, &name, scene.up_axis),
         ),
     ];
     if !context.renders_all() {

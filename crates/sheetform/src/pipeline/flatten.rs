@@ -267,7 +267,10 @@ pub fn run_flatten(
     context.progress("exporting", 0.8);
     let mut files = Vec::new();
     if context.renders_all() {
-        files.push(("model.obj".to_string(), obj_string(&sheet, &name).into_bytes()));
+        files.push((
+            "model.obj".to_string(),
+            obj_string(&sheet, &name, UpAxis::Y).into_bytes(),
+        ));
     }
     files.push(("model.glb".to_string(), glb_bytes(&sheet, &name, None, UpAxis::Y)));
     let (pattern, pattern_report) = pattern_files(&sheet, &name, &pattern_options, context.outputs, None)?;

@@ -263,7 +263,7 @@ pub fn run_photo(
     let all = context.renders_all();
     let mut files: RenderedFiles = Vec::new();
     if all {
-        files.push(("model.obj".into(), obj_string(&sheet, &name).into_bytes()));
+        files.push(("model.obj".into(), obj_string(&sheet, &name, UpAxis::Y).into_bytes()));
     }
     files.push((
         "model.glb".into(),

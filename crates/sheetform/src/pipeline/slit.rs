@@ -69,7 +69,7 @@ pub fn run_slit(scene: &SlitScene, options: &SlitRunOptions, context: &RunContex
     let all = context.renders_all();
     let mut files: RenderedFiles = Vec::new();
     if all {
-        files.push(("model.obj".into(), obj_string(&mesh, &name).into_bytes()));
+        files.push(("model.obj".into(), obj_string(&mesh, &name, UpAxis::Y).into_bytes()));
     }
     files.push(("model.glb".into(), glb_bytes(&mesh, &name, None, UpAxis::Y)));
     if all {
