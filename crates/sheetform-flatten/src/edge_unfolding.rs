@@ -591,24 +591,24 @@ fn saddle_cuts(mesh: &TriangleMesh, table: &EdgeTable, topology: &sheetform_mesh
         }
     }
     let mut cuts = Vec::new();
-    for v in 0..nv {
-        if topology.boundary_vertex[v] || fan[v].is_empty() {
+    for (v, around) in fan.iter().enumerate() {
+        if topology.boundary_vertex[v] || around.is_empty() {
             continue;
         }
-        let total: f64 = fan[v].iter().map(|x| x.2).sum();
+        let total: f64 = around.iter().map(|x| x.2).sum();
         if total <= std::f64::consts::TAU + 1e-6 {
             continue;
         }
         // Order the fan: a_0 → a_1 → … around v.
-        let mut order = vec![fan[v][0]];
-        while order.len() < fan[v].len() {
+        let mut order = vec![around[0]];
+        while order.len() < around.len() {
             let last = order.last().expect("non-empty").1;
-            match fan[v].iter().find(|x| x.0 == last) {
+            match around.iter().find(|x| x.0 == last) {
                 Some(&next) if next.0 != order[0].0 => order.push(next),
                 _ => break,
             }
         }
-        if order.len() != fan[v].len() {
+        if order.len() != around.len() {
             continue;
         }
         let k = order.len();
