@@ -169,6 +169,7 @@ pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<Ch
     let mut charts: Vec<Chart> = Vec::new();
     let mut split_count = 0;
     let mut opened_count = 0;
+    let mut opened_cut_edges = 0;
     let mut in_chart = vec![u32::MAX; nf];
     while let Some(faces) = pending.pop() {
         let (sub, vertices) = submesh(mesh, &faces);
@@ -179,9 +180,10 @@ pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<Ch
             None => false,
         };
         if !accept && !out_of_budget {
-            if let Some((opened, origin, unfolding, d)) = open_to_disk(&sub) {
+            if let Some((opened, origin, unfolding, d, cut_edges)) = open_to_disk(&sub) {
                 if d.is_overlap_free() && d.edge_length_max_relative <= options.max_edge_distortion {
                     opened_count += 1;
+                    opened_cut_edges += cut_edges;
                     charts.push(Chart {
                         faces,
                         vertices: origin.iter().map(|&v| vertices[v as usize]).collect(),
@@ -225,9 +227,11 @@ pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<Ch
             face_chart[f as usize] = c as u32;
         }
     }
+    // Edges between charts, and those cut open inside a chart.
     let seam_edge_count = (0..table.len())
         .filter(|&e| matches!(table.sides(e), [f, g] if face_chart[f.face as usize] != face_chart[g.face as usize]))
-        .count();
+        .count()
+        + opened_cut_edges;
     Ok(ChartSet {
         charts,
         face_chart,
@@ -288,7 +292,21 @@ fn merge_small_charts(
                     }
                 }
             }
-            let mut neighbours: Vec<(u32, usize)> = shared.into_iter().collect();
+            // Charts that share a user seam stay apart (their union would close it).
+            let mut across_seam: std::collections::HashSet<u32> = std::collections::HashSet::new();
+            for &f in &charts[c].faces {
+                let t = mesh.triangles[f as usize];
+                for k in 0..3 {
+                    let (a, b) = (t[k], t[(k + 1) % 3]);
+                    if seams.contains(&[a.min(b), a.max(b)]) {
+                        if let Some(g) = table.opposite(f as usize, k) {
+                            across_seam.insert(face_chart[g as usize]);
+                        }
+                    }
+                }
+            }
+            let mut neighbours: Vec<(u32, usize)> =
+                shared.into_iter().filter(|(d, _)| !across_seam.contains(d)).collect();
             neighbours.sort_by(|x, y| y.1.cmp(&x.1).then(x.0.cmp(&y.0)));
             for (d, _) in neighbours {
                 let d = d as usize;
@@ -331,9 +349,10 @@ pub const MAX_SEAM_LOOPS: usize = 16;
 
 /// Step 2 of [`cut_into_charts`]: `sub` cut open along shortest edge paths into a disk
 /// with no interior cone point, with the vertex of `sub` each new vertex copies, its
-/// exact unfolding and distortion; `None` when the chart is not a genus-0 surface with
-/// few cone points and loops, or needs no cut, or does not unfold.
-fn open_to_disk(sub: &TriangleMesh) -> Option<(TriangleMesh, Vec<u32>, crate::Unfolding, Distortion)> {
+/// exact unfolding and distortion, and the number of edges cut; `None` when the chart is
+/// not a genus-0 surface with few cone points and loops, or needs no cut, or does not
+/// unfold.
+fn open_to_disk(sub: &TriangleMesh) -> Option<(TriangleMesh, Vec<u32>, crate::Unfolding, Distortion, usize)> {
     let topology = mesh_topology(sub);
     let loops = topology.boundary_loop_count;
     // Genus 0: χ = 2 − b.
@@ -445,7 +464,7 @@ fn open_to_disk(sub: &TriangleMesh) -> Option<(TriangleMesh, Vec<u32>, crate::Un
     }
     let opened = sheetform_mesh::cut_along_edges(sub, &cut);
     let (unfolding, d) = flatten_chart(&opened.mesh)?;
-    Some((opened.mesh, opened.origin, unfolding, d))
+    Some((opened.mesh, opened.origin, unfolding, d, cut.len()))
 }
 
 /// The faces as a mesh of their own (vertices renumbered), with the mesh vertex of each.

@@ -66,7 +66,7 @@ pub struct Net {
 ///    copy: the third corner from the law of cosines, `x = (w·e)/|e|`, `h = |e×w|/|e|`,
 ///    on the left of the edge as the face runs it — and kept when it overlaps no face of
 ///    the piece ([`triangles_overlap`] against the faces in the same cells of a uniform
-///    grid, tolerance `1e-9 ×` the mean edge length); otherwise the edge is cut and the
+///    grid, tolerance `1e-9 ×` the median edge length); otherwise the edge is cut and the
 ///    face waits for another edge or a later piece. A new piece starts from a face that
 ///    was refused (so pieces follow one another across the surface), else from any face
 ///    left. User seams (`mesh.seam_edges`) are always cut.
@@ -258,12 +258,19 @@ impl<'a> FaceGeometry<'a> {
                 _ => 0.0,
             })
             .collect();
-        let mean_edge = table
+        // The median edge length sets the grid's cells (robust where a few faces are far
+        // larger than the rest, as on CAD meshes) and the tolerance.
+        let mut lengths: Vec<f64> = table
             .edges
             .iter()
             .map(|&[a, b]| (mesh.positions[a as usize] - mesh.positions[b as usize]).norm())
-            .sum::<f64>()
-            / table.len().max(1) as f64;
+            .collect();
+        let middle = lengths.len() / 2;
+        let median_edge = if lengths.is_empty() {
+            0.0
+        } else {
+            *lengths.select_nth_unstable_by(middle, f64::total_cmp).1
+        };
         let centroid = |f: usize| {
             let t = mesh.triangles[f];
             (mesh.positions[t[0] as usize] + mesh.positions[t[1] as usize] + mesh.positions[t[2] as usize]) / 3.0
@@ -275,8 +282,8 @@ impl<'a> FaceGeometry<'a> {
         Self {
             mesh,
             dihedral,
-            tolerance: 1e-9 * mean_edge,
-            cell: 2.0 * mean_edge.max(f64::MIN_POSITIVE),
+            tolerance: 1e-9 * median_edge,
+            cell: 2.0 * median_edge.max(f64::MIN_POSITIVE),
             central,
         }
     }
@@ -313,7 +320,16 @@ impl<'a> FaceGeometry<'a> {
 #[derive(Default)]
 struct OverlapGrid {
     cells: FxHashMap<(i64, i64), Vec<u32>>,
+    /// Faces too large for the cells (kept out of them, tested by every query).
+    big: Vec<u32>,
+    /// Every face, for queries too large for the cells.
+    all: Vec<u32>,
 }
+
+/// Most grid cells a face is entered in (or a query looks at); larger faces go to the
+/// grid's list of big faces, larger queries scan every face. Bounds the grid's memory and
+/// work on meshes whose faces differ in size by orders of magnitude.
+const MAX_CELLS_PER_FACE: i64 = 256;
 
 impl OverlapGrid {
     fn range(cell: f64, t: &[Vec2; 3]) -> (i64, i64, i64, i64) {
@@ -327,8 +343,18 @@ impl OverlapGrid {
         )
     }
 
+    fn too_many((x0, x1, y0, y1): (i64, i64, i64, i64)) -> bool {
+        (x1 - x0 + 1).saturating_mul(y1 - y0 + 1) > MAX_CELLS_PER_FACE
+    }
+
     fn insert(&mut self, cell: f64, t: &[Vec2; 3], f: u32) {
-        let (x0, x1, y0, y1) = Self::range(cell, t);
+        self.all.push(f);
+        let range = Self::range(cell, t);
+        if Self::too_many(range) {
+            self.big.push(f);
+            return;
+        }
+        let (x0, x1, y0, y1) = range;
         for x in x0..=x1 {
             for y in y0..=y1 {
                 self.cells.entry((x, y)).or_default().push(f);
@@ -338,11 +364,25 @@ impl OverlapGrid {
 
     /// Whether `t` overlaps a face of the grid.
     fn overlaps(&self, cell: f64, t: &[Vec2; 3], flat: &[[Vec2; 3]], tolerance: f64) -> bool {
-        let (x0, x1, y0, y1) = Self::range(cell, t);
+        let test = |g: &u32| triangles_overlap(*t, flat[*g as usize], tolerance);
+        let range = Self::range(cell, t);
+        if Self::too_many(range) {
+            // A large query: every face, after a bounding-box check.
+            let (lo, hi) = (t[0].inf(&t[1]).inf(&t[2]), t[0].sup(&t[1]).sup(&t[2]));
+            return self.all.iter().any(|g| {
+                let u = &flat[*g as usize];
+                let (a, b) = (u[0].inf(&u[1]).inf(&u[2]), u[0].sup(&u[1]).sup(&u[2]));
+                a.x <= hi.x && b.x >= lo.x && a.y <= hi.y && b.y >= lo.y && test(g)
+            });
+        }
+        if self.big.iter().any(test) {
+            return true;
+        }
+        let (x0, x1, y0, y1) = range;
         for x in x0..=x1 {
             for y in y0..=y1 {
                 if let Some(list) = self.cells.get(&(x, y)) {
-                    if list.iter().any(|&g| triangles_overlap(*t, flat[g as usize], tolerance)) {
+                    if list.iter().any(test) {
                         return true;
                     }
                 }

@@ -125,6 +125,7 @@ fn an_open_tube_and_an_open_cone_are_cut_along_one_ruling_into_one_exact_piece()
         let set = cut_into_charts(&mesh, &ChartOptions::default()).unwrap();
         assert_eq!(set.charts.len(), 1, "{name}");
         assert_eq!((set.opened_count, set.split_count), (1, 0), "{name}");
+        assert_eq!(set.seam_edge_count, 1, "{name}: the one ruling cut open");
         let chart = &set.charts[0];
         assert!(
             chart.distortion.edge_length_max_relative <= 1e-10,

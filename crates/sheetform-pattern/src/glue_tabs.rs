@@ -49,8 +49,8 @@ pub struct TabReport {
     pub dropped: usize,
     /// Seam stretches too short (under half the tab width) to take a tab.
     pub too_short: usize,
-    /// Tabs that did not fit on the wanted side of their seam and were placed on the
-    /// other side instead (counted in `placed`, not in `dropped`).
+    /// Tabs placed on the other side of a seam none of whose tabs fitted on the wanted
+    /// side (counted in `placed`; that seam's failures are not counted in `dropped`).
     #[serde(default)]
     pub moved_to_other_side: usize,
 }
@@ -108,15 +108,26 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
         .iter()
         .flat_map(|l| (0..l.len()).map(move |i| [l[i], l[(i + 1) % l.len()]]))
         .collect();
-    // Seams whose tab could not be placed on the wanted side: tried on the other side.
+    // Seams none of whose tabs could be placed on the wanted side are tried on the other
+    // side (a seam partly tabbed keeps its tabs where they are: the other side's
+    // stretches need not match, and a stretch must never get a tab on both sides).
+    let mut attempted: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
     let mut failed: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
+    let mut rescued: std::collections::HashSet<usize> = std::collections::HashSet::new();
+    let all_failed = |seam: usize,
+                      attempted: &std::collections::HashMap<usize, usize>,
+                      failed: &std::collections::HashMap<usize, usize>| {
+        failed
+            .get(&seam)
+            .is_some_and(|&n| n > 0 && Some(&n) == attempted.get(&seam))
+    };
     let passes = runs.iter().map(|r| (0, r)).chain(runs.iter().map(|r| (1, r)));
     for (pass, run) in passes {
         let wanted_side = match options.sides {
             TabSides::One => 0,
             TabSides::Alternate => (run.seam % 2) as u8,
         };
-        if (pass == 0) != (run.side == wanted_side) || (pass == 1 && failed.get(&run.seam).is_none_or(|&n| n == 0)) {
+        if (pass == 0) != (run.side == wanted_side) || (pass == 1 && !all_failed(run.seam, &attempted, &failed)) {
             continue;
         }
         let l = &loops[run.loop_index];
@@ -152,8 +163,8 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
                 }
                 continue;
             }
-            if pass == 1 && failed.get(&run.seam).is_none_or(|&n| n == 0) {
-                continue;
+            if pass == 0 {
+                *attempted.entry(run.seam).or_default() += 1;
             }
             let d = chord / len;
             let out = Vec2::new(d.y, -d.x);
@@ -201,8 +212,7 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
                     report.placed += 1;
                     if pass == 1 {
                         report.moved_to_other_side += 1;
-                        report.dropped -= 1;
-                        *failed.get_mut(&run.seam).expect("a failed seam") -= 1;
+                        rescued.insert(run.seam);
                     }
                     placed.push(PlacedTab {
                         loop_index: run.loop_index,
@@ -218,6 +228,10 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
                 None => {}
             }
         }
+    }
+    // The seams tabbed on their other side have no dropped tab.
+    for seam in &rescued {
+        report.dropped -= failed[seam];
     }
     // Splice the tabs into their loops; their bases become tab-base folds.
     let mut new_loops = Vec::with_capacity(loops.len());

@@ -38,6 +38,9 @@ const SMALLEST_SCALE: f64 = 0.4;
 /// Advance of one character as a fraction of the text height (Helvetica's digits and
 /// average lower case are about 0.55 em) plus room around the text.
 const CHARACTER_WIDTH: f64 = 0.6;
+/// Most line and label tests of one placement (see [`place_labels`]).
+const MAX_LABEL_WORK: usize = 200_000_000;
+
 /// Free margin around a label's text box (fraction of its height).
 const MARGIN: f64 = 0.15;
 
@@ -108,7 +111,8 @@ pub(crate) struct LabelPlacement {
 /// inside its piece's cut loops and meets none of the piece's cut or fold lines nor a
 /// label placed before it; the text is turned upright (its direction within ±90° of +x,
 /// so no label reads upside down). Requests are placed in order (seam IDs first by the
-/// caller), a label with no free spot is left out and counted.
+/// caller), a label with no free spot is left out and counted; so are the labels left
+/// when [`MAX_LABEL_WORK`] tests have been spent.
 pub(crate) fn place_labels(pieces: &mut [PatternPiece], requests: &[LabelRequest]) -> LabelPlacement {
     let mut report = LabelPlacement::default();
     let mut placed: Vec<Vec<TextBox>> = (0..pieces.len()).map(|_| Vec::new()).collect();
@@ -124,6 +128,9 @@ pub(crate) fn place_labels(pieces: &mut [PatternPiece], requests: &[LabelRequest
             cut.chain(folds).map(|(a, b)| (a, b, a.inf(&b), a.sup(&b))).collect()
         })
         .collect();
+    // Work budget in line tests (about a second): beyond it the remaining labels are
+    // left out and counted, so no pattern makes the placement run away.
+    let mut work: usize = 0;
     for request in requests {
         let piece = &pieces[request.piece];
         let mut chosen = None;
@@ -145,6 +152,10 @@ pub(crate) fn place_labels(pieces: &mut [PatternPiece], requests: &[LabelRequest
                     half_width,
                     half_height,
                 };
+                work += lines[request.piece].len() + placed[request.piece].len();
+                if work > MAX_LABEL_WORK {
+                    break 'search;
+                }
                 if free(&candidate, piece, &lines[request.piece], &placed[request.piece]) {
                     chosen = Some((candidate, direction, height, k > 0));
                     break 'search;

@@ -109,7 +109,13 @@ pub(crate) fn add_seam_allowance(piece: &mut PatternPiece, allowance_mm: f64, no
             });
         }
     }
+    let mut notched: Vec<Vec2> = Vec::new();
     for &(point, outward) in notch_points {
+        // Runs meeting at a corner both ask for a notch there: one is enough.
+        if notched.iter().any(|q| (q - point).norm() <= 1e-6) {
+            continue;
+        }
+        notched.push(point);
         piece.folds.push(Fold {
             a: point,
             b: point + outward * (0.6 * allowance_mm),

@@ -162,6 +162,8 @@ pub struct PatternOptions {
     pub sheet: Option<SheetOptions>,
     /// Seam allowance, notches, grain lines, kerf.
     pub allowance: MaterialAllowance,
+    /// Which model axis points up (the grain lines follow it).
+    pub up_axis: sheetform_mesh::UpAxis,
 }
 
 impl Default for PatternOptions {
@@ -174,6 +176,7 @@ impl Default for PatternOptions {
             tabs: None,
             sheet: None,
             allowance: MaterialAllowance::default(),
+            up_axis: sheetform_mesh::UpAxis::Z,
         }
     }
 }
@@ -456,7 +459,7 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
     }
 
     if options.allowance.grain_lines {
-        for (part, grain) in grain_lines(mesh, &face_part, &at) {
+        for (part, grain) in grain_lines(mesh, &face_part, &at, k, options.up_axis) {
             pieces[part].folds.push(grain);
         }
     }
@@ -604,15 +607,28 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
             for r in &runs {
                 let l = &loops[r.loop_index];
                 let n = l.len();
-                for step in [0, r.edges / 2, r.edges] {
-                    let i = r.start + step;
-                    // Outward: right of the counter-clockwise loop, averaged over the two
-                    // edges at the point.
+                // Both ends (outward: right of the counter-clockwise loop, averaged over the
+                // two edges there) and the point halfway along the run.
+                for i in [r.start, r.start + r.edges] {
                     let (prev, here, next) = (at(l[(i + n - 1) % n]), at(l[i % n]), at(l[(i + 1) % n]));
                     let d = (here - prev).normalize() + (next - here).normalize();
                     if d.norm() > 1e-9 {
                         notches[loop_part[r.loop_index]].push((here, Vec2::new(d.y, -d.x).normalize()));
                     }
+                }
+                let edge = |j: usize| (at(l[(r.start + j) % n]), at(l[(r.start + j + 1) % n]));
+                let total: f64 = (0..r.edges).map(|j| (edge(j).1 - edge(j).0).norm()).sum();
+                let mut walked = 0.0;
+                for j in 0..r.edges {
+                    let (a, b) = edge(j);
+                    let length = (b - a).norm();
+                    if walked + length >= 0.5 * total && length > 0.0 {
+                        let t = (0.5 * total - walked) / length;
+                        let d = (b - a) / length;
+                        notches[loop_part[r.loop_index]].push((a + (b - a) * t, Vec2::new(d.y, -d.x)));
+                        break;
+                    }
+                    walked += length;
                 }
             }
         }
@@ -733,54 +749,81 @@ fn without_collinear_points(points: Vec<Vec2>) -> Vec<Vec2> {
 }
 
 /// The grain line of every mesh piece on the pattern part holding it: the flat direction
-/// of steepest ascent of the model's height z (the area-weighted mean over the piece's
-/// faces of the gradient of z, linear on each flat triangle), drawn through the piece's
-/// area centroid over 40 % of its extent that way, with arrow heads; a piece whose mean
-/// gradient is under 0.2 (lying nearly level) gets none, nor one whose line would leave
-/// it.
-fn grain_lines(mesh: &SheetMesh, face_part: &[usize], at: &impl Fn(u32) -> Vec2) -> Vec<(usize, Fold)> {
+/// of steepest ascent of the model's height (its `up` coordinate; the area-weighted mean
+/// over the piece's faces of the gradient of the height, linear on each flat triangle),
+/// drawn through the piece's area centroid over 40 % of its extent that way (shortened
+/// to 20 % or 10 % when it would leave the piece, left out when even that does), with
+/// arrow heads; a piece whose mean slope is under 0.2 (lying nearly level) gets none.
+/// `k` is pattern millimetres per model unit.
+fn grain_lines(
+    mesh: &SheetMesh,
+    face_part: &[usize],
+    at: &impl Fn(u32) -> Vec2,
+    k: f64,
+    up: sheetform_mesh::UpAxis,
+) -> Vec<(usize, Fold)> {
+    let height = |v: u32| {
+        let p = mesh.positions[v as usize];
+        match up {
+            sheetform_mesh::UpAxis::Z => p.z,
+            sheetform_mesh::UpAxis::Y => p.y,
+        }
+    };
+    let mut faces_of: Vec<Vec<usize>> = vec![Vec::new(); mesh.pieces.len()];
+    for (f, &p) in mesh.face_pieces.iter().enumerate() {
+        faces_of[p as usize].push(f);
+    }
     let mut out = Vec::new();
-    for p in 0..mesh.pieces.len() {
-        let (mut gradient, mut centre, mut area, mut part) = (Vec2::zeros(), Vec2::zeros(), 0.0, None);
-        let mut points = Vec::new();
-        for (f, t) in mesh.triangles.iter().enumerate() {
-            if mesh.face_pieces[f] as usize != p {
-                continue;
-            }
-            part = Some(face_part[f]);
-            let [a, b, c] = t.map(at);
-            let [za, zb, zc] = t.map(|v| mesh.positions[v as usize].z);
+    for faces in &faces_of {
+        let Some(&first) = faces.first() else { continue };
+        let part = face_part[first];
+        let (mut gradient, mut centre, mut area) = (Vec2::zeros(), Vec2::zeros(), 0.0);
+        let triangles: Vec<[Vec2; 3]> = faces.iter().map(|&f| mesh.triangles[f].map(at)).collect();
+        for (&f, &[a, b, c]) in faces.iter().zip(&triangles) {
+            let [za, zb, zc] = mesh.triangles[f].map(height);
             let (e1, e2) = (b - a, c - a);
             let det = e1.x * e2.y - e1.y * e2.x;
             if det.abs() <= f64::MIN_POSITIVE {
                 continue;
             }
-            // Solve [e1ᵀ; e2ᵀ] g = [zb − za; zc − za] (z in model units per pattern mm).
+            // Solve [e1ᵀ; e2ᵀ] g = [zb − za; zc − za] (model units per pattern mm).
             let (r1, r2) = (zb - za, zc - za);
             let g = Vec2::new(r1 * e2.y - r2 * e1.y, e1.x * r2 - e2.x * r1) / det;
             let weight = 0.5 * det.abs();
             gradient += g * weight;
             centre += (a + b + c) / 3.0 * weight;
             area += weight;
-            points.extend([a, b, c]);
         }
-        let Some(part) = part else { continue };
         if area <= 0.0 {
             continue;
         }
         let (g, centre) = (gradient / area, centre / area);
-        // Model units per pattern mm: compare with the scale of 1 (z rising as fast as
-        // the piece runs).
-        let k = mesh.unit.millimetres();
+        // The slope in the model: height per length along the piece (k pattern mm per
+        // model unit, the print scale included).
         if g.norm() * k < 0.2 {
             continue;
         }
         let d = g.normalize();
-        let extent = points
+        let extent = triangles
             .iter()
+            .flatten()
             .map(|q| (q - centre).dot(&d))
             .fold(0.0f64, |m, x| m.max(x.abs()));
-        let (a, b) = (centre - d * 0.4 * extent, centre + d * 0.4 * extent);
+        let on_piece = |p: Vec2| {
+            triangles.iter().any(|&[a, b, c]| {
+                let s = |u: Vec2, v: Vec2| (v - u).x * (p - u).y - (v - u).y * (p - u).x;
+                let (x, y, z) = (s(a, b), s(b, c), s(c, a));
+                (x >= 0.0 && y >= 0.0 && z >= 0.0) || (x <= 0.0 && y <= 0.0 && z <= 0.0)
+            })
+        };
+        let Some(half) = [0.4, 0.2, 0.1]
+            .into_iter()
+            .map(|f| f * extent)
+            .find(|&h| on_piece(centre) && on_piece(centre - d * h) && on_piece(centre + d * h))
+        else {
+            continue;
+        };
+        let (a, b) = (centre - d * half, centre + d * half);
         out.push((
             part,
             Fold {
@@ -791,7 +834,7 @@ fn grain_lines(mesh: &SheetMesh, face_part: &[usize], at: &impl Fn(u32) -> Vec2)
             },
         ));
         // Arrow heads at both ends.
-        let head = (0.04 * extent).clamp(2.0, 8.0);
+        let head = (0.1 * half).clamp(2.0, 8.0);
         let side = Vec2::new(-d.y, d.x);
         for (tip, back) in [(b, -d), (a, d)] {
             for s in [1.0, -1.0] {

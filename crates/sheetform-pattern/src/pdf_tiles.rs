@@ -127,8 +127,9 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
             let (w, h) = (hi.x - lo.x, hi.y - lo.y);
             // (Float to integer casts saturate: an absurd size gives a huge count, refused
             // below before anything is drawn.)
-            let columns = ((w - o).max(0.0) / sx).ceil().max(1.0) as usize;
-            let rows = ((h - o).max(0.0) / sy).ceil().max(1.0) as usize;
+            // (Less a hair before rounding up: a sheet made of exactly r tiles is r tiles.)
+            let columns = ((w - o).max(0.0) / sx - 1e-9).ceil().max(1.0) as usize;
+            let rows = ((h - o).max(0.0) / sy - 1e-9).ceil().max(1.0) as usize;
             // Centre the part in its tiled area.
             let (tw, th) = (columns as f64 * sx + o, rows as f64 * sy + o);
             (rows, columns, Vec2::new(lo.x - 0.5 * (tw - w), hi.y + 0.5 * (th - h)))
@@ -167,7 +168,14 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                 let (wx, wy) = (origin.x + c as f64 * sx, origin.y - r as f64 * sy);
                 // (The last tile is printed when nothing was: a PDF has at least one page.)
                 let last = k + 1 == sheet_count && r + 1 == rows && c + 1 == columns && page_ids.is_empty();
-                if !last && !window_shows(pattern, Vec2::new(wx, wy - ah), Vec2::new(wx + aw, wy)) {
+                if !last
+                    && !window_shows(
+                        pattern,
+                        Vec2::new(wx, wy - ah),
+                        Vec2::new(wx + aw, wy),
+                        options.sheet_outlines,
+                    )
+                {
                     continue;
                 }
                 let (page_id, content_id) = (Ref::new(next), Ref::new(next + 1));
@@ -418,9 +426,9 @@ fn embed_texture(pdf: &mut Pdf, id: Ref, texture: &crate::PatternTexture) -> Res
     Ok(())
 }
 
-/// Whether any line, label or sheet outline of the pattern falls in the window
-/// `[lo, hi]` (pattern millimetres).
-fn window_shows(pattern: &Pattern, lo: Vec2, hi: Vec2) -> bool {
+/// Whether any line, label or (when drawn) sheet outline of the pattern falls in the
+/// window `[lo, hi]` (pattern millimetres).
+fn window_shows(pattern: &Pattern, lo: Vec2, hi: Vec2, sheet_outlines: bool) -> bool {
     let inside = |p: Vec2| p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y;
     let corners = [lo, Vec2::new(hi.x, lo.y), hi, Vec2::new(lo.x, hi.y)];
     let crosses = |a: Vec2, b: Vec2| {
@@ -433,7 +441,7 @@ fn window_shows(pattern: &Pattern, lo: Vec2, hi: Vec2) -> bool {
         .any(|l| (0..l.len()).any(|i| crosses(l[i], l[(i + 1) % l.len()])))
         || pattern.folds().any(|f| crosses(f.a, f.b))
         || pattern.labels().any(|label| inside(label.position))
-        || pattern.sheets.iter().any(|(corner, size)| {
+        || pattern.sheets.iter().filter(|_| sheet_outlines).any(|(corner, size)| {
             let q = [
                 *corner,
                 corner + Vec2::new(size.x, 0.0),

@@ -105,7 +105,14 @@ pub fn run_bend(scene: &BendScene, options: &BendRunOptions, context: &RunContex
     if context.renders_all() {
         files.push(("model.stl".into(), stl_bytes(&sheet.mesh)));
     }
-    let (pattern, pattern_report) = pattern_files(&sheet.mesh, &name, &options.pattern, context.outputs, texture)?;
+    let (pattern, pattern_report) = pattern_files(
+        &sheet.mesh,
+        &name,
+        &options.pattern,
+        context.outputs,
+        texture,
+        scene.up_axis,
+    )?;
     files.extend(pattern);
     let frames = if context.renders_all() {
         options.animate_frames

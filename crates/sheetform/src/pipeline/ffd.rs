@@ -197,7 +197,8 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
         // A preview shows the models (GLB) only.
         files.retain(|(n, _)| n.ends_with(".glb"));
     }
-    let (pattern, pattern_report) = pattern_files(&sheet, &name, &options.pattern, context.outputs, None)?;
+    let (pattern, pattern_report) =
+        pattern_files(&sheet, &name, &options.pattern, context.outputs, None, scene.up_axis)?;
     files.extend(pattern);
     let exported = Instant::now();
     let mut report = sheet_mesh_report(Command::Ffd, options.input.clone(), &sheet);

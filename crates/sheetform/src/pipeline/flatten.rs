@@ -225,6 +225,21 @@ pub fn run_flatten(
             let opened = if mesh.seam_edges.is_empty() {
                 None
             } else {
+                let table = sheetform_mesh::EdgeTable::new(&mesh.triangles, mesh.positions.len());
+                if let Some((i, [a, b])) = mesh
+                    .seam_edges
+                    .iter()
+                    .enumerate()
+                    .find(|(_, &[a, b])| table.find(a, b).is_none())
+                {
+                    return Err(PipelineError::Flatten(sheetform_flatten::FlattenError::Topology {
+                        problem: format!(
+                            "seam edge {i} ({} – {}, 1-based as in the file) is not an edge of the mesh",
+                            a + 1,
+                            b + 1
+                        ),
+                    }));
+                }
                 Some(sheetform_mesh::cut_along_edges(&mesh, &mesh.seam_edges).mesh)
             };
             let whole = opened.as_ref().unwrap_or(&mesh);
@@ -273,7 +288,7 @@ pub fn run_flatten(
         ));
     }
     files.push(("model.glb".to_string(), glb_bytes(&sheet, &name, None, UpAxis::Y)));
-    let (pattern, pattern_report) = pattern_files(&sheet, &name, &pattern_options, context.outputs, None)?;
+    let (pattern, pattern_report) = pattern_files(&sheet, &name, &pattern_options, context.outputs, None, UpAxis::Y)?;
     files.extend(pattern);
     let exported = Instant::now();
     // The bound the report states: no overlap, and no edge stretched by more than the

@@ -2,7 +2,7 @@
 //! and report into a directory.
 
 use crate::report::{PatternReport, Report};
-use sheetform_io::{write_atomic, Texture};
+use sheetform_io::{write_atomic, Texture, UpAxis};
 use sheetform_mesh::SheetMesh;
 use sheetform_pattern::{
     dxf_bytes, pack_pieces, pattern_from_mesh, pdf_tiled, smallest_bounding_rotation, svg_bytes, DxfUnit, FoldStyle,
@@ -73,24 +73,17 @@ fn page_sheets(pattern: &sheetform_pattern::Pattern, pdf: &PdfOptions) -> Vec<Sh
     let o = pdf.overlap_mm;
     let (sx, sy) = (aw - o, ah - o);
     let gap = PAGE_PACKING_GAP_MM;
-    // The largest piece, turned to its smallest bounding rectangle.
+    // The widest and the tallest of the pieces, each turned to its smallest bounding
+    // rectangle and laid landscape: every piece fits a sheet that holds both.
     let largest = pattern
         .pieces
         .iter()
         .map(|p| {
             let points: Vec<_> = p.cut.iter().flatten().copied().collect();
-            smallest_bounding_rotation(&points).1
+            let s = smallest_bounding_rotation(&points).1;
+            nalgebra::Vector2::new(s.x.max(s.y), s.x.min(s.y))
         })
-        .fold(
-            nalgebra::Vector2::zeros(),
-            |m: nalgebra::Vector2<f64>, s| {
-                if s.x * s.y > m.x * m.y {
-                    s
-                } else {
-                    m
-                }
-            },
-        );
+        .fold(nalgebra::Vector2::<f64>::zeros(), |m, s| m.sup(&s));
     let tiles = |length: f64, step: f64| ((length + 2.0 * gap - o).max(0.0) / step).ceil().max(1.0) as usize;
     let mut grids = vec![(1, 1)];
     for (w, h) in [(largest.x, largest.y), (largest.y, largest.x)] {
@@ -136,6 +129,7 @@ pub(crate) fn pattern_files(
     options: &PatternOutputOptions,
     outputs: OutputSet,
     texture: Option<Texture<'_>>,
+    up_axis: UpAxis,
 ) -> Result<(RenderedFiles, PatternReport), PipelineError> {
     let mut pattern = pattern_from_mesh(
         mesh,
@@ -146,6 +140,7 @@ pub(crate) fn pattern_files(
             tabs: options.tabs,
             sheet: options.sheet,
             allowance: options.allowance,
+            up_axis,
             ..Default::default()
         },
     )?;

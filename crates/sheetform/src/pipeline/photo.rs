@@ -272,7 +272,7 @@ pub fn run_photo(
     if all {
         files.push(("model.stl".into(), stl_bytes(&sheet)));
     }
-    let (pattern, pattern_report) = pattern_files(&sheet, &name, &options.pattern, context.outputs, None)?;
+    let (pattern, pattern_report) = pattern_files(&sheet, &name, &options.pattern, context.outputs, None, UpAxis::Y)?;
     files.extend(pattern);
     let data_uri = format!(
         "data:{};base64,{}",
