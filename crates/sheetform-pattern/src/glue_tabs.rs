@@ -43,7 +43,8 @@ impl Default for TabOptions {
 pub struct TabReport {
     /// Tabs drawn.
     pub placed: usize,
-    /// Tabs drawn narrower than asked (the full width would have overlapped something).
+    /// Tabs drawn narrower or shorter than asked (the full tab would have overlapped
+    /// something).
     pub narrowed: usize,
     /// Tabs left out because even a quarter width overlapped something.
     pub dropped: usize,
@@ -53,6 +54,9 @@ pub struct TabReport {
     /// side (counted in `placed`; that seam's failures are not counted in `dropped`).
     #[serde(default)]
     pub moved_to_other_side: usize,
+    /// Seams left with no tab on either side (to be glued with a strip behind them).
+    #[serde(default)]
+    pub seams_without_tab: usize,
 }
 
 /// Even-odd point-in-region over a set of loops.
@@ -65,10 +69,14 @@ pub type TabbedLoops = (Vec<Vec<Vec2>>, Vec<Vec<Fold>>, TabReport);
 
 struct PlacedTab {
     loop_index: usize,
-    /// First and last loop vertex of the tab's base.
+    /// First and last loop vertex of the stretch the tab stands on.
     from: usize,
     to: usize,
-    outer: [Vec2; 2],
+    /// The points that replace the stretch between them in the cut path.
+    outer: Vec<Vec2>,
+    /// The tab's base when it covers part of the stretch only (its fold line); `None`:
+    /// the whole stretch is the base.
+    partial_base: Option<[Vec2; 2]>,
 }
 
 /// Adds glue tabs to the cut loops along the seam runs. Each run that carries tabs (see [`TabSides`]) is split into nearly straight
@@ -114,6 +122,7 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
     let mut attempted: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
     let mut failed: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
     let mut rescued: std::collections::HashSet<usize> = std::collections::HashSet::new();
+    let mut tabbed: std::collections::HashSet<usize> = std::collections::HashSet::new();
     let all_failed = |seam: usize,
                       attempted: &std::collections::HashMap<usize, usize>,
                       failed: &std::collections::HashMap<usize, usize>| {
@@ -169,16 +178,33 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
             let d = chord / len;
             let out = Vec2::new(d.y, -d.x);
             let mut placed_tab = None;
-            // Full, half and quarter width, as far as the stretch is twice as long.
-            for (attempt, w) in [width, 0.5 * width, 0.25 * width]
-                .into_iter()
+            // Full, half and quarter width along the whole stretch, as far as the base is
+            // twice as long as the tab is deep; then, for the narrow V-shaped gaps of nets,
+            // a tab on the outer half (either half), then the middle half of the stretch.
+            let candidates = [
+                (0.0, 1.0, width),
+                (0.0, 1.0, 0.5 * width),
+                (0.0, 1.0, 0.25 * width),
+                (0.5, 1.0, 0.5 * width),
+                (0.0, 0.5, 0.5 * width),
+                (0.5, 1.0, 0.25 * width),
+                (0.0, 0.5, 0.25 * width),
+                (0.25, 0.75, 0.25 * width),
+            ];
+            // (Partial tabs only on a stretch of one edge, whose chord is the edge itself:
+            // the cut then runs exactly along it on both sides of the tab.)
+            let single_edge = (to - from) == 1;
+            for (attempt, &(t0, t1, w)) in candidates
+                .iter()
                 .enumerate()
-                .filter(|&(_, w)| len >= 2.0 * w)
+                .filter(|&(_, &(t0, t1, w))| (t1 - t0) * len >= 2.0 * w && (single_edge || (t0 == 0.0 && t1 == 1.0)))
             {
-                let inset = (w * cot).min(0.45 * len);
-                let q0 = p0 + out * w + d * inset;
-                let q1 = p1 + out * w - d * inset;
-                let new_edges = [[p0, q0], [q0, q1], [q1, p1]];
+                let (b0, b1) = (p0 + chord * t0, p0 + chord * t1);
+                let base = (t1 - t0) * len;
+                let inset = (w * cot).min(0.45 * base);
+                let q0 = b0 + out * w + d * inset;
+                let q1 = b1 + out * w - d * inset;
+                let new_edges = [[b0, q0], [q0, q1], [q1, b1]];
                 // Trim the two edges that start/end at the base corners so touching the
                 // outline there is not a hit.
                 let trim = |[a, b]: [Vec2; 2], at_start: bool, at_end: bool| {
@@ -196,20 +222,30 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
                 let hits_tab = tested
                     .iter()
                     .any(|&[a, b]| tab_edges.iter().any(|&[c, e]| segments_meet(a, b, c, e)));
-                let centre = (p0 + p1 + q0 + q1) * 0.25;
+                let centre = (b0 + b1 + q0 + q1) * 0.25;
                 let on_piece = inside_loops(loops.iter(), centre);
                 if !hits_cut && !hits_tab && !on_piece {
                     tab_edges.extend(new_edges);
                     if attempt > 0 {
                         report.narrowed += 1;
                     }
-                    placed_tab = Some([q0, q1]);
+                    let whole = t0 == 0.0 && t1 == 1.0;
+                    let mut outer = Vec::with_capacity(4);
+                    if t0 > 0.0 {
+                        outer.push(b0);
+                    }
+                    outer.extend([q0, q1]);
+                    if t1 < 1.0 {
+                        outer.push(b1);
+                    }
+                    placed_tab = Some((outer, (!whole).then_some([b0, b1])));
                     break;
                 }
             }
             match placed_tab {
-                Some(outer) => {
+                Some((outer, partial_base)) => {
                     report.placed += 1;
+                    tabbed.insert(run.seam);
                     if pass == 1 {
                         report.moved_to_other_side += 1;
                         rescued.insert(run.seam);
@@ -219,6 +255,7 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
                         from: from % n,
                         to: to % n,
                         outer,
+                        partial_base,
                     });
                 }
                 None if pass == 0 => {
@@ -233,6 +270,8 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
     for seam in &rescued {
         report.dropped -= failed[seam];
     }
+    let seams: std::collections::HashSet<usize> = runs.iter().map(|r| r.seam).collect();
+    report.seams_without_tab = seams.difference(&tabbed).count();
     // Splice the tabs into their loops; their bases become tab-base folds.
     let mut new_loops = Vec::with_capacity(loops.len());
     let mut folds: Vec<Vec<Fold>> = vec![Vec::new(); loops.len()];
@@ -241,6 +280,15 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
         let mut tab_at: std::collections::HashMap<usize, &PlacedTab> = std::collections::HashMap::new();
         for t in placed.iter().filter(|t| t.loop_index == li) {
             tab_at.insert(t.from, t);
+            if let Some([a, b]) = t.partial_base {
+                folds[li].push(Fold {
+                    a,
+                    b,
+                    style: FoldStyle::TabBase,
+                    angle_degrees: 0.0,
+                });
+                continue;
+            }
             let mut i = t.from;
             while i != t.to {
                 folds[li].push(Fold {
@@ -263,7 +311,7 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
         while steps < n {
             out.push(l[i]);
             if let Some(t) = tab_at.get(&i) {
-                out.extend(t.outer);
+                out.extend(t.outer.iter().copied());
                 let skip = (t.to + n - t.from) % n;
                 steps += skip.max(1);
                 i = t.to;
