@@ -1039,4 +1039,91 @@ mod tests {
         .collect();
         assert_eq!(without_collinear_points(square).len(), 4);
     }
+
+    /// A standing panel, 100 wide (x) and 300 tall (z), laid flat turned by `turn`: its
+    /// grain line must run along the flat image of +z, through the panel, for either up
+    /// axis stated the same way.
+    #[test]
+    fn the_grain_line_runs_up_the_model_on_the_flat_piece() {
+        let turn = 0.7f64;
+        let rotate = |x: f64, y: f64| Vec2::new(turn.cos() * x - turn.sin() * y, turn.sin() * x + turn.cos() * y);
+        let corners = [(0.0, 0.0), (100.0, 0.0), (100.0, 300.0), (0.0, 300.0)];
+        for up in [sheetform_mesh::UpAxis::Z, sheetform_mesh::UpAxis::Y] {
+            let positions = corners
+                .iter()
+                .map(|&(x, h)| match up {
+                    sheetform_mesh::UpAxis::Z => Vec3::new(x, 0.0, h),
+                    sheetform_mesh::UpAxis::Y => Vec3::new(x, h, 0.0),
+                })
+                .collect();
+            let mesh = SheetMesh {
+                positions,
+                flat: corners.iter().map(|&(x, h)| rotate(x, h)).collect(),
+                triangles: vec![[0, 1, 2], [0, 2, 3]],
+                face_pieces: vec![0, 0],
+                pieces: vec![sheetform_mesh::Piece {
+                    name: "panel".into(),
+                    kind: sheetform_mesh::PieceKind::Chart,
+                }],
+                rulings: vec![],
+                smooth_edges: vec![],
+                unit: sheetform_mesh::LengthUnit::Mm,
+            };
+            let options = PatternOptions {
+                allowance: MaterialAllowance {
+                    grain_lines: true,
+                    ..Default::default()
+                },
+                up_axis: up,
+                ..Default::default()
+            };
+            let pattern = pattern_from_mesh(&mesh, &options).unwrap();
+            let grain: Vec<&Fold> = pattern.folds().filter(|f| f.style == FoldStyle::Grain).collect();
+            assert_eq!(grain.len(), 5, "a shaft and four arrow-head strokes");
+            let shaft = grain
+                .iter()
+                .max_by(|a, b| (a.b - a.a).norm().total_cmp(&(b.b - b.a).norm()))
+                .unwrap();
+            let along = (shaft.b - shaft.a).normalize();
+            let up_flat = rotate(0.0, 1.0);
+            assert!((along - up_flat).norm() < 1e-9, "{along:?} vs {up_flat:?}");
+            // 40 % of the half height either side of the centre (150 mm up the panel).
+            assert!(((shaft.b - shaft.a).norm() - 0.8 * 150.0).abs() < 1e-9);
+            assert!(((shaft.a + shaft.b) * 0.5 - rotate(50.0, 150.0)).norm() < 1e-9);
+        }
+        // Lying level (a flat panel in the xy plane, z up): no grain line.
+        let mut level = roof(0.0);
+        level.positions.iter_mut().for_each(|p| p.z = 0.0);
+        let options = PatternOptions {
+            allowance: MaterialAllowance {
+                grain_lines: true,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        let pattern = pattern_from_mesh(&level, &options).unwrap();
+        assert_eq!(pattern.folds().filter(|f| f.style == FoldStyle::Grain).count(), 0);
+    }
+
+    #[test]
+    fn a_piece_placement_follows_every_motion_applied_to_the_piece() {
+        let piece = PatternPiece {
+            name: "p".into(),
+            cut: vec![vec![Vec2::new(0.0, 0.0), Vec2::new(2.0, 0.0), Vec2::new(0.0, 1.0)]],
+            folds: vec![],
+            labels: vec![],
+            sheet: 0,
+            placement: Placement::default(),
+        };
+        let turn = |a: f64, t: Vec2| {
+            move |p: Vec2| Vec2::new(a.cos() * p.x - a.sin() * p.y, a.sin() * p.x + a.cos() * p.y) + t
+        };
+        let moved = piece
+            .transformed(turn(0.4, Vec2::new(3.0, -1.0)), 0.4)
+            .transformed(turn(-1.1, Vec2::new(-2.0, 5.0)), -1.1);
+        // The placement maps the first layout onto where the piece is now.
+        for (before, after) in piece.cut[0].iter().zip(&moved.cut[0]) {
+            assert!((moved.placement.apply(*before) - after).norm() < 1e-12);
+        }
+    }
 }
