@@ -189,6 +189,11 @@ pub(crate) struct PatternArgs {
     /// A grain line on every piece along the direction that runs up the model (+z).
     #[arg(long)]
     pub(crate) grain_lines: bool,
+    /// Folds under this angle (degrees) are the bends of a smooth surface: drawn as light
+    /// bending guides, not folds (default: 10 for `ffd`, `photo` and smooth charts, 0 for
+    /// nets, `bend` and `slit`).
+    #[arg(long, value_name = "DEGREES")]
+    pub(crate) smooth_folds: Option<f64>,
 }
 
 pub(crate) fn parse_sheet(text: &str) -> Result<(f64, f64), String> {
@@ -302,6 +307,7 @@ impl From<PatternArgs> for PatternOutputOptions {
                 kerf_mm: a.kerf,
                 grain_lines: a.grain_lines,
             },
+            smooth_bend_degrees: a.smooth_folds,
         }
     }
 }

@@ -164,6 +164,11 @@ pub struct PatternOptions {
     pub allowance: MaterialAllowance,
     /// Which model axis points up (the grain lines follow it).
     pub up_axis: sheetform_mesh::UpAxis,
+    /// Folds under this dihedral angle (degrees) are the bends of a smooth surface, not
+    /// folds to crease: drawn as bending guides, thinned like rulings. 0 (the default):
+    /// every fold over `min_fold_angle_degrees` is a mountain or valley fold (nets, where
+    /// every edge is creased).
+    pub smooth_bend_degrees: f64,
 }
 
 impl Default for PatternOptions {
@@ -177,6 +182,7 @@ impl Default for PatternOptions {
             sheet: None,
             allowance: MaterialAllowance::default(),
             up_axis: sheetform_mesh::UpAxis::Z,
+            smooth_bend_degrees: 0.0,
         }
     }
 }
@@ -326,6 +332,12 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
             message: format!("must be a positive number, got {}", options.scale),
         });
     }
+    if !(options.smooth_bend_degrees.is_finite() && (0.0..=180.0).contains(&options.smooth_bend_degrees)) {
+        return Err(PatternError::Option {
+            option: "smooth_bend_degrees",
+            message: format!("must be between 0 and 180 degrees, got {}", options.smooth_bend_degrees),
+        });
+    }
     if !(options.min_fold_angle_degrees.is_finite() && options.min_fold_angle_degrees >= 0.0) {
         return Err(PatternError::Option {
             option: "min_fold_angle_degrees",
@@ -429,9 +441,23 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
         })
         .collect();
     fold_edges.sort_by_key(|x| x.0);
+    // Bends of a smooth surface (folds under `smooth_bend_degrees`) are bending guides,
+    // thinned to `max_rulings_per_piece` per piece; the rest mountain or valley folds.
+    let smooth = options.smooth_bend_degrees.to_radians();
+    let mut bends: Vec<Vec<Fold>> = vec![Vec::new(); pieces.len()];
     for (chain, angle) in merge_collinear_folds(&fold_edges, at) {
         let (a, b) = (chain[0], *chain.last().expect("a chain has two ends"));
-        pieces[vertex_part(a, &mut parent)].folds.push(Fold {
+        let part = vertex_part(a, &mut parent);
+        if angle.abs() < smooth {
+            bends[part].push(Fold {
+                a: at(a),
+                b: at(b),
+                style: FoldStyle::Guide,
+                angle_degrees: 0.0,
+            });
+            continue;
+        }
+        pieces[part].folds.push(Fold {
             a: at(a),
             b: at(b),
             style: if angle > 0.0 {
@@ -441,6 +467,17 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
             },
             angle_degrees: angle.abs().to_degrees(),
         });
+    }
+    for (piece, guides) in pieces.iter_mut().zip(bends) {
+        let step = guides.len().div_ceil(options.max_rulings_per_piece.max(1)).max(1);
+        let last = guides.len().saturating_sub(1);
+        piece.folds.extend(
+            guides
+                .into_iter()
+                .enumerate()
+                .filter(|(i, _)| i % step == 0 || *i == last)
+                .map(|(_, g)| g),
+        );
     }
     for piece in 0..mesh.pieces.len() {
         let rulings: Vec<_> = mesh.rulings.iter().filter(|r| r.piece as usize == piece).collect();
@@ -1125,5 +1162,38 @@ mod tests {
         for (before, after) in piece.cut[0].iter().zip(&moved.cut[0]) {
             assert!((moved.placement.apply(*before) - after).norm() < 1e-12);
         }
+    }
+
+    #[test]
+    fn bends_of_a_smooth_surface_are_guides_and_creases_stay_folds() {
+        let options = PatternOptions {
+            smooth_bend_degrees: 10.0,
+            ..Default::default()
+        };
+        let count = |mesh: &SheetMesh, style: FoldStyle| {
+            pattern_from_mesh(mesh, &options)
+                .unwrap()
+                .folds()
+                .filter(|f| f.style == style)
+                .count()
+        };
+        let gentle = roof(5f64.to_radians());
+        assert_eq!(
+            (count(&gentle, FoldStyle::Mountain), count(&gentle, FoldStyle::Guide)),
+            (0, 1)
+        );
+        let crease = roof(40f64.to_radians());
+        assert_eq!(
+            (count(&crease, FoldStyle::Mountain), count(&crease, FoldStyle::Guide)),
+            (1, 0)
+        );
+        let bad = PatternOptions {
+            smooth_bend_degrees: f64::NAN,
+            ..Default::default()
+        };
+        assert!(pattern_from_mesh(&crease, &bad)
+            .unwrap_err()
+            .to_string()
+            .contains("smooth_bend_degrees"));
     }
 }

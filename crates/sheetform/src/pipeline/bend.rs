@@ -112,6 +112,7 @@ pub fn run_bend(scene: &BendScene, options: &BendRunOptions, context: &RunContex
         context.outputs,
         texture,
         scene.up_axis,
+        0.0,
     )?;
     files.extend(pattern);
     let frames = if context.renders_all() {

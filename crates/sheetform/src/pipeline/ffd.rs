@@ -12,7 +12,7 @@ use std::path::Path;
 use super::context::RunContext;
 use super::error::{Outcome, PipelineError};
 use super::flatten::sheet_from_charts;
-use super::outputs::{output_names, pattern_files, PatternOutputOptions, RenderedFiles};
+use super::outputs::{output_names, pattern_files, PatternOutputOptions, RenderedFiles, SMOOTH_PANEL_BEND_DEGREES};
 use super::sheet_report::{angle_defects, chart_report, defect_colours, sheet_mesh_report};
 use std::time::Instant;
 
@@ -197,8 +197,15 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
         // A preview shows the models (GLB) only.
         files.retain(|(n, _)| n.ends_with(".glb"));
     }
-    let (pattern, pattern_report) =
-        pattern_files(&sheet, &name, &options.pattern, context.outputs, None, scene.up_axis)?;
+    let (pattern, pattern_report) = pattern_files(
+        &sheet,
+        &name,
+        &options.pattern,
+        context.outputs,
+        None,
+        scene.up_axis,
+        SMOOTH_PANEL_BEND_DEGREES,
+    )?;
     files.extend(pattern);
     let exported = Instant::now();
     let mut report = sheet_mesh_report(Command::Ffd, options.input.clone(), &sheet);

@@ -14,7 +14,7 @@ type Vec2 = nalgebra::Vector2<f64>;
 use super::check::{mesh_name, weld_input};
 use super::context::RunContext;
 use super::error::{Outcome, PipelineError};
-use super::outputs::{output_names, pattern_files, PatternOutputOptions};
+use super::outputs::{output_names, pattern_files, PatternOutputOptions, SMOOTH_PANEL_BEND_DEGREES};
 use super::sheet_report::{angle_defects, chart_report, DEFAULT_ANGLE_TOLERANCE};
 use std::time::Instant;
 
@@ -288,7 +288,19 @@ pub fn run_flatten(
         ));
     }
     files.push(("model.glb".to_string(), glb_bytes(&sheet, &name, None, UpAxis::Y)));
-    let (pattern, pattern_report) = pattern_files(&sheet, &name, &pattern_options, context.outputs, None, UpAxis::Y)?;
+    let (pattern, pattern_report) = pattern_files(
+        &sheet,
+        &name,
+        &pattern_options,
+        context.outputs,
+        None,
+        UpAxis::Y,
+        if layout == Layout::Net {
+            0.0
+        } else {
+            SMOOTH_PANEL_BEND_DEGREES
+        },
+    )?;
     files.extend(pattern);
     let exported = Instant::now();
     // The bound the report states: no overlap, and no edge stretched by more than the

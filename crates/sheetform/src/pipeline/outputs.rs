@@ -47,6 +47,11 @@ pub struct PatternOutputOptions {
     pub max_pdf_pages: usize,
     /// Seam allowance, notches, grain lines, kerf.
     pub allowance: MaterialAllowance,
+    /// Folds under this angle (degrees) are drawn as bending guides, not folds (`None`:
+    /// the command's choice: 10° for the smooth panels of `ffd` and `photo` and the
+    /// smooth charts of `flatten`, 0 for nets and for `bend` and `slit`, whose rulings
+    /// are the guides).
+    pub smooth_bend_degrees: Option<f64>,
 }
 
 impl PatternOutputOptions {
@@ -58,6 +63,10 @@ impl PatternOutputOptions {
         (tabs + allowance) / (mm * self.scale)
     }
 }
+
+/// Folds under this angle (degrees) are the bends of smooth panels (`ffd`, `photo`, smooth
+/// charts), drawn as guides.
+pub const SMOOTH_PANEL_BEND_DEGREES: f64 = 10.0;
 
 /// Gap between pieces packed onto the PDF's pages (mm).
 const PAGE_PACKING_GAP_MM: f64 = 4.0;
@@ -116,6 +125,7 @@ impl Default for PatternOutputOptions {
             sheet: None,
             max_pdf_pages: DEFAULT_MAX_PAGES,
             allowance: MaterialAllowance::default(),
+            smooth_bend_degrees: None,
         }
     }
 }
@@ -130,6 +140,7 @@ pub(crate) fn pattern_files(
     outputs: OutputSet,
     texture: Option<Texture<'_>>,
     up_axis: UpAxis,
+    smooth_bend_degrees: f64,
 ) -> Result<(RenderedFiles, PatternReport), PipelineError> {
     let mut pattern = pattern_from_mesh(
         mesh,
@@ -141,6 +152,7 @@ pub(crate) fn pattern_files(
             sheet: options.sheet,
             allowance: options.allowance,
             up_axis,
+            smooth_bend_degrees: options.smooth_bend_degrees.unwrap_or(smooth_bend_degrees),
             ..Default::default()
         },
     )?;

@@ -15,7 +15,7 @@ use sheetform_photo::{
 use super::context::RunContext;
 use super::error::{Outcome, PipelineError};
 use super::flatten::sheet_from_charts;
-use super::outputs::{output_names, pattern_files, PatternOutputOptions, RenderedFiles};
+use super::outputs::{output_names, pattern_files, PatternOutputOptions, RenderedFiles, SMOOTH_PANEL_BEND_DEGREES};
 use super::sheet_report::{chart_report, sheet_mesh_report};
 use std::time::Instant;
 
@@ -272,7 +272,15 @@ pub fn run_photo(
     if all {
         files.push(("model.stl".into(), stl_bytes(&sheet)));
     }
-    let (pattern, pattern_report) = pattern_files(&sheet, &name, &options.pattern, context.outputs, None, UpAxis::Y)?;
+    let (pattern, pattern_report) = pattern_files(
+        &sheet,
+        &name,
+        &options.pattern,
+        context.outputs,
+        None,
+        UpAxis::Y,
+        SMOOTH_PANEL_BEND_DEGREES,
+    )?;
     files.extend(pattern);
     let data_uri = format!(
         "data:{};base64,{}",

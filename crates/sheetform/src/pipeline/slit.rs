@@ -75,7 +75,8 @@ pub fn run_slit(scene: &SlitScene, options: &SlitRunOptions, context: &RunContex
     if all {
         files.push(("model.stl".into(), stl_bytes(&mesh)));
     }
-    let (pattern, pattern_report) = pattern_files(&mesh, &name, &options.pattern, context.outputs, None, UpAxis::Y)?;
+    let (pattern, pattern_report) =
+        pattern_files(&mesh, &name, &options.pattern, context.outputs, None, UpAxis::Y, 0.0)?;
     files.extend(pattern);
     let mm = model.unit.millimetres();
     let mould_report = mould.as_ref().map(|m| {
