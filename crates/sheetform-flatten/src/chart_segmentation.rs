@@ -114,19 +114,10 @@ pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<Ch
     let nf = mesh.triangles.len();
     let key = |a: u32, b: u32| if a < b { [a, b] } else { [b, a] };
     let table = sheetform_mesh::EdgeTable::new(&mesh.triangles, mesh.positions.len());
-    let mut seams: std::collections::HashSet<[u32; 2]> = std::collections::HashSet::new();
-    for (i, &[a, b]) in mesh.seam_edges.iter().enumerate() {
-        if table.find(a, b).is_none() {
-            return Err(FlattenError::Topology {
-                problem: format!(
-                    "seam edge {i} ({} – {}, 1-based as in the file) is not an edge of the mesh",
-                    a + 1,
-                    b + 1
-                ),
-            });
-        }
-        seams.insert(key(a, b));
-    }
+    let seams: std::collections::HashSet<[u32; 2]> = crate::user_seam_edges(mesh, &table)?
+        .into_iter()
+        .map(|e| table.edges[e])
+        .collect();
     let cos_crease = options.crease_angle_degrees.to_radians().cos();
     let normals: Vec<_> = (0..nf).map(|f| mesh.face_normal(f)).collect();
     // Face adjacency across edges that are not seams (built in face order, so the
@@ -375,23 +366,15 @@ fn open_to_disk(sub: &TriangleMesh) -> Option<(TriangleMesh, Vec<u32>, crate::Un
         adjacency[b as usize].push((a, l));
     }
     // Boundary loop of every boundary vertex (union–find over boundary edges).
-    let mut parent: Vec<u32> = (0..nv as u32).collect();
-    fn find(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            parent[x as usize] = parent[parent[x as usize] as usize];
-            x = parent[x as usize];
-        }
-        x
-    }
+    let mut loops = sheetform_mesh::UnionFind::new(nv);
     for [a, b] in table.boundary_edges() {
-        let (x, y) = (find(&mut parent, a), find(&mut parent, b));
-        parent[x as usize] = y;
+        loops.union(a, b);
     }
     let mut loop_of = vec![u32::MAX; nv];
     let mut members: HashMap<u32, Vec<u32>> = HashMap::new();
     for v in 0..nv as u32 {
         if topology.boundary_vertex[v as usize] {
-            loop_of[v as usize] = find(&mut parent, v);
+            loop_of[v as usize] = loops.find(v);
             members.entry(loop_of[v as usize]).or_default().push(v);
         }
     }

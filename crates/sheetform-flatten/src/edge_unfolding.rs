@@ -103,14 +103,7 @@ pub fn unfold_net(mesh: &TriangleMesh, options: &NetOptions) -> Result<Net, Flat
         });
     }
     let mut forced_cut = vec![false; table.len()];
-    for (i, &[a, b]) in mesh.seam_edges.iter().enumerate() {
-        let e = table.find(a, b).ok_or_else(|| FlattenError::Topology {
-            problem: format!(
-                "seam edge {i} ({} – {}, 1-based as in the file) is not an edge of the mesh",
-                a + 1,
-                b + 1
-            ),
-        })?;
+    for e in crate::user_seam_edges(mesh, &table)? {
         forced_cut[e] = true;
     }
     // Every growth is tried as it is and with the fans of saddle vertices cut in two
@@ -150,7 +143,7 @@ pub fn unfold_net(mesh: &TriangleMesh, options: &NetOptions) -> Result<Net, Flat
         merge_pieces(&faces, &table, &forced_cut, &mut growth);
     }
     let merged_piece_count = before_merge - growth.piece_count;
-    close_closed_slits(&faces, &table, &forced_cut, &mut growth);
+    close_zero_width_slits(&faces, &table, &forced_cut, &mut growth);
 
     // The pieces as charts: cut the mesh along every edge not kept.
     let cut: Vec<[u32; 2]> = (0..table.len())
@@ -248,16 +241,7 @@ struct FaceGeometry<'a> {
 impl<'a> FaceGeometry<'a> {
     fn new(mesh: &'a TriangleMesh, table: &EdgeTable) -> Self {
         let nf = mesh.triangles.len();
-        let normals: Vec<Vec3> = (0..nf).map(|f| mesh.face_normal(f)).collect();
-        let dihedral = (0..table.len())
-            .map(|e| match table.sides(e) {
-                [f, g] => {
-                    let (n, m) = (normals[f.face as usize], normals[g.face as usize]);
-                    n.cross(&m).norm().atan2(n.dot(&m))
-                }
-                _ => 0.0,
-            })
-            .collect();
+        let dihedral = mesh.dihedral_angles(table);
         // The median edge length sets the grid's cells (robust where a few faces are far
         // larger than the rest, as on CAD meshes) and the tolerance.
         let mut lengths: Vec<f64> = table
@@ -500,7 +484,7 @@ fn grow(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], seed: u32)
 /// both (step 4 of [`unfold_net`]): around a flat interior vertex (the centre of a cap,
 /// a point of a flat polygon) a tree of faces must leave one edge cut, a slit of zero
 /// width that is no cut at all; it is joined again.
-fn close_closed_slits(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], growth: &mut Growth) {
+fn close_zero_width_slits(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], growth: &mut Growth) {
     let mesh = faces.mesh;
     for (e, &forced) in forced_cut.iter().enumerate() {
         if growth.kept[e] || forced {

@@ -2,7 +2,7 @@
 //! unfolded into a net of its facets.
 
 use crate::MAX_CONE_POINTS;
-use sheetform_mesh::{mesh_topology_with_edges, vertex_developability, TriangleMesh};
+use sheetform_mesh::{vertex_developability, EdgeTable, MeshTopology, TriangleMesh};
 
 /// How a mesh is laid out in the plane.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
@@ -49,9 +49,10 @@ pub const FACETED_FOLD_DEGREES: f64 = 5.0;
 ///    Blender's Export Paper Model) always unfold such models into nets.
 /// 4. **Charts** otherwise: a finely meshed curved surface (a scanned shape, a dome),
 ///    split until every chart is within the distortion bound.
-pub fn choose_layout(mesh: &TriangleMesh, crease_angle_degrees: f64) -> LayoutChoice {
-    let (topology, table) = mesh_topology_with_edges(mesh);
-    let defects = vertex_developability(mesh, &topology).angle_defect;
+///
+/// `topology` is `mesh`'s ([`sheetform_mesh::mesh_topology`]): the caller has it already.
+pub fn choose_layout(mesh: &TriangleMesh, topology: &MeshTopology, crease_angle_degrees: f64) -> LayoutChoice {
+    let defects = vertex_developability(mesh, topology).angle_defect;
     let curved = defects.iter().filter(|d| d.abs() > CONE_POINT_DEFECT).count();
     let disk = topology.component_count == 1 && topology.boundary_loop_count == 1 && topology.euler_characteristic == 1;
     let seams = !mesh.seam_edges.is_empty();
@@ -61,15 +62,12 @@ pub fn choose_layout(mesh: &TriangleMesh, crease_angle_degrees: f64) -> LayoutCh
             reason: "a developable disk: unfolded whole".into(),
         };
     }
-    let normals: Vec<_> = (0..mesh.triangles.len()).map(|f| mesh.face_normal(f)).collect();
-    let mut folds: Vec<f64> = (0..table.len())
-        .filter_map(|e| match table.sides(e) {
-            [f, g] => {
-                let (n, m) = (normals[f.face as usize], normals[g.face as usize]);
-                Some(n.cross(&m).norm().atan2(n.dot(&m)).to_degrees())
-            }
-            _ => None,
-        })
+    // The folds, only when the mesh is not a developable disk.
+    let table = EdgeTable::new(&mesh.triangles, mesh.positions.len());
+    let mut folds: Vec<f64> = mesh
+        .dihedral_angles(&table)
+        .into_iter()
+        .map(f64::to_degrees)
         .filter(|&a| a >= 1.0)
         .collect();
     let sharp = folds.iter().any(|&a| a > crease_angle_degrees);
@@ -106,7 +104,7 @@ mod tests {
 
     #[test]
     fn the_choice_follows_the_shape() {
-        let layout = |m: &TriangleMesh| choose_layout(m, 30.0).layout;
+        let layout = |m: &TriangleMesh| choose_layout(m, &sheetform_mesh::mesh_topology(m), 30.0).layout;
         assert_eq!(
             layout(&TriangleMesh::grid(8, 8, |u, v| [u, v, 0.3 * u * u])),
             Layout::Whole

@@ -13,6 +13,7 @@ mod error;
 mod exact_unfolding;
 mod layout_choice;
 mod lscm;
+mod user_seams;
 
 pub use alignment::{align_rigid, RigidAlignment};
 pub use arap::{arap, ArapOptions};
@@ -25,6 +26,7 @@ pub use error::FlattenError;
 pub use exact_unfolding::{exact_unfold, UnfoldOptions, Unfolding};
 pub use layout_choice::{choose_layout, Layout, LayoutChoice, CONE_POINT_DEFECT, FACETED_FOLD_DEGREES};
 pub use lscm::lscm;
+pub use user_seams::{open_user_seams, user_seam_edges};
 
 /// A 2D point on the pattern.
 pub type Vec2 = nalgebra::Vector2<f64>;

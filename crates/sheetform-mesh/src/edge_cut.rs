@@ -1,6 +1,6 @@
 //! Cutting a mesh open along a set of its edges.
 
-use crate::{EdgeTable, TriangleMesh};
+use crate::{EdgeTable, TriangleMesh, UnionFind};
 
 /// A mesh cut open along some of its edges, and where each new vertex came from.
 #[derive(Debug, Clone, PartialEq)]
@@ -28,14 +28,7 @@ pub fn cut_along_edges(mesh: &TriangleMesh, cut: &[[u32; 2]]) -> CutMesh {
         }
     }
     let nf = mesh.triangles.len();
-    let mut parent: Vec<u32> = (0..3 * nf as u32).collect();
-    fn find(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            parent[x as usize] = parent[parent[x as usize] as usize];
-            x = parent[x as usize];
-        }
-        x
-    }
+    let mut corners = UnionFind::new(3 * nf);
     let corner_of = |f: u32, v: u32| -> Option<u32> {
         let k = mesh.triangles[f as usize].iter().position(|&w| w == v)?;
         Some(3 * f + k as u32)
@@ -47,8 +40,7 @@ pub fn cut_along_edges(mesh: &TriangleMesh, cut: &[[u32; 2]]) -> CutMesh {
         if let [f, g] = table.sides(e) {
             for v in [a, b] {
                 if let (Some(x), Some(y)) = (corner_of(f.face, v), corner_of(g.face, v)) {
-                    let (x, y) = (find(&mut parent, x), find(&mut parent, y));
-                    parent[x as usize] = y;
+                    corners.union(x, y);
                 }
             }
         }
@@ -59,7 +51,7 @@ pub fn cut_along_edges(mesh: &TriangleMesh, cut: &[[u32; 2]]) -> CutMesh {
     for (f, t) in mesh.triangles.iter().enumerate() {
         let mut out = [0u32; 3];
         for k in 0..3 {
-            let root = find(&mut parent, (3 * f + k) as u32) as usize;
+            let root = corners.find((3 * f + k) as u32) as usize;
             if new_index[root] == u32::MAX {
                 new_index[root] = origin.len() as u32;
                 origin.push(t[k]);

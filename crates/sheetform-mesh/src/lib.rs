@@ -14,6 +14,7 @@ pub mod primitives;
 mod sheet_mesh;
 mod topology;
 mod triangle_mesh;
+mod union_find;
 mod unit;
 mod vertex_normals;
 
@@ -25,5 +26,6 @@ pub use metrics::{developability_error, isometry_error, IsometryError, RulingNor
 pub use sheet_mesh::{Piece, PieceKind, Ruling, SheetMesh};
 pub use topology::{mesh_topology, mesh_topology_with_edges, MeshTopology};
 pub use triangle_mesh::{coincident_vertices, TriangleMesh};
+pub use union_find::UnionFind;
 pub use unit::{LengthUnit, UpAxis};
 pub use vertex_normals::area_weighted_normals;

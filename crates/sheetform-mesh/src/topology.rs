@@ -1,5 +1,6 @@
 use crate::EdgeTable;
 use crate::TriangleMesh;
+use crate::UnionFind;
 
 /// The combinatorial structure of a triangle mesh and everything wrong with it.
 ///
@@ -192,42 +193,6 @@ pub fn mesh_topology_with_edges(mesh: &TriangleMesh) -> (MeshTopology, EdgeTable
     let used_count = used.iter().filter(|&&u| u).count() as i64;
     out.euler_characteristic = used_count - table.len() as i64 + nf as i64;
     (out, table)
-}
-
-/// Disjoint sets of vertices (union by size, path halving).
-struct UnionFind {
-    parent: Vec<u32>,
-    size: Vec<u32>,
-}
-
-impl UnionFind {
-    fn new(n: usize) -> Self {
-        Self {
-            parent: (0..n as u32).collect(),
-            size: vec![1; n],
-        }
-    }
-
-    fn find(&mut self, mut x: u32) -> u32 {
-        while self.parent[x as usize] != x {
-            let grand = self.parent[self.parent[x as usize] as usize];
-            self.parent[x as usize] = grand;
-            x = grand;
-        }
-        x
-    }
-
-    fn union(&mut self, a: u32, b: u32) {
-        let (mut a, mut b) = (self.find(a), self.find(b));
-        if a == b {
-            return;
-        }
-        if self.size[a as usize] < self.size[b as usize] {
-            std::mem::swap(&mut a, &mut b);
-        }
-        self.parent[b as usize] = a;
-        self.size[a as usize] += self.size[b as usize];
-    }
 }
 
 #[cfg(test)]

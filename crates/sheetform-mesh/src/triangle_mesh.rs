@@ -66,6 +66,22 @@ impl TriangleMesh {
         }
     }
 
+    /// The unsigned angle (radians) between the normals of the two faces on each edge of
+    /// `table` (this mesh's edge table): 0 where the faces are coplanar, and on boundary
+    /// or non-manifold edges.
+    pub fn dihedral_angles(&self, table: &crate::EdgeTable) -> Vec<f64> {
+        let normals: Vec<Vec3> = (0..self.triangles.len()).map(|f| self.face_normal(f)).collect();
+        (0..table.len())
+            .map(|e| match table.sides(e) {
+                [f, g] => {
+                    let (n, m) = (normals[f.face as usize], normals[g.face as usize]);
+                    n.cross(&m).norm().atan2(n.dot(&m))
+                }
+                _ => 0.0,
+            })
+            .collect()
+    }
+
     /// Area of face `f`.
     pub fn face_area(&self, f: usize) -> f64 {
         let [a, b, c] = self.triangles[f].map(|i| self.positions[i as usize]);

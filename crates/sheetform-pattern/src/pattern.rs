@@ -846,13 +846,7 @@ fn grain_lines(
             .flatten()
             .map(|q| (q - centre).dot(&d))
             .fold(0.0f64, |m, x| m.max(x.abs()));
-        let on_piece = |p: Vec2| {
-            triangles.iter().any(|&[a, b, c]| {
-                let s = |u: Vec2, v: Vec2| (v - u).x * (p - u).y - (v - u).y * (p - u).x;
-                let (x, y, z) = (s(a, b), s(b, c), s(c, a));
-                (x >= 0.0 && y >= 0.0 && z >= 0.0) || (x <= 0.0 && y <= 0.0 && z <= 0.0)
-            })
-        };
+        let on_piece = |p: Vec2| triangles.iter().any(|t| sheetform_geometry::rings_contain([&t[..]], p));
         let Some(half) = [0.4, 0.2, 0.1]
             .into_iter()
             .map(|f| f * extent)

@@ -198,15 +198,7 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                     for piece in &pattern.pieces {
                         content.save_state();
                         for cycle in &piece.cut {
-                            for (i, p) in cycle.iter().enumerate() {
-                                let (x, y) = to_page(*p);
-                                if i == 0 {
-                                    content.move_to(x, y);
-                                } else {
-                                    content.line_to(x, y);
-                                }
-                            }
-                            content.close_path();
+                            trace_ring(&mut content, cycle, &to_page);
                         }
                         content.clip_even_odd();
                         content.end_path();
@@ -224,15 +216,7 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                 content.set_line_width(0.4);
                 content.set_stroke_rgb(0.85, 0.0, 0.0);
                 for cycle in pattern.cut_loops() {
-                    for (i, p) in cycle.iter().enumerate() {
-                        let (x, y) = to_page(*p);
-                        if i == 0 {
-                            content.move_to(x, y);
-                        } else {
-                            content.line_to(x, y);
-                        }
-                    }
-                    content.close_path();
+                    trace_ring(&mut content, cycle, &to_page);
                     content.stroke();
                 }
                 content.set_line_width(0.3);
@@ -450,6 +434,19 @@ fn window_shows(pattern: &Pattern, lo: Vec2, hi: Vec2, sheet_outlines: bool) -> 
             ];
             (0..4).any(|k| crosses(q[k], q[(k + 1) % 4]))
         })
+}
+
+/// A closed ring as a path (page points from `to_page`), to stroke or clip.
+fn trace_ring(content: &mut Content, ring: &[Vec2], to_page: &impl Fn(Vec2) -> (f32, f32)) {
+    for (i, p) in ring.iter().enumerate() {
+        let (x, y) = to_page(*p);
+        if i == 0 {
+            content.move_to(x, y);
+        } else {
+            content.line_to(x, y);
+        }
+    }
+    content.close_path();
 }
 
 /// A straight stroke between two page points given in millimetres.

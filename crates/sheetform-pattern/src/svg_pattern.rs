@@ -48,12 +48,7 @@ pub fn svg_bytes(pattern: &Pattern, title: &str, margin_mm: f64) -> Vec<u8> {
         r##"<g id="cut" inkscape:groupmode="layer" inkscape:label="cut" fill="none" stroke="#e00000" stroke-width="0.1">"##
     );
     for cycle in pattern.cut_loops() {
-        let mut d = String::new();
-        for (i, p) in cycle.iter().enumerate() {
-            let _ = write!(d, "{}{:.4},{:.4} ", if i == 0 { "M" } else { "L" }, px(p.x), py(p.y));
-        }
-        d.push('Z');
-        let _ = writeln!(s, r#"<path d="{d}"/>"#);
+        let _ = writeln!(s, r#"<path d="{}"/>"#, path_data([cycle], &px, &py));
     }
     let _ = writeln!(s, "</g>");
     let _ = writeln!(
@@ -150,17 +145,10 @@ fn write_texture(
         escape(&texture.mime_type)
     );
     for (k, piece) in pattern.pieces.iter().enumerate() {
-        let mut d = String::new();
-        for cycle in &piece.cut {
-            for (i, p) in cycle.iter().enumerate() {
-                let _ = write!(d, "{}{:.4},{:.4} ", if i == 0 { "M" } else { "L" }, px(p.x), py(p.y));
-            }
-            d.push_str("Z ");
-        }
         let _ = writeln!(
             s,
             r#"<clipPath id="piece-{k}"><path d="{}" clip-rule="evenodd"/></clipPath>"#,
-            d.trim_end()
+            path_data(&piece.cut, px, py)
         );
     }
     let _ = writeln!(s, "</defs>");
@@ -186,4 +174,21 @@ fn write_texture(
         );
     }
     let _ = writeln!(s, "</g>");
+}
+
+/// SVG path data of closed rings (`M … L … Z` each), in the SVG's user space.
+fn path_data<'a>(
+    rings: impl IntoIterator<Item = &'a Vec<Vec2>>,
+    px: &impl Fn(f64) -> f64,
+    py: &impl Fn(f64) -> f64,
+) -> String {
+    let mut d = String::new();
+    for ring in rings {
+        for (i, p) in ring.iter().enumerate() {
+            let _ = write!(d, "{}{:.4},{:.4} ", if i == 0 { "M" } else { "L" }, px(p.x), py(p.y));
+        }
+        d.push_str("Z ");
+    }
+    d.truncate(d.trim_end().len());
+    d
 }

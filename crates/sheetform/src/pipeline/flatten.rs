@@ -2,8 +2,8 @@
 
 use crate::report::{ChartMethod, Command, NetReport, Report, SegmentationReport, Status, Timings};
 use sheetform_flatten::{
-    arap, choose_layout, cut_into_charts, distortion, exact_unfold, lscm, unfold_net, ArapOptions, Chart, ChartOptions,
-    Distortion, Layout, NetOptions, UnfoldOptions,
+    arap, choose_layout, cut_into_charts, distortion, exact_unfold, lscm, open_user_seams, unfold_net, ArapOptions,
+    Chart, ChartOptions, Distortion, Layout, NetOptions, UnfoldOptions,
 };
 use sheetform_io::{glb_bytes, obj_string, UpAxis};
 use sheetform_mesh::{mesh_topology, LengthUnit, Piece, PieceKind, SheetMesh, TriangleMesh};
@@ -136,7 +136,7 @@ pub fn run_flatten(
             "a disk with a whole-mesh method (--method lscm or arap): flattened whole".to_string(),
         ),
         ChartMode::Auto => {
-            let choice = choose_layout(&mesh, options.chart_options.crease_angle_degrees);
+            let choice = choose_layout(&mesh, &topology, options.chart_options.crease_angle_degrees);
             (choice.layout, choice.reason)
         }
         ChartMode::Smooth => (Layout::Charts, "smooth charts asked for".into()),
@@ -222,26 +222,7 @@ pub fn run_flatten(
         }
         Layout::Whole => {
             // The user's seams are opened first (the mesh then has to be a disk).
-            let opened = if mesh.seam_edges.is_empty() {
-                None
-            } else {
-                let table = sheetform_mesh::EdgeTable::new(&mesh.triangles, mesh.positions.len());
-                if let Some((i, [a, b])) = mesh
-                    .seam_edges
-                    .iter()
-                    .enumerate()
-                    .find(|(_, &[a, b])| table.find(a, b).is_none())
-                {
-                    return Err(PipelineError::Flatten(sheetform_flatten::FlattenError::Topology {
-                        problem: format!(
-                            "seam edge {i} ({} – {}, 1-based as in the file) is not an edge of the mesh",
-                            a + 1,
-                            b + 1
-                        ),
-                    }));
-                }
-                Some(sheetform_mesh::cut_along_edges(&mesh, &mesh.seam_edges).mesh)
-            };
+            let opened = open_user_seams(&mesh)?;
             let whole = opened.as_ref().unwrap_or(&mesh);
             let unfolding = match options.method {
                 FlattenMethod::Exact => exact_unfold(whole, &UnfoldOptions::default())?,
