@@ -846,7 +846,15 @@ fn grain_lines(
             .flatten()
             .map(|q| (q - centre).dot(&d))
             .fold(0.0f64, |m, x| m.max(x.abs()));
-        let on_piece = |p: Vec2| triangles.iter().any(|t| sheetform_geometry::rings_contain([&t[..]], p));
+        // Closed triangles (edges included: the centre of a piece often lies on an edge
+        // between two of its faces, where the even–odd `rings_contain` may say neither).
+        let on_piece = |p: Vec2| {
+            triangles.iter().any(|&[a, b, c]| {
+                let s = |u: Vec2, v: Vec2| sheetform_geometry::cross2(v - u, p - u);
+                let (x, y, z) = (s(a, b), s(b, c), s(c, a));
+                (x >= 0.0 && y >= 0.0 && z >= 0.0) || (x <= 0.0 && y <= 0.0 && z <= 0.0)
+            })
+        };
         let Some(half) = [0.4, 0.2, 0.1]
             .into_iter()
             .map(|f| f * extent)
