@@ -189,6 +189,22 @@ pub(crate) struct PatternArgs {
     /// A grain line on every piece along the direction that runs up the model (+z).
     #[arg(long)]
     pub(crate) grain_lines: bool,
+    /// Sheet thickness (mm) for sheet metal, greyboard or plywood: every mountain and
+    /// valley fold becomes a bend zone of its flat length (K-factor rule, as FreeCAD
+    /// SheetMetal unfolds), with the bend line in its middle.
+    #[arg(long, value_name = "MM")]
+    pub(crate) thickness: Option<f64>,
+    /// Inner bend radius (mm) with --thickness (default: the thickness).
+    #[arg(long, value_name = "MM", requires = "thickness")]
+    pub(crate) bend_radius: Option<f64>,
+    /// K-factor with --thickness (ANSI: where the neutral layer lies, 0 = inside of the
+    /// bend, 1 = outside; the DIN factor is twice it).
+    #[arg(long, value_name = "K", default_value_t = 0.44, requires = "thickness")]
+    pub(crate) k_factor: f64,
+    /// Where the thickness lies with --thickness: behind the model's surface (the model is
+    /// the printed face, e.g. the outside of a closed model), centred on it, or in front.
+    #[arg(long, value_enum, default_value_t = MaterialSideArg::Behind, requires = "thickness")]
+    pub(crate) material_side: MaterialSideArg,
     /// Folds under this angle (degrees) are the bends of a smooth surface: drawn as light
     /// bending guides, not folds (default: 10 for `ffd`, `photo` and smooth charts, 0 for
     /// nets, `bend` and `slit`).
@@ -214,6 +230,13 @@ pub(crate) fn parse_sheet(text: &str) -> Result<(f64, f64), String> {
             .ok_or_else(|| format!("`{s}` in `{text}` is not a positive number of millimetres"))
     };
     Ok((number(w)?, number(h)?))
+}
+
+#[derive(Clone, Copy, PartialEq, clap::ValueEnum)]
+pub(crate) enum MaterialSideArg {
+    Behind,
+    Centred,
+    InFront,
 }
 
 #[derive(Clone, Copy, PartialEq, clap::ValueEnum)]
@@ -306,6 +329,16 @@ impl From<PatternArgs> for PatternOutputOptions {
                 notches: !a.no_notches,
                 kerf_mm: a.kerf,
                 grain_lines: a.grain_lines,
+                bend: a.thickness.map(|thickness| sheetform::pattern::BendAllowance {
+                    thickness_mm: thickness,
+                    inner_radius_mm: a.bend_radius.unwrap_or(thickness),
+                    k_factor: a.k_factor,
+                    material_side: match a.material_side {
+                        MaterialSideArg::Behind => sheetform::pattern::MaterialSide::Behind,
+                        MaterialSideArg::Centred => sheetform::pattern::MaterialSide::Centred,
+                        MaterialSideArg::InFront => sheetform::pattern::MaterialSide::InFront,
+                    },
+                }),
             },
             smooth_bend_degrees: a.smooth_folds,
         }

@@ -32,4 +32,17 @@ pub enum PatternError {
         /// Gap kept around and between pieces (mm).
         gap_mm: f64,
     },
+    /// Folds close a loop of flat panels around a point: with a thickness, the panels
+    /// cannot all keep their bend allowances.
+    #[error(
+        "piece `{piece}`: the folds meeting near ({x_mm:.1}, {y_mm:.1}) mm on the pattern close a loop, so a sheet with thickness cannot take their bend allowances; cut the model open there (a seam) or leave out the thickness"
+    )]
+    BendLoop {
+        /// The piece's name.
+        piece: String,
+        /// Where on the pattern (mm).
+        x_mm: f64,
+        /// See `x_mm`.
+        y_mm: f64,
+    },
 }

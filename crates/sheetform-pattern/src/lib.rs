@@ -4,6 +4,7 @@
 //! DXF for laser cutters and plotters, and a tiled true-scale PDF for printing on A4 or
 //! Letter.
 
+mod bend_allowance;
 mod dxf_pattern;
 mod error;
 mod glue_tabs;
@@ -15,6 +16,7 @@ mod seam_matching;
 mod sheet_packing;
 mod svg_pattern;
 
+pub use bend_allowance::{BendAllowance, BendGeometry, MaterialSide, MAX_BEND_DEGREES, MAX_THICKNESS_MM};
 pub use dxf_pattern::{dxf_bytes, DxfUnit};
 pub use error::PatternError;
 pub use glue_tabs::{add_glue_tabs, TabOptions, TabReport, TabSides, TabbedLoops};

@@ -1,6 +1,8 @@
 //! Material allowances on a pattern: seam allowance with notches and grain lines for
-//! fabric and leather, kerf compensation for laser-cut card and plywood.
+//! fabric and leather, kerf compensation for laser-cut card and plywood, bend allowance
+//! for a sheet with thickness ([`crate::bend_allowance`]).
 
+use crate::bend_allowance::BendAllowance;
 use crate::pattern::{Fold, FoldStyle, PatternPiece};
 use crate::{PatternError, Vec2};
 use geo::algorithm::buffer::{BufferStyle, LineJoin};
@@ -24,6 +26,9 @@ pub struct MaterialAllowance {
     /// model (+z), where the fabric's straight grain should lie (pieces lying level get
     /// none).
     pub grain_lines: bool,
+    /// Thickness, inner bend radius and K-factor of the sheet: every mountain and valley
+    /// fold becomes a bend zone of its flat length (`None`: zero-thickness folds).
+    pub bend: Option<BendAllowance>,
 }
 
 /// Largest seam allowance or kerf accepted (mm).
@@ -32,10 +37,13 @@ pub const MAX_ALLOWANCE_MM: f64 = 100.0;
 impl MaterialAllowance {
     /// Whether anything is to be added.
     pub fn is_none(&self) -> bool {
-        self.seam_allowance_mm == 0.0 && self.kerf_mm == 0.0 && !self.grain_lines
+        self.seam_allowance_mm == 0.0 && self.kerf_mm == 0.0 && !self.grain_lines && self.bend.is_none()
     }
 
-    /// Checks the sizes: finite, non-negative, at most [`MAX_ALLOWANCE_MM`].
+    /// Checks the sizes: finite, non-negative, at most [`MAX_ALLOWANCE_MM`]; the bend
+    /// allowance's figures ([`BendAllowance::validate`]); not both a seam allowance and a
+    /// bend allowance (stitched fabric has no thickness to bend, a bent sheet no seam
+    /// allowance to sew).
     ///
     /// # Errors
     /// The option named, with the value and the bound.
@@ -45,6 +53,15 @@ impl MaterialAllowance {
                 return Err(PatternError::Option {
                     option,
                     message: format!("must be between 0 and {MAX_ALLOWANCE_MM} mm, got {value}"),
+                });
+            }
+        }
+        if let Some(bend) = &self.bend {
+            bend.validate()?;
+            if self.seam_allowance_mm > 0.0 {
+                return Err(PatternError::Option {
+                    option: "seam_allowance_mm",
+                    message: "a seam allowance (sewn fabric) and a sheet thickness (bend allowance) do not go together: choose one".into(),
                 });
             }
         }

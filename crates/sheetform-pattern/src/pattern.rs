@@ -1,3 +1,4 @@
+use crate::bend_allowance::{lay_out_bends, union_loops, BentLayout};
 use crate::glue_tabs::{add_glue_tabs, TabOptions, TabReport};
 use crate::label_placement::{place_labels, LabelRequest, LabelSpot};
 use crate::material_allowance::{add_kerf, add_seam_allowance, MaterialAllowance};
@@ -143,6 +144,9 @@ pub struct Pattern {
     pub labels_dropped: usize,
     /// An image printed on the pieces (each piece shows its part, moved with it).
     pub texture: Option<PatternTexture>,
+    /// With a bend allowance: how much longer the pattern grew across each bend than the
+    /// zero-thickness development (mm; negative: a bend deduction).
+    pub bend_flat_changes_mm: Vec<f64>,
 }
 
 /// Knobs of [`pattern_from_mesh`].
@@ -231,6 +235,7 @@ impl Pattern {
             labels_shrunk: self.labels_shrunk,
             labels_dropped: self.labels_dropped,
             texture: self.texture.clone(),
+            bend_flat_changes_mm: self.bend_flat_changes_mm.clone(),
         }
     }
 }
@@ -345,6 +350,12 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
         });
     }
     options.allowance.validate()?;
+    if options.allowance.bend.is_some() && options.tabs.is_some() {
+        return Err(PatternError::Option {
+            option: "tabs",
+            message: "glue tabs are for paper: a sheet with thickness is joined edge to edge (welded, riveted, glued with a strip); leave out the tabs or the thickness".into(),
+        });
+    }
     if options.allowance.seam_allowance_mm > 0.0 && options.tabs.is_some() {
         return Err(PatternError::Option {
             option: "seam_allowance_mm",
@@ -444,29 +455,71 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
     // Bends of a smooth surface (folds under `smooth_bend_degrees`) are bending guides,
     // thinned to `max_rulings_per_piece` per piece; the rest mountain or valley folds.
     let smooth = options.smooth_bend_degrees.to_radians();
-    let mut bends: Vec<Vec<Fold>> = vec![Vec::new(); pieces.len()];
-    for (chain, angle) in merge_collinear_folds(&fold_edges, at) {
-        let (a, b) = (chain[0], *chain.last().expect("a chain has two ends"));
-        let part = vertex_part(a, &mut parent);
-        if angle.abs() < smooth {
-            bends[part].push(Fold {
-                a: at(a),
-                b: at(b),
-                style: FoldStyle::Guide,
-                angle_degrees: 0.0,
-            });
-            continue;
+    let (creased, smooth_lines): (Vec<_>, Vec<_>) = merge_collinear_folds(&fold_edges, at)
+        .into_iter()
+        .partition(|(_, angle)| angle.abs() >= smooth);
+    // With a sheet thickness, the creased folds become bend zones and the panels between
+    // them move apart or together by each bend's flat change.
+    let bent: Option<BentLayout> = match &options.allowance.bend {
+        Some(bend) => {
+            let names: Vec<String> = pieces.iter().map(|p| p.name.clone()).collect();
+            Some(lay_out_bends(mesh, &table, &at, &face_part, &names, &creased, bend)?)
         }
-        pieces[part].folds.push(Fold {
-            a: at(a),
-            b: at(b),
-            style: if angle > 0.0 {
-                FoldStyle::Mountain
-            } else {
-                FoldStyle::Valley
-            },
-            angle_degrees: angle.abs().to_degrees(),
+        None => None,
+    };
+    let moved = |f: u32| bent.as_ref().map_or(Vec2::zeros(), |l| l.face_offset[f as usize]);
+    // How far the face along edge `a b` moved (a boundary or fold edge's face).
+    let edge_moved = |a: u32, b: u32| table.faces_of(a, b).next().map_or(Vec2::zeros(), moved);
+    let mut bends: Vec<Vec<Fold>> = vec![Vec::new(); pieces.len()];
+    for (chain, _) in &smooth_lines {
+        let (a, b) = (chain[0], *chain.last().expect("a chain has two ends"));
+        let o = edge_moved(chain[0], chain[1]);
+        bends[vertex_part(a, &mut parent)].push(Fold {
+            a: at(a) + o,
+            b: at(b) + o,
+            style: FoldStyle::Guide,
+            angle_degrees: 0.0,
         });
+    }
+    let fold_style = |angle: f64| {
+        if angle > 0.0 {
+            FoldStyle::Mountain
+        } else {
+            FoldStyle::Valley
+        }
+    };
+    match &bent {
+        Some(layout) => {
+            // The bend line in the middle of each bend zone, its tangent lines as guides.
+            for zone in &layout.zones {
+                let (a, b) = zone.centre_line();
+                pieces[zone.part].folds.push(Fold {
+                    a,
+                    b,
+                    style: fold_style(zone.signed_angle),
+                    angle_degrees: zone.signed_angle.abs().to_degrees(),
+                });
+                for (a, b) in zone.tangent_lines() {
+                    pieces[zone.part].folds.push(Fold {
+                        a,
+                        b,
+                        style: FoldStyle::Guide,
+                        angle_degrees: 0.0,
+                    });
+                }
+            }
+        }
+        None => {
+            for (chain, angle) in &creased {
+                let (a, b) = (chain[0], *chain.last().expect("a chain has two ends"));
+                pieces[vertex_part(a, &mut parent)].folds.push(Fold {
+                    a: at(a),
+                    b: at(b),
+                    style: fold_style(*angle),
+                    angle_degrees: angle.abs().to_degrees(),
+                });
+            }
+        }
     }
     for (piece, guides) in pieces.iter_mut().zip(bends) {
         let step = guides.len().div_ceil(options.max_rulings_per_piece.max(1)).max(1);
@@ -485,9 +538,10 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
         for (i, r) in rulings.iter().enumerate() {
             if i % step == 0 || i + 1 == rulings.len() {
                 let (a, b) = (r.vertices[0], *r.vertices.last().expect("ruling has vertices"));
+                let o = r.vertices.get(1).map_or(Vec2::zeros(), |&next| edge_moved(a, next));
                 pieces[vertex_part(a, &mut parent)].folds.push(Fold {
-                    a: at(a),
-                    b: at(b),
+                    a: at(a) + o,
+                    b: at(b) + o,
                     style: FoldStyle::Guide,
                     angle_degrees: 0.0,
                 });
@@ -508,7 +562,7 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
     for (f, t) in mesh.triangles.iter().enumerate() {
         let [a, b, c] = t.map(at);
         let area = ((b - a).x * (c - a).y - (b - a).y * (c - a).x).abs();
-        by_piece[mesh.face_pieces[f] as usize].push((area, (a + b + c) / 3.0, f));
+        by_piece[mesh.face_pieces[f] as usize].push((area, (a + b + c) / 3.0 + moved(f as u32), f));
     }
     for (p, piece) in mesh.pieces.iter().enumerate() {
         let spots = &mut by_piece[p];
@@ -573,7 +627,8 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
                     continue;
                 }
                 let i = r.start + k as usize;
-                let (a, b) = (at(l[i % l.len()]), at(l[(i + 1) % l.len()]));
+                let o = edge_moved(l[i % l.len()], l[(i + 1) % l.len()]);
+                let (a, b) = (at(l[i % l.len()]) + o, at(l[(i + 1) % l.len()]) + o);
                 let d = b - a;
                 if d.norm() == 0.0 {
                     continue;
@@ -611,9 +666,41 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
 
     // Labels placed against the pieces' own outlines and folds (tabs lie outside).
     let mut loop_points: Vec<Vec<Vec2>> = loops.iter().map(|l| l.iter().map(|&v| at(v)).collect()).collect();
+    let bent_part = |part: usize| bent.as_ref().is_some_and(|l| !l.part_polygons[part].is_empty());
     for (i, points) in loop_points.iter().enumerate() {
-        pieces[loop_part[i]].cut.push(points.clone());
+        if !bent_part(loop_part[i]) {
+            pieces[loop_part[i]].cut.push(points.clone());
+        }
     }
+    // A bent part's outline: the union of its flanges and bend zones.
+    let bent_loops: Vec<Vec<Vec<Vec2>>> = bent.as_ref().map_or(Vec::new(), |layout| {
+        layout
+            .part_polygons
+            .iter()
+            .map(|polygons| {
+                union_loops(polygons)
+                    .into_iter()
+                    .map(without_collinear_points)
+                    .collect()
+            })
+            .collect()
+    });
+    for (part, loops) in bent_loops.iter().enumerate() {
+        if bent_part(part) {
+            pieces[part].cut = loops.clone();
+        }
+    }
+    let original_bounds: Vec<(Vec2, Vec2)> = (0..pieces.len())
+        .map(|part| {
+            point_bounds(
+                loop_points
+                    .iter()
+                    .zip(&loop_part)
+                    .filter(|x| *x.1 == part)
+                    .flat_map(|x| x.0),
+            )
+        })
+        .collect();
     // Seam IDs first (they belong at their edge), names where room is left.
     requests.sort_by_key(|r| r.kind == LabelKind::Piece);
     let placement = place_labels(&mut pieces, &requests);
@@ -631,8 +718,18 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
         tabs = report;
     }
     for (i, points) in loop_points.into_iter().enumerate() {
-        pieces[loop_part[i]].cut.push(without_collinear_points(points));
-        pieces[loop_part[i]].folds.append(&mut tab_folds[i]);
+        if !bent_part(loop_part[i]) {
+            pieces[loop_part[i]].cut.push(without_collinear_points(points));
+            pieces[loop_part[i]].folds.append(&mut tab_folds[i]);
+        }
+    }
+    for (part, loops) in bent_loops.into_iter().enumerate() {
+        if bent_part(part) {
+            pieces[part].cut = loops;
+        }
+    }
+    if bent.is_some() && options.sheet.is_none() {
+        separate_grown_pieces(&mut pieces, &original_bounds);
     }
 
     // Material allowances: the seam allowance (notches at both ends and the middle of
@@ -687,11 +784,40 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
         labels_shrunk: placement.shrunk,
         labels_dropped: placement.dropped,
         texture: None,
+        bend_flat_changes_mm: bent.map_or(Vec::new(), |l| {
+            l.zones.iter().map(|z| z.bend.flat_change_mm()).collect()
+        }),
     };
     if let Some(sheet) = &options.sheet {
         pack_pieces(&mut pattern, sheet)?;
     }
     Ok(pattern)
+}
+
+/// Pieces that a bend allowance made grow into each other's bounding rectangles (where
+/// their rectangles did not meet before) moved right until they are clear, in order of
+/// their left edges.
+fn separate_grown_pieces(pieces: &mut [PatternPiece], before: &[(Vec2, Vec2)]) {
+    let meets =
+        |a: &(Vec2, Vec2), b: &(Vec2, Vec2)| a.0.x <= b.1.x && b.0.x <= a.1.x && a.0.y <= b.1.y && b.0.y <= a.1.y;
+    let mut order: Vec<usize> = (0..pieces.len()).collect();
+    order.sort_by(|&i, &j| before[i].0.x.total_cmp(&before[j].0.x));
+    let mut placed: Vec<usize> = Vec::new();
+    for &i in &order {
+        for _ in 0..pieces.len() {
+            let here = pieces[i].bounds();
+            let Some(&j) = placed
+                .iter()
+                .find(|&&j| meets(&here, &pieces[j].bounds()) && !meets(&before[i], &before[j]))
+            else {
+                break;
+            };
+            let gap = 0.02 * (here.1 - here.0).norm().max(1.0);
+            let shift = Vec2::new(pieces[j].bounds().1.x + gap - here.0.x, 0.0);
+            pieces[i] = pieces[i].translated(shift);
+        }
+        placed.push(i);
+    }
 }
 
 /// Fold edges `([a, b], signed angle)` joined into straight lines: at a vertex where
@@ -952,6 +1078,68 @@ mod tests {
             smooth_edges: vec![],
             unit: sheetform_mesh::LengthUnit::Cm,
         }
+    }
+
+    #[test]
+    fn a_bracket_with_thickness_unfolds_as_sheet_metal_tools_do() {
+        // FreeCAD SheetMetal's worked example: 2 mm sheet, K = 0.38, inner radius 1.64 mm,
+        // a 90° bend, flanges 51.76 mm to the outer mold line (the roof's 10 mm squares
+        // scaled up): each flat leg 48.12 mm, the bend zone π/2·(1.64 + 0.38·2) long.
+        let sheet = crate::BendAllowance {
+            thickness_mm: 2.0,
+            inner_radius_mm: 1.64,
+            k_factor: 0.38,
+            material_side: crate::MaterialSide::Behind,
+        };
+        let options = PatternOptions {
+            scale: 5.176,
+            allowance: MaterialAllowance {
+                bend: Some(sheet),
+                ..Default::default()
+            },
+            seam_labels: false,
+            ..Default::default()
+        };
+        let allowance = std::f64::consts::FRAC_PI_2 * (1.64 + 0.38 * 2.0);
+        for (angle, setback) in [(90.0f64, 3.64), (-90.0, 1.64)] {
+            let pattern = pattern_from_mesh(&roof(angle.to_radians()), &options).unwrap();
+            assert_eq!(pattern.pieces.len(), 1);
+            let piece = &pattern.pieces[0];
+            assert_eq!(piece.cut.len(), 1, "{:?}", piece.cut);
+            let (lo, hi) = piece.bounds();
+            let length = 2.0 * (51.76 - setback) + allowance;
+            assert!(((hi.y - lo.y) - length).abs() < 1e-6, "{} vs {length}", hi.y - lo.y);
+            assert!(((hi.x - lo.x) - 51.76).abs() < 1e-6);
+            let area: f64 = piece.cut.iter().map(|l| sheetform_geometry::signed_area(l)).sum();
+            assert!((area - 51.76 * length).abs() < 1e-3, "{area}");
+            // The bend line in the middle of the zone: 50.00 mm from the end of the leg
+            // for the mountain fold (the model outside the bend); two tangent lines.
+            let fold = piece
+                .folds
+                .iter()
+                .find(|f| matches!(f.style, FoldStyle::Mountain | FoldStyle::Valley))
+                .unwrap();
+            assert_eq!(fold.style == FoldStyle::Mountain, angle > 0.0);
+            assert!((fold.a.y - fold.b.y).abs() < 1e-9 && (fold.angle_degrees - 90.0).abs() < 1e-9);
+            let from_end = hi.y - fold.a.y;
+            assert!((from_end - (51.76 - setback + 0.5 * allowance)).abs() < 1e-6);
+            if angle > 0.0 {
+                assert!((from_end - 50.0).abs() < 0.01, "{from_end}");
+            }
+            assert_eq!(piece.folds.iter().filter(|f| f.style == FoldStyle::Guide).count(), 2);
+            assert_eq!(pattern.bend_flat_changes_mm.len(), 1);
+            assert!((pattern.bend_flat_changes_mm[0] - (allowance - 2.0 * setback)).abs() < 1e-9);
+        }
+        // A seam allowance and a thickness do not go together.
+        let both = PatternOptions {
+            allowance: MaterialAllowance {
+                seam_allowance_mm: 5.0,
+                bend: Some(sheet),
+                ..Default::default()
+            },
+            ..options
+        };
+        assert!(pattern_from_mesh(&roof(1.0), &both).is_err());
     }
 
     #[test]

@@ -454,6 +454,10 @@ pub struct PatternReport {
     /// Laser kerf compensated on the cut lines (0: none).
     #[serde(default)]
     pub kerf_mm: f64,
+    /// The bend allowance given to every mountain and valley fold for the sheet's
+    /// thickness (when asked for).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bend_allowance: Option<BendAllowanceReport>,
     /// Notches cut into the seam allowance.
     #[serde(default)]
     pub notch_count: usize,
@@ -470,6 +474,26 @@ pub struct PatternReport {
     /// Labels left out: no room in their piece off every line (tiny faces).
     #[serde(default)]
     pub label_dropped_count: usize,
+}
+
+/// The sheet's thickness and how its bends changed the pattern.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct BendAllowanceReport {
+    /// Sheet thickness.
+    pub thickness_mm: f64,
+    /// Inner bend radius.
+    pub inner_radius_mm: f64,
+    /// K-factor (ANSI convention).
+    pub k_factor: f64,
+    /// Where the thickness lies relative to the model's surface.
+    pub material_side: sheetform_pattern::MaterialSide,
+    /// Folds given a bend zone.
+    pub bend_count: usize,
+    /// Smallest change of flat length across a bend against the zero-thickness pattern
+    /// (negative: a bend deduction; 0 without bends).
+    pub flat_change_min_mm: f64,
+    /// Largest change of flat length across a bend.
+    pub flat_change_max_mm: f64,
 }
 
 /// The report every command writes. Keys that do not apply to a command are left out.

@@ -218,3 +218,111 @@ fn the_wingnut_is_cut_into_charts_rather_than_a_net_of_scraps() {
     assert!(charts <= 25, "{charts}");
     assert_eq!(r["status"], "ok");
 }
+
+/// A box of 1 mm sheet metal (`--thickness`): each of the net's five 90° folds becomes a
+/// bend zone of `π/2·(R + K·T)` with the flanges set back `(R + T)·tan 45°` from the
+/// outer mold line (FreeCAD SheetMetal's rule), so the cross shrinks by the bend
+/// deduction once per fold across it; one outline, crossing nowhere; the bend line of
+/// each zone a mountain fold, its two tangent lines guides; ezdxf reads it cleanly. Glue
+/// tabs are refused with a thickness, as are K-factors outside [0, 1].
+#[test]
+fn a_sheet_metal_box_unfolds_with_its_bend_deductions() {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = write_obj(tmp.path(), "box", &primitives::cuboid([40.0, 60.0, 80.0]));
+    let bounds = |out: &Path| {
+        let loops = svg_cut_loops(&std::fs::read_to_string(out.join("pattern.svg")).unwrap());
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in loops.iter().flatten() {
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        (loops, [hi[0] - lo[0], hi[1] - lo[1]])
+    };
+    let paper = tmp.path().join("paper");
+    let o = flatten(&path, &paper, &["--tabs", "none"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let metal = tmp.path().join("metal");
+    let args = ["--thickness", "1", "--bend-radius", "1.5", "--k-factor", "0.4"];
+    let o = flatten(&path, &metal, &args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = report(&metal);
+    let bend = &r["pattern"]["bend_allowance"];
+    let allowance = std::f64::consts::FRAC_PI_2 * (1.5 + 0.4 * 1.0);
+    let deduction = 2.0 * (1.5 + 1.0) - allowance;
+    assert_eq!(bend["bend_count"], 5);
+    for key in ["flat_change_min_mm", "flat_change_max_mm"] {
+        assert!((bend[key].as_f64().unwrap() + deduction).abs() < 1e-9, "{key}: {bend}");
+    }
+    // No glue tabs on metal by default, five mountain bend lines at 90°.
+    assert!(r["pattern"].get("tabs").is_none());
+    assert_eq!(r["pattern"]["mountain_fold_count"], 5);
+    let (paper_loops, paper_size) = bounds(&paper);
+    let (loops, size) = bounds(&metal);
+    assert_eq!((paper_loops.len(), loops.len()), (1, 1));
+    assert_eq!(cut_intersections(&loops), 0);
+    // Across the cross: two folds one way and three the other (the SVG holds 0.1 µm).
+    let mut folds_across: Vec<f64> = (0..2).map(|k| (paper_size[k] - size[k]) / deduction).collect();
+    folds_across.sort_by(f64::total_cmp);
+    assert!(
+        (folds_across[0] - 2.0).abs() < 1e-4 && (folds_across[1] - 3.0).abs() < 1e-4,
+        "{folds_across:?}"
+    );
+    let svg = std::fs::read_to_string(metal.join("pattern.svg")).unwrap();
+    assert_eq!(svg.matches(r#"data-fold-angle-degrees="90.0""#).count(), 5);
+    let guides = &svg[svg.find(r#"id="fold-guide""#).unwrap()..];
+    let guides = &guides[..guides.find("</g>").unwrap()];
+    assert_eq!(guides.matches("<line").count(), 10);
+    let dxf = ezdxf_cut(&metal.join("pattern.dxf"));
+    assert_eq!((dxf["errors"].as_u64(), dxf["fixes"].as_u64()), (Some(0), Some(0)));
+    assert_eq!(dxf["mountain"], 5);
+
+    // Nets whose folds meet at every vertex in every direction still come out as one
+    // outline each, the flanges trimmed and joined by their zones without hairline gaps.
+    for (name, mesh) in [
+        ("icosphere", primitives::icosphere(50.0, 2)),
+        ("hemisphere", primitives::hemisphere(50.0, 8, 32)),
+    ] {
+        let path = write_obj(tmp.path(), name, &mesh);
+        let out = tmp.path().join(format!("{name}-metal"));
+        let o = flatten(&path, &out, &["--thickness", "0.5"]);
+        assert!(o.status.success(), "{name}: {}", String::from_utf8_lossy(&o.stderr));
+        let r = report(&out);
+        let (loops, _) = bounds(&out);
+        // Zero-width slits of the net (cut edges whose two sides lie on each other) stay
+        // cut lines of their own; every other loop outlines a piece (no holes).
+        let area = |l: &Vec<[f64; 2]>| {
+            (0..l.len())
+                .map(|i| {
+                    let (p, q) = (l[i], l[(i + 1) % l.len()]);
+                    p[0] * q[1] - q[0] * p[1]
+                })
+                .sum::<f64>()
+                / 2.0
+        };
+        let outlines: Vec<Vec<[f64; 2]>> = loops.into_iter().filter(|l| area(l).abs() > 1e-6).collect();
+        assert_eq!(
+            outlines.len(),
+            r["net"]["piece_count"].as_u64().unwrap() as usize,
+            "{name}"
+        );
+        assert_eq!(cut_intersections(&outlines), 0, "{name}");
+        assert_eq!(
+            r["pattern"]["bend_allowance"]["bend_count"], r["net"]["fold_edge_count"],
+            "{name}"
+        );
+    }
+
+    let refused = flatten(&path, &tmp.path().join("tabs"), &["--thickness", "1", "--tabs", "one"]);
+    assert_eq!(
+        refused.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&refused.stderr)
+    );
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("tabs"));
+    let refused = flatten(&path, &tmp.path().join("k"), &["--thickness", "1", "--k-factor", "1.5"]);
+    assert_eq!(refused.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("k_factor"));
+}

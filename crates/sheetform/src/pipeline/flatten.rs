@@ -174,9 +174,13 @@ pub fn run_flatten(
     report.layout = Some(layout);
     report.layout_reason = Some(reason);
     // A net gets glue tabs unless the pattern options say otherwise (or ask for a seam
-    // allowance instead).
+    // allowance or a sheet thickness instead).
     let mut pattern_options = options.pattern;
-    if layout == Layout::Net && pattern_options.tabs.is_none() && pattern_options.allowance.seam_allowance_mm == 0.0 {
+    if layout == Layout::Net
+        && pattern_options.tabs.is_none()
+        && pattern_options.allowance.seam_allowance_mm == 0.0
+        && pattern_options.allowance.bend.is_none()
+    {
         pattern_options.tabs = options.net_tabs;
     }
     // Room between charts for glue tabs (model units).

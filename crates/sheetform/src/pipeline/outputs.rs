@@ -45,7 +45,7 @@ pub struct PatternOutputOptions {
     pub sheet: Option<SheetOptions>,
     /// Most pages the PDF may have (a pattern that needs more is refused).
     pub max_pdf_pages: usize,
-    /// Seam allowance, notches, grain lines, kerf.
+    /// Seam allowance, notches, grain lines, kerf, bend allowance.
     pub allowance: MaterialAllowance,
     /// Folds under this angle (degrees) are drawn as bending guides, not folds (`None`:
     /// the command's choice: 10° for the smooth panels of `ffd` and `photo` and the
@@ -222,6 +222,21 @@ pub(crate) fn pattern_files(
         tabs: options.tabs.map(|_| pattern.tabs),
         seam_allowance_mm: options.allowance.seam_allowance_mm,
         kerf_mm: options.allowance.kerf_mm,
+        bend_allowance: options.allowance.bend.map(|bend| {
+            let changes = &pattern.bend_flat_changes_mm;
+            let (min, max) = changes.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &c| {
+                (lo.min(c), hi.max(c))
+            });
+            crate::report::BendAllowanceReport {
+                thickness_mm: bend.thickness_mm,
+                inner_radius_mm: bend.inner_radius_mm,
+                k_factor: bend.k_factor,
+                material_side: bend.material_side,
+                bend_count: changes.len(),
+                flat_change_min_mm: if changes.is_empty() { 0.0 } else { min },
+                flat_change_max_mm: if changes.is_empty() { 0.0 } else { max },
+            }
+        }),
         notch_count: pattern.folds().filter(|f| f.style == FoldStyle::Notch).count(),
         grain_line_count: pattern.folds().filter(|f| f.style == FoldStyle::Grain).count() / 5,
         label_count: pattern.labels().count(),
