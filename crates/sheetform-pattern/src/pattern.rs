@@ -1142,6 +1142,71 @@ mod tests {
         assert!(pattern_from_mesh(&roof(1.0), &both).is_err());
     }
 
+    /// A Miura-ori vertex: four creases around an inner vertex, sector angles α, π − α,
+    /// π − α, α (flat-foldable), rigidly folded so that the straight crease pair makes an
+    /// angle of π − 2γ; side `length`.
+    fn miura_vertex(alpha: f64, gamma: f64, length: f64) -> SheetMesh {
+        // Symmetric about the xz-plane: r1, r3 in it, r2 and r4 mirror images with
+        // r1·r2 = cos α, r3·r2 = −cos α, which puts r2 in the xy-plane.
+        let a = alpha.cos() / gamma.cos();
+        let b = (1.0 - a * a).sqrt();
+        let rays3 = [
+            Vec3::new(gamma.cos(), 0.0, gamma.sin()),
+            Vec3::new(a, b, 0.0),
+            Vec3::new(-gamma.cos(), 0.0, gamma.sin()),
+            Vec3::new(a, -b, 0.0),
+        ];
+        let angles = [0.0, alpha, std::f64::consts::PI, std::f64::consts::TAU - alpha];
+        let mut positions = vec![Vec3::zeros()];
+        positions.extend(rays3.iter().map(|r| r * length));
+        let mut flat = vec![Vec2::zeros()];
+        flat.extend(angles.iter().map(|t| Vec2::new(t.cos(), t.sin()) * length));
+        SheetMesh {
+            positions,
+            flat,
+            triangles: vec![[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1]],
+            face_pieces: vec![0; 4],
+            pieces: vec![sheetform_mesh::Piece {
+                name: "vertex".into(),
+                kind: sheetform_mesh::PieceKind::Chart,
+            }],
+            rulings: vec![],
+            smooth_edges: vec![],
+            unit: sheetform_mesh::LengthUnit::Mm,
+        }
+    }
+
+    #[test]
+    fn folds_all_round_an_inner_vertex_cannot_take_a_thickness() {
+        let mesh = miura_vertex(60f64.to_radians(), 20f64.to_radians(), 50.0);
+        // The model is isometric to its flat layout.
+        for t in &mesh.triangles {
+            for k in 0..3 {
+                let (i, j) = (t[k] as usize, t[(k + 1) % 3] as usize);
+                let d3 = (mesh.positions[i] - mesh.positions[j]).norm();
+                let d2 = (mesh.flat[i] - mesh.flat[j]).norm();
+                assert!((d3 - d2).abs() < 1e-12);
+            }
+        }
+        // Paper folds it (four creases, Maekawa: mountains and valleys differ by two).
+        let paper = pattern_from_mesh(&mesh, &PatternOptions::default()).unwrap();
+        let count = |style| paper.folds().filter(|f| f.style == style).count() as i64;
+        assert_eq!(count(FoldStyle::Mountain) + count(FoldStyle::Valley), 4);
+        assert_eq!((count(FoldStyle::Mountain) - count(FoldStyle::Valley)).abs(), 2);
+        // With a thickness the flanges round the vertex cannot all keep their bend
+        // allowances: a clear error naming the piece and the place.
+        let options = PatternOptions {
+            allowance: MaterialAllowance {
+                bend: Some(crate::BendAllowance::default()),
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        let error = pattern_from_mesh(&mesh, &options).unwrap_err();
+        assert!(matches!(error, PatternError::BendLoop { .. }), "{error}");
+        assert!(error.to_string().contains("`vertex`"), "{error}");
+    }
+
     #[test]
     fn folds_are_mountain_or_valley_by_sign_and_small_ones_hidden() {
         let count = |mesh: &SheetMesh, min: f64, style: FoldStyle| {
