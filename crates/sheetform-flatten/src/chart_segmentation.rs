@@ -65,6 +65,8 @@ pub struct ChartSet {
     pub opened_count: usize,
     /// Small charts (slivers left by the splitting) joined to a neighbour.
     pub merged_count: usize,
+    /// Borders between split charts moved onto the shortest edge path between their ends.
+    pub straightened_count: usize,
 }
 
 /// Cuts `mesh` into charts and flattens each.
@@ -95,10 +97,13 @@ pub struct ChartSet {
 ///    mesh's) is joined to the
 ///    neighbour it shares the most edges with (across a crease too, never across a user
 ///    seam) when the union passes the acceptance test.
+/// 5. **Straight borders**: each border the splitting left between two charts moves onto
+///    the shortest edge path joining its ends through the two charts
+///    ([`crate::border_straightening`]) when both charts still pass the test.
 ///
-/// Departure from published segmenters (D-charts, feature-based seams): no seam
-/// straightening; the splits follow the face graph, so chart borders are staircase-like
-/// on fine meshes. What is guaranteed is the acceptance test above.
+/// Departure from published segmenters (D-charts, feature-based seams): borders are
+/// shortest edge paths (no smoothness term), so on an irregular mesh they follow its
+/// edges. What is guaranteed is the acceptance test above.
 ///
 /// # Errors
 /// Non-manifold, degenerate or non-orientable meshes (named), seam edges that are not
@@ -211,6 +216,17 @@ pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<Ch
         pending.push(b);
     }
     let merged_count = merge_small_charts(mesh, &table, &seams, &mut charts, options);
+    // Borders that splitting left (not creases, not user seams) moved onto shortest paths.
+    let fixed: Vec<bool> = (0..table.len())
+        .map(|e| match table.sides(e) {
+            [f, g] => {
+                normals[f.face as usize].dot(&normals[g.face as usize]) < cos_crease || seams.contains(&table.edges[e])
+            }
+            _ => true,
+        })
+        .collect();
+    let straightened_count =
+        crate::border_straightening::straighten_chart_borders(mesh, &table, &fixed, &mut charts, options);
     charts.sort_by(|a, b| b.faces.len().cmp(&a.faces.len()).then(a.faces[0].cmp(&b.faces[0])));
     let mut face_chart = vec![0u32; nf];
     for (c, chart) in charts.iter().enumerate() {
@@ -231,6 +247,7 @@ pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<Ch
         split_count,
         opened_count,
         merged_count,
+        straightened_count,
     })
 }
 
@@ -451,7 +468,7 @@ fn open_to_disk(sub: &TriangleMesh) -> Option<(TriangleMesh, Vec<u32>, crate::Un
 }
 
 /// The faces as a mesh of their own (vertices renumbered), with the mesh vertex of each.
-fn submesh(mesh: &TriangleMesh, faces: &[u32]) -> (TriangleMesh, Vec<u32>) {
+pub(crate) fn submesh(mesh: &TriangleMesh, faces: &[u32]) -> (TriangleMesh, Vec<u32>) {
     let mut local: HashMap<u32, u32> = HashMap::with_capacity(faces.len());
     let mut vertices = Vec::new();
     let triangles = faces
@@ -477,7 +494,7 @@ fn submesh(mesh: &TriangleMesh, faces: &[u32]) -> (TriangleMesh, Vec<u32>) {
 }
 
 /// Exact unfolding of a chart and its distortion; `None` when it is not a disk.
-fn flatten_chart(sub: &TriangleMesh) -> Option<(crate::Unfolding, Distortion)> {
+pub(crate) fn flatten_chart(sub: &TriangleMesh) -> Option<(crate::Unfolding, Distortion)> {
     let unfolding = exact_unfold(sub, &UnfoldOptions::default()).ok()?;
     let d = distortion(sub, &unfolding.flat);
     Some((unfolding, d))

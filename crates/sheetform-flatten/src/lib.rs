@@ -6,6 +6,7 @@
 
 mod alignment;
 mod arap;
+mod border_straightening;
 mod chart_segmentation;
 mod distortion;
 mod edge_unfolding;

@@ -385,6 +385,9 @@ pub struct SegmentationReport {
     /// Small charts (slivers) joined to a neighbour.
     #[serde(default)]
     pub merged_chart_count: usize,
+    /// Borders between split charts moved onto the shortest edge path between their ends.
+    #[serde(default)]
+    pub straightened_border_count: usize,
     /// Mesh edges cut open (each appears on two charts).
     pub seam_edge_count: usize,
     /// User-given seam edges (OBJ `l`).

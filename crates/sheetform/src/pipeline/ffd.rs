@@ -126,6 +126,7 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
             split_count: 0,
             opened_count: 0,
             merged_count: 0,
+            straightened_count: 0,
         })
     };
     let tab_room = options.pattern.room_between_pieces(mm);

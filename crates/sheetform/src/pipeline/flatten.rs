@@ -199,6 +199,7 @@ pub fn run_flatten(
                 split_count: set.split_count,
                 opened_chart_count: set.opened_count,
                 merged_chart_count: set.merged_count,
+                straightened_border_count: set.straightened_count,
                 seam_edge_count: set.seam_edge_count,
                 user_seam_edge_count: mesh.seam_edges.len(),
                 crease_angle_degrees: options.chart_options.crease_angle_degrees,

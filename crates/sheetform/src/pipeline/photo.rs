@@ -202,6 +202,7 @@ pub fn run_photo(
         split_count: 0,
         opened_count: 0,
         merged_count: 0,
+        straightened_count: 0,
     };
     let tab_room = options.pattern.room_between_pieces(mm);
     let mut sheet = sheet_from_charts(&model, &chart_set.charts, &name, Some(&groups), unit, tab_room);

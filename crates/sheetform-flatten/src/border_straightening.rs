@@ -1,0 +1,402 @@
+//! Chart borders moved onto the shortest edge paths between their ends, as a pattern maker
+//! draws a seam: splitting a chart along its face graph leaves sawtooth borders on fine
+//! meshes; each border between two charts that splitting made (not a crease, a user seam
+//! or the cut of an opened chart) is replaced by the shortest path along mesh edges
+//! (Dijkstra on the 3D edge lengths) joining the same two ends through the two charts,
+//! when both new charts still pass the chart acceptance test.
+//!
+//! This is the boundary straightening of segmenters such as D-Charts (Julius, Kraevoy and
+//! Sheffer 2005, §4.3, "boundary optimisation"), in its simplest form: shortest length
+//! only, no smoothness term; the acceptance test (exact unfolding, no overlap, edge
+//! distortion within the bound) is the one the charts passed before.
+
+use crate::chart_segmentation::{flatten_chart, submesh, Chart, ChartOptions};
+use sheetform_mesh::{EdgeTable, TriangleMesh};
+use std::cmp::Reverse;
+use std::collections::{BinaryHeap, HashSet};
+
+/// Replaces chart borders by shortest edge paths (see the module documentation); returns
+/// how many borders moved. `fixed[e]` marks the edges that must stay borders or stay
+/// inside their chart (creases and user seams); charts whose `vertices` repeat a mesh
+/// vertex (opened along a cut) keep their faces.
+pub(crate) fn straighten_chart_borders(
+    mesh: &TriangleMesh,
+    table: &EdgeTable,
+    fixed: &[bool],
+    charts: &mut [Chart],
+    options: &ChartOptions,
+) -> usize {
+    let nf = mesh.triangles.len();
+    let nv = mesh.positions.len();
+    let opened: Vec<bool> = charts
+        .iter()
+        .map(|c| c.vertices.iter().collect::<HashSet<_>>().len() != c.vertices.len())
+        .collect();
+    let mut face_chart = vec![u32::MAX; nf];
+    for (c, chart) in charts.iter().enumerate() {
+        for &f in &chart.faces {
+            face_chart[f as usize] = c as u32;
+        }
+    }
+    let length = |e: usize| {
+        let [a, b] = table.edges[e];
+        (mesh.positions[a as usize] - mesh.positions[b as usize]).norm()
+    };
+    // Edges at each vertex.
+    let mut vertex_edges: Vec<Vec<u32>> = vec![Vec::new(); nv];
+    for (e, [a, b]) in table.edges.iter().enumerate() {
+        vertex_edges[*a as usize].push(e as u32);
+        vertex_edges[*b as usize].push(e as u32);
+    }
+    let movable = |e: usize, face_chart: &[u32]| match table.sides(e) {
+        [f, g] => {
+            let (cf, cg) = (face_chart[f.face as usize], face_chart[g.face as usize]);
+            cf != cg && !fixed[e] && !opened[cf as usize] && !opened[cg as usize]
+        }
+        _ => false,
+    };
+    // Chain ends: vertices where the movable border does not simply run on (a third
+    // chart, a crease, a seam, the mesh boundary, a branching).
+    let end = |v: usize, face_chart: &[u32]| {
+        let mut movable_count = 0;
+        let mut charts_here: Vec<u32> = Vec::new();
+        for &e in &vertex_edges[v] {
+            let e = e as usize;
+            let sides = table.sides(e);
+            if sides.len() != 2 || fixed[e] {
+                return true;
+            }
+            for s in sides {
+                let c = face_chart[s.face as usize];
+                if !charts_here.contains(&c) {
+                    charts_here.push(c);
+                }
+            }
+            if movable(e, face_chart) {
+                movable_count += 1;
+            } else if face_chart[sides[0].face as usize] != face_chart[sides[1].face as usize] {
+                return true;
+            }
+        }
+        movable_count != 2 || charts_here.len() > 2
+    };
+    // The chains of movable border edges between ends.
+    let mut chains: Vec<Vec<u32>> = Vec::new();
+    let mut walked = vec![false; table.len()];
+    for start in 0..nv {
+        if !end(start, &face_chart) {
+            continue;
+        }
+        for &e0 in &vertex_edges[start] {
+            if walked[e0 as usize] || !movable(e0 as usize, &face_chart) {
+                continue;
+            }
+            let mut chain = vec![start as u32];
+            let (mut e, mut v) = (e0 as usize, start);
+            loop {
+                walked[e] = true;
+                let [a, b] = table.edges[e];
+                v = if a as usize == v { b as usize } else { a as usize };
+                chain.push(v as u32);
+                if end(v, &face_chart) {
+                    break;
+                }
+                let next = vertex_edges[v]
+                    .iter()
+                    .map(|&x| x as usize)
+                    .find(|&x| x != e && !walked[x] && movable(x, &face_chart));
+                match next {
+                    Some(x) => e = x,
+                    None => break,
+                }
+            }
+            if chain.len() > 2 && chain[0] != *chain.last().expect("a chain has ends") {
+                chains.push(chain);
+            }
+        }
+    }
+
+    let mut budget = 20 * nf + 10_000;
+    let mut moved = 0;
+    for chain in chains {
+        let edges: Option<Vec<usize>> = chain.windows(2).map(|w| table.find(w[0], w[1])).collect();
+        let Some(edges) = edges else { continue };
+        // Still a border between the same two charts (an earlier move may have changed it).
+        let [f, g] = table.sides(edges[0]) else { continue };
+        let (a, b) = (face_chart[f.face as usize], face_chart[g.face as usize]);
+        let between = |e: usize| match table.sides(e) {
+            [x, y] => {
+                let pair = (face_chart[x.face as usize], face_chart[y.face as usize]);
+                (pair == (a, b) || pair == (b, a)) && movable(e, &face_chart)
+            }
+            _ => false,
+        };
+        if a == b || !edges.iter().all(|&e| between(e)) {
+            continue;
+        }
+        let old_length: f64 = edges.iter().map(|&e| length(e)).sum();
+        let in_region = |f: u32| face_chart[f as usize] == a || face_chart[f as usize] == b;
+        // Edges inside the region (both faces in it) that the new border may use, through
+        // vertices off the region's boundary.
+        let inside = |e: usize| match table.sides(e) {
+            [x, y] => in_region(x.face) && in_region(y.face) && !fixed[e],
+            _ => false,
+        };
+        let on_region_boundary = |v: usize| {
+            vertex_edges[v].iter().any(|&e| {
+                let sides = table.sides(e as usize);
+                sides.iter().any(|s| in_region(s.face))
+                    && !(sides.len() == 2 && sides.iter().all(|s| in_region(s.face)))
+            })
+        };
+        let (source, target) = (chain[0] as usize, *chain.last().expect("ends") as usize);
+        let Some(path) = shortest_path(
+            source,
+            target,
+            &vertex_edges,
+            table,
+            &inside,
+            &on_region_boundary,
+            &length,
+        ) else {
+            continue;
+        };
+        let new_length: f64 = path.iter().map(|&e| length(e)).sum();
+        if new_length >= old_length * (1.0 - 1e-9) {
+            continue;
+        }
+        // The region's faces on either side of the new border.
+        let region: Vec<u32> = charts[a as usize]
+            .faces
+            .iter()
+            .chain(&charts[b as usize].faces)
+            .copied()
+            .collect();
+        let cut: HashSet<usize> = path.iter().copied().collect();
+        let Some((side_a, side_b)) = split_along(&region, &cut, table, &face_chart, a) else {
+            continue;
+        };
+        if budget < region.len() {
+            break;
+        }
+        budget -= region.len();
+        let Some(chart_a) = accepted_chart(mesh, side_a, options) else {
+            continue;
+        };
+        let Some(chart_b) = accepted_chart(mesh, side_b, options) else {
+            continue;
+        };
+        for &f in &chart_a.faces {
+            face_chart[f as usize] = a;
+        }
+        for &f in &chart_b.faces {
+            face_chart[f as usize] = b;
+        }
+        charts[a as usize] = chart_a;
+        charts[b as usize] = chart_b;
+        moved += 1;
+    }
+    moved
+}
+
+/// The shortest path from `source` to `target` over the edges where `usable` holds,
+/// through no vertex where `blocked` holds (the two ends excepted); its edges.
+fn shortest_path(
+    source: usize,
+    target: usize,
+    vertex_edges: &[Vec<u32>],
+    table: &EdgeTable,
+    usable: &impl Fn(usize) -> bool,
+    blocked: &impl Fn(usize) -> bool,
+    length: &impl Fn(usize) -> f64,
+) -> Option<Vec<usize>> {
+    let mut distance: std::collections::HashMap<usize, (f64, usize)> = std::collections::HashMap::new();
+    let mut heap = BinaryHeap::new();
+    distance.insert(source, (0.0, usize::MAX));
+    // Non-negative distances order as their bit patterns do.
+    heap.push((Reverse(0f64.to_bits()), source));
+    while let Some((Reverse(d), v)) = heap.pop() {
+        let d = f64::from_bits(d);
+        if v == target {
+            break;
+        }
+        if d > distance[&v].0 {
+            continue;
+        }
+        if v != source && blocked(v) {
+            continue;
+        }
+        for &e in &vertex_edges[v] {
+            let e = e as usize;
+            if !usable(e) {
+                continue;
+            }
+            let [a, b] = table.edges[e];
+            let w = if a as usize == v { b as usize } else { a as usize };
+            let next = d + length(e);
+            if distance.get(&w).is_none_or(|x| next < x.0) {
+                distance.insert(w, (next, e));
+                heap.push((Reverse(next.to_bits()), w));
+            }
+        }
+    }
+    distance.get(&target)?;
+    let mut path = Vec::new();
+    let mut v = target;
+    while v != source {
+        let e = distance[&v].1;
+        path.push(e);
+        let [a, b] = table.edges[e];
+        v = if a as usize == v { b as usize } else { a as usize };
+    }
+    Some(path)
+}
+
+/// The faces of `region` in the two parts the `cut` edges separate them into (the part
+/// holding more faces of chart `a` first); `None` unless there are exactly two.
+fn split_along(
+    region: &[u32],
+    cut: &HashSet<usize>,
+    table: &EdgeTable,
+    face_chart: &[u32],
+    a: u32,
+) -> Option<(Vec<u32>, Vec<u32>)> {
+    let members: HashSet<u32> = region.iter().copied().collect();
+    let mut part: std::collections::HashMap<u32, usize> = std::collections::HashMap::new();
+    let mut parts: Vec<Vec<u32>> = Vec::new();
+    for &f0 in region {
+        if part.contains_key(&f0) {
+            continue;
+        }
+        let id = parts.len();
+        part.insert(f0, id);
+        let mut faces = vec![f0];
+        let mut i = 0;
+        while i < faces.len() {
+            let f = faces[i] as usize;
+            i += 1;
+            for k in 0..3 {
+                let e = table.face_edges[f][k];
+                if e == u32::MAX || cut.contains(&(e as usize)) {
+                    continue;
+                }
+                if let Some(g) = table.opposite(f, k) {
+                    if members.contains(&g) && !part.contains_key(&g) {
+                        part.insert(g, id);
+                        faces.push(g);
+                    }
+                }
+            }
+        }
+        parts.push(faces);
+        if parts.len() > 2 {
+            return None;
+        }
+    }
+    let [first, second]: [Vec<u32>; 2] = parts.try_into().ok()?;
+    let of_a = |faces: &[u32]| faces.iter().filter(|&&f| face_chart[f as usize] == a).count();
+    Some(if of_a(&first) >= of_a(&second) {
+        (first, second)
+    } else {
+        (second, first)
+    })
+}
+
+/// The chart of `faces` when it unfolds without overlap within the distortion bound.
+fn accepted_chart(mesh: &TriangleMesh, mut faces: Vec<u32>, options: &ChartOptions) -> Option<Chart> {
+    faces.sort_unstable();
+    let (sub, vertices) = submesh(mesh, &faces);
+    let (unfolding, distortion) = flatten_chart(&sub)?;
+    (distortion.is_overlap_free() && distortion.edge_length_max_relative <= options.max_edge_distortion).then_some(
+        Chart {
+            faces,
+            vertices,
+            triangles: sub.triangles,
+            flat: unfolding.flat,
+            distortion,
+            solver: unfolding.solver,
+        },
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector3;
+
+    #[test]
+    fn a_sawtooth_border_across_a_grid_becomes_straight() {
+        // A 10 × 10 grid of unit squares (two triangles each) in two charts: rows 0–4,
+        // and rows 5–9, with squares (2, 5), (3, 5), (6, 5), (7, 5) given to the first:
+        // a border of length 14 from (0, 5) to (10, 5) with two bumps.
+        let n = 10u32;
+        let id = |i: u32, j: u32| j * (n + 1) + i;
+        let mut positions = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                positions.push(Vector3::new(i as f64, j as f64, 0.0));
+            }
+        }
+        let (mut triangles, mut lower) = (Vec::new(), Vec::new());
+        for j in 0..n {
+            for i in 0..n {
+                triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+                let first = j < 5 || (j == 5 && [2, 3, 6, 7].contains(&i));
+                lower.extend([first, first]);
+            }
+        }
+        let mesh = TriangleMesh {
+            positions,
+            face_groups: vec![0; triangles.len()],
+            triangles,
+            groups: vec!["grid".into()],
+            corner_uvs: None,
+            seam_edges: Vec::new(),
+        };
+        let table = EdgeTable::new(&mesh.triangles, mesh.positions.len());
+        let faces = |side: bool| {
+            (0..lower.len() as u32)
+                .filter(|&f| lower[f as usize] == side)
+                .collect::<Vec<_>>()
+        };
+        let options = ChartOptions::default();
+        let mut charts = vec![
+            accepted_chart(&mesh, faces(true), &options).unwrap(),
+            accepted_chart(&mesh, faces(false), &options).unwrap(),
+        ];
+        let border_length = |charts: &[Chart]| {
+            let mut chart_of = vec![0; mesh.triangles.len()];
+            for &f in &charts[1].faces {
+                chart_of[f as usize] = 1;
+            }
+            (0..table.len())
+                .filter(|&e| matches!(table.sides(e), [f, g] if chart_of[f.face as usize] != chart_of[g.face as usize]))
+                .map(|e| {
+                    let [a, b] = table.edges[e];
+                    (mesh.positions[a as usize] - mesh.positions[b as usize]).norm()
+                })
+                .sum::<f64>()
+        };
+        assert!((border_length(&charts) - 14.0).abs() < 1e-12);
+        let fixed = vec![false; table.len()];
+        assert_eq!(
+            straighten_chart_borders(&mesh, &table, &fixed, &mut charts, &options),
+            1
+        );
+        assert!((border_length(&charts) - 10.0).abs() < 1e-12);
+        assert_eq!(charts[0].faces.len(), 100);
+        assert!(charts[0].distortion.edge_length_max_relative < 1e-12);
+        // A fixed border (a crease or a user seam) stays where it is.
+        let mut kept = vec![
+            accepted_chart(&mesh, faces(true), &options).unwrap(),
+            accepted_chart(&mesh, faces(false), &options).unwrap(),
+        ];
+        let all_fixed = vec![true; table.len()];
+        assert_eq!(
+            straighten_chart_borders(&mesh, &table, &all_fixed, &mut kept, &options),
+            0
+        );
+        assert!((border_length(&kept) - 14.0).abs() < 1e-12);
+    }
+}
