@@ -99,7 +99,7 @@ pub struct ChartSet {
 ///    seam) when the union passes the acceptance test.
 /// 5. **Straight borders**: each border the splitting left between two charts moves onto
 ///    the shortest edge path joining its ends through the two charts
-///    ([`crate::border_straightening`]) when both charts still pass the test.
+///    (`border_straightening.rs`) when both charts still pass the test.
 ///
 /// Departure from published segmenters (D-charts, feature-based seams): borders are
 /// shortest edge paths (no smoothness term), so on an irregular mesh they follow its

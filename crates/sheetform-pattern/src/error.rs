@@ -35,7 +35,7 @@ pub enum PatternError {
     /// Folds close a loop of flat panels around a point: with a thickness, the panels
     /// cannot all keep their bend allowances.
     #[error(
-        "piece `{piece}`: the folds meeting near ({x_mm:.1}, {y_mm:.1}) mm on the pattern close a loop, so a sheet with thickness cannot take their bend allowances; cut the model open there (a seam) or leave out the thickness"
+        "piece `{piece}`: the folds near ({x_mm:.1}, {y_mm:.1}) mm on the pattern close a loop of flat panels (round an inner vertex, or strips between two rigid panels), whose bend allowances do not add up, so a sheet with thickness cannot be cut flat for them; cut the model open there (a seam) or leave out the thickness"
     )]
     BendLoop {
         /// The piece's name.

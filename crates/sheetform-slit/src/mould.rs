@@ -11,6 +11,14 @@
 //! tests: every edge is shared by exactly two faces in opposite directions, and the
 //! volume is positive). A profile that crosses itself (a strip curling over) cannot be
 //! closed this way and is an error.
+//!
+//! With a sheet thickness `T` (`mould.sheet_thickness`) the top lies `T/2` below the
+//! model: the model is the sheet's mid-surface (bent with a radius much larger than its
+//! thickness, a sheet keeps its length there: the K-factor is ½), so the sheet's
+//! underside rests on the mould. Each long edge's profile is offset in its plane by
+//! `T/2` towards the mould, with mitred corners (a point `p` between segments of unit
+//! normals `n₁`, `n₂` moves by `T/2 · (n₁ + n₂)/(1 + n₁·n₂)`, which keeps both segments
+//! `T/2` away); the ends then stand on the offset feet.
 
 use crate::{SlitDesign, SlitError, SlitModel};
 use nalgebra::{Vector2, Vector3};
@@ -114,6 +122,34 @@ fn wall(
     Ok(())
 }
 
+/// A profile (a polyline in a plane `z` = const, running from the right foot over the
+/// top to the left foot) moved `distance` towards the mould (to its left, seen along
+/// it), corners mitred; consecutive repeated points keep their neighbour's direction.
+fn offset_profile(chain: &[Vec3], distance: f64) -> Vec<Vec3> {
+    if distance == 0.0 {
+        return chain.to_vec();
+    }
+    let normal = |a: Vec3, b: Vec3| {
+        let d = Vector2::new(b.x - a.x, b.y - a.y);
+        let length = d.norm();
+        (length > 0.0).then(|| Vector2::new(-d.y, d.x) / length)
+    };
+    let n = chain.len();
+    let segment_normals: Vec<Option<Vector2<f64>>> = (0..n - 1).map(|i| normal(chain[i], chain[i + 1])).collect();
+    (0..n)
+        .map(|i| {
+            let before = (0..i).rev().find_map(|j| segment_normals[j]);
+            let after = (i..n - 1).find_map(|j| segment_normals[j]);
+            let shift = match (before, after) {
+                (Some(a), Some(b)) if 1.0 + a.dot(&b) > 1e-9 => (a + b) / (1.0 + a.dot(&b)),
+                (Some(a), _) | (None, Some(a)) => a,
+                (None, None) => Vector2::zeros(),
+            };
+            chain[i] + Vec3::new(shift.x, shift.y, 0.0) * distance
+        })
+        .collect()
+}
+
 /// Builds the mould of a solved design.
 ///
 /// # Errors
@@ -134,7 +170,7 @@ pub fn build_mould(model: &SlitModel, design: &SlitDesign) -> Result<Mould, Slit
             chain.push(Vec3::new(0.0, edge[m].y, edge[m].z));
             chain.extend(edge[1..m].iter().rev().map(|p| Vec3::new(-p.x, p.y, p.z)));
             chain.extend(profile.iter().rev().map(|p| Vec3::new(-p.x, p.y, z)));
-            chains.push(chain);
+            chains.push(offset_profile(&chain, 0.5 * model.mould.sheet_thickness));
         }
     }
     let columns = chains[0].len();
@@ -161,7 +197,7 @@ pub fn build_mould(model: &SlitModel, design: &SlitDesign) -> Result<Mould, Slit
             mould.triangles.push([a, cc, d]);
         }
     }
-    let foot = profile[0];
+    let foot = chains[0][0];
     let (z0, z1) = (0.0, layout.width);
     let mut corner = |x: f64, z: f64| {
         mould.positions.push(Vec3::new(x, base, z));

@@ -216,6 +216,12 @@ pub struct MouldSpec {
     pub enabled: bool,
     /// Thickness of the base plate under the lowest point of the shape. Default 5.
     pub base_thickness: f64,
+    /// Thickness of the sheet pressed onto the mould (0: a sheet of no thickness). The
+    /// model is the sheet's mid-surface, which keeps its length when the sheet bends, so
+    /// the pattern is exact there; the mould's top lies half this much below it, where
+    /// the sheet's underside rests (the paper's §4.2 found its pattern short for not
+    /// doing so). Default 0.
+    pub sheet_thickness: f64,
 }
 
 impl Default for MouldSpec {
@@ -223,6 +229,7 @@ impl Default for MouldSpec {
         Self {
             enabled: true,
             base_thickness: 5.0,
+            sheet_thickness: 0.0,
         }
     }
 }

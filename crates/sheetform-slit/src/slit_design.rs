@@ -180,6 +180,16 @@ impl SlitModel {
         if !(scene.mould.base_thickness.is_finite() && scene.mould.base_thickness > 0.0) {
             return Err(SlitError::field("mould.base_thickness", "must be a positive length"));
         }
+        let thickest = 0.5 * layout.strip_width;
+        if !(scene.mould.sheet_thickness.is_finite() && (0.0..=thickest).contains(&scene.mould.sheet_thickness)) {
+            return Err(SlitError::field(
+                "mould.sheet_thickness",
+                format!(
+                    "must be between 0 and half the strip width ({thickest}), got {}",
+                    scene.mould.sheet_thickness
+                ),
+            ));
+        }
         let mut model = Self {
             name: scene.name.clone(),
             unit: scene.units,

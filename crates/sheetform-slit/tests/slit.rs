@@ -167,6 +167,43 @@ fn mould_is_closed_and_outward() {
     let mould = build_mould(&model, &design).unwrap();
     assert!(mould.is_watertight());
     assert!(mould.volume() > 0.0);
+    // For a 2 mm sheet the top sinks 1 mm under the model (the sheet's mid-surface):
+    // every top vertex 1 mm from the profile it came from, still closed, less volume.
+    let mut thick = chair();
+    thick.mould.sheet_thickness = 2.0;
+    let lowered = build_mould(&thick, &design).unwrap();
+    assert!(lowered.is_watertight());
+    assert!(lowered.volume() > 0.0 && lowered.volume() < mould.volume());
+    // The top's points come first, profile after profile (each in its plane z = const):
+    // every moved point lies 1 mm from the lines of the segments on either side of it.
+    let top = mould.positions.len() - 4;
+    let mut checked = 0;
+    let mut start = 0;
+    while start < top {
+        let z = mould.positions[start].z;
+        let end = (start..top).find(|&i| mould.positions[i].z != z).unwrap_or(top);
+        let (p, q) = (&mould.positions[start..end], &lowered.positions[start..end]);
+        for (i, moved) in q.iter().enumerate() {
+            assert_eq!(moved.z, z);
+            for (a, b) in [(i.wrapping_sub(1), i), (i, i + 1)] {
+                if b >= p.len() || a >= p.len() || (p[b] - p[a]).xy().norm() == 0.0 {
+                    continue;
+                }
+                let d = (p[b] - p[a]).xy().normalize();
+                let r = (moved - p[a]).xy();
+                let distance = (d.x * r.y - d.y * r.x).abs();
+                assert!((distance - 1.0).abs() < 1e-9, "profile z = {z}, point {i}: {distance}");
+                checked += 1;
+            }
+        }
+        start = end;
+    }
+    assert!(checked > 100);
+    // A sheet thicker than half a strip is refused, naming the field.
+    let mut scene = SlitScene::from_json(include_str!("../../../examples/slit/chair.json")).unwrap();
+    scene.mould.sheet_thickness = 1e6;
+    let error = SlitModel::from_scene(&scene, None).unwrap_err();
+    assert!(error.to_string().contains("mould.sheet_thickness"), "{error}");
 }
 
 #[test]
