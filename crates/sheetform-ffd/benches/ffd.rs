@@ -6,7 +6,9 @@
 //! `cargo bench -p sheetform-ffd --bench ffd`
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use sheetform_ffd::{run_design, FfdScene, ModelSource, SolverMethod};
+use sheetform_ffd::{
+    apply_edits, restore_constrained, run_design, DevelopabilityProblem, FfdScene, ModelSource, SolverMethod,
+};
 use std::hint::black_box;
 
 fn scene(name: &str) -> FfdScene {
@@ -39,5 +41,34 @@ fn restoration(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, restoration);
+/// The editor's case: the skirt restored once, then one control point dragged 5 mm
+/// (`examples/ffd/skirt-drag.json`, second deformation), restored from the restored
+/// parameters (a warm start). Only the second restoration is timed.
+fn warm_drag(c: &mut Criterion) {
+    let scene = scene("skirt-drag");
+    let ModelSource::Procedural(model) = &scene.model else {
+        unreachable!("procedural example")
+    };
+    let mesh = model.build();
+    let mut first = scene.clone();
+    first.deformations.truncate(1);
+    let design = run_design(&first, &mesh).expect("design");
+    let step = &design.steps[0];
+    let dragged = apply_edits(&step.volume, &scene.deformations[1].edits, "drag").expect("drag");
+    let problem = DevelopabilityProblem::new(
+        &dragged,
+        &design.assembly,
+        step.parameters.clone(),
+        &scene.solver.problem_options(),
+    );
+    let options = scene.solver.constrained_options();
+    let mut group = c.benchmark_group("ffd");
+    group.sample_size(20);
+    group.bench_function("skirt/warm drag", |b| {
+        b.iter(|| black_box(restore_constrained(&problem, &options).expect("restored")))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, restoration, warm_drag);
 criterion_main!(benches);

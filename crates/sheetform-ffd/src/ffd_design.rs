@@ -2,8 +2,8 @@
 
 use crate::{
     apply_edits, embed_points, fold_angle_max, restore_constrained_with_progress, restore_paper_with_progress,
-    ConstrainedOptions, DevelopabilityProblem, FfdError, FfdScene, NurbsVolume, PanelAssembly, PaperOptions,
-    ProblemOptions, RestorationInfo, RestorationProgress, SolverMethod,
+    DevelopabilityProblem, FfdError, FfdScene, NurbsVolume, PanelAssembly, PaperOptions, RestorationInfo,
+    RestorationProgress, SolverMethod,
 };
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -124,9 +124,7 @@ pub fn run_design_with_progress(
             nodes[assembly.vertex_node[v as usize] as usize]
         })
     };
-    let problem_options = ProblemOptions {
-        selection_threshold: scene.solver.selection_threshold_rad,
-    };
+    let problem_options = scene.solver.problem_options();
     for (k, deformation) in scene.deformations.iter().enumerate() {
         volume = apply_edits(&volume, &deformation.edits, &format!("deformations[{k}].edits"))?;
         let problem = DevelopabilityProblem::new(&volume, &assembly, parameters.clone(), &problem_options);
@@ -152,18 +150,7 @@ pub fn run_design_with_progress(
         };
         let (new_parameters, info) = match scene.solver.method {
             SolverMethod::Constrained => {
-                let mut options = ConstrainedOptions {
-                    tolerance: scene.solver.tolerance_rad,
-                    position_weight: scene.solver.position_weight,
-                    refine_iterations: scene.solver.refine_iterations,
-                    bending_weight: scene.solver.bending_weight,
-                    line_search_memory: scene.solver.line_search_memory,
-                    stall_bending_weight: scene.solver.stall_bending_weight,
-                    ..Default::default()
-                };
-                if let Some(m) = scene.solver.max_iterations {
-                    options.max_iterations = m;
-                }
+                let options = scene.solver.constrained_options();
                 restore_constrained_with_progress(&problem, &options, &mut report)?
             }
             SolverMethod::Paper => {

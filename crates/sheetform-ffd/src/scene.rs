@@ -138,7 +138,9 @@ pub struct SolverSpec {
     /// Largest angle defect accepted by the constrained solver (radians).
     #[serde(default = "default_tolerance")]
     pub tolerance_rad: f64,
-    /// `λ` of the selective set (radians).
+    /// `λ` of the selective set (radians): vertices whose defect exceeds it are optimised
+    /// with their neighbours. The constrained solver uses at most `tolerance_rad`, so that
+    /// every defect over its tolerance is in the set.
     #[serde(default = "default_selection")]
     pub selection_threshold_rad: f64,
     /// Weight of the proximity term of the constrained solver.
@@ -232,6 +234,39 @@ impl Default for SolverSpec {
             stall_bending_weight: default_stall_bending_weight(),
             line_search_memory: default_line_search_memory(),
         }
+    }
+}
+
+impl SolverSpec {
+    /// The restoration problem's options: the selective set's `λ`, at most the
+    /// tolerance for the constrained solver (every defect over the tolerance is
+    /// optimised; with `λ` = 1e-8 against the 1e-10 tolerance, a 5 mm drag on the
+    /// restored skirt crawled to 100 iterations at 1.9e-10 rad, with `λ` at the tolerance
+    /// it takes 2 iterations, 9 ms).
+    pub fn problem_options(&self) -> crate::ProblemOptions {
+        crate::ProblemOptions {
+            selection_threshold: match self.method {
+                SolverMethod::Constrained => self.selection_threshold_rad.min(self.tolerance_rad),
+                _ => self.selection_threshold_rad,
+            },
+        }
+    }
+
+    /// The constrained solver's options.
+    pub fn constrained_options(&self) -> crate::ConstrainedOptions {
+        let mut options = crate::ConstrainedOptions {
+            tolerance: self.tolerance_rad,
+            position_weight: self.position_weight,
+            refine_iterations: self.refine_iterations,
+            bending_weight: self.bending_weight,
+            line_search_memory: self.line_search_memory,
+            stall_bending_weight: self.stall_bending_weight,
+            ..Default::default()
+        };
+        if let Some(m) = self.max_iterations {
+            options.max_iterations = m;
+        }
+        options
     }
 }
 

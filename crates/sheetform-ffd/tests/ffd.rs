@@ -83,6 +83,24 @@ fn successive_deformations_start_from_the_restored_parameters() {
     assert!(second.info.variable_node_count < first.info.variable_node_count);
 }
 
+/// The editor's case: a small drag after a restored deformation starts from the restored
+/// parameters and needs few steps (the defect it creates is small), to the same bound,
+/// with the panels as fair as before the drag.
+#[test]
+fn a_small_drag_is_restored_from_the_last_result_in_few_steps() {
+    let scene = example("skirt-drag");
+    let design = run_design(&scene, &mesh_of(&scene)).unwrap();
+    let (first, drag) = (&design.steps[0], &design.steps[1]);
+    assert!(first.info.converged && drag.info.converged);
+    assert!(max_defect(&design, &drag.restored) <= 1e-8);
+    // The drag starts near the developable set: a defect far below the first
+    // deformation's, removed in at most three steps (the first took four).
+    assert!(drag.info.angle_defect_max_before_rad < 0.1 * first.info.angle_defect_max_before_rad);
+    assert!(drag.info.iterations <= 3, "{} iterations", drag.info.iterations);
+    assert!(drag.deviation_max < 5.0, "{} mm", drag.deviation_max);
+    assert!(drag.fold_angle_max_after < 1.1 * first.fold_angle_max_after.max(drag.fold_angle_max_before));
+}
+
 #[test]
 fn the_springs_alone_crinkle_the_panels_in_more_steps() {
     for (name, springs) in [
