@@ -33,10 +33,11 @@ pub struct DeformationStep {
     pub edge_length_change_max_relative: f64,
     /// Mean relative edge-length change.
     pub edge_length_change_mean_relative: f64,
-    /// Largest fold angle of the plain FFD `M′` (radians, see [`fold_angle_max`]).
+    /// Largest fold angle of the plain FFD `M′` (radians, see [`fold_angle_max`]), inside
+    /// the panels and across their seams.
     pub fold_angle_max_before: f64,
-    /// Largest fold angle after restoration `M*` (radians): far above
-    /// `fold_angle_max_before` when the restoration crinkled the panels.
+    /// Largest fold angle after restoration `M*` (radians, panels and seams): far above
+    /// `fold_angle_max_before` when the restoration crinkled the panels or creased a seam.
     pub fold_angle_max_after: f64,
 }
 
@@ -119,11 +120,9 @@ pub fn run_design_with_progress(
     let mut volume = lattice.clone();
     let mut parameters = embedding.clone();
     let mut steps = Vec::new();
-    let fold_angle = |nodes: &[Vec3]| {
-        fold_angle_max(&assembly.mesh.triangles, &assembly.edges, |v| {
-            nodes[assembly.vertex_node[v as usize] as usize]
-        })
-    };
+    // Over the welded panels: inside each panel and across the seams.
+    let fold_angle =
+        |nodes: &[Vec3]| fold_angle_max(&assembly.node_triangles, &assembly.node_edges, |n| nodes[n as usize]);
     let problem_options = scene.solver.problem_options();
     for (k, deformation) in scene.deformations.iter().enumerate() {
         volume = apply_edits(&volume, &deformation.edits, &format!("deformations[{k}].edits"))?;

@@ -7,9 +7,10 @@ type Vec3 = Vector3<f64>;
 
 /// The largest angle between the unit normals of two triangles that share an edge
 /// (radians, in `[0, π]`), over the interior edges of `triangles` (those with exactly
-/// two triangles in `edges`, the table of `triangles`; seams between panels, whose
-/// vertices are distinct, are boundary edges there), with vertex `i` at `position(i)`.
-/// Triangles of zero area are left out.
+/// two triangles in `edges`, the table of `triangles`), with vertex `i` at
+/// `position(i)`. Triangles of zero area are left out. On the welded panels
+/// ([`crate::PanelAssembly::node_triangles`], as `run_design` reports it) the seams
+/// between panels count too; on the panels' own triangles they are boundary edges.
 ///
 /// `θ_e = atan2(|n₁ × n₂|, n₁ · n₂)`, `n₁`, `n₂` the normals of the triangles on edge `e`.
 ///

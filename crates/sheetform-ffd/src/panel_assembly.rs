@@ -45,6 +45,11 @@ pub struct PanelAssembly {
     /// The edges of `mesh`, in vertex indices: seams are boundary edges here (the panels'
     /// vertices are distinct), so an edge with two triangles is inside one panel.
     pub edges: EdgeTable,
+    /// The triangles in node indices: the panels welded at their seams.
+    pub node_triangles: Vec<[u32; 3]>,
+    /// The edges of `node_triangles`: an edge with two triangles is inside a panel or a
+    /// seam where two panels meet.
+    pub node_edges: EdgeTable,
 }
 
 impl PanelAssembly {
@@ -134,6 +139,12 @@ impl PanelAssembly {
         let vertex_node = coincident_vertices(&out.positions, tolerance);
         let node_count = vertex_node.iter().map(|&n| n as usize + 1).max().unwrap_or(0);
         let edges = EdgeTable::new(&out.triangles, out.positions.len());
+        let node_triangles: Vec<[u32; 3]> = out
+            .triangles
+            .iter()
+            .map(|t| t.map(|v| vertex_node[v as usize]))
+            .collect();
+        let node_edges = EdgeTable::new(&node_triangles, node_count);
         Ok(Self {
             mesh: out,
             panels,
@@ -141,6 +152,8 @@ impl PanelAssembly {
             node_count,
             boundary,
             edges,
+            node_triangles,
+            node_edges,
         })
     }
 

@@ -44,9 +44,11 @@ fn every_example_is_restored_to_1e8_without_cracks() {
             assert_eq!(step.info.bending_weight, 3e-3, "{name}");
             // (3-5 full steps) ...
             assert!(step.info.iterations <= 6, "{name}: {}", step.info.iterations);
-            // ... and a fair result: fold angles stay those of the deformed mesh (duct
-            // 0.213 -> 0.201 rad, skirt 0.092 -> 0.088, two panels 0.249 -> 0.251; the
-            // springs alone crinkle: 3-6 times).
+            // ... and a fair result: fold angles, inside the panels and across their
+            // seams, stay those of the deformed mesh (duct 0.213 -> 0.202 rad, skirt
+            // 0.092 -> 0.089, two panels 0.249 -> 0.259, trousers 0.193 -> 0.188; the
+            // springs alone crinkle: 3-6 times; without hinges across the seams those
+            // creased, the duct's 8.1° -> 24.9°).
             assert!(
                 step.fold_angle_max_after < 1.1 * step.fold_angle_max_before,
                 "{name}: {} -> {}",
@@ -195,7 +197,9 @@ fn fine_duct(solver: &str) -> FfdScene {
 #[test]
 fn a_fine_mesh_is_restored_smoothly_in_a_few_full_steps() {
     // The bending term's weight grows with A / l̄², so it keeps its effect on a mesh 20
-    // times finer than the skirt: 6 steps, fold angles 0.080 -> 0.085 rad, edges 7.2 %.
+    // times finer than the skirt: 6 steps, fold angles (inside the panels and across
+    // the seam) 0.080 -> 0.097 rad; with hinges inside the panels only, the seam
+    // creased to 0.405 rad.
     let scene = fine_duct("{}");
     let design = run_design(&scene, &mesh_of(&scene)).unwrap();
     let step = &design.steps[0];
@@ -204,7 +208,7 @@ fn a_fine_mesh_is_restored_smoothly_in_a_few_full_steps() {
     assert_eq!(step.info.bending_fallback_iteration, None);
     assert!(max_defect(&design, &step.restored) <= 1e-8);
     assert!(
-        step.fold_angle_max_after < 1.2 * step.fold_angle_max_before,
+        step.fold_angle_max_after < 1.25 * step.fold_angle_max_before,
         "{} -> {}",
         step.fold_angle_max_before,
         step.fold_angle_max_after

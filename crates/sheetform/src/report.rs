@@ -262,11 +262,12 @@ pub struct FfdStepReport {
     pub edge_length_change_max_relative: f64,
     /// Mean relative edge-length change.
     pub edge_length_change_mean_relative: f64,
-    /// Largest angle between the normals of two triangles sharing an edge inside a panel,
-    /// in the plain FFD.
+    /// Largest angle between the normals of two triangles sharing an edge, inside a panel
+    /// or across a seam between two panels, in the plain FFD.
     pub fold_angle_max_before_rad: f64,
     /// The same after restoration: far above `fold_angle_max_before_rad` when the
-    /// restoration folded the panels into node-scale zig-zags (crinkles).
+    /// restoration folded the panels into node-scale zig-zags (crinkles) or creased a
+    /// seam.
     pub fold_angle_max_after_rad: f64,
     /// Solver time.
     pub time_ms: f64,
