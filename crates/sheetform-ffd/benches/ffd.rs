@@ -1,7 +1,7 @@
 //! Criterion benchmarks of developability restoration: both solvers on the examples at
-//! the paper's sizes. The 100k-vertex duct (`examples/ffd/duct-100k.json`) is not
-//! benchmarked here: the constrained solver converges on it but takes about 5 minutes a
-//! run (docs/benchmarks.md gives its timed runs).
+//! the paper's sizes, and a warm-started drag. The 100k-vertex duct
+//! (`examples/ffd/duct-100k.json`) is not benchmarked here: the constrained solver takes
+//! about a minute a run (docs/benchmarks.md gives its timed runs).
 //!
 //! `cargo bench -p sheetform-ffd --bench ffd`
 
