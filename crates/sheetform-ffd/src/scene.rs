@@ -70,7 +70,10 @@ pub struct LatticeSpec {
     /// Control points in u, v, w.
     #[serde(default = "default_counts")]
     pub counts: [usize; 3],
-    /// Fraction of the model's size added on every side of the automatic box.
+    /// Fraction of the model's size added on every side of the automatic box (at least
+    /// [`MIN_LATTICE_MARGIN`]: the restoration moves vertices in the lattice's
+    /// parameters, which end at its boundary, so a vertex there could not move outwards;
+    /// with no margin the two panels stall at 6.2e-3 rad).
     #[serde(default = "default_margin")]
     pub margin: f64,
     /// Lower corner of the box (model units).
@@ -97,6 +100,12 @@ fn default_degrees() -> [usize; 3] {
 fn default_counts() -> [usize; 3] {
     [4, 4, 4]
 }
+/// Smallest `lattice.margin` accepted.
+pub const MIN_LATTICE_MARGIN: f64 = 0.01;
+
+/// Largest `lattice.margin` accepted (ten times the model's size on every side).
+pub const MAX_LATTICE_MARGIN: f64 = 10.0;
+
 fn default_margin() -> f64 {
     0.05
 }
@@ -316,8 +325,16 @@ impl FfdScene {
                 "must be at least 1 (1: monotone)",
             ));
         }
-        if !(self.lattice.margin.is_finite() && self.lattice.margin >= 0.0) {
-            return Err(FfdError::field("lattice.margin", "must be zero or positive"));
+        if !(self.lattice.margin.is_finite()
+            && (MIN_LATTICE_MARGIN..=MAX_LATTICE_MARGIN).contains(&self.lattice.margin))
+        {
+            return Err(FfdError::field(
+                "lattice.margin",
+                format!(
+                    "must be between {MIN_LATTICE_MARGIN} and {MAX_LATTICE_MARGIN} (the model's vertices on the lattice's boundary could not move outwards), got {}",
+                    self.lattice.margin
+                ),
+            ));
         }
         if self.deformations.is_empty() {
             return Err(FfdError::field("deformations", "give at least one deformation"));

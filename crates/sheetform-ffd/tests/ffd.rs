@@ -181,6 +181,14 @@ fn the_non_monotone_line_search_saves_iterations_not_quality() {
     scene.solver.line_search_memory = 0;
     let error = run_design(&scene, &mesh_of(&scene)).unwrap_err().to_string();
     assert!(error.contains("solver.line_search_memory"), "{error}");
+    // A lattice with no margin has vertices on its boundary, which the restoration cannot
+    // move outwards (the two panels stall at 6.2e-3 rad): refused, naming the field.
+    for margin in [0.0, 1e6, f64::NAN] {
+        let mut scene = example("two-panels");
+        scene.lattice.margin = margin;
+        let error = run_design(&scene, &mesh_of(&scene)).unwrap_err().to_string();
+        assert!(error.contains("lattice.margin"), "{margin}: {error}");
+    }
 }
 
 /// The 100k duct's deformation on a 100 × 62 duct (6 300 vertices), with the solver
