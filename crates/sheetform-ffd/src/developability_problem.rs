@@ -11,7 +11,9 @@ type Vec3 = Vector3<f64>;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ProblemOptions {
     /// `λ` of §3: a node's parameters are variables only if one of its vertices has
-    /// `|g| > λ` or a neighbour has (radians; the paper: 1e-8).
+    /// `|g| > λ` or a neighbour has (radians; the paper: 1e-8). Keep it at most the
+    /// solver's tolerance (`SolverSpec::problem_options` does): defects between the two
+    /// are never optimised, and the restoration cannot meet its tolerance.
     pub selection_threshold: f64,
 }
 

@@ -33,7 +33,12 @@ pub fn fold_angle_max(triangles: &[[u32; 3]], edges: &EdgeTable, position: impl 
         .collect();
     (0..edges.len())
         .filter_map(|e| match edges.sides(e) {
-            [s, t] => Some((normals[s.face as usize]?, normals[t.face as usize]?)),
+            // Two triangles running the edge the same way are wound opposite ways (panels
+            // sewn with opposite orientations): compare one normal turned round.
+            [s, t] => {
+                let (n1, n2) = (normals[s.face as usize]?, normals[t.face as usize]?);
+                Some((n1, if s.forward == t.forward { -n2 } else { n2 }))
+            }
             _ => None,
         })
         .map(|(n1, n2)| n1.cross(&n2).norm().atan2(n1.dot(&n2)))

@@ -71,8 +71,10 @@ pub struct LatticeSpec {
     #[serde(default = "default_counts")]
     pub counts: [usize; 3],
     /// Fraction of the model's size added on every side of the automatic box (at least
-    /// [`MIN_LATTICE_MARGIN`]: the restoration moves vertices in the lattice's
-    /// parameters, which end at its boundary, so a vertex there could not move outwards;
+    /// [`MIN_LATTICE_MARGIN`]; unused with `box_min`/`box_max` or `control_points`, which
+    /// should then enclose the model with room to spare). The restoration moves vertices
+    /// in the lattice's parameters, which end at its boundary, so a vertex there could not
+    /// move outwards;
     /// with no margin the two panels stall at 6.2e-3 rad).
     #[serde(default = "default_margin")]
     pub margin: f64,
@@ -325,8 +327,10 @@ impl FfdScene {
                 "must be at least 1 (1: monotone)",
             ));
         }
-        if !(self.lattice.margin.is_finite()
-            && (MIN_LATTICE_MARGIN..=MAX_LATTICE_MARGIN).contains(&self.lattice.margin))
+        let automatic_box = self.lattice.box_min.is_none() && self.lattice.control_points.is_none();
+        if automatic_box
+            && !(self.lattice.margin.is_finite()
+                && (MIN_LATTICE_MARGIN..=MAX_LATTICE_MARGIN).contains(&self.lattice.margin))
         {
             return Err(FfdError::field(
                 "lattice.margin",

@@ -149,6 +149,13 @@ pub(crate) fn straighten_chart_borders(
                     && !(sides.len() == 2 && sides.iter().all(|s| in_region(s.face)))
             })
         };
+        // Work budget: every chain tried costs its two charts' faces (the search), every
+        // split tried as much again (the unfoldings).
+        let region_size = charts[a as usize].faces.len() + charts[b as usize].faces.len();
+        if budget < region_size {
+            break;
+        }
+        budget -= region_size;
         let (source, target) = (chain[0] as usize, *chain.last().expect("ends") as usize);
         let Some(path) = shortest_path(
             source,
@@ -158,6 +165,7 @@ pub(crate) fn straighten_chart_borders(
             &inside,
             &on_region_boundary,
             &length,
+            old_length,
         ) else {
             continue;
         };
@@ -200,7 +208,9 @@ pub(crate) fn straighten_chart_borders(
 }
 
 /// The shortest path from `source` to `target` over the edges where `usable` holds,
-/// through no vertex where `blocked` holds (the two ends excepted); its edges.
+/// through no vertex where `blocked` holds (the two ends excepted), shorter than `limit`;
+/// its edges.
+#[allow(clippy::too_many_arguments)]
 fn shortest_path(
     source: usize,
     target: usize,
@@ -209,6 +219,7 @@ fn shortest_path(
     usable: &impl Fn(usize) -> bool,
     blocked: &impl Fn(usize) -> bool,
     length: &impl Fn(usize) -> f64,
+    limit: f64,
 ) -> Option<Vec<usize>> {
     let mut distance: std::collections::HashMap<usize, (f64, usize)> = std::collections::HashMap::new();
     let mut heap = BinaryHeap::new();
@@ -234,7 +245,7 @@ fn shortest_path(
             let [a, b] = table.edges[e];
             let w = if a as usize == v { b as usize } else { a as usize };
             let next = d + length(e);
-            if distance.get(&w).is_none_or(|x| next < x.0) {
+            if next < limit && distance.get(&w).is_none_or(|x| next < x.0) {
                 distance.insert(w, (next, e));
                 heap.push((Reverse(next.to_bits()), w));
             }

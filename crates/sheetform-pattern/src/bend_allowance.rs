@@ -81,10 +81,10 @@ impl Default for BendAllowance {
     }
 }
 
-/// How far the pieces of a bent part's outline (flanges, bend zones, tabs) reach into
-/// each other before their union (mm): far below what a cutter resolves, far above
-/// rounding.
-pub(crate) const OVERLAP_MM: f64 = 1e-6;
+/// How far the bend zones reach into their flanges before the union, relative to the
+/// part's size (at least 1e-6 mm): far below what a cutter resolves, ten times the grid
+/// geo's boolean operations snap to (about 1e-7 of the size).
+const OVERLAP_RELATIVE: f64 = 1e-6;
 
 /// Holes of a bent part's outline smaller than this across (mm) are closed: specks
 /// where the trimmed corners of several flanges meet, under a laser's kerf.
@@ -200,11 +200,11 @@ impl BendZone {
         ]
     }
 
-    /// The bend zone, counter-clockwise, reaching [`OVERLAP_MM`] into both flanges so that
+    /// The bend zone, counter-clockwise, reaching `overlap` (mm) into both flanges so that
     /// the union with them leaves no hairline gap from rounding.
-    fn region(&self) -> Vec<Vec2> {
-        let (a0, b0) = self.line(-self.bend.setback_mm - OVERLAP_MM);
-        let (a1, b1) = self.line(self.bend.allowance_mm - self.bend.setback_mm + OVERLAP_MM);
+    fn region(&self, overlap: f64) -> Vec<Vec2> {
+        let (a0, b0) = self.line(-self.bend.setback_mm - overlap);
+        let (a1, b1) = self.line(self.bend.allowance_mm - self.bend.setback_mm + overlap);
         counter_clockwise(vec![a0, b0, b1, a1])
     }
 }
@@ -434,8 +434,10 @@ pub(crate) fn lay_out_bends(
         }
         bent
     };
+    let mut kept_panels: std::collections::HashSet<u32> = std::collections::HashSet::new();
     for (f, t) in mesh.triangles.iter().enumerate() {
         if !bent_part[face_part[f]] {
+            kept_panels.insert(panel[f]);
             continue;
         }
         let o = face_offset[f];
@@ -480,12 +482,40 @@ pub(crate) fn lay_out_bends(
             }
         }
         if polygon.len() >= 3 && sheetform_geometry::signed_area(&polygon).abs() > 0.0 {
+            kept_panels.insert(panel[f]);
             part_polygons[face_part[f]].push(counter_clockwise(polygon));
         }
     }
+    // A flange narrower than its bends' setbacks is trimmed away whole: its bends cannot
+    // be made at this radius and thickness.
+    for (c, zone) in zones.iter().enumerate() {
+        let Some(zone) = zone else { continue };
+        if let Some(&lost) = sides[c].iter().find(|p| !kept_panels.contains(p)) {
+            let f = panel.iter().position(|&q| q == lost).unwrap_or(0);
+            let point = zone.a;
+            return Err(PatternError::Option {
+                option: "thickness_mm",
+                message: format!(
+                    "piece `{}`: the flange at the fold near ({:.1}, {:.1}) mm is narrower than the setbacks of its bends ({:.2} mm here): it cannot be bent at this thickness and radius",
+                    part_names[face_part[f]],
+                    point.x,
+                    point.y,
+                    zone.bend.setback_mm
+                ),
+            });
+        }
+    }
     let zones: Vec<BendZone> = zones.into_iter().flatten().collect();
+    let mut part_size = vec![0.0f64; parts];
+    for (part, polygons) in part_polygons.iter().enumerate() {
+        let (lo, hi) = crate::point_bounds(polygons.iter().flatten());
+        if lo.x <= hi.x {
+            part_size[part] = (hi - lo).norm();
+        }
+    }
     for z in &zones {
-        part_polygons[z.part].push(z.region());
+        let overlap = (OVERLAP_RELATIVE * part_size[z.part]).max(1e-6);
+        part_polygons[z.part].push(z.region(overlap));
     }
     Ok(BentLayout {
         face_offset,

@@ -1140,6 +1140,22 @@ mod tests {
             ..options
         };
         assert!(pattern_from_mesh(&roof(1.0), &both).is_err());
+        // A 10 mm flange cannot take a bend whose setback is 20 mm: refused, not dropped.
+        let thick = PatternOptions {
+            allowance: MaterialAllowance {
+                bend: Some(crate::BendAllowance {
+                    thickness_mm: 10.0,
+                    inner_radius_mm: 10.0,
+                    ..sheet
+                }),
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        let error = pattern_from_mesh(&roof(90f64.to_radians()), &thick)
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("narrower than the setbacks"), "{error}");
     }
 
     /// A Miura-ori vertex: four creases around an inner vertex, sector angles α, π − α,

@@ -15,7 +15,7 @@
 //! With a sheet thickness `T` (`mould.sheet_thickness`) the top lies `T/2` below the
 //! model: the model is the sheet's mid-surface (bent with a radius much larger than its
 //! thickness, a sheet keeps its length there: the K-factor is ½), so the sheet's
-//! underside rests on the mould. Each long edge's profile is offset in its plane by
+//! underside rests on the mould. Each long edge's profile is offset in the xy-plane by
 //! `T/2` towards the mould, with mitred corners (a point `p` between segments of unit
 //! normals `n₁`, `n₂` moves by `T/2 · (n₁ + n₂)/(1 + n₁·n₂)`, which keeps both segments
 //! `T/2` away); the ends then stand on the offset feet.
@@ -122,12 +122,17 @@ fn wall(
     Ok(())
 }
 
-/// A profile (a polyline in a plane `z` = const, running from the right foot over the
-/// top to the left foot) moved `distance` towards the mould (to its left, seen along
-/// it), corners mitred; consecutive repeated points keep their neighbour's direction.
-fn offset_profile(chain: &[Vec3], distance: f64) -> Vec<Vec3> {
+/// A profile (a polyline running from the right foot over the top to the left foot, in
+/// a plane `z` = const up to the strips' folding) moved `distance` towards the mould in
+/// the xy-plane (to its left, seen along it), corners mitred; consecutive repeated
+/// points keep their neighbour's direction.
+///
+/// # Errors
+/// [`SlitError::Mould`] when a segment would turn round (a bend of the sheet tighter
+/// than the offset: the mould's top would fold over itself).
+fn offset_profile(chain: &[Vec3], distance: f64) -> Result<Vec<Vec3>, SlitError> {
     if distance == 0.0 {
-        return chain.to_vec();
+        return Ok(chain.to_vec());
     }
     let normal = |a: Vec3, b: Vec3| {
         let d = Vector2::new(b.x - a.x, b.y - a.y);
@@ -136,7 +141,7 @@ fn offset_profile(chain: &[Vec3], distance: f64) -> Vec<Vec3> {
     };
     let n = chain.len();
     let segment_normals: Vec<Option<Vector2<f64>>> = (0..n - 1).map(|i| normal(chain[i], chain[i + 1])).collect();
-    (0..n)
+    let moved = (0..n)
         .map(|i| {
             let before = (0..i).rev().find_map(|j| segment_normals[j]);
             let after = (i..n - 1).find_map(|j| segment_normals[j]);
@@ -147,13 +152,24 @@ fn offset_profile(chain: &[Vec3], distance: f64) -> Vec<Vec3> {
             };
             chain[i] + Vec3::new(shift.x, shift.y, 0.0) * distance
         })
-        .collect()
+        .collect::<Vec<Vec3>>();
+    for i in 0..n - 1 {
+        let (before, after) = ((chain[i + 1] - chain[i]).xy(), (moved[i + 1] - moved[i]).xy());
+        if before.norm() > 0.0 && before.dot(&after) <= 0.0 {
+            return Err(SlitError::Mould(format!(
+                "lowered by half the sheet's thickness ({distance}), the mould's top folds over itself near ({:.1}, {:.1}): the sheet bends tighter there than its thickness allows",
+                chain[i].x, chain[i].y
+            )));
+        }
+    }
+    Ok(moved)
 }
 
 /// Builds the mould of a solved design.
 ///
 /// # Errors
-/// [`SlitError::Mould`] when a wall's profile crosses itself.
+/// [`SlitError::Mould`] when a wall's profile crosses itself or the top, lowered for the
+/// sheet's thickness, folds over itself.
 pub fn build_mould(model: &SlitModel, design: &SlitDesign) -> Result<Mould, SlitError> {
     let layout = &model.layout;
     let folded = design.folded(model);
@@ -170,7 +186,7 @@ pub fn build_mould(model: &SlitModel, design: &SlitDesign) -> Result<Mould, Slit
             chain.push(Vec3::new(0.0, edge[m].y, edge[m].z));
             chain.extend(edge[1..m].iter().rev().map(|p| Vec3::new(-p.x, p.y, p.z)));
             chain.extend(profile.iter().rev().map(|p| Vec3::new(-p.x, p.y, z)));
-            chains.push(offset_profile(&chain, 0.5 * model.mould.sheet_thickness));
+            chains.push(offset_profile(&chain, 0.5 * model.mould.sheet_thickness)?);
         }
     }
     let columns = chains[0].len();
