@@ -12,8 +12,7 @@
 
 use crate::chart_segmentation::{flatten_chart, submesh, Chart, ChartOptions};
 use sheetform_mesh::{EdgeTable, TriangleMesh};
-use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashSet};
+use std::collections::HashSet;
 
 /// Replaces chart borders by shortest edge paths (see the module documentation); returns
 /// how many borders moved. `fixed[e]` marks the edges that must stay borders or stay
@@ -157,16 +156,25 @@ pub(crate) fn straighten_chart_borders(
         }
         budget -= region_size;
         let (source, target) = (chain[0] as usize, *chain.last().expect("ends") as usize);
-        let Some(path) = shortest_path(
-            source,
-            target,
-            &vertex_edges,
-            table,
-            &inside,
-            &on_region_boundary,
-            &length,
-            old_length,
-        ) else {
+        // The shortest path through the two charts, off their outer boundary (the ends
+        // excepted), shorter than the border it replaces; as edges.
+        let steps = |v: u32| {
+            let open = v as usize == source || !on_region_boundary(v as usize);
+            vertex_edges[v as usize]
+                .iter()
+                .map(|&e| e as usize)
+                .filter(move |&e| open && inside(e))
+                .map(|e| {
+                    let [x, y] = table.edges[e];
+                    (if x == v { y } else { x }, length(e))
+                })
+                .collect::<Vec<_>>()
+        };
+        let vertices =
+            crate::shortest_edge_path::shortest_edge_path([source as u32], |v| v as usize == target, steps, old_length);
+        let Some(path) =
+            vertices.and_then(|p| p.windows(2).map(|w| table.find(w[0], w[1])).collect::<Option<Vec<_>>>())
+        else {
             continue;
         };
         let new_length: f64 = path.iter().map(|&e| length(e)).sum();
@@ -205,62 +213,6 @@ pub(crate) fn straighten_chart_borders(
         moved += 1;
     }
     moved
-}
-
-/// The shortest path from `source` to `target` over the edges where `usable` holds,
-/// through no vertex where `blocked` holds (the two ends excepted), shorter than `limit`;
-/// its edges.
-#[allow(clippy::too_many_arguments)]
-fn shortest_path(
-    source: usize,
-    target: usize,
-    vertex_edges: &[Vec<u32>],
-    table: &EdgeTable,
-    usable: &impl Fn(usize) -> bool,
-    blocked: &impl Fn(usize) -> bool,
-    length: &impl Fn(usize) -> f64,
-    limit: f64,
-) -> Option<Vec<usize>> {
-    let mut distance: std::collections::HashMap<usize, (f64, usize)> = std::collections::HashMap::new();
-    let mut heap = BinaryHeap::new();
-    distance.insert(source, (0.0, usize::MAX));
-    // Non-negative distances order as their bit patterns do.
-    heap.push((Reverse(0f64.to_bits()), source));
-    while let Some((Reverse(d), v)) = heap.pop() {
-        let d = f64::from_bits(d);
-        if v == target {
-            break;
-        }
-        if d > distance[&v].0 {
-            continue;
-        }
-        if v != source && blocked(v) {
-            continue;
-        }
-        for &e in &vertex_edges[v] {
-            let e = e as usize;
-            if !usable(e) {
-                continue;
-            }
-            let [a, b] = table.edges[e];
-            let w = if a as usize == v { b as usize } else { a as usize };
-            let next = d + length(e);
-            if next < limit && distance.get(&w).is_none_or(|x| next < x.0) {
-                distance.insert(w, (next, e));
-                heap.push((Reverse(next.to_bits()), w));
-            }
-        }
-    }
-    distance.get(&target)?;
-    let mut path = Vec::new();
-    let mut v = target;
-    while v != source {
-        let e = distance[&v].1;
-        path.push(e);
-        let [a, b] = table.edges[e];
-        v = if a as usize == v { b as usize } else { a as usize };
-    }
-    Some(path)
 }
 
 /// The faces of `region` in the two parts the `cut` edges separate them into (the part
@@ -318,16 +270,14 @@ fn accepted_chart(mesh: &TriangleMesh, mut faces: Vec<u32>, options: &ChartOptio
     faces.sort_unstable();
     let (sub, vertices) = submesh(mesh, &faces);
     let (unfolding, distortion) = flatten_chart(&sub)?;
-    (distortion.is_overlap_free() && distortion.edge_length_max_relative <= options.max_edge_distortion).then_some(
-        Chart {
-            faces,
-            vertices,
-            triangles: sub.triangles,
-            flat: unfolding.flat,
-            distortion,
-            solver: unfolding.solver,
-        },
-    )
+    options.accepts(&distortion).then_some(Chart {
+        faces,
+        vertices,
+        triangles: sub.triangles,
+        flat: unfolding.flat,
+        distortion,
+        solver: unfolding.solver,
+    })
 }
 
 #[cfg(test)]

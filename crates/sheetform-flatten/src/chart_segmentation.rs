@@ -20,6 +20,14 @@ pub struct ChartOptions {
     pub max_charts: usize,
 }
 
+impl ChartOptions {
+    /// The acceptance test of a chart's flattening: no overlap, every edge length within
+    /// `max_edge_distortion`.
+    pub fn accepts(&self, distortion: &Distortion) -> bool {
+        distortion.is_overlap_free() && distortion.edge_length_max_relative <= self.max_edge_distortion
+    }
+}
+
 impl Default for ChartOptions {
     fn default() -> Self {
         Self {
@@ -172,12 +180,12 @@ pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<Ch
         let out_of_budget = charts.len() + pending.len() + 1 >= options.max_charts;
         let attempt = flatten_chart(&sub);
         let accept = match &attempt {
-            Some((_, d)) => d.is_overlap_free() && d.edge_length_max_relative <= options.max_edge_distortion,
+            Some((_, d)) => options.accepts(d),
             None => false,
         };
         if !accept && !out_of_budget {
             if let Some((opened, origin, unfolding, d, cut_edges)) = open_to_disk(&sub) {
-                if d.is_overlap_free() && d.edge_length_max_relative <= options.max_edge_distortion {
+                if options.accepts(&d) {
                     opened_count += 1;
                     opened_cut_edges += cut_edges;
                     charts.push(Chart {
@@ -325,7 +333,7 @@ fn merge_small_charts(
                 budget -= faces.len();
                 let (sub, vertices) = submesh(mesh, &faces);
                 if let Some((unfolding, dist)) = flatten_chart(&sub) {
-                    if dist.is_overlap_free() && dist.edge_length_max_relative <= options.max_edge_distortion {
+                    if options.accepts(&dist) {
                         joined = Some((
                             c,
                             d,
@@ -424,42 +432,18 @@ fn open_to_disk(sub: &TriangleMesh) -> Option<(TriangleMesh, Vec<u32>, crate::Un
         if !(0..nv).any(|v| is_target(v, &in_tree)) {
             break;
         }
-        // Dijkstra from the tree to the nearest target.
-        let mut distance = vec![f64::INFINITY; nv];
-        let mut previous = vec![u32::MAX; nv];
-        let mut queue = std::collections::BinaryHeap::new();
-        for v in 0..nv {
-            if in_tree[v] {
-                distance[v] = 0.0;
-                queue.push(std::cmp::Reverse((0u64, v as u32)));
-            }
+        // The shortest edge path from the tree to the nearest target joins the tree.
+        let path = crate::shortest_edge_path::shortest_edge_path(
+            (0..nv as u32).filter(|&v| in_tree[v as usize]),
+            |v| is_target(v as usize, &in_tree),
+            |v| adjacency[v as usize].iter().copied(),
+            f64::INFINITY,
+        )?;
+        for pair in path.windows(2) {
+            cut.push([pair[1], pair[0]]);
         }
-        let mut reached = None;
-        while let Some(std::cmp::Reverse((bits, v))) = queue.pop() {
-            let d = f64::from_bits(bits);
-            if d > distance[v as usize] {
-                continue;
-            }
-            if is_target(v as usize, &in_tree) {
-                reached = Some(v);
-                break;
-            }
-            for &(w, l) in &adjacency[v as usize] {
-                let nd = d + l;
-                if nd < distance[w as usize] {
-                    distance[w as usize] = nd;
-                    previous[w as usize] = v;
-                    queue.push(std::cmp::Reverse((nd.to_bits(), w)));
-                }
-            }
-        }
-        let mut v = reached?;
-        add_to_tree(v, &mut in_tree);
-        while previous[v as usize] != u32::MAX {
-            let p = previous[v as usize];
-            cut.push([p, v]);
-            add_to_tree(p, &mut in_tree);
-            v = p;
+        for &v in &path {
+            add_to_tree(v, &mut in_tree);
         }
     }
     let opened = sheetform_mesh::cut_along_edges(sub, &cut);

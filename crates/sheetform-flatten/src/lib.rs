@@ -14,6 +14,7 @@ mod error;
 mod exact_unfolding;
 mod layout_choice;
 mod lscm;
+mod shortest_edge_path;
 mod user_seams;
 
 pub use alignment::{align_rigid, RigidAlignment};

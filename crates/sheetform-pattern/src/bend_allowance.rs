@@ -291,7 +291,7 @@ pub(crate) fn lay_out_bends(
         let d = at(b) - at(a);
         let left = |face: u32| {
             let r = at(third(face, a, b)) - at(a);
-            d.x * r.y - d.y * r.x > 0.0
+            sheetform_geometry::cross2(d, r) > 0.0
         };
         let (pf, pg) = (panel[f.face as usize], panel[g.face as usize]);
         Some(if left(f.face) { (pf, pg) } else { (pg, pf) })
@@ -552,6 +552,7 @@ fn counter_clockwise(mut polygon: Vec<Vec2>) -> Vec<Vec2> {
 /// The union of counter-clockwise polygons as cut loops: outlines counter-clockwise,
 /// holes clockwise (geo's boolean union), holes under [`MIN_HOLE_MM`] across left out.
 pub(crate) fn union_loops(polygons: &[Vec<Vec2>]) -> Vec<Vec<Vec2>> {
+    use crate::material_allowance::ring_loop;
     use geo::{LineString, Polygon};
     let shapes: Vec<Polygon> = polygons
         .iter()
@@ -564,21 +565,11 @@ pub(crate) fn union_loops(polygons: &[Vec<Vec2>]) -> Vec<Vec<Vec2>> {
         })
         .collect();
     let union = geo::unary_union(&shapes);
-    let ring = |r: &LineString, outer: bool| {
-        let mut points: Vec<Vec2> = r.coords().map(|c| Vec2::new(c.x, c.y)).collect();
-        if points.len() > 1 && points.first() == points.last() {
-            points.pop();
-        }
-        if (sheetform_geometry::signed_area(&points) > 0.0) != outer {
-            points.reverse();
-        }
-        points
-    };
     let mut loops = Vec::new();
     for polygon in &union {
-        loops.push(ring(polygon.exterior(), true));
+        loops.push(ring_loop(polygon.exterior(), true));
         for hole in polygon.interiors() {
-            let hole = ring(hole, false);
+            let hole = ring_loop(hole, false);
             let (lo, hi) = crate::point_bounds(&hole);
             // Specks left where several trimmed corners meet: closed (a slit, however
             // narrow, is long and stays a cut).

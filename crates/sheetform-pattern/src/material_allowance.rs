@@ -88,28 +88,25 @@ fn offset_loops(loops: &[Vec<Vec2>], distance: f64) -> Vec<Vec<Vec2>> {
         let polygon = Polygon::new(ring(outer), inside);
         let style = BufferStyle::new(distance).line_join(LineJoin::Miter(std::f64::consts::FRAC_PI_6));
         for p in polygon.buffer_with_style(style) {
-            let to_points = |r: &LineString| {
-                let mut points: Vec<Vec2> = r.coords().map(|c| Vec2::new(c.x, c.y)).collect();
-                if points.len() > 1 && points.first() == points.last() {
-                    points.pop();
-                }
-                points
-            };
-            let mut exterior = to_points(p.exterior());
-            if sheetform_geometry::signed_area(&exterior) < 0.0 {
-                exterior.reverse();
-            }
-            out.push(exterior);
-            for interior in p.interiors() {
-                let mut hole = to_points(interior);
-                if sheetform_geometry::signed_area(&hole) > 0.0 {
-                    hole.reverse();
-                }
-                out.push(hole);
-            }
+            out.push(ring_loop(p.exterior(), true));
+            out.extend(p.interiors().iter().map(|r| ring_loop(r, false)));
         }
     }
     out
+}
+
+/// A ring of geo's as a cut loop: the closing point dropped, turned counter-clockwise
+/// (an outline) or clockwise (a hole).
+pub(crate) fn ring_loop(ring: &LineString, counter_clockwise: bool) -> Vec<Vec2> {
+    let mut points: Vec<Vec2> = ring.coords().map(|c| Vec2::new(c.x, c.y)).collect();
+    if points.len() > 1 && points.first() == points.last() {
+        points.pop();
+    }
+    let area = sheetform_geometry::signed_area(&points);
+    if (counter_clockwise && area < 0.0) || (!counter_clockwise && area > 0.0) {
+        points.reverse();
+    }
+    points
 }
 
 /// Adds the seam allowance to a piece: its loops become stitch lines, its cut loops the

@@ -690,17 +690,13 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
             pieces[part].cut = loops.clone();
         }
     }
-    let original_bounds: Vec<(Vec2, Vec2)> = (0..pieces.len())
-        .map(|part| {
-            point_bounds(
-                loop_points
-                    .iter()
-                    .zip(&loop_part)
-                    .filter(|x| *x.1 == part)
-                    .flat_map(|x| x.0),
-            )
-        })
-        .collect();
+    // Each part's bounds before any bend moved it (only needed with bends).
+    let mut original_bounds = vec![point_bounds(&[]); if bent.is_some() { pieces.len() } else { 0 }];
+    for (points, &part) in loop_points.iter().zip(&loop_part).filter(|_| bent.is_some()) {
+        let (lo, hi) = point_bounds(points);
+        let bounds = &mut original_bounds[part];
+        *bounds = (bounds.0.inf(&lo), bounds.1.sup(&hi));
+    }
     // Seam IDs first (they belong at their edge), names where room is left.
     requests.sort_by_key(|r| r.kind == LabelKind::Piece);
     let placement = place_labels(&mut pieces, &requests);
@@ -1065,18 +1061,35 @@ mod tests {
         let flat = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0), (0.0, -1.0), (1.0, -1.0)]
             .map(|(x, y)| Vec2::new(x, y))
             .to_vec();
+        one_piece(
+            "roof",
+            positions,
+            flat,
+            vec![[0, 1, 2], [0, 2, 3], [4, 5, 1], [4, 1, 0]],
+            sheetform_mesh::LengthUnit::Cm,
+        )
+    }
+
+    /// A sheet mesh of one chart piece.
+    fn one_piece(
+        name: &str,
+        positions: Vec<Vec3>,
+        flat: Vec<Vec2>,
+        triangles: Vec<[u32; 3]>,
+        unit: sheetform_mesh::LengthUnit,
+    ) -> SheetMesh {
         SheetMesh {
             positions,
             flat,
-            triangles: vec![[0, 1, 2], [0, 2, 3], [4, 5, 1], [4, 1, 0]],
-            face_pieces: vec![0; 4],
+            face_pieces: vec![0; triangles.len()],
+            triangles,
             pieces: vec![sheetform_mesh::Piece {
-                name: "roof".into(),
+                name: name.into(),
                 kind: sheetform_mesh::PieceKind::Chart,
             }],
             rulings: vec![],
             smooth_edges: vec![],
-            unit: sheetform_mesh::LengthUnit::Cm,
+            unit,
         }
     }
 
@@ -1177,19 +1190,13 @@ mod tests {
         positions.extend(rays3.iter().map(|r| r * length));
         let mut flat = vec![Vec2::zeros()];
         flat.extend(angles.iter().map(|t| Vec2::new(t.cos(), t.sin()) * length));
-        SheetMesh {
+        one_piece(
+            "vertex",
             positions,
             flat,
-            triangles: vec![[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1]],
-            face_pieces: vec![0; 4],
-            pieces: vec![sheetform_mesh::Piece {
-                name: "vertex".into(),
-                kind: sheetform_mesh::PieceKind::Chart,
-            }],
-            rulings: vec![],
-            smooth_edges: vec![],
-            unit: sheetform_mesh::LengthUnit::Mm,
-        }
+            vec![[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1]],
+            sheetform_mesh::LengthUnit::Mm,
+        )
     }
 
     #[test]
