@@ -1,5 +1,6 @@
-//! Criterion benchmarks of developability restoration: both solvers on the examples at
-//! the paper's sizes, and a warm-started drag. The 100k-vertex duct
+//! Criterion benchmarks of developability restoration: both solvers (and the constrained
+//! one along the deformation's path) on the examples at the paper's sizes, and a
+//! warm-started drag. The 100k-vertex duct
 //! (`examples/ffd/duct-100k.json`) is not benchmarked here: the constrained solver takes
 //! about a minute a run (docs/benchmarks.md gives its timed runs).
 //!
@@ -32,7 +33,15 @@ fn restoration(c: &mut Criterion) {
         // the bending term was on).
         let mut springs = constrained.clone();
         springs.solver.bending_weight = 0.0;
-        for (label, s) in [("constrained", &constrained), ("paper", &paper), ("springs", &springs)] {
+        // Restored along the deformation's path in adaptive sub-steps.
+        let mut continuation = constrained.clone();
+        continuation.solver.continuation = Some(Default::default());
+        for (label, s) in [
+            ("constrained", &constrained),
+            ("paper", &paper),
+            ("springs", &springs),
+            ("continuation", &continuation),
+        ] {
             group.bench_function(format!("{name}/{label}"), |b| {
                 b.iter(|| black_box(run_design(s, &mesh).expect("design")))
             });

@@ -93,8 +93,6 @@ impl BendingMetric {
     /// The hinges of `problem`'s panels that move at least one variable node.
     pub fn new(problem: &DevelopabilityProblem<'_>) -> Self {
         let assembly = problem.assembly;
-        let triangles = &assembly.mesh.triangles;
-        let node = |v: u32| assembly.vertex_node[v as usize];
         let at = |n: u32| problem.target[n as usize];
         // Hinges over the welded assembly (triangles in node indices): the edges inside a
         // panel and the seams where two panels' linked vertices meet.
@@ -144,14 +142,6 @@ impl BendingMetric {
             .iter()
             .map(|key| blocks.binary_search(key).expect("a listed pair") as u32)
             .collect();
-        let area: f64 = triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|v| at(node(v)));
-                0.5 * (b - a).cross(&(c - a)).norm()
-            })
-            .sum();
-        let l = problem.length_scale;
         Self {
             hinges,
             hinge_variables,
@@ -159,7 +149,7 @@ impl BendingMetric {
             blocks,
             hinge_blocks,
             hinge_block_start,
-            resolution: if l > 0.0 { area / (l * l) } else { 0.0 },
+            resolution: problem.resolution(),
         }
     }
 

@@ -198,6 +198,29 @@ impl<'a> DevelopabilityProblem<'a> {
         }
     }
 
+    /// `A / l̄²`: the panels' area on the plain FFD `M′` over the squared mean edge
+    /// length (about 0.87 × the node count for near-equilateral triangles); the factor
+    /// that makes per-vertex quantities mean the same at every resolution (the bending
+    /// weight, the continuation's sub-step curvature).
+    pub fn resolution(&self) -> f64 {
+        let mesh = &self.assembly.mesh;
+        let at = |v: u32| self.target[self.assembly.vertex_node[v as usize] as usize];
+        let area: f64 = mesh
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(at);
+                0.5 * (b - a).cross(&(c - a)).norm()
+            })
+            .sum();
+        let l = self.length_scale;
+        if l > 0.0 {
+            area / (l * l)
+        } else {
+            0.0
+        }
+    }
+
     /// Number of scalar unknowns (three per variable node).
     pub fn unknown_count(&self) -> usize {
         3 * self.variables.len()

@@ -1,9 +1,9 @@
 //! A whole FFD run: embed, deform step by step, restore developability.
 
 use crate::{
-    apply_edits, embed_points, fold_angle_max, restore_constrained_with_progress, restore_paper_with_progress,
-    DevelopabilityProblem, FfdError, FfdScene, NurbsVolume, PanelAssembly, PaperOptions, RestorationInfo,
-    RestorationProgress, SolverMethod,
+    apply_edits, embed_points, fold_angle_max, restore_along_path, restore_constrained_with_progress,
+    restore_paper_with_progress, DevelopabilityProblem, FfdError, FfdScene, NurbsVolume, PanelAssembly, PaperOptions,
+    RestorationInfo, RestorationProgress, SolverMethod,
 };
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -125,7 +125,12 @@ pub fn run_design_with_progress(
         |nodes: &[Vec3]| fold_angle_max(&assembly.node_triangles, &assembly.node_edges, |n| nodes[n as usize]);
     let problem_options = scene.solver.problem_options();
     for (k, deformation) in scene.deformations.iter().enumerate() {
-        volume = apply_edits(&volume, &deformation.edits, &format!("deformations[{k}].edits"))?;
+        let previous_volume = volume;
+        volume = apply_edits(
+            &previous_volume,
+            &deformation.edits,
+            &format!("deformations[{k}].edits"),
+        )?;
         let problem = DevelopabilityProblem::new(&volume, &assembly, parameters.clone(), &problem_options);
         let deformation_count = scene.deformations.len();
         // The solvers report iteration 0 (the start) first.
@@ -150,7 +155,17 @@ pub fn run_design_with_progress(
         let (new_parameters, info) = match scene.solver.method {
             SolverMethod::Constrained => {
                 let options = scene.solver.constrained_options();
-                restore_constrained_with_progress(&problem, &options, &mut report)?
+                match &scene.solver.continuation {
+                    Some(continuation) => restore_along_path(
+                        &previous_volume,
+                        &problem,
+                        &problem_options,
+                        &options,
+                        &continuation.options(),
+                        &mut report,
+                    )?,
+                    None => restore_constrained_with_progress(&problem, &options, &mut report)?,
+                }
             }
             SolverMethod::Paper => {
                 let mut options = PaperOptions::default();
@@ -167,6 +182,7 @@ pub fn run_design_with_progress(
                 );
                 info.developability_g_after = info.developability_g_before;
                 info.angle_defect_max_after_rad = info.angle_defect_max_before_rad;
+                info.sub_steps = 0;
                 (parameters.clone(), info)
             }
         };

@@ -14,6 +14,8 @@
 //!   and second derivatives;
 //! - [`DevelopabilityProblem`]: `min E(X)` subject to `g(q_i(X)) = 0` (Eq. 2-2 to 2-6);
 //! - [`restore_constrained`] (default) and [`restore_paper`] (§3): the solvers;
+//! - [`restore_along_path`]: the constrained solver along a deformation's path, in
+//!   adaptive sub-steps (continuation);
 //! - [`procedural_panels`]: the examples' developable panel assemblies;
 //! - [`fold_angle_max`]: the fairness of a result (crinkles show as large fold angles);
 //! - [`scene`], [`ffd_design`]: the scene file and the whole run.
@@ -31,6 +33,7 @@ mod kkt_system;
 mod nested_dissection;
 mod nurbs_volume;
 mod panel_assembly;
+mod path_continuation;
 mod penalty_conjugate_gradient;
 mod restoration_info;
 
@@ -49,6 +52,7 @@ pub use fold_angle::fold_angle_max;
 pub use lattice_edit::{apply_edits, ControlPointSelection, LatticeEdit};
 pub use nurbs_volume::{NurbsVolume, DIRECTION_NAMES};
 pub use panel_assembly::{Panel, PanelAssembly, LINK_TOLERANCE};
+pub use path_continuation::{restore_along_path, ContinuationOptions};
 pub use penalty_conjugate_gradient::{restore_paper, restore_paper_with_progress, PaperOptions};
 pub use restoration_info::{RestorationInfo, RestorationProgress};
 pub use scene::*;

@@ -200,6 +200,25 @@ impl NurbsVolume {
         )
     }
 
+    /// The volume a fraction `t` of the way from `self` to `other` (same degrees, knots
+    /// and counts): control points and weights interpolated linearly, `(1 − t)·a + t·b`.
+    /// The path of a deformation for [`crate::restore_along_path`]; `t = 0` is `self`,
+    /// `t = 1` is `other`.
+    ///
+    /// # Panics
+    /// If the two lattices differ in size (an edit never changes it).
+    pub fn interpolated(&self, other: &Self, t: f64) -> Self {
+        assert_eq!(self.control_points.len(), other.control_points.len(), "same lattice");
+        let mut volume = self.clone();
+        for (p, q) in volume.control_points.iter_mut().zip(&other.control_points) {
+            *p += t * (q - *p);
+        }
+        for (w, v) in volume.weights.iter_mut().zip(&other.weights) {
+            *w += t * (v - *w);
+        }
+        volume
+    }
+
     /// `Q(u, v, w)`.
     pub fn point(&self, uvw: Vec3) -> Vec3 {
         self.evaluate(uvw, 0).0
@@ -390,6 +409,33 @@ mod tests {
             assert!((m * x + o - expected).norm() < 1e-12);
         }
         assert!(bent_volume().affine_map().is_none());
+    }
+
+    #[test]
+    fn interpolation_runs_from_one_lattice_to_the_other() {
+        let bent = bent_volume();
+        let straight = NurbsVolume::parallelepiped(
+            Vec3::new(-1.0, -2.0, 0.5),
+            [
+                Vec3::new(3.0, 0.0, 0.0),
+                Vec3::new(0.5, 2.0, 0.0),
+                Vec3::new(0.0, 0.3, 4.0),
+            ],
+            [3, 2, 3],
+            [5, 4, 6],
+            None,
+        )
+        .unwrap();
+        let x = Vec3::new(0.3, 0.6, 0.45);
+        assert_eq!(straight.interpolated(&bent, 0.0).point(x), straight.point(x));
+        assert!((straight.interpolated(&bent, 1.0).point(x) - bent.point(x)).norm() < 1e-14);
+        // Halfway: control points and weights are the means.
+        let half = straight.interpolated(&bent, 0.5);
+        for n in 0..bent.control_points().len() {
+            let mean = 0.5 * (straight.control_points()[n] + bent.control_points()[n]);
+            assert!((half.control_points()[n] - mean).norm() < 1e-14);
+            assert!((half.weights()[n] - 0.5 * (1.0 + bent.weights()[n])).abs() < 1e-14);
+        }
     }
 
     #[test]

@@ -38,6 +38,9 @@ pub struct RestorationInfo {
     /// because the restoration stalled (`ConstrainedOptions::stall_bending_weight`), if
     /// it did.
     pub bending_fallback_iteration: Option<usize>,
+    /// Restorations run along the deformation's path (1: the whole deformation at once;
+    /// more with `solver.continuation`, see [`crate::restore_along_path`]; 0: none).
+    pub sub_steps: usize,
 }
 
 /// Where a restoration is, reported after each iteration (constrained: each Gauss–Newton
@@ -95,6 +98,7 @@ impl RestorationInfo {
             time_ms: 0.0,
             bending_weight: 0.0,
             bending_fallback_iteration: None,
+            sub_steps: 1,
         }
     }
 

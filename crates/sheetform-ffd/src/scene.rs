@@ -185,6 +185,58 @@ pub struct SolverSpec {
     /// left to switch on ends the restoration, not converged.
     #[serde(default = "default_stall_bending_weight")]
     pub stall_bending_weight: f64,
+    /// Restore along the deformation's path in adaptive sub-steps (continuation, the
+    /// constrained solver only; absent: the whole deformation at once). For large
+    /// deformations, whose one-shot restoration cuts its steps and crumples the panels.
+    #[serde(default)]
+    pub continuation: Option<ContinuationSpec>,
+}
+
+/// Continuation along the deformation (`solver.continuation`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ContinuationSpec {
+    /// Largest curvature a sub-step may create before it is restored: the largest angle
+    /// defect of the sub-step's plain FFD times the panels' area over their squared mean
+    /// edge length (about the largest Gaussian curvature times the panels' area, the same
+    /// at every mesh resolution; default 0.5). Smaller: more, shorter sub-steps.
+    #[serde(default = "default_sub_step_curvature")]
+    pub sub_step_curvature: f64,
+    /// Most sub-steps per deformation (1 to 1024, default 64); the shortest sub-step is
+    /// this fraction of the deformation.
+    #[serde(default = "default_max_sub_steps")]
+    #[schemars(range(min = 1, max = 1024))]
+    pub max_sub_steps: usize,
+}
+
+impl Default for ContinuationSpec {
+    fn default() -> Self {
+        let o = crate::ContinuationOptions::default();
+        Self {
+            sub_step_curvature: o.sub_step_curvature,
+            max_sub_steps: o.max_sub_steps,
+        }
+    }
+}
+
+impl ContinuationSpec {
+    /// The options of [`crate::restore_along_path`].
+    pub fn options(&self) -> crate::ContinuationOptions {
+        crate::ContinuationOptions {
+            sub_step_curvature: self.sub_step_curvature,
+            max_sub_steps: self.max_sub_steps,
+        }
+    }
+}
+
+/// Most sub-steps `solver.continuation.max_sub_steps` may ask for (each a restoration).
+pub const MAX_SUB_STEPS: usize = 1024;
+
+fn default_sub_step_curvature() -> f64 {
+    crate::ContinuationOptions::default().sub_step_curvature
+}
+fn default_max_sub_steps() -> usize {
+    crate::ContinuationOptions::default().max_sub_steps
 }
 
 /// The restoration method.
@@ -244,6 +296,7 @@ impl Default for SolverSpec {
             bending_weight: default_bending_weight(),
             stall_bending_weight: default_stall_bending_weight(),
             line_search_memory: default_line_search_memory(),
+            continuation: None,
         }
     }
 }
@@ -326,6 +379,26 @@ impl FfdScene {
                 "solver.line_search_memory",
                 "must be at least 1 (1: monotone)",
             ));
+        }
+        if let Some(c) = &s.continuation {
+            if s.method != SolverMethod::Constrained {
+                return Err(FfdError::field(
+                    "solver.continuation",
+                    format!("needs the constrained solver (method is `{}`)", s.method),
+                ));
+            }
+            if !(c.sub_step_curvature.is_finite() && c.sub_step_curvature > 0.0) {
+                return Err(FfdError::field(
+                    "solver.continuation.sub_step_curvature",
+                    format!("{} must be positive", c.sub_step_curvature),
+                ));
+            }
+            if !(1..=MAX_SUB_STEPS).contains(&c.max_sub_steps) {
+                return Err(FfdError::field(
+                    "solver.continuation.max_sub_steps",
+                    format!("must be between 1 and {MAX_SUB_STEPS}, got {}", c.max_sub_steps),
+                ));
+            }
         }
         let automatic_box = self.lattice.box_min.is_none() && self.lattice.control_points.is_none();
         if automatic_box

@@ -56,15 +56,7 @@ fn every_example_is_restored_to_1e8_without_cracks() {
                 step.fold_angle_max_after
             );
         }
-        // Linked vertices are evaluated from one parameter triple: bitwise equal.
-        let mesh = design.assembly.mesh_at(design.final_positions());
-        let mut first = vec![None; design.assembly.node_count];
-        for (v, &n) in design.assembly.vertex_node.iter().enumerate() {
-            match first[n as usize] {
-                None => first[n as usize] = Some(mesh.positions[v]),
-                Some(p) => assert_eq!(p, mesh.positions[v], "{name}: linked copies of node {n} differ"),
-            }
-        }
+        assert_linked_vertices_coincide(name, &design);
         if name != "duct" {
             assert!(design.assembly.linked_node_count() > 0, "{name}: panels share seams");
         }
@@ -83,6 +75,131 @@ fn successive_deformations_start_from_the_restored_parameters() {
     }
     // Only the part the second edit touched is optimised again.
     assert!(second.info.variable_node_count < first.info.variable_node_count);
+}
+
+/// Linked vertices are evaluated from one parameter triple: bitwise equal.
+fn assert_linked_vertices_coincide(name: &str, design: &sheetform_ffd::FfdDesign) {
+    let mesh = design.assembly.mesh_at(design.final_positions());
+    let mut first = vec![None; design.assembly.node_count];
+    for (v, &n) in design.assembly.vertex_node.iter().enumerate() {
+        match first[n as usize] {
+            None => first[n as usize] = Some(mesh.positions[v]),
+            Some(p) => assert_eq!(p, mesh.positions[v], "{name}: linked copies of node {n} differ"),
+        }
+    }
+}
+
+fn with_continuation(mut scene: FfdScene, spec: &str) -> FfdScene {
+    scene.solver.continuation = Some(serde_json::from_str(spec).unwrap());
+    scene
+}
+
+/// Restoring along the deformation's path reaches the direct solve's bound on every
+/// example, with the panels as fair, and splits the larger deformations into sub-steps.
+#[test]
+fn continuation_reaches_the_direct_defect_bound_on_every_example() {
+    for name in ["two-panels", "duct", "skirt", "trousers", "skirt-drag"] {
+        let direct = example(name);
+        let scene = with_continuation(direct.clone(), "{}");
+        let design = run_design(&scene, &mesh_of(&scene)).unwrap();
+        let plain = run_design(&direct, &mesh_of(&direct)).unwrap();
+        for (step, plain_step) in design.steps.iter().zip(&plain.steps) {
+            let label = format!("{name} / {}", step.name);
+            assert!(step.info.converged, "{label}");
+            assert!(max_defect(&design, &step.restored) <= 1e-8, "{label}");
+            // The first deformation starts from the same plain FFD (later ones from
+            // results that differ by the path taken).
+            if step.name == plain.steps[0].name {
+                assert_eq!(
+                    step.info.angle_defect_max_before_rad, plain_step.info.angle_defect_max_before_rad,
+                    "{label}"
+                );
+            }
+            assert!(step.fold_angle_max_after < 1.1 * step.fold_angle_max_before, "{label}");
+            // Edge lengths change as much as with the direct solve (within 10 %).
+            assert!(
+                step.edge_length_change_max_relative < 1.1 * plain_step.edge_length_change_max_relative,
+                "{label}: {} against {}",
+                step.edge_length_change_max_relative,
+                plain_step.edge_length_change_max_relative
+            );
+            assert!(step.info.sub_steps >= 1 && step.info.iterations >= step.info.sub_steps);
+        }
+        assert_linked_vertices_coincide(name, &design);
+        // The duct's deformation (curvature figure 3.3) is cut into sub-steps, the
+        // editor's small drag (0.07) is not.
+        match name {
+            "duct" => assert!(design.steps[0].info.sub_steps >= 4, "{:?}", design.steps[0].info),
+            "skirt-drag" => assert_eq!(design.steps[1].info.sub_steps, 1),
+            _ => {}
+        }
+    }
+}
+
+/// The duct's deformation five times over: restored in one go, the steps are cut and
+/// the panels fold over (fold angle 0.44 -> 2.97 rad, an edge length doubled); along
+/// the path each sub-step starts near the developable set and the duct stays fair.
+#[test]
+fn continuation_restores_a_large_deformation_without_folding_it() {
+    let mut scene = example("duct");
+    let edits = &mut scene.deformations[0].edits;
+    let five_times: Vec<sheetform_ffd::LatticeEdit> = serde_json::from_str(
+        r#"[
+        {"move": {"points": {"k": [3, 3]}, "by": [300, 0, 0]}},
+        {"move": {"points": {"k": [2, 2]}, "by": [125, 0, 0]}},
+        {"transform": {"points": {"k": [1, 2]}, "scale": [0.5, 1.25, 1.0]}}
+    ]"#,
+    )
+    .unwrap();
+    *edits = five_times;
+    let path = with_continuation(scene.clone(), "{}");
+    let design = run_design(&path, &mesh_of(&path)).unwrap();
+    let step = &design.steps[0];
+    assert!(step.info.converged, "{:?}", step.info);
+    assert!(max_defect(&design, &step.restored) <= 1e-8);
+    assert!(step.info.sub_steps >= 8, "{}", step.info.sub_steps);
+    assert!(step.fold_angle_max_after < step.fold_angle_max_before, "{step:?}");
+    assert!(
+        step.edge_length_change_max_relative < 0.5,
+        "{}",
+        step.edge_length_change_max_relative
+    );
+    assert_linked_vertices_coincide("duct x5", &design);
+    // The sub-steps are bounded: one sub-step only is the direct solve.
+    let one = with_continuation(scene, r#"{"max_sub_steps": 1}"#);
+    let direct = run_design(&one, &mesh_of(&one)).unwrap();
+    assert_eq!(direct.steps[0].info.sub_steps, 1);
+    assert!(direct.steps[0].fold_angle_max_after > 2.0 * step.fold_angle_max_after);
+}
+
+#[test]
+fn continuation_options_are_checked() {
+    for (spec, method, field) in [
+        ("{}", SolverMethod::Paper, "solver.continuation"),
+        (
+            r#"{"max_sub_steps": 0}"#,
+            SolverMethod::Constrained,
+            "solver.continuation.max_sub_steps",
+        ),
+        (
+            r#"{"max_sub_steps": 5000}"#,
+            SolverMethod::Constrained,
+            "solver.continuation.max_sub_steps",
+        ),
+        (
+            r#"{"sub_step_curvature": -1}"#,
+            SolverMethod::Constrained,
+            "solver.continuation.sub_step_curvature",
+        ),
+    ] {
+        let mut scene = with_continuation(example("duct"), spec);
+        scene.solver.method = method;
+        let error = run_design(&scene, &mesh_of(&scene)).unwrap_err().to_string();
+        assert!(error.contains(&format!("`{field}`")), "{error}");
+    }
+    let unknown = r#"{"name": "x", "model": {"procedural": {"kind": "duct"}}, "deformations": [],
+        "solver": {"continuation": {"steps": 3}}}"#;
+    assert!(FfdScene::from_json(unknown).unwrap_err().to_string().contains("steps"));
 }
 
 /// The editor's case: a small drag after a restored deformation starts from the restored

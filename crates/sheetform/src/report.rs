@@ -242,6 +242,9 @@ pub struct FfdStepReport {
     /// The iteration after which the bending term was switched on because the
     /// restoration stalled (`null`: it did not).
     pub bending_fallback_iteration: Option<usize>,
+    /// Restorations along the deformation's path (1: the whole deformation at once;
+    /// more with `solver.continuation`; 0: method `none`).
+    pub sub_steps: usize,
     /// Nodes optimised (the selective set).
     pub variable_node_count: usize,
     /// Constrained interior vertices.

@@ -255,6 +255,7 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
                 converged: s.info.converged,
                 bending_weight: s.info.bending_weight,
                 bending_fallback_iteration: s.info.bending_fallback_iteration,
+                sub_steps: s.info.sub_steps,
                 variable_node_count: s.info.variable_node_count,
                 constraint_count: s.info.constraint_count,
                 developability_g_before_rad2: s.info.developability_g_before,
