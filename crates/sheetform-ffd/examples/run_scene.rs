@@ -38,7 +38,7 @@ fn main() {
     for step in &design.steps {
         let i = &step.info;
         println!(
-            "  {} [{}]: G {:.4e} -> {:.4e}, max defect {:.3e} -> {:.3e} rad, {} iterations, converged {}, {:.1} ms, {} variables, {} constraints, deviation {:.3e}, edge change max {:.3e} mean {:.3e}, fold angle {:.3} -> {:.3} rad",
+            "  {} [{}]: G {:.4e} -> {:.4e}, max defect {:.3e} -> {:.3e} rad, {} iterations ({} sub-steps), converged {}, {:.1} ms, {} variables, {} constraints, deviation {:.3e}, edge change max {:.3e} mean {:.3e}, fold angle {:.3} -> {:.3} rad",
             step.name,
             i.solver,
             i.developability_g_before,
@@ -46,6 +46,7 @@ fn main() {
             i.angle_defect_max_before_rad,
             i.angle_defect_max_after_rad,
             i.iterations,
+            i.sub_steps,
             i.converged,
             i.time_ms,
             i.variable_node_count,

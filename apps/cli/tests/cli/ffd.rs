@@ -24,7 +24,11 @@ fn ffd_examples_restore_developability_and_write_every_output() {
             // deformation five times the duct's is cut into sub-steps.
             let sub_steps = step["sub_steps"].as_u64().unwrap();
             assert!(
-                if name == "duct-large-bend" { sub_steps >= 8 } else { sub_steps == 1 },
+                if name == "duct-large-bend" {
+                    sub_steps >= 8
+                } else {
+                    sub_steps == 1
+                },
                 "{name}: {sub_steps}"
             );
             assert_eq!(step["bending_weight"].as_f64().unwrap(), bending, "{name}");
