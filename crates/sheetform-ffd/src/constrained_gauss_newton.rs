@@ -1,9 +1,10 @@
 //! The default solver: constrained Gauss–Newton (SQP) on the embedded parameters.
 
 use crate::bending_metric::BendingMetric;
-use crate::kkt_system::KktSystem;
+use crate::kkt_system::{FactorisationFailure, KktSystem};
 use crate::{DevelopabilityProblem, Evaluation, FfdError, RestorationInfo};
 use faer::sparse::Pair;
+use sheetform_geometry::short_number;
 use std::time::Instant;
 
 /// Knobs of [`restore_constrained`].
@@ -130,8 +131,66 @@ fn factorise(
     let clock = Instant::now();
     let (delta, gradient) = assemble(problem, e, metric, None, &mut kkt.values);
     let assembled = clock.elapsed();
-    kkt.factorise(delta)?;
+    if kkt.values.iter().any(|v| !v.is_finite()) {
+        return Err(degenerate(problem, e));
+    }
+    kkt.factorise(delta)
+        .map_err(|FactorisationFailure::Singular| degenerate(problem, e))?;
     Ok((gradient, assembled))
+}
+
+/// The error for a restoration whose linear system is singular or not finite, naming
+/// the first place found: a node the lattice maps to a non-finite point or with a
+/// singular Jacobian, or a triangle collapsed to a zero-length edge.
+pub(crate) fn degenerate(problem: &DevelopabilityProblem<'_>, e: &Evaluation) -> FfdError {
+    let vertex_of = |node: u32| {
+        problem
+            .assembly
+            .vertex_node
+            .iter()
+            .position(|&m| m == node)
+            .unwrap_or(node as usize)
+    };
+    let at = |node: u32| {
+        let p = problem.target[node as usize];
+        format!(
+            "vertex {} ({}, {}, {})",
+            vertex_of(node),
+            short_number(p.x),
+            short_number(p.y),
+            short_number(p.z)
+        )
+    };
+    for (v, &node) in problem.variables.iter().enumerate() {
+        let (p, jacobian) = (e.positions[node as usize], e.jacobians[v]);
+        if !(p.iter().all(|x| x.is_finite()) && jacobian.iter().all(|x| x.is_finite())) {
+            return FfdError::Solver(format!(
+                "the restoration cannot continue at {}: the lattice maps it to a non-finite point",
+                at(node)
+            ));
+        }
+        if jacobian.determinant().abs() <= 1e-12 * jacobian.norm().powi(3) {
+            return FfdError::Solver(format!(
+                "the restoration cannot move {}: the deformed lattice is flat or folded there (its Jacobian is singular); undo the edit that squashes it",
+                at(node)
+            ));
+        }
+    }
+    let shortest = 1e-9 * problem.length_scale;
+    for t in &problem.assembly.node_triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            if (e.positions[a as usize] - e.positions[b as usize]).norm() <= shortest {
+                return FfdError::Solver(format!(
+                    "the restoration collapsed an edge at {}; try a smaller deformation or solver.continuation",
+                    at(a)
+                ));
+            }
+        }
+    }
+    FfdError::Solver(
+        "the restoration's linear system is singular: no motion the lattice allows changes some angle defect (the lattice may be flat or folded where the panels are, or vertices sit on its boundary: a larger lattice.margin helps)".to_string(),
+    )
 }
 
 /// Restores developability in two phases, both with the step metric `H + B`: `H = JᵀJ + μI`
@@ -510,4 +569,40 @@ fn assemble(
         push_entry(n + c, n + c, -delta, values);
     }
     (delta.max(1e-300), gradient)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::procedural_panels::ProceduralModel;
+    use crate::{apply_edits, embed_points, FfdScene, PanelAssembly, ProblemOptions};
+
+    /// A singular restoration names the vertex and the cause in words: a lattice squashed
+    /// flat where the panels are, a node mapped to NaN, a collapsed edge.
+    #[test]
+    fn a_degenerate_restoration_names_the_vertex_and_the_cause() {
+        let mesh = ProceduralModel::TwoPanels { columns: 5, rows: 4 }.build();
+        let assembly = PanelAssembly::from_mesh(&mesh).unwrap();
+        let scene = FfdScene::from_json(
+            r#"{"model": {"procedural": {"kind": "two_panels"}}, "lattice": {"counts": [4, 4, 4]},
+                "deformations": [{"edits": [
+                   {"move": {"points": [[1, 2, 1], [2, 1, 2]], "by": [30, -20, 15]}},
+                   {"transform": {"points": {}, "scale": [1e-20, 1, 1]}}]}]}"#,
+        )
+        .unwrap();
+        let nodes = assembly.node_positions();
+        let lattice = scene.lattice(&nodes).unwrap();
+        let x = embed_points(&lattice, &nodes).unwrap();
+        let volume = apply_edits(&lattice, &scene.deformations[0].edits, "edits").unwrap();
+        let problem = DevelopabilityProblem::new(&volume, &assembly, x, &ProblemOptions::default());
+        let mut e = problem.evaluate(&problem.gather(&problem.start));
+        let message = degenerate(&problem, &e).to_string();
+        assert!(
+            message.contains("flat or folded") && message.contains("vertex "),
+            "{message}"
+        );
+        assert!(!message.contains("{") && !message.contains("Pivot"), "{message}");
+        e.jacobians[0][(0, 0)] = f64::NAN;
+        assert!(degenerate(&problem, &e).to_string().contains("non-finite"));
+    }
 }

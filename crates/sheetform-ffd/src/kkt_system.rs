@@ -18,6 +18,22 @@ const MAX_REFINEMENT_STEPS: usize = 10;
 /// `max_i |r_i| / (|K| |x| + |b|)_i` is at most this.
 const REFINED_BACKWARD_ERROR: f64 = 1e-13;
 
+/// The error when faer cannot index or allocate the system's pattern, its ordering or
+/// its factor (its only failures there: an index overflow or out of memory).
+fn too_large(size: usize) -> FfdError {
+    FfdError::Solver(format!(
+        "the restoration's linear system ({size} rows) is too large to factorise on this machine; use fewer vertices"
+    ))
+}
+
+/// Why a numeric factorisation failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum FactorisationFailure {
+    /// A zero pivot (with the dynamic regularisation on, a pivot that is NaN: a
+    /// non-finite value in the matrix, or exactly 0 with `δ = 0`).
+    Singular,
+}
+
 /// A KKT matrix of `n` unknowns and `nc` constraints, stored as its upper triangle: a fixed
 /// sequence of `(row, column)` pairs (duplicates are summed) whose values are refilled
 /// before each factorisation.
@@ -159,11 +175,11 @@ impl KktSystem {
         choice: OrderingChoice,
     ) -> Result<Self, FfdError> {
         let size = n + nc;
-        let (symbolic, argsort) = SymbolicSparseColMat::try_new_from_indices(size, size, &pairs)
-            .map_err(|e| FfdError::Solver(format!("KKT pattern: {e:?}")))?;
+        let (symbolic, argsort) =
+            SymbolicSparseColMat::try_new_from_indices(size, size, &pairs).map_err(|_| too_large(size))?;
         let analyse = |ordering: SymmetricOrdering<'_, usize>| {
             factorize_symbolic_cholesky(symbolic.as_ref(), Side::Upper, ordering, Default::default())
-                .map_err(|e| FfdError::Solver(format!("symbolic factorisation: {e:?}")))
+                .map_err(|_| too_large(size))
         };
         // Each block's unknowns, `members[start[b]..start[b + 1]]`, in increasing index.
         let block_count = block_coordinates.len();
@@ -215,7 +231,7 @@ impl KktSystem {
                 Default::default(),
                 MemStack::new(&mut memory),
             )
-            .map_err(|e| FfdError::Solver(format!("AMD ordering: {e:?}")))?;
+            .map_err(|_| too_large(size))?;
             expand_and_analyse(&forward)
         };
         let (cholesky, ordering, compared_factor_sizes) = match choice {
@@ -255,9 +271,12 @@ impl KktSystem {
     /// Factorises the matrix with the current [`KktSystem::values`]. The matrix is used as
     /// quasi-definite (`H` positive definite): pivots of the wrong sign or smaller than
     /// `δ·1e-3` become `±δ` (faer's dynamic regularisation).
-    pub fn factorise(&mut self, delta: f64) -> Result<(), FfdError> {
+    ///
+    /// # Errors
+    /// [`FactorisationFailure::Singular`].
+    pub fn factorise(&mut self, delta: f64) -> Result<(), FactorisationFailure> {
         let matrix = SparseColMat::new_from_argsort(self.symbolic.clone(), &self.argsort, &self.values)
-            .map_err(|e| FfdError::Solver(format!("KKT matrix: {e:?}")))?;
+            .expect("the values match the pattern analysed in KktSystem::new");
         let regularization = LdltRegularization {
             dynamic_regularization_signs: Some(&self.signs),
             dynamic_regularization_delta: delta,
@@ -274,10 +293,13 @@ impl KktSystem {
                 MemStack::new(&mut self.memory),
                 Default::default(),
             )
-            .map_err(|e| FfdError::Solver(format!("KKT factorisation: {e:?}")));
+            .map_err(|e| match e {
+                // faer's index counts in an order of its own (measured: not the one its
+                // `perm()` gives), so the caller diagnoses the place.
+                faer::linalg::cholesky::ldlt::factor::LdltError::ZeroPivot { .. } => FactorisationFailure::Singular,
+            });
         self.matrix = Some(matrix);
-        result?;
-        Ok(())
+        result.map(|_| ())
     }
 
     /// Values in the factor `L`.
@@ -404,6 +426,18 @@ mod tests {
 
     /// A small KKT system `[H Aᵀ; A −δI]` (4 unknowns, one constraint `x0 + x1`), stored
     /// with a duplicate entry, is solved to rounding.
+    #[test]
+    fn a_zero_pivot_is_reported_not_a_panic() {
+        // diag(1, 0, 2) without regularisation: singular.
+        let pairs: Vec<Pair<usize, usize>> = (0..3).map(|i| Pair { row: i, col: i }).collect();
+        let coordinates: Vec<Vector3<f64>> = (0..3).map(|x| Vector3::new(x as f64, 0.0, 0.0)).collect();
+        let mut kkt = KktSystem::new(3, 0, pairs, &[0, 1, 2], &coordinates, true).unwrap();
+        kkt.values = vec![1.0, 0.0, 2.0];
+        assert_eq!(kkt.factorise(0.0), Err(FactorisationFailure::Singular));
+        kkt.values = vec![1.0, 3.0, 2.0];
+        assert_eq!(kkt.factorise(0.0), Ok(()));
+    }
+
     #[test]
     fn solves_a_small_kkt_system() {
         let mut pairs = Vec::new();

@@ -1,6 +1,6 @@
 //! Geometry core of sheetform: Bézier and B-spline curves in 2D and 3D with exact
 //! derivatives, arc length and arc-length reparametrisation, Frenet and Darboux frames,
-//! and 2D polygons with holes.
+//! 2D polygons with holes, and numbers and tokens written short for messages.
 //!
 //! Everything is `f64`. Lengths are in the model's units (the scene file says which;
 //! millimetres by default). Kernels do no I/O.
@@ -13,6 +13,7 @@ mod curve;
 mod error;
 mod frame;
 mod helix;
+mod message_text;
 mod polygon;
 mod rigid;
 
@@ -24,6 +25,7 @@ pub use curve::{Curve3, ParametricCurve};
 pub use error::GeometryError;
 pub use frame::{curve_frame, CurveFrame, CurveFrameDerivatives};
 pub use helix::Helix;
+pub use message_text::{quoted_token, short_number, ShortNumber, QUOTED_TOKEN_CHARS};
 pub use polygon::{
     cross2, rings_contain, segment_intersection, segments_cross, segments_meet, signed_area, triangles_overlap,
     Polygon, PolygonEdge, RayHit,

@@ -20,7 +20,7 @@ pub enum CholeskyError {
     #[error("cannot analyse the matrix: {0}")]
     Symbolic(String),
     /// A pivot was not positive: the matrix is singular or indefinite.
-    #[error("the matrix is not positive definite ({0})")]
+    #[error("the matrix is not positive definite: {0}")]
     NotPositiveDefinite(String),
 }
 
@@ -33,8 +33,23 @@ pub struct SparseCholesky {
 }
 
 fn assemble(n: usize, triplets: &[Triplet<usize, usize, f64>]) -> Result<SparseColMat<usize, f64>, CholeskyError> {
-    SparseColMat::<usize, f64>::try_new_from_triplets(n, n, triplets)
-        .map_err(|e| CholeskyError::Assembly(format!("{e:?}")))
+    SparseColMat::<usize, f64>::try_new_from_triplets(n, n, triplets).map_err(|e| {
+        CholeskyError::Assembly(match e {
+            faer::sparse::CreationError::OutOfBounds { row, col } => {
+                format!("entry ({row}, {col}) is outside the {n} × {n} matrix")
+            }
+            faer::sparse::CreationError::Generic(_) => format!("a {n} × {n} matrix is too large for this machine"),
+        })
+    })
+}
+
+fn not_positive_definite(e: faer::sparse::linalg::LltError) -> CholeskyError {
+    CholeskyError::NotPositiveDefinite(match e {
+        faer::sparse::linalg::LltError::Numeric(faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot {
+            index,
+        }) => format!("pivot {index} is not positive"),
+        faer::sparse::linalg::LltError::Generic(_) => "the factor is too large for this machine".to_string(),
+    })
 }
 
 impl SparseCholesky {
@@ -46,9 +61,9 @@ impl SparseCholesky {
     pub fn new(n: usize, triplets: &[Triplet<usize, usize, f64>]) -> Result<Self, CholeskyError> {
         let matrix = assemble(n, triplets)?;
         let symbolic = SymbolicLlt::try_new(matrix.symbolic(), Side::Lower)
-            .map_err(|e| CholeskyError::Symbolic(format!("{e:?}")))?;
+            .map_err(|_| CholeskyError::Symbolic(format!("a {n} × {n} factor is too large for this machine")))?;
         let llt = Llt::try_new_with_symbolic(symbolic.clone(), matrix.as_ref(), Side::Lower)
-            .map_err(|e| CholeskyError::NotPositiveDefinite(format!("{e:?}")))?;
+            .map_err(not_positive_definite)?;
         Ok(Self { symbolic, llt, n })
     }
 
@@ -60,7 +75,7 @@ impl SparseCholesky {
     pub fn refactor(&mut self, triplets: &[Triplet<usize, usize, f64>]) -> Result<(), CholeskyError> {
         let matrix = assemble(self.n, triplets)?;
         self.llt = Llt::try_new_with_symbolic(self.symbolic.clone(), matrix.as_ref(), Side::Lower)
-            .map_err(|e| CholeskyError::NotPositiveDefinite(format!("{e:?}")))?;
+            .map_err(not_positive_definite)?;
         Ok(())
     }
 

@@ -1,0 +1,105 @@
+//! Numbers and tokens as they appear in messages for people: short, whatever the input.
+
+use std::fmt;
+
+/// A number in at most six significant digits: `12.5`, `0.001`, `3.2e-7`, `1e300`,
+/// `NaN`, `inf` (Rust's `{}` prints `1e300` as 301 digits).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShortNumber(pub f64);
+
+impl fmt::Display for ShortNumber {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let x = self.0;
+        if !x.is_finite() {
+            return write!(f, "{x}");
+        }
+        let magnitude = x.abs();
+        if x == 0.0 {
+            return f.write_str("0");
+        }
+        if (1e-4..1e6).contains(&magnitude) {
+            // Six significant digits, trailing zeros dropped.
+            let decimals = (5 - magnitude.log10().floor() as i32).clamp(0, 9) as usize;
+            let text = format!("{x:.decimals$}");
+            let text = if text.contains('.') {
+                text.trim_end_matches('0').trim_end_matches('.')
+            } else {
+                &text
+            };
+            f.write_str(text)
+        } else {
+            let text = format!("{x:.5e}");
+            let (mantissa, exponent) = text.split_once('e').expect("scientific notation");
+            let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+            write!(f, "{mantissa}e{exponent}")
+        }
+    }
+}
+
+/// `x` in at most six significant digits ([`ShortNumber`]).
+pub fn short_number(x: f64) -> ShortNumber {
+    ShortNumber(x)
+}
+
+/// Most characters of a token quoted in a message.
+pub const QUOTED_TOKEN_CHARS: usize = 40;
+
+/// `token` for a message: at most [`QUOTED_TOKEN_CHARS`] characters (then `…` and how
+/// many more), control characters shown as escapes, so that a 1 MB line or a binary
+/// file never floods the terminal.
+pub fn quoted_token(token: &str) -> String {
+    let count = token.chars().count();
+    let mut text: String = token
+        .chars()
+        .take(QUOTED_TOKEN_CHARS)
+        .flat_map(|c| {
+            if c.is_control() {
+                c.escape_default().collect::<Vec<_>>()
+            } else {
+                vec![c]
+            }
+        })
+        .collect();
+    if count > QUOTED_TOKEN_CHARS {
+        text.push_str(&format!("… ({} more characters)", count - QUOTED_TOKEN_CHARS));
+    }
+    text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_short() {
+        for (x, text) in [
+            (0.0, "0"),
+            (12.5, "12.5"),
+            (-3.0, "-3"),
+            (0.001, "0.001"),
+            (1.0 / 3.0, "0.333333"),
+            (123456.7, "123457"),
+            (1e300, "1e300"),
+            (-2.5e-7, "-2.5e-7"),
+            (f64::MAX, "1.79769e308"),
+            (5e-324, "4.94066e-324"),
+            (f64::NAN, "NaN"),
+            (f64::NEG_INFINITY, "-inf"),
+            (-1e-12, "-1e-12"),
+        ] {
+            assert_eq!(short_number(x).to_string(), text, "{x:e}");
+        }
+    }
+
+    #[test]
+    fn tokens_are_cut_and_escaped() {
+        assert_eq!(quoted_token("abc"), "abc");
+        assert_eq!(quoted_token("a\nb\0"), "a\\nb\\u{0}");
+        let long = "x".repeat(1_000_000);
+        let quoted = quoted_token(&long);
+        assert!(
+            quoted.len() < 100 && quoted.ends_with("(999960 more characters)"),
+            "{quoted}"
+        );
+    }
+}
