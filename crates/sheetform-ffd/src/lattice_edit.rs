@@ -9,23 +9,32 @@ type Vec3 = Vector3<f64>;
 
 /// Which control points an edit applies to.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
-#[serde(untagged)]
+#[serde(
+    untagged,
+    expecting = "a list of [i, j, k] control-point indices, or index ranges {\"i\": [first, last], \"j\": [first, last], \"k\": [first, last]} (no other keys; a missing one means all)"
+)]
 pub enum ControlPointSelection {
     /// Explicit `[i, j, k]` indices.
     List(Vec<[usize; 3]>),
     /// Inclusive index ranges per direction; a missing direction means all of it, so
     /// `{"k": [3, 3]}` is the top layer of a lattice with four layers.
-    Ranges {
-        /// `[first, last]` in u.
-        #[serde(default)]
-        i: Option<[usize; 2]>,
-        /// `[first, last]` in v.
-        #[serde(default)]
-        j: Option<[usize; 2]>,
-        /// `[first, last]` in w.
-        #[serde(default)]
-        k: Option<[usize; 2]>,
-    },
+    Ranges(IndexRanges),
+}
+
+/// Inclusive index ranges per lattice direction (a missing direction means all of it).
+/// Unknown keys are refused: a misspelt `"kk"` must not select the whole lattice.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct IndexRanges {
+    /// `[first, last]` in u.
+    #[serde(default)]
+    pub i: Option<[usize; 2]>,
+    /// `[first, last]` in v.
+    #[serde(default)]
+    pub j: Option<[usize; 2]>,
+    /// `[first, last]` in w.
+    #[serde(default)]
+    pub k: Option<[usize; 2]>,
 }
 
 /// One change to the lattice (JSON: `{"move": {...}}`, `{"weight": {...}}` or
@@ -91,8 +100,8 @@ impl ControlPointSelection {
                             return Err(FfdError::field(
                                 format!("{field}[{n}]"),
                                 format!(
-                                    "control point {ijk:?} does not exist: the lattice has {} × {} × {} points (indices from 0)",
-                                    counts[0], counts[1], counts[2]
+                                    "control point [{}, {}, {}] does not exist: the lattice has {} × {} × {} points (indices from 0)",
+                                    ijk[0], ijk[1], ijk[2], counts[0], counts[1], counts[2]
                                 ),
                             ));
                         }
@@ -100,14 +109,19 @@ impl ControlPointSelection {
                     out.push(volume.index(ijk[0], ijk[1], ijk[2]));
                 }
             }
-            Self::Ranges { i, j, k } => {
+            Self::Ranges(IndexRanges { i, j, k }) => {
                 let mut ranges = [[0usize; 2]; 3];
                 for (d, (name, r)) in [("i", i), ("j", j), ("k", k)].into_iter().enumerate() {
                     ranges[d] = r.unwrap_or([0, counts[d] - 1]);
                     if ranges[d][0] > ranges[d][1] || ranges[d][1] >= counts[d] {
                         return Err(FfdError::field(
                             format!("{field}.{name}"),
-                            format!("range {:?} is not within 0..={}", ranges[d], counts[d] - 1),
+                            format!(
+                                "range [{}, {}] is not within 0..={}",
+                                ranges[d][0],
+                                ranges[d][1],
+                                counts[d] - 1
+                            ),
                         ));
                     }
                 }

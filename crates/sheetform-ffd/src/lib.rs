@@ -49,7 +49,7 @@ pub use embedding::{embed_points, lattice_size, newton_inversion, EMBEDDING_TOLE
 pub use error::FfdError;
 pub use ffd_design::{run_design, run_design_with_progress, DeformationStep, FfdDesign};
 pub use fold_angle::fold_angle_max;
-pub use lattice_edit::{apply_edits, ControlPointSelection, LatticeEdit};
+pub use lattice_edit::{apply_edits, ControlPointSelection, IndexRanges, LatticeEdit};
 pub use nurbs_volume::{NurbsVolume, DIRECTION_NAMES};
 pub use panel_assembly::{Panel, PanelAssembly, LINK_TOLERANCE};
 pub use path_continuation::{restore_along_path, ContinuationOptions};

@@ -489,3 +489,15 @@ fn progress_reports_every_iteration_of_every_deformation() {
         assert!(events.windows(2).all(|w| w[0].deformation <= w[1].deformation));
     }
 }
+
+/// Issue 19: an unknown key in a range selection (`"kk"` for `"k"`) used to deserialise
+/// as "no range given", so the edit silently moved the whole lattice.
+#[test]
+fn a_misspelt_range_key_is_refused_not_made_global() {
+    let scene = r#"{"name": "x", "model": {"procedural": {"kind": "duct"}},
+        "deformations": [{"edits": [{"move": {"points": {"kk": [3, 3]}, "by": [60, 0, 0]}}]}]}"#;
+    let error = FfdScene::from_json(scene).unwrap_err().to_string();
+    assert!(error.contains("no other keys") && error.contains("line 2"), "{error}");
+    let good = scene.replace("\"kk\"", "\"k\"");
+    assert!(FfdScene::from_json(&good).is_ok());
+}

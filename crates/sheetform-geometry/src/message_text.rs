@@ -1,4 +1,5 @@
-//! Numbers and tokens as they appear in messages for people: short, whatever the input.
+//! Numbers and tokens as they appear in messages for people (short, whatever the input),
+//! and user text (names, labels) as it goes into XML files.
 
 use std::fmt;
 
@@ -66,6 +67,25 @@ pub fn quoted_token(token: &str) -> String {
     text
 }
 
+/// `text` as XML character data or attribute text (SVG): markup characters escaped,
+/// every control character as a space (XML 1.0 forbids all but tab, line feed and
+/// carriage return, and those have no place in a one-line name), so that no scene name
+/// or label can make a document invalid.
+pub fn xml_escaped(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            c if c.is_control() => out.push(' '),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -89,6 +109,14 @@ mod tests {
         ] {
             assert_eq!(short_number(x).to_string(), text, "{x:e}");
         }
+    }
+
+    #[test]
+    fn xml_text_is_escaped_and_has_no_control_characters() {
+        assert_eq!(
+            xml_escaped("a<b & \"c\">\0\u{1b}\n"),
+            "a&lt;b &amp; &quot;c&quot;&gt;   "
+        );
     }
 
     #[test]

@@ -69,7 +69,10 @@ fn comment(name: &str) -> String {
 }
 
 fn sanitize(name: &str) -> String {
-    let cleaned: String = name.chars().map(|c| if c.is_whitespace() { '_' } else { c }).collect();
+    let cleaned: String = name
+        .chars()
+        .map(|c| if c.is_whitespace() || c.is_control() { '_' } else { c })
+        .collect();
     if cleaned.is_empty() {
         "sheet".into()
     } else {

@@ -2,12 +2,7 @@ use crate::{FoldStyle, LabelKind, Pattern, PatternTexture, Vec2};
 use base64::Engine as _;
 use std::fmt::Write;
 
-fn escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
+use sheetform_geometry::xml_escaped as escape;
 
 /// The pattern as SVG at true size: the document is `W mm × H mm` and one user unit is
 /// one millimetre, so it prints and laser-cuts at 1:1. Layers (Inkscape layer groups,

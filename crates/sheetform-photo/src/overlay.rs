@@ -148,12 +148,7 @@ pub fn overlay_svg(annotation: &PhotoAnnotation, reconstruction: &PhotoReconstru
     s
 }
 
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
+use sheetform_geometry::xml_escaped as escape;
 
 /// The overlay rendered to a PNG of the photo's size (resvg; the embedded photo must be
 /// a data URI or the SVG renders without it).
