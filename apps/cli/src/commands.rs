@@ -182,9 +182,15 @@ pub(crate) fn scene_dir(scene: &Path) -> PathBuf {
 
 /// The scene file's text, or an error naming it.
 pub(crate) fn read_scene(scene: &Path) -> Result<String, PipelineError> {
-    std::fs::read_to_string(scene).map_err(|source| PipelineError::Read {
+    let bytes = sheetform::io::read_bounded(scene, sheetform::io::MAX_SCENE_FILE_BYTES).map_err(|source| {
+        PipelineError::Read {
+            path: scene.display().to_string(),
+            source,
+        }
+    })?;
+    String::from_utf8(bytes).map_err(|_| PipelineError::Read {
         path: scene.display().to_string(),
-        source,
+        source: std::io::Error::new(std::io::ErrorKind::InvalidData, "not UTF-8 text"),
     })
 }
 

@@ -23,6 +23,11 @@ mod ruling_extent;
 mod scene;
 
 pub use admissibility::{check_region, RegionAdmissibility};
+
+/// Most rulings per curved region (`tessellation.rulings`, `tessellation.max_rulings`):
+/// each costs a few hundred bytes in the mesh and the flat layout, so a million keep a
+/// region within a few hundred megabytes (1e8 asked for 12 GB and aborted).
+pub const MAX_RULINGS: usize = 1_000_000;
 pub use bend::{bend, place, region_geometries, region_geometry, BentSheet, Placement, RegionGeometry, RegionSummary};
 pub use control_curve::{AnalyticCurve, ControlCurve, CurveShape};
 pub use curve_of_regression::regression_distance;

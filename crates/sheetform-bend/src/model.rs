@@ -122,6 +122,12 @@ pub fn curve_shape(spec: &CurveSpec, name: &str) -> Result<CurveShape, BendError
                     format!("B-spline control curves need degree ≥ 2 (degree {degree} has no curvature)"),
                 ));
             }
+            if *degree > sheetform_geometry::MAX_BSPLINE_DEGREE {
+                return Err(field(
+                    format!("{name}.degree"),
+                    format!("at most {}, got {degree}", sheetform_geometry::MAX_BSPLINE_DEGREE),
+                ));
+            }
             if *periodic {
                 if knots.is_some() {
                     return Err(field(
@@ -213,8 +219,25 @@ impl BendModel {
         if t.min_rulings < 2 || t.max_rulings < t.min_rulings {
             return Err(field("tessellation", "need 2 ≤ min_rulings ≤ max_rulings"));
         }
-        if t.rulings.is_some_and(|n| n < 2) {
-            return Err(field("tessellation.rulings", "need at least 2 rulings"));
+        if t.max_rulings > crate::MAX_RULINGS {
+            return Err(field(
+                "tessellation.max_rulings",
+                format!(
+                    "at most {} rulings per region (a few hundred bytes each), got {}",
+                    crate::MAX_RULINGS,
+                    t.max_rulings
+                ),
+            ));
+        }
+        if t.rulings.is_some_and(|n| !(2..=crate::MAX_RULINGS).contains(&n)) {
+            return Err(field(
+                "tessellation.rulings",
+                format!(
+                    "need 2 to {} rulings, got {}",
+                    crate::MAX_RULINGS,
+                    t.rulings.unwrap_or(0)
+                ),
+            ));
         }
         if !(t.length_tolerance.is_finite() && t.length_tolerance > 0.0) {
             return Err(field("tessellation.length_tolerance", "must be a positive number"));

@@ -88,6 +88,16 @@ pub fn run_design_with_progress(
 ) -> Result<FfdDesign, FfdError> {
     scene.validate()?;
     let assembly = PanelAssembly::from_mesh(mesh)?;
+    if assembly.node_count > crate::MAX_PROCEDURAL_VERTICES {
+        return Err(FfdError::field(
+            "model",
+            format!(
+                "{} vertices after linking, more than the {} a restoration can hold in memory (about 28 kB each)",
+                assembly.node_count,
+                crate::MAX_PROCEDURAL_VERTICES
+            ),
+        ));
+    }
     let nodes = assembly.node_positions();
     let lattice = scene.lattice(&nodes)?;
     let start = Instant::now();

@@ -54,5 +54,6 @@ pub use nurbs_volume::{NurbsVolume, DIRECTION_NAMES};
 pub use panel_assembly::{Panel, PanelAssembly, LINK_TOLERANCE};
 pub use path_continuation::{restore_along_path, ContinuationOptions};
 pub use penalty_conjugate_gradient::{restore_paper, restore_paper_with_progress, PaperOptions};
+pub use procedural_panels::MAX_PROCEDURAL_VERTICES;
 pub use restoration_info::{RestorationInfo, RestorationProgress};
 pub use scene::*;

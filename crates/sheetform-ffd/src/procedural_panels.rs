@@ -131,7 +131,69 @@ fn combine(panels: Vec<TriangleMesh>) -> TriangleMesh {
     out
 }
 
+/// Most vertices a procedural model may have: the restoration needs about 28 kB per
+/// vertex (the 100k duct: 2.8 GB), so 250 000 stay within 8 GB.
+pub const MAX_PROCEDURAL_VERTICES: usize = 250_000;
+
 impl ProceduralModel {
+    /// Checks the sizes (each count at least 1, the vertex count at most
+    /// [`MAX_PROCEDURAL_VERTICES`], with checked arithmetic) and the duct's dimensions
+    /// (positive, finite, at most 100 m).
+    ///
+    /// # Errors
+    /// A field error naming `model.procedural.FIELD`.
+    pub fn validate(&self) -> Result<(), crate::FfdError> {
+        let field = |name: &str| format!("model.procedural.{name}");
+        let counts: Vec<(&str, usize)> = match *self {
+            Self::Duct {
+                around,
+                along,
+                bottom_radius,
+                top_radius,
+                height,
+            } => {
+                for (name, value) in [
+                    ("bottom_radius", bottom_radius),
+                    ("top_radius", top_radius),
+                    ("height", height),
+                ] {
+                    if !(value.is_finite() && value > 0.0 && value <= 1e5) {
+                        return Err(crate::FfdError::field(
+                            field(name),
+                            format!(
+                                "must be a positive length up to 100 000 mm, got {}",
+                                sheetform_geometry::short_number(value)
+                            ),
+                        ));
+                    }
+                }
+                vec![("around", around), ("along", along)]
+            }
+            Self::TwoPanels { columns, rows } => vec![("columns", columns), ("rows", rows)],
+            Self::Skirt { gores, across, along } => vec![("gores", gores), ("across", across), ("along", along)],
+            Self::Trousers { across, along } => vec![("across", across), ("along", along)],
+        };
+        let mut vertices: usize = if matches!(self, Self::TwoPanels { .. }) { 2 } else { 1 };
+        for &(name, count) in &counts {
+            if count == 0 {
+                return Err(crate::FfdError::field(field(name), "must be at least 1"));
+            }
+            vertices = vertices.saturating_mul(count.saturating_add(1));
+        }
+        if vertices > MAX_PROCEDURAL_VERTICES {
+            let names: Vec<&str> = counts.iter().map(|(n, _)| *n).collect();
+            return Err(crate::FfdError::field(
+                field(names[0]),
+                format!(
+                    "{} gives about {} vertices, more than the {MAX_PROCEDURAL_VERTICES} a restoration can hold in memory (about 28 kB each)",
+                    names.join(" × "),
+                    sheetform_geometry::short_number(vertices as f64)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// The panels as a triangle mesh, one group per panel (mm).
     pub fn build(&self) -> TriangleMesh {
         match *self {

@@ -105,6 +105,10 @@ fn default_counts() -> [usize; 3] {
 /// Smallest `lattice.margin` accepted.
 pub const MIN_LATTICE_MARGIN: f64 = 0.01;
 
+/// Most control points per lattice direction (`lattice.counts`): the paper's lattices
+/// have 4 to 6; 64³ points is a quarter of a million (1000³ asked for 24 GB and aborted).
+pub const MAX_LATTICE_COUNT: usize = 64;
+
 /// Largest `lattice.margin` accepted (ten times the model's size on every side).
 pub const MAX_LATTICE_MARGIN: f64 = 10.0;
 
@@ -397,6 +401,27 @@ impl FfdScene {
                 return Err(FfdError::field(
                     "solver.continuation.max_sub_steps",
                     format!("must be between 1 and {MAX_SUB_STEPS}, got {}", c.max_sub_steps),
+                ));
+            }
+        }
+        if let ModelSource::Procedural(model) = &self.model {
+            model.validate()?;
+        }
+        for d in 0..3 {
+            let (degree, count) = (self.lattice.degrees[d], self.lattice.counts[d]);
+            if !(1..=sheetform_geometry::MAX_BSPLINE_DEGREE).contains(&degree) {
+                return Err(FfdError::field(
+                    format!("lattice.degrees[{d}]"),
+                    format!("must be 1 to {}, got {degree}", sheetform_geometry::MAX_BSPLINE_DEGREE),
+                ));
+            }
+            if !(degree + 1..=MAX_LATTICE_COUNT).contains(&count) {
+                return Err(FfdError::field(
+                    format!("lattice.counts[{d}]"),
+                    format!(
+                        "must be {} (degree + 1) to {MAX_LATTICE_COUNT}, got {count}",
+                        degree + 1
+                    ),
                 ));
             }
         }

@@ -52,6 +52,10 @@ pub struct ArcLengthOptions {
     /// Intervals the domain is first cut into (per B-spline span when breakpoints are
     /// given).
     pub initial_intervals: usize,
+    /// Most intervals of the whole table (a work and memory budget: 16 bytes each). A
+    /// curve that needs more (coordinates near the floating-point range, a cusp the
+    /// tolerance cannot resolve) is an error, not a table of a billion intervals.
+    pub max_intervals: usize,
 }
 
 impl Default for ArcLengthOptions {
@@ -60,6 +64,7 @@ impl Default for ArcLengthOptions {
             relative_tolerance: 1e-14,
             max_depth: 30,
             initial_intervals: 4,
+            max_intervals: 1 << 20,
         }
     }
 }
@@ -84,7 +89,8 @@ impl ArcLengthTable {
     /// empty) are parameters where the curve is only piecewise smooth (B-spline knots).
     ///
     /// # Errors
-    /// [`GeometryError::DegenerateCurve`] when the length is zero or not finite.
+    /// [`GeometryError::DegenerateCurve`] when the length is zero or not finite, or the
+    /// table would need more than [`ArcLengthOptions::max_intervals`] intervals.
     pub fn new<const D: usize, C: ParametricCurve<D> + ?Sized>(
         curve: &C,
         breakpoints: &[f64],
@@ -102,7 +108,7 @@ impl ArcLengthTable {
                 let a = w[0] + (w[1] - w[0]) * i as f64 / n as f64;
                 let b = w[0] + (w[1] - w[0]) * (i + 1) as f64 / n as f64;
                 let whole = gauss_legendre_length(curve, a, b);
-                Self::refine(curve, a, b, whole, 0, options, &mut params, &mut lengths);
+                Self::refine(curve, a, b, whole, 0, options, &mut params, &mut lengths)?;
             }
         }
         let total = *lengths.last().expect("non-empty");
@@ -124,10 +130,23 @@ impl ArcLengthTable {
         options: ArcLengthOptions,
         params: &mut Vec<f64>,
         lengths: &mut Vec<f64>,
-    ) {
+    ) -> Result<(), GeometryError> {
         let m = 0.5 * (a + b);
         let left = gauss_legendre_length(curve, a, m);
         let right = gauss_legendre_length(curve, m, b);
+        if !(left.is_finite() && right.is_finite() && whole.is_finite()) {
+            return Err(GeometryError::DegenerateCurve {
+                reason: "its arc length is not finite (coordinates too large?)".into(),
+            });
+        }
+        if params.len() >= options.max_intervals {
+            return Err(GeometryError::DegenerateCurve {
+                reason: format!(
+                    "its arc length does not converge within {} intervals (a cusp, or coordinates too large or too far apart)",
+                    options.max_intervals
+                ),
+            });
+        }
         let accept = (left + right - whole).abs() <= options.relative_tolerance * whole.abs().max(1e-300)
             || depth >= options.max_depth;
         if accept {
@@ -136,9 +155,10 @@ impl ArcLengthTable {
             lengths.push(base + left);
             params.push(b);
             lengths.push(base + left + right);
+            Ok(())
         } else {
-            Self::refine(curve, a, m, left, depth + 1, options, params, lengths);
-            Self::refine(curve, m, b, right, depth + 1, options, params, lengths);
+            Self::refine(curve, a, m, left, depth + 1, options, params, lengths)?;
+            Self::refine(curve, m, b, right, depth + 1, options, params, lengths)
         }
     }
 

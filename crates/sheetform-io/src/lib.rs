@@ -5,6 +5,7 @@
 //! half-written file.
 
 mod atomic;
+mod bounded_read;
 mod colour_map;
 mod error;
 mod glb;
@@ -14,6 +15,7 @@ mod point_cloud;
 mod stl;
 
 pub use atomic::write_atomic;
+pub use bounded_read::{read_bounded, MAX_MESH_FILE_BYTES, MAX_SCENE_FILE_BYTES};
 pub use colour_map::{colour_ramp, ply_vertex_colours};
 pub use error::IoError;
 pub use glb::{glb_bytes, glb_bytes_projected, glb_vertex_colours, Texture, GLB_FLAT_ATTRIBUTE};

@@ -49,7 +49,7 @@ fn malformed(path: &Path, line: Option<usize>, message: impl Into<String>) -> Me
 /// face indices out of range; faces with fewer than three vertices — each with the file
 /// and (for text formats) the line.
 pub fn read_mesh(path: &Path) -> Result<TriangleMesh, MeshReadError> {
-    let bytes = std::fs::read(path).map_err(|source| MeshReadError::Io {
+    let bytes = crate::read_bounded(path, crate::MAX_MESH_FILE_BYTES).map_err(|source| MeshReadError::Io {
         path: path.display().to_string(),
         source,
     })?;

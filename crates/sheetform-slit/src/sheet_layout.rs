@@ -3,6 +3,7 @@
 //! strips between two unslit side panels of length `L2`.
 
 use crate::{SheetSpec, SlitError};
+use sheetform_geometry::short_number;
 
 /// The flat sheet's dimensions, validated.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -23,6 +24,10 @@ pub struct SheetLayout {
     pub strip_width: f64,
 }
 
+/// Largest sheet length (`l1_width`, `l2_panel_length`, `l3_strip_length`; model units:
+/// a kilometre in millimetres).
+pub const MAX_LENGTH: f64 = 1e6;
+
 impl SheetLayout {
     /// Validates the sheet of a scene.
     ///
@@ -39,7 +44,37 @@ impl SheetLayout {
             if !(value.is_finite() && value > 0.0) {
                 return Err(SlitError::field(
                     name,
-                    format!("must be a positive length, got {value}"),
+                    format!("must be a positive length, got {}", short_number(value)),
+                ));
+            }
+        }
+        // Lengths within six orders of magnitude of each other (1e308 made the strip
+        // solver's iterations overflow and run on; 1e100 overflowed the triangulation).
+        let largest = spec.l1_width.max(spec.l2_panel_length).max(spec.l3_strip_length);
+        if largest > MAX_LENGTH {
+            return Err(SlitError::field(
+                "sheet",
+                format!(
+                    "lengths up to {} model units, got {}",
+                    short_number(MAX_LENGTH),
+                    short_number(largest)
+                ),
+            ));
+        }
+        for (name, value) in [
+            ("sheet.l1_width", spec.l1_width),
+            ("sheet.l2_panel_length", spec.l2_panel_length),
+            ("sheet.l3_strip_length", spec.l3_strip_length),
+            ("sheet.l4_slit_width", spec.l4_slit_width),
+        ] {
+            if value < 1e-6 * largest {
+                return Err(SlitError::field(
+                    name,
+                    format!(
+                        "{} is less than a millionth of the sheet's largest length {}",
+                        short_number(value),
+                        short_number(largest)
+                    ),
                 ));
             }
         }
@@ -52,10 +87,14 @@ impl SheetLayout {
                 format!("must be at least 2, got {}", spec.quads_per_strip),
             ));
         }
-        if spec.quads_per_strip > 4096 {
+        if spec.quads_per_strip > crate::MAX_QUADS_SOLVED_TOGETHER {
             return Err(SlitError::field(
                 "sheet.quads_per_strip",
-                format!("at most 4096, got {}", spec.quads_per_strip),
+                format!(
+                    "at most {}, got {}",
+                    crate::MAX_QUADS_SOLVED_TOGETHER,
+                    spec.quads_per_strip
+                ),
             ));
         }
         let slits = (spec.strip_count - 1) as f64 * spec.l4_slit_width;

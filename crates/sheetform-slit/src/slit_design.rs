@@ -3,6 +3,7 @@
 //! subdivision (Fig. 13).
 
 use crate::point_cloud::ScanCloud;
+use crate::sheet_layout::MAX_LENGTH;
 use crate::strip_folding::{fold_strip, FoldedStrip, RidgeEnd, StripStart, StripState};
 use crate::strip_penalty::{StripTerms, VertexAnchor};
 use crate::strip_solver::{solve_gap_constrained, solve_strip, JointProblem, StripSolveInfo, StripSolveOptions};
@@ -19,6 +20,18 @@ type Vec3 = Vector3<f64>;
 
 /// Segments of the seat-curve polyline.
 const SEAT_SEGMENTS: usize = 256;
+
+/// Most quads solved together: one strip's (`quads_per_strip × 2^subdivisions`), or all
+/// strips' in joint mode. The solve's time grows with the cube of its unknowns: 256
+/// quads take about 3 s on one core, 512 took 26 s.
+pub const MAX_QUADS_SOLVED_TOGETHER: usize = 256;
+/// Most quads of the whole sheet (`strip_count × quads_per_strip × 2^subdivisions`):
+/// eight strips at the largest size, about 25 s.
+pub const MAX_QUADS: usize = 2048;
+/// Most strips (`sheet.strip_count`).
+pub const MAX_STRIPS: usize = 256;
+/// Most Levenberg–Marquardt iterations per strip (`solver.max_iterations`).
+pub const MAX_ITERATIONS: usize = 10_000;
 
 /// A validated slit-sheet model: the flat sheet, the two design curves, the anchors, the
 /// weights and the solver settings.
@@ -59,6 +72,15 @@ fn planar_bezier(field: &str, points: &[[f64; 2]]) -> Result<Bezier2, SlitError>
             "not a finite number",
         ));
     }
+    if let Some(i) = points.iter().position(|p| p.iter().any(|c| c.abs() > MAX_LENGTH)) {
+        return Err(SlitError::field(
+            format!("{field}.control_points[{i}]"),
+            format!(
+                "coordinates up to {} model units",
+                sheetform_geometry::short_number(MAX_LENGTH)
+            ),
+        ));
+    }
     Bezier2::new(points.iter().map(|p| Vector2::new(p[0], p[1])).collect())
         .map_err(|e| SlitError::field(format!("{field}.control_points"), e.to_string()))
 }
@@ -75,18 +97,58 @@ impl SlitModel {
     /// [`SlitError::PointCloud`] for an unreadable scan, [`SlitError::Field`] on
     /// `scan.points` when the scene names a scan and no bytes are given.
     pub fn from_scene(scene: &SlitScene, scan: Option<&[u8]>) -> Result<Self, SlitError> {
+        if scene.sheet.strip_count > MAX_STRIPS {
+            return Err(SlitError::field(
+                "sheet.strip_count",
+                format!("at most {MAX_STRIPS}, got {}", scene.sheet.strip_count),
+            ));
+        }
         let layout = SheetLayout::new(&scene.sheet)?;
         let solver = scene.solver;
         if !(solver.gap_tolerance.is_finite() && solver.gap_tolerance > 0.0) {
             return Err(SlitError::field("solver.gap_tolerance", "must be a positive number"));
         }
-        if solver.max_iterations == 0 {
-            return Err(SlitError::field("solver.max_iterations", "must be at least 1"));
+        if !(1..=MAX_ITERATIONS).contains(&solver.max_iterations) {
+            return Err(SlitError::field(
+                "solver.max_iterations",
+                format!("must be 1 to {MAX_ITERATIONS}, got {}", solver.max_iterations),
+            ));
         }
         if solver.subdivisions > 6 {
             return Err(SlitError::field(
                 "solver.subdivisions",
                 format!("at most 6 (each doubles the quads), got {}", solver.subdivisions),
+            ));
+        }
+        // The solve's cost grows with the cube of the unknowns it solves together (a
+        // strip's; all strips' in joint mode): one strip of 256 quads takes about 3 s,
+        // 512 quads 26 s; 20 strips of 10 quads in joint mode 3.6 s, 30 strips 13.5 s.
+        let quads = layout.quads_per_strip << solver.subdivisions;
+        let (together, limit, what) = match solver.mode {
+            SolveMode::Joint => (
+                quads.saturating_mul(layout.strip_count),
+                MAX_QUADS_SOLVED_TOGETHER,
+                "strip_count × quads_per_strip × 2^subdivisions (joint mode solves all strips together)",
+            ),
+            SolveMode::Independent => (quads, MAX_QUADS_SOLVED_TOGETHER, "quads_per_strip × 2^subdivisions"),
+        };
+        if together > limit {
+            return Err(SlitError::field(
+                if solver.subdivisions > 0 {
+                    "solver.subdivisions"
+                } else {
+                    "sheet.quads_per_strip"
+                },
+                format!("{what} is {together}, more than {limit} (the solve's time grows with its cube)"),
+            ));
+        }
+        if quads.saturating_mul(layout.strip_count) > MAX_QUADS {
+            return Err(SlitError::field(
+                "sheet.strip_count",
+                format!(
+                    "strip_count × quads_per_strip × 2^subdivisions is {}, more than {MAX_QUADS}",
+                    quads.saturating_mul(layout.strip_count)
+                ),
             ));
         }
         if !(1..=1000).contains(&solver.leg_segments) {

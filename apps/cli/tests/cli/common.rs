@@ -310,3 +310,45 @@ pub(crate) fn svg_labels_over_lines(svg: &str) -> usize {
     }
     bad
 }
+
+/// [`sheetform`], killed after `limit_seconds` with a panic: the guard that turns a
+/// hang into a test failure (a limit far above the run's time, not a timing test).
+pub(crate) fn sheetform_within(args: &[&str], limit_seconds: u64) -> Output {
+    use std::io::Read;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_sheetform"))
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    let start = std::time::Instant::now();
+    // Drain the pipes on threads so a chatty child cannot block on a full pipe.
+    let mut out = child.stdout.take().unwrap();
+    let mut err = child.stderr.take().unwrap();
+    let out = std::thread::spawn(move || {
+        let mut b = Vec::new();
+        out.read_to_end(&mut b).ok();
+        b
+    });
+    let err = std::thread::spawn(move || {
+        let mut b = Vec::new();
+        err.read_to_end(&mut b).ok();
+        b
+    });
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed().as_secs() >= limit_seconds {
+            child.kill().ok();
+            child.wait().ok();
+            panic!("sheetform {args:?} did not finish within {limit_seconds} s (a hang)");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    Output {
+        status,
+        stdout: out.join().unwrap(),
+        stderr: err.join().unwrap(),
+    }
+}

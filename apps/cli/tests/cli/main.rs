@@ -11,5 +11,6 @@ mod flatten;
 mod nets;
 mod pattern;
 mod photo;
+mod robustness;
 mod schema;
 mod slit;

@@ -62,6 +62,8 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
     if let Some(method) = options.solver {
         scene.solver.method = method;
     }
+    // Sizes and fields first: a procedural model is built only within its bounds.
+    scene.validate()?;
     let mesh = match &scene.model {
         ModelSource::Procedural(model) => model.build(),
         ModelSource::Mesh(path) => {
