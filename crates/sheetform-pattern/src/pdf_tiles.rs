@@ -51,6 +51,11 @@ impl PdfOptions {
 /// Default page cap of [`PdfOptions`].
 pub const DEFAULT_MAX_PAGES: usize = 100;
 
+/// Most pages [`PdfOptions::max_pages`] may allow: each page holds its share of the
+/// pattern's drawing, so the document's size grows with it (1e19 pages asked for
+/// gigabytes and aborted).
+pub const MAX_PAGES: usize = 10_000;
+
 impl Default for PdfOptions {
     fn default() -> Self {
         Self {
@@ -98,6 +103,12 @@ const PT: f64 = 72.0 / 25.4;
 /// # Errors
 /// Margins or overlap that leave no printable area; more pages than `options.max_pages`.
 pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, PatternError> {
+    if !(1..=MAX_PAGES).contains(&options.max_pages) {
+        return Err(PatternError::Option {
+            option: "max_pages",
+            message: format!("must be 1 to {MAX_PAGES}, got {}", options.max_pages),
+        });
+    }
     let (pw, ph) = options.page.millimetres();
     let (m, o) = (options.margin_mm, options.overlap_mm);
     let (aw, ah) = options.printable_area();

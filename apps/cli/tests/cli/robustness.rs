@@ -169,3 +169,59 @@ fn devices_and_pipes_are_refused_as_inputs() {
     }
     assert!(!Path::new(&out).join("report.json").exists());
 }
+
+/// A small flat grid (9 vertices, 8 triangles) written to `dir`.
+fn grid_obj(dir: &Path) -> String {
+    let mut text = String::new();
+    for y in 0..3 {
+        for x in 0..3 {
+            text.push_str(&format!("v {} {} 0\n", 10 * x, 10 * y));
+        }
+    }
+    for y in 0..2 {
+        for x in 0..2 {
+            let a = 1 + x + 3 * y;
+            text.push_str(&format!("f {} {} {}\nf {} {} {}\n", a, a + 1, a + 4, a, a + 4, a + 3));
+        }
+    }
+    let path = dir.join("grid.obj");
+    std::fs::write(&path, text).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+/// Options that made a run succeed wrongly: NaN tolerances accepted ("developable"),
+/// a weld that merged the mesh into one vertex reported "ok" with an empty model, an
+/// absurd page cap that let the PDF grow until memory ran out.
+#[test]
+fn option_values_that_made_a_wrong_success_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = grid_obj(dir.path());
+    let out = dir.path().join("out");
+    let out = out.to_str().unwrap();
+    for (args, option) in [
+        (vec!["check", &mesh, "--tolerance", "NaN"], "--tolerance"),
+        (vec!["check", &mesh, "--tolerance=-1"], "--tolerance"),
+        (vec!["check", &mesh, "--weld", "1e9"], "--weld"),
+        (vec!["flatten", &mesh, "--weld", "1e9"], "--weld"),
+        (vec!["flatten", &mesh, "--crease-angle", "NaN"], "--crease-angle"),
+        (vec!["flatten", &mesh, "--crease-angle=-5"], "--crease-angle"),
+        (vec!["flatten", &mesh, "--max-distortion", "NaN"], "--max-distortion"),
+        (vec!["flatten", &mesh, "--max-distortion=-1"], "--max-distortion"),
+        (
+            vec!["flatten", &mesh, "--max-pages", "18446744073709551615"],
+            "max_pages",
+        ),
+    ] {
+        let mut args = args.clone();
+        args.extend(["-o", out]);
+        let o = sheetform_within(&args, 60);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(stderr.contains(&format!("`{option}`")), "{args:?}: {stderr}");
+        assert_readable(&stderr);
+        assert!(!Path::new(out).join("report.json").exists(), "{args:?} wrote a report");
+    }
+    // The same mesh with sound options works (the cases above fail for their option).
+    let o = sheetform_within(&["flatten", &mesh, "--weld", "0.1", "-o", out], 60);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}

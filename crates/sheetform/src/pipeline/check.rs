@@ -63,7 +63,21 @@ pub(crate) fn weld_input(mesh: &mut TriangleMesh, weld: Option<f64>) -> Result<O
             });
         }
     }
-    Ok(weld.map(|tolerance| mesh.weld(tolerance)))
+    let faces = mesh.triangles.len();
+    let merged = weld.map(|tolerance| mesh.weld(tolerance));
+    if let Some(w) = weld {
+        if mesh.triangles.is_empty() && faces > 0 {
+            return Err(PipelineError::Option {
+                option: "--weld",
+                message: format!(
+                    "welding at {} merged the mesh into {} vertices and left none of its {faces} faces; give a distance below its edge lengths",
+                    sheetform_geometry::short_number(w),
+                    mesh.positions.len()
+                ),
+            });
+        }
+    }
+    Ok(merged)
 }
 
 /// The name of a mesh for its outputs: the input file's stem, or `mesh`.
@@ -85,6 +99,15 @@ pub(crate) fn mesh_name(input: Option<&str>) -> String {
 /// [`PipelineError::Option`] for a bad weld distance; [`PipelineError::Cancelled`].
 pub fn run_check(mesh: TriangleMesh, options: &CheckOptions, context: &RunContext) -> Result<CheckRun, PipelineError> {
     let start = Instant::now();
+    if !(options.tolerance.is_finite() && options.tolerance >= 0.0) {
+        return Err(PipelineError::Option {
+            option: "--tolerance",
+            message: format!(
+                "must be a non-negative angle in radians, got {}",
+                sheetform_geometry::short_number(options.tolerance)
+            ),
+        });
+    }
     let mut mesh = mesh;
     let welded = weld_input(&mut mesh, options.weld)?;
     let parsed = Instant::now();

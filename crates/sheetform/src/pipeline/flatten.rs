@@ -124,6 +124,25 @@ pub fn run_flatten(
     context: &RunContext,
 ) -> Result<FlattenRun, PipelineError> {
     let start = Instant::now();
+    let charts = &options.chart_options;
+    if !(charts.crease_angle_degrees.is_finite() && (0.0..=180.0).contains(&charts.crease_angle_degrees)) {
+        return Err(PipelineError::Option {
+            option: "--crease-angle",
+            message: format!(
+                "must be an angle from 0 to 180 degrees, got {}",
+                sheetform_geometry::short_number(charts.crease_angle_degrees)
+            ),
+        });
+    }
+    if !(charts.max_edge_distortion.is_finite() && charts.max_edge_distortion > 0.0) {
+        return Err(PipelineError::Option {
+            option: "--max-distortion",
+            message: format!(
+                "must be a positive fraction (0.01 = 1 %), got {}",
+                sheetform_geometry::short_number(charts.max_edge_distortion)
+            ),
+        });
+    }
     let mut mesh = mesh;
     let welded = weld_input(&mut mesh, options.weld)?;
     let parsed = Instant::now();
