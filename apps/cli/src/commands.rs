@@ -17,6 +17,7 @@ use sheetform::slit::SlitScene;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 pub(crate) fn check_command(
     mesh: PathBuf,
@@ -33,8 +34,10 @@ pub(crate) fn check_command(
         input: Some(mesh.display().to_string()),
     };
     let model = read_mesh(&mesh)?;
-    let run = run_check(model, &options, &RunContext::new(scene_dir(&mesh)))?;
-    write_outputs(&output, &run.files, &run.report)?;
+    let run = with_progress_bar(quiet, |progress| {
+        run_check(model, &options, &run_context(scene_dir(&mesh)).with_progress(progress))
+    })?;
+    write_set(&output, &run.files, &run.report)?;
     if !quiet {
         let r = &run.report;
         let d = r.angle_defects.as_ref().expect("check reports angle defects");
@@ -109,8 +112,10 @@ pub(crate) fn flatten_command(
         input: Some(mesh.display().to_string()),
     };
     let model = read_mesh(&mesh)?;
-    let run = run_flatten(model, &options, &RunContext::new(scene_dir(&mesh)))?;
-    write_outputs(&output, &run.files, &run.report)?;
+    let run = with_progress_bar(quiet, |progress| {
+        run_flatten(model, &options, &run_context(scene_dir(&mesh)).with_progress(progress))
+    })?;
+    write_set(&output, &run.files, &run.report)?;
     let d = &run.distortion;
     if !d.is_overlap_free() {
         eprintln!(
@@ -172,6 +177,36 @@ pub(crate) fn with_progress_bar<T>(quiet: bool, job: impl FnOnce(&dyn Fn(&str, f
     result
 }
 
+/// Set by Ctrl-C (SIGINT): the run stops at its next stage and writes nothing, so the
+/// previous output set stays as it was (exit code 130). A second Ctrl-C exits at once.
+pub(crate) static CANCELLED: AtomicBool = AtomicBool::new(false);
+
+/// Installs the Ctrl-C handler that sets [`CANCELLED`].
+pub(crate) fn stop_cleanly_on_interrupt() {
+    let _ = ctrlc::set_handler(|| {
+        if CANCELLED.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+    });
+}
+
+/// The library's run context for a scene or mesh in `root`, cancelled by Ctrl-C.
+fn run_context(root: PathBuf) -> RunContext<'static> {
+    RunContext::new(root).with_cancel(&CANCELLED)
+}
+
+/// Writes the output set, unless Ctrl-C came after the run's last stage.
+fn write_set(
+    output: &std::path::Path,
+    files: &[(String, Vec<u8>)],
+    report: &sheetform::report::Report,
+) -> Result<(), PipelineError> {
+    if CANCELLED.load(Ordering::SeqCst) {
+        return Err(PipelineError::Cancelled);
+    }
+    write_outputs(output, files, report)
+}
+
 /// The directory a scene file's assets are read from (its own).
 pub(crate) fn scene_dir(scene: &Path) -> PathBuf {
     match scene.parent() {
@@ -211,12 +246,12 @@ pub(crate) fn bend_command(
         run_bend(
             &parsed,
             &options,
-            &RunContext::new(scene_dir(&scene)).with_progress(progress),
+            &run_context(scene_dir(&scene)).with_progress(progress),
         )
     });
     match result {
         Ok(run) => {
-            write_outputs(&output, &run.files, &run.report)?;
+            write_set(&output, &run.files, &run.report)?;
             if !quiet {
                 let r = &run.report;
                 eprintln!(
@@ -234,7 +269,7 @@ pub(crate) fn bend_command(
         Err(e) => {
             // An inadmissible shape: only the report, which says where.
             if let Some(report) = e.report() {
-                write_outputs(&output, &[], report)?;
+                write_set(&output, &[], report)?;
                 eprintln!("sheetform: {}: {e}", scene.display());
                 eprintln!(
                     "sheetform: no mesh written; {} says where",
@@ -258,8 +293,14 @@ pub(crate) fn slit_command(
         pattern: pattern.into(),
         input: Some(scene.display().to_string()),
     };
-    let run = run_slit(&parsed, &options, &RunContext::new(scene_dir(&scene)))?;
-    write_outputs(&output, &run.files, &run.report)?;
+    let run = with_progress_bar(quiet, |progress| {
+        run_slit(
+            &parsed,
+            &options,
+            &run_context(scene_dir(&scene)).with_progress(progress),
+        )
+    })?;
+    write_set(&output, &run.files, &run.report)?;
     if !quiet {
         let slit = run.report.slit.as_ref().expect("slit report");
         eprintln!(
@@ -295,10 +336,10 @@ pub(crate) fn photo_command(
         run_photo(
             &input,
             &options,
-            &RunContext::new(scene_dir(&annotation)).with_progress(progress),
+            &run_context(scene_dir(&annotation)).with_progress(progress),
         )
     })?;
-    write_outputs(&output, &run.files, &run.report)?;
+    write_set(&output, &run.files, &run.report)?;
     let photo = run.report.photo.as_ref().expect("photo report");
     if !quiet {
         let mut refined = photo.developability_error_refined.map_or_else(
@@ -363,10 +404,10 @@ pub(crate) fn ffd_command(
         run_ffd(
             &parsed,
             &options,
-            &RunContext::new(scene_dir(&scene)).with_progress(progress),
+            &run_context(scene_dir(&scene)).with_progress(progress),
         )
     })?;
-    write_outputs(&output, &run.files, &run.report)?;
+    write_set(&output, &run.files, &run.report)?;
     if !quiet {
         let ffd = run.report.ffd.as_ref().expect("ffd report");
         eprintln!(

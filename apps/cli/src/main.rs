@@ -28,6 +28,7 @@ static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    commands::stop_cleanly_on_interrupt();
     // `SHEETFORM_TRACE=1`: the solvers' per-iteration traces on stderr.
     if std::env::var_os("SHEETFORM_TRACE").is_some() {
         tracing_subscriber::fmt()

@@ -198,9 +198,11 @@ impl BendScene {
     /// # Errors
     /// Malformed JSON, unknown or missing fields; the message gives line and column.
     pub fn from_json(text: &str) -> Result<Self, crate::BendError> {
+        // A byte-order mark is not JSON (serde refuses it); editors on Windows write one.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         serde_json::from_str(text).map_err(|e| crate::BendError::Field {
             field: format!("(line {}, column {})", e.line(), e.column()),
-            message: e.to_string(),
+            message: sheetform_geometry::shortened_message(&e.to_string()),
         })
     }
 

@@ -349,7 +349,14 @@ impl FfdScene {
     /// # Errors
     /// Malformed JSON or unknown fields, with line and column.
     pub fn from_json(text: &str) -> Result<Self, FfdError> {
-        serde_json::from_str(text).map_err(|e| FfdError::field("(scene)", e.to_string()))
+        // A byte-order mark is not JSON (serde refuses it); editors on Windows write one.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        serde_json::from_str(text).map_err(|e| {
+            FfdError::field(
+                format!("(line {}, column {})", e.line(), e.column()),
+                sheetform_geometry::shortened_message(&e.to_string()),
+            )
+        })
     }
 
     /// Checks the numbers that serde cannot.

@@ -25,7 +25,7 @@ pub use curve::{Curve3, ParametricCurve};
 pub use error::GeometryError;
 pub use frame::{curve_frame, CurveFrame, CurveFrameDerivatives};
 pub use helix::Helix;
-pub use message_text::{quoted_token, short_number, xml_escaped, ShortNumber, QUOTED_TOKEN_CHARS};
+pub use message_text::{quoted_token, short_number, shortened_message, xml_escaped, ShortNumber, QUOTED_TOKEN_CHARS};
 pub use polygon::{
     cross2, rings_contain, segment_intersection, segments_cross, segments_meet, signed_area, triangles_overlap,
     Polygon, PolygonEdge, RayHit,

@@ -67,6 +67,32 @@ pub fn quoted_token(token: &str) -> String {
     text
 }
 
+/// `message` with every word (run of non-space characters) longer than
+/// [`QUOTED_TOKEN_CHARS`] cut by [`quoted_token`]: for messages built by other crates
+/// (serde's quote the token they stopped at, whole: a 1 MB key made a 1 MB error).
+pub fn shortened_message(message: &str) -> String {
+    let mut out = String::with_capacity(message.len().min(4096));
+    let mut word = String::new();
+    let flush = |word: &mut String, out: &mut String| {
+        if word.chars().count() > QUOTED_TOKEN_CHARS + 20 {
+            out.push_str(&quoted_token(word));
+        } else {
+            out.push_str(word);
+        }
+        word.clear();
+    };
+    for c in message.chars() {
+        if c.is_whitespace() {
+            flush(&mut word, &mut out);
+            out.push(c);
+        } else {
+            word.push(c);
+        }
+    }
+    flush(&mut word, &mut out);
+    out
+}
+
 /// `text` as XML character data or attribute text (SVG): markup characters escaped,
 /// every control character as a space (XML 1.0 forbids all but tab, line feed and
 /// carriage return, and those have no place in a one-line name), so that no scene name
@@ -117,6 +143,15 @@ mod tests {
             xml_escaped("a<b & \"c\">\0\u{1b}\n"),
             "a&lt;b &amp; &quot;c&quot;&gt;   "
         );
+    }
+
+    #[test]
+    fn long_words_of_a_message_are_cut() {
+        let message = format!("unknown field `{}`, expected one of `name`", "A".repeat(1_000_000));
+        let short = shortened_message(&message);
+        assert!(short.len() < 200 && short.starts_with("unknown field `AAAA"), "{short}");
+        assert!(short.ends_with("expected one of `name`"), "{short}");
+        assert_eq!(shortened_message("a  b\nc"), "a  b\nc");
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! Reading triangle meshes: OBJ (with groups and `vt`), PLY, STL, OFF.
 
 use nalgebra::{Vector2, Vector3};
+use sheetform_geometry::quoted_token;
 use sheetform_mesh::TriangleMesh;
 use std::path::Path;
 use thiserror::Error;
@@ -62,6 +63,9 @@ pub fn read_mesh(path: &Path) -> Result<TriangleMesh, MeshReadError> {
 /// # Errors
 /// As [`read_mesh`], without the read errors.
 pub fn mesh_from_bytes(name: &Path, bytes: &[u8]) -> Result<TriangleMesh, MeshReadError> {
+    // A UTF-8 byte-order mark (Windows editors write one) is not part of the first line:
+    // left in, it hid the first `v` statement and shifted every index by one.
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let path = name;
     let ext = path
         .extension()
@@ -87,11 +91,19 @@ pub fn mesh_from_bytes(name: &Path, bytes: &[u8]) -> Result<TriangleMesh, MeshRe
 
 fn number(path: &Path, line: usize, token: Option<&str>, what: &str) -> Result<f64, MeshReadError> {
     let t = token.ok_or_else(|| malformed(path, Some(line), format!("{what}: missing number")))?;
-    let v: f64 = t
-        .parse()
-        .map_err(|_| malformed(path, Some(line), format!("{what}: `{t}` is not a number")))?;
+    let v: f64 = t.parse().map_err(|_| {
+        malformed(
+            path,
+            Some(line),
+            format!("{what}: `{}` is not a number", quoted_token(t)),
+        )
+    })?;
     if !v.is_finite() {
-        return Err(malformed(path, Some(line), format!("{what}: `{t}` is not finite")));
+        return Err(malformed(
+            path,
+            Some(line),
+            format!("{what}: `{}` is not finite", quoted_token(t)),
+        ));
     }
     Ok(v)
 }
@@ -146,7 +158,11 @@ pub fn parse_obj(path: &Path, text: &str) -> Result<TriangleMesh, MeshReadError>
                 for token in it {
                     let s = token.split('/').next().unwrap_or("");
                     let k: i64 = s.parse().map_err(|_| {
-                        malformed(path, Some(line), format!("line vertex index `{s}` is not an integer"))
+                        malformed(
+                            path,
+                            Some(line),
+                            format!("line vertex index `{}` is not an integer", quoted_token(s)),
+                        )
                     })?;
                     let count = mesh.positions.len();
                     let idx = if k < 0 { count as i64 + k } else { k - 1 };
@@ -169,7 +185,11 @@ pub fn parse_obj(path: &Path, text: &str) -> Result<TriangleMesh, MeshReadError>
                     let mut parts = token.split('/');
                     let resolve = |s: &str, count: usize, what: &str| -> Result<usize, MeshReadError> {
                         let k: i64 = s.parse().map_err(|_| {
-                            malformed(path, Some(line), format!("face {what} index `{s}` is not an integer"))
+                            malformed(
+                                path,
+                                Some(line),
+                                format!("face {what} index `{}` is not an integer", quoted_token(s)),
+                            )
                         })?;
                         let idx = if k < 0 { count as i64 + k } else { k - 1 };
                         if k == 0 || idx < 0 || idx as usize >= count {
@@ -251,7 +271,7 @@ pub fn parse_off(path: &Path, text: &str) -> Result<TriangleMesh, MeshReadError>
         .split_whitespace()
         .map(|t| {
             t.parse()
-                .map_err(|_| malformed(path, Some(counts_at), format!("`{t}` is not a count")))
+                .map_err(|_| malformed(path, Some(counts_at), format!("`{}` is not a count", quoted_token(t))))
         })
         .collect::<Result<_, _>>()?;
     if counts.len() < 2 {
@@ -282,19 +302,20 @@ pub fn parse_off(path: &Path, text: &str) -> Result<TriangleMesh, MeshReadError>
             .split_whitespace()
             .map(|t| {
                 t.parse()
-                    .map_err(|_| malformed(path, Some(l), format!("`{t}` is not an integer")))
+                    .map_err(|_| malformed(path, Some(l), format!("`{}` is not an integer", quoted_token(t))))
             })
             .collect::<Result<_, _>>()?;
-        let n = *vals
+        let declared = *vals
             .first()
-            .ok_or_else(|| malformed(path, Some(l), "empty face line"))? as usize;
-        if n < 3 || vals.len() < n + 1 {
+            .ok_or_else(|| malformed(path, Some(l), "empty face line"))?;
+        if declared < 3 || vals.len() as i64 - 1 < declared {
             return Err(malformed(
                 path,
                 Some(l),
-                format!("a face needs at least 3 indices and the count it declares ({n})"),
+                format!("a face needs at least 3 indices and the count it declares ({declared})"),
             ));
         }
+        let n = declared as usize;
         let idx: Vec<u32> = vals[1..=n]
             .iter()
             .map(|&i| {
@@ -320,7 +341,13 @@ pub fn parse_off(path: &Path, text: &str) -> Result<TriangleMesh, MeshReadError>
 /// STL (ASCII or binary) through `stl_io`; identical corner positions become one vertex.
 pub fn parse_stl(path: &Path, bytes: &[u8]) -> Result<TriangleMesh, MeshReadError> {
     let mut cursor = std::io::Cursor::new(bytes);
-    let stl = stl_io::read_stl(&mut cursor).map_err(|e| malformed(path, None, format!("not a valid STL file: {e}")))?;
+    let stl = stl_io::read_stl(&mut cursor).map_err(|e| {
+        malformed(
+            path,
+            None,
+            format!("not a valid STL file: {}", quoted_token(&e.to_string())),
+        )
+    })?;
     let mut mesh = TriangleMesh {
         groups: vec!["default".into()],
         ..Default::default()
@@ -347,7 +374,14 @@ pub fn parse_ply(path: &Path, bytes: &[u8]) -> Result<TriangleMesh, MeshReadErro
     let mut cursor = std::io::Cursor::new(bytes);
     let ply = Parser::<DefaultElement>::new()
         .read_ply(&mut cursor)
-        .map_err(|e| malformed(path, None, format!("not a valid PLY file: {e}")))?;
+        // (ply-rs's message quotes the offending line and its parser's internals.)
+        .map_err(|_| {
+            malformed(
+                path,
+                None,
+                "not a valid PLY file (a header from `ply` to `end_header` declaring its elements, then the data it declares)",
+            )
+        })?;
     let scalar = |p: Option<&Property>| -> Option<f64> {
         Some(match p? {
             Property::Float(v) => *v as f64,

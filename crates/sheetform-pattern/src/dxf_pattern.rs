@@ -116,7 +116,13 @@ pub fn dxf_bytes(pattern: &Pattern, unit: DxfUnit) -> Result<Vec<u8>, PatternErr
             location: Point::new(label.position.x * k, label.position.y * k, 0.0),
             text_height: label.height_mm * k,
             rotation: label.angle_radians.to_degrees(),
-            value: label.text.clone(),
+            // A DXF group value is one line: a line break or other control character in
+            // a name would end it early and shift every group after it.
+            value: label
+                .text
+                .chars()
+                .map(|c| if c.is_control() { ' ' } else { c })
+                .collect(),
             ..Default::default()
         };
         let mut e = Entity::new(EntityType::Text(t));

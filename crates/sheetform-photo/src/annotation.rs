@@ -263,8 +263,14 @@ impl PhotoAnnotation {
     /// [`PhotoError::Field`] naming the line and column, or the field, of the first
     /// problem.
     pub fn from_json(text: &str) -> Result<Self, PhotoError> {
-        let annotation: Self = serde_json::from_str(text)
-            .map_err(|e| PhotoError::field(format!("(line {}, column {})", e.line(), e.column()), e.to_string()))?;
+        // A byte-order mark is not JSON (serde refuses it); editors on Windows write one.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        let annotation: Self = serde_json::from_str(text).map_err(|e| {
+            PhotoError::field(
+                format!("(line {}, column {})", e.line(), e.column()),
+                sheetform_geometry::shortened_message(&e.to_string()),
+            )
+        })?;
         annotation.validate()?;
         Ok(annotation)
     }

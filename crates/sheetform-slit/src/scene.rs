@@ -240,8 +240,14 @@ impl SlitScene {
     /// # Errors
     /// [`crate::SlitError::Field`] naming the line and column of the first problem.
     pub fn from_json(text: &str) -> Result<Self, crate::SlitError> {
-        serde_json::from_str(text)
-            .map_err(|e| crate::SlitError::field(format!("(line {}, column {})", e.line(), e.column()), e.to_string()))
+        // A byte-order mark is not JSON (serde refuses it); editors on Windows write one.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        serde_json::from_str(text).map_err(|e| {
+            crate::SlitError::field(
+                format!("(line {}, column {})", e.line(), e.column()),
+                sheetform_geometry::shortened_message(&e.to_string()),
+            )
+        })
     }
 
     /// The JSON Schema of the scene format.

@@ -134,6 +134,15 @@ fn extreme_numbers_end_in_an_error_not_a_hang() {
         assert!(stderr.contains("`sheet"), "{stderr}");
         assert_readable(&stderr);
     }
+    // A lattice moved far beyond the model: an error in words (it was faer's
+    // `ZeroPivot { index: 0 }`), never NaN written with status ok.
+    for by in [1e6, 1e200] {
+        let mut s = example("examples/ffd/duct.json");
+        s["deformations"] = json!([{"name": "far", "edits": [{"move": {"points": {"k": [3, 3]}, "by": [by, 0, 0]}}]}]);
+        let (code, stderr) = run_scene("ffd", &s, &[]);
+        assert!(code == 1 || code == 5, "move by {by}: {stderr}");
+        assert_readable(&stderr);
+    }
     let mut s = slit.clone();
     s["seat_curve"]["control_points"][0] = json!([0, 1e308]);
     let (code, stderr) = run_scene("slit", &s, &[]);
@@ -224,4 +233,189 @@ fn option_values_that_made_a_wrong_success_are_refused() {
     // The same mesh with sound options works (the cases above fail for their option).
     let o = sheetform_within(&["flatten", &mesh, "--weld", "0.1", "-o", out], 60);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// Output sets: a later run leaves exactly its own files (stale `frames/` and `sheets/`
+/// from an earlier run with `--animate`/`--sheet` are removed), an inadmissible run
+/// leaves only its report (not the last good model beside it), files the user put in
+/// the directory are never touched, and no staging or temporary file is left behind.
+#[test]
+fn an_output_directory_holds_exactly_the_files_of_its_last_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let out_str = out.to_str().unwrap();
+    let scene = repo().join("examples/bent-rectangle.json");
+    let scene = scene.to_str().unwrap();
+    let run = |args: &[&str]| sheetform_within(args, 120);
+    assert!(
+        run(&["bend", scene, "-o", out_str, "--animate", "3", "--sheet", "a4", "-q"])
+            .status
+            .success()
+    );
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    assert!(out.join("frames/frame-0002.obj").exists() && out.join("sheets/sheet-01.svg").exists());
+    assert!(run(&["bend", scene, "-o", out_str, "--animate", "2", "-q"])
+        .status
+        .success());
+    let listed = |out: &Path| -> Vec<String> {
+        let r: Value = serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+        let mut names: Vec<String> = r["outputs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|n| n.as_str().unwrap().to_string())
+            .collect();
+        names.sort();
+        names
+    };
+    let on_disk = |out: &Path| -> Vec<String> {
+        let mut names = Vec::new();
+        for entry in walk(out) {
+            let name = entry.strip_prefix(out).unwrap().to_str().unwrap().to_string();
+            if name != "notes.txt" {
+                names.push(name);
+            }
+        }
+        names.sort();
+        names
+    };
+    assert!(!out.join("frames/frame-0002.obj").exists(), "a stale frame is left");
+    assert!(!out.join("sheets").exists(), "stale sheets are left");
+    let mut expected = listed(&out);
+    if !expected.contains(&"report.json".to_string()) {
+        expected.push("report.json".into());
+        expected.sort();
+    }
+    assert_eq!(on_disk(&out), expected);
+    // An inadmissible shape: only the report, saying so.
+    // Strong torsion on a wide sheet: the curve of regression crosses it.
+    let bad = json!({"outline": [[0, -60], [240, -60], [240, 60], [0, 60]], "regions": [{"flat_start": [0, 0],
+        "flat_direction": [1, 0], "curve": {"type": "bezier",
+        "control_points": [[0, 0, 0], [80, 10, 0], [150, -20, 60], [170, 10, 120]]}}]});
+    let bad_path = dir.path().join("bad.json");
+    std::fs::write(&bad_path, bad.to_string()).unwrap();
+    let o = run(&["bend", bad_path.to_str().unwrap(), "-o", out_str, "-q"]);
+    assert_eq!(o.status.code(), Some(3), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(on_disk(&out), vec!["report.json".to_string()]);
+    assert_eq!(std::fs::read_to_string(out.join("notes.txt")).unwrap(), "mine");
+}
+
+fn walk(dir: &Path) -> Vec<std::path::PathBuf> {
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            files.extend(walk(&path));
+        } else {
+            files.push(path);
+        }
+    }
+    files
+}
+
+/// Ctrl-C (SIGINT) stops the run and writes nothing: the previous set stays as it was.
+#[cfg(unix)]
+#[test]
+fn an_interrupted_run_leaves_the_previous_output_set_intact() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let out_str = out.to_str().unwrap();
+    let two = repo().join("examples/ffd/two-panels.json");
+    assert!(
+        sheetform_within(&["ffd", two.to_str().unwrap(), "-o", out_str, "-q"], 120)
+            .status
+            .success()
+    );
+    let before: Vec<(std::path::PathBuf, Vec<u8>)> = walk(&out)
+        .into_iter()
+        .map(|p| (p.clone(), std::fs::read(&p).unwrap()))
+        .collect();
+    // A 16k-vertex duct: a few seconds of restoration to interrupt.
+    let mut fine = example("examples/ffd/duct-100k.json");
+    fine["model"]["procedural"]["around"] = json!(160);
+    fine["model"]["procedural"]["along"] = json!(100);
+    let scene = dir.path().join("fine.json");
+    std::fs::write(&scene, fine.to_string()).unwrap();
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_sheetform"))
+        .args(["ffd", scene.to_str().unwrap(), "-o", out_str, "-q"])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(700));
+    assert!(std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap()
+        .success());
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(130), "{}", String::from_utf8_lossy(&o.stderr));
+    let after: Vec<(std::path::PathBuf, Vec<u8>)> = walk(&out)
+        .into_iter()
+        .map(|p| (p.clone(), std::fs::read(&p).unwrap()))
+        .collect();
+    assert_eq!(before, after, "the previous set changed");
+}
+
+/// Text that broke readers or documents: a UTF-8 byte-order mark hid an OBJ's first
+/// vertex (every index shifted); a 1 MB token was echoed whole into the error; a PLY
+/// parse error quoted the file's first line and the parser's internals; a NUL or escape
+/// character in a name made pattern.svg invalid XML and a line break split a DXF group.
+#[test]
+fn text_inputs_are_read_and_quoted_safely() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let out_str = out.to_str().unwrap();
+    let bom = dir.path().join("bom.obj");
+    std::fs::write(&bom, b"\xEF\xBB\xBFv 0 0 5\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let o = sheetform_within(&["check", bom.to_str().unwrap(), "-o", out_str, "-q"], 60);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r: Value = serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(r["vertex_count"], 4);
+    // Triangle (0,0,5), (0,0,0), (1,0,0): area 2.5, not the 0.5 of the shifted one.
+    assert!(
+        (r["area_mm2"].as_f64().unwrap() - 2.5).abs() < 1e-9,
+        "{}",
+        r["area_mm2"]
+    );
+
+    let long = dir.path().join("long.obj");
+    std::fs::write(
+        &long,
+        format!("v {} 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "A".repeat(1_000_000)),
+    )
+    .unwrap();
+    let secret = dir.path().join("secret.ply");
+    std::fs::write(&secret, "TOPSECRET first line hunter2\nmore\n").unwrap();
+    for (path, expected) in [(&long, "is not a number"), (&secret, "not a valid PLY file")] {
+        let o = sheetform_within(&["check", path.to_str().unwrap(), "-o", out_str, "-q"], 60);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1));
+        assert!(stderr.contains(expected) && !stderr.contains("hunter2"), "{stderr}");
+        assert_readable(&stderr);
+    }
+    let mut scene = example("examples/bent-rectangle.json");
+    scene["A".repeat(1_000_000)] = json!(1);
+    let (code, stderr) = run_scene("bend", &scene, &[]);
+    assert_eq!(code, 1);
+    assert!(stderr.contains("unknown field"), "{}", &stderr[..200.min(stderr.len())]);
+    assert_readable(&stderr);
+
+    let mut scene = example("examples/bent-rectangle.json");
+    scene["name"] = json!("a\u{0}b\u{1b}c\nv 1 2 3");
+    scene["regions"][0]["name"] = json!("curl\nEOF\r\n0\u{0}");
+    let path = dir.path().join("names.json");
+    std::fs::write(&path, scene.to_string()).unwrap();
+    let o = sheetform_within(&["bend", path.to_str().unwrap(), "-o", out_str, "-q"], 60);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let svg = std::fs::read_to_string(out.join("pattern.svg")).unwrap();
+    assert!(!svg
+        .chars()
+        .any(|c| c.is_control() && c != '\n' && c != '\t' && c != '\r'));
+    let obj = std::fs::read_to_string(out.join("model.obj")).unwrap();
+    assert!(
+        !obj.lines().any(|l| l.starts_with("v 1 2 3")),
+        "the name injected a vertex"
+    );
+    let dxf = std::fs::read_to_string(out.join("pattern.dxf")).unwrap();
+    assert!(!dxf.contains("EOF\r\n0\r\n\u{0}") && !dxf.contains('\u{0}'));
 }
