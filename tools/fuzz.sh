@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Fuzzes one target (or all) of fuzz/ with cargo-fuzz (libFuzzer), on stable Rust
+# (RUSTC_BOOTSTRAP=1, as ../shared/DEPENDENCIES.md says), from seed corpora built out of
+# the bundled examples and test meshes.
+#
+#   tools/fuzz.sh TARGET|all SECONDS
+#
+# Limits per input: 30 s (-timeout) and 4 GB (-rss_limit_mb); a crash, a timeout or an
+# out-of-memory input is saved under fuzz/artifacts/TARGET/ and the script fails.
+# Installs cargo-fuzz when it is missing.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+target=${1:?target or all}
+seconds=${2:?seconds}
+export RUSTC_BOOTSTRAP=1
+command -v cargo-fuzz >/dev/null || cargo install --quiet --locked cargo-fuzz
+targets=(mesh_check mesh_flatten bend_scene slit_scene ffd_scene photo_annotation)
+[ "$target" = all ] || targets=("$target")
+seed() {
+  local dir=fuzz/corpus/$1
+  mkdir -p "$dir"
+  case $1 in
+    mesh_check | mesh_flatten)
+      # The first byte picks the format: 0 OBJ, 1 OFF, 2 PLY, 3 STL.
+      local kind
+      for mesh in ../shared/testdata/*.obj tests/data/*.obj crates/*/tests/data/*.{obj,off,ply,stl}; do
+        [ -f "$mesh" ] || continue
+        [ "$(stat -c %s "$mesh")" -le 200000 ] || continue
+        case $mesh in *.obj) kind='\x00' ;; *.off) kind='\x01' ;; *.ply) kind='\x02' ;; *.stl) kind='\x03' ;; esac
+        { printf "$kind"; cat "$mesh"; } > "$dir/$(basename "$mesh")"
+      done
+      printf '\x00v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 1\nf 1 2 3\nf 2 4 3\n' > "$dir/two-triangles.obj"
+      printf '\x01OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 1\n3 0 1 2\n3 1 3 2\n' > "$dir/two-triangles.off"
+      ;;
+    bend_scene) cp examples/*.json "$dir/" ;;
+    slit_scene) cp examples/slit/*.json "$dir/" ;;
+    ffd_scene) for f in examples/ffd/*.json; do case $f in *100k*) ;; *) cp "$f" "$dir/" ;; esac; done ;;
+    photo_annotation) cp examples/photo/*.json examples/photo/*.svg examples/photo/synthetic/*.json "$dir/" 2>/dev/null || true ;;
+  esac
+}
+for t in "${targets[@]}"; do
+  seed "$t"
+  echo "fuzzing $t for $seconds s"
+  (cd fuzz && cargo fuzz run -O "$t" "corpus/$t" -- \
+    -max_total_time="$seconds" -timeout=30 -rss_limit_mb=4096 -print_final_stats=1 2>&1 |
+    grep -E "^(#[0-9]+ +DONE|stat::number_of_executed_units|stat::peak_rss_mb|==[0-9]+== ERROR|SUMMARY|artifact_prefix|Test unit written)" || true)
+  if ls "fuzz/artifacts/$t/"* >/dev/null 2>&1; then
+    echo "fuzz/artifacts/$t/ holds failing inputs" >&2
+    exit 1
+  fi
+done
