@@ -45,6 +45,10 @@ pub enum PipelineError {
     /// A mesh cannot be flattened.
     #[error(transparent)]
     Flatten(#[from] FlattenError),
+    /// The result to be written is not a valid mesh (a non-finite coordinate, an index
+    /// out of range): the run stops before any file is rendered, so no NaN reaches a file.
+    #[error("the result cannot be written: {0}")]
+    InvalidResult(sheetform_mesh::MeshError),
     /// A command-line option is out of range.
     #[error("option `{option}`: {message}")]
     Option {
@@ -132,7 +136,7 @@ impl PipelineError {
             Self::Inadmissible { .. } => ErrorKind::Inadmissible,
             Self::Cancelled => ErrorKind::Cancelled,
             Self::Io(_) | Self::OutputDirectory { .. } => ErrorKind::Output,
-            Self::Flatten(_) => ErrorKind::Failed,
+            Self::Flatten(_) | Self::InvalidResult(_) => ErrorKind::Failed,
             Self::Photo(PhotoError::Solver(_)) => ErrorKind::Failed,
             Self::Read { .. }
             | Self::Bend(_)

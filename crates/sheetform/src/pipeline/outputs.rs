@@ -142,6 +142,8 @@ pub(crate) fn pattern_files(
     up_axis: UpAxis,
     smooth_bend_degrees: f64,
 ) -> Result<(RenderedFiles, PatternReport), PipelineError> {
+    // Every command's model goes through here before any file is rendered.
+    mesh.validate().map_err(PipelineError::InvalidResult)?;
     let mut pattern = pattern_from_mesh(
         mesh,
         &PatternOptions {
@@ -357,4 +359,47 @@ fn previous_outputs(dir: &Path) -> Vec<String> {
         })
         .map(str::to_string)
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sheetform_geometry::{Vec2, Vec3};
+    use sheetform_mesh::{Piece, PieceKind};
+
+    /// Issue 19: no NaN reaches a file. A model with a non-finite coordinate stops
+    /// before anything is rendered, naming the vertex.
+    #[test]
+    fn a_model_with_a_non_finite_coordinate_is_not_rendered() {
+        let mut mesh = SheetMesh {
+            positions: vec![Vec3::zeros(), Vec3::x(), Vec3::y()],
+            flat: vec![Vec2::zeros(), Vec2::x(), Vec2::y()],
+            triangles: vec![[0, 1, 2]],
+            face_pieces: vec![0],
+            pieces: vec![Piece {
+                name: "p".into(),
+                kind: PieceKind::Planar,
+            }],
+            ..Default::default()
+        };
+        let render = |mesh: &SheetMesh| {
+            pattern_files(
+                mesh,
+                "t",
+                &PatternOutputOptions::default(),
+                OutputSet::All,
+                None,
+                UpAxis::Z,
+                0.0,
+            )
+        };
+        assert!(render(&mesh).is_ok());
+        mesh.positions[2].z = f64::NAN;
+        let error = render(&mesh).unwrap_err();
+        assert_eq!(error.kind(), super::super::ErrorKind::Failed);
+        assert!(
+            error.to_string().contains("vertex 2 has a non-finite 3D coordinate"),
+            "{error}"
+        );
+    }
 }
