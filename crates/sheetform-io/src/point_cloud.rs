@@ -28,8 +28,13 @@ fn read_xyz(bytes: &[u8]) -> Result<Vec<[f64; 3]>, String> {
             .filter(|s| !s.is_empty())
             .take(3)
             .map(|s| {
-                s.parse::<f64>()
-                    .map_err(|_| format!("line {}: `{s}` is not a number", n + 1))
+                s.parse::<f64>().map_err(|_| {
+                    format!(
+                        "line {}: `{}` is not a number",
+                        n + 1,
+                        sheetform_geometry::quoted_token(s)
+                    )
+                })
             })
             .collect::<Result<_, _>>()?;
         if values.len() < 3 {
@@ -46,7 +51,10 @@ fn read_ply(bytes: &[u8]) -> Result<Vec<[f64; 3]>, String> {
     let mut reader = std::io::Cursor::new(bytes);
     let ply = Parser::<DefaultElement>::new()
         .read_ply(&mut reader)
-        .map_err(|e| format!("not a valid PLY file: {e}"))?;
+        // (ply-rs's message quotes the offending line.)
+        .map_err(|_| {
+            "not a valid PLY file (a header from `ply` to `end_header`, then the data it declares)".to_string()
+        })?;
     let vertices = ply.payload.get("vertex").ok_or("no `vertex` element")?;
     let value = |v: &DefaultElement, key: &str| -> Result<f64, String> {
         match v.get(key) {
@@ -54,7 +62,10 @@ fn read_ply(bytes: &[u8]) -> Result<Vec<[f64; 3]>, String> {
             Some(Property::Double(x)) => Ok(*x),
             Some(Property::Int(x)) => Ok(f64::from(*x)),
             Some(Property::Short(x)) => Ok(f64::from(*x)),
-            _ => Err(format!("vertex property `{key}` missing or not a number")),
+            _ => Err(format!(
+                "vertex property `{}` missing or not a number",
+                sheetform_geometry::quoted_token(key)
+            )),
         }
     };
     vertices
