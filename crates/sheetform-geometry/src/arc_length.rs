@@ -52,7 +52,8 @@ pub struct ArcLengthOptions {
     /// Intervals the domain is first cut into (per B-spline span when breakpoints are
     /// given).
     pub initial_intervals: usize,
-    /// Most intervals of the whole table (a work and memory budget: 16 bytes each). A
+    /// Most intervals of the whole table (a work and memory budget: 16 bytes each, 2^23
+    /// = 134 MB; a degree-2 B-spline that doubles back on itself needed over 2^20). A
     /// curve that needs more (coordinates near the floating-point range, a cusp the
     /// tolerance cannot resolve) is an error, not a table of a billion intervals.
     pub max_intervals: usize,
@@ -64,7 +65,7 @@ impl Default for ArcLengthOptions {
             relative_tolerance: 1e-14,
             max_depth: 30,
             initial_intervals: 4,
-            max_intervals: 1 << 20,
+            max_intervals: 1 << 23,
         }
     }
 }
@@ -100,6 +101,15 @@ impl ArcLengthTable {
         let mut cuts: Vec<f64> = vec![u0];
         cuts.extend(breakpoints.iter().copied().filter(|&b| b > u0 && b < u1));
         cuts.push(u1);
+        // A curve of (almost) no length: its rounding noise would be refined to the
+        // interval budget (six equal control points took 10 s); refuse it at once.
+        let coarse: f64 = cuts.windows(2).map(|w| gauss_legendre_length(curve, w[0], w[1])).sum();
+        let size = cuts.iter().map(|&u| curve.point(u).norm()).fold(0.0, f64::max);
+        if coarse.is_finite() && coarse <= 1e-12 * size.max(f64::MIN_POSITIVE) {
+            return Err(GeometryError::DegenerateCurve {
+                reason: format!("its arc length is {coarse:.1e}, nothing next to its size"),
+            });
+        }
         let mut params = vec![u0];
         let mut lengths = vec![0.0];
         for w in cuts.windows(2) {
