@@ -301,6 +301,7 @@ pub fn restore_constrained_with_progress(
     let memory = options.line_search_memory.max(1);
     // Phase 1: restoration.
     while iterations < options.max_iterations && max_abs(&e.defects) > options.tolerance {
+        problem.check_cancelled()?;
         if stalled >= STALL_ITERATIONS {
             if bending.is_some() || options.stall_bending_weight <= 0.0 {
                 // Nothing left to switch on: stop instead of crawling to `max_iterations`.
@@ -376,6 +377,7 @@ pub fn restore_constrained_with_progress(
     let mut last_alpha: f64 = 1.0;
     let mut refinements = 0;
     while converged && iterations < options.max_iterations && refinements < options.refine_iterations {
+        problem.check_cancelled()?;
         refinements += 1;
         iterations += 1;
         let (gradient, _) = factorise(&mut kkt, problem, &e, &metric)?;

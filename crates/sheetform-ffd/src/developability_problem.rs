@@ -72,6 +72,10 @@ pub struct DevelopabilityProblem<'a> {
     pub corner_start: Vec<usize>,
     /// Mean rest length of all edges (model units), the length scale of the residuals.
     pub length_scale: f64,
+    /// Set from another thread to stop the restoration at its next iteration
+    /// ([`FfdError::Cancelled`](crate::FfdError::Cancelled)); `None` from
+    /// [`DevelopabilityProblem::new`].
+    pub cancel: Option<&'a std::sync::atomic::AtomicBool>,
 }
 
 /// Positions, parameter Jacobians, spring residuals and angle defects at one `X`.
@@ -195,6 +199,7 @@ impl<'a> DevelopabilityProblem<'a> {
             corners,
             corner_start,
             length_scale,
+            cancel: None,
         }
     }
 
@@ -218,6 +223,17 @@ impl<'a> DevelopabilityProblem<'a> {
             area / (l * l)
         } else {
             0.0
+        }
+    }
+
+    /// [`FfdError::Cancelled`](crate::FfdError::Cancelled) once the cancel flag is set.
+    ///
+    /// # Errors
+    /// When cancelled.
+    pub fn check_cancelled(&self) -> Result<(), crate::FfdError> {
+        match self.cancel {
+            Some(flag) if flag.load(std::sync::atomic::Ordering::Relaxed) => Err(crate::FfdError::Cancelled),
+            _ => Ok(()),
         }
     }
 

@@ -39,6 +39,9 @@ pub enum FfdError {
     /// The linear algebra failed.
     #[error("solver: {0}")]
     Solver(String),
+    /// The run was cancelled (the problem's cancel flag).
+    #[error("cancelled")]
+    Cancelled,
 }
 
 impl FfdError {

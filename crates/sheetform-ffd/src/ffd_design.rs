@@ -86,6 +86,20 @@ pub fn run_design_with_progress(
     mesh: &TriangleMesh,
     progress: &mut dyn FnMut(&RestorationProgress),
 ) -> Result<FfdDesign, FfdError> {
+    run_design_with_cancel(scene, mesh, progress, None)
+}
+
+/// [`run_design_with_progress`] that stops at the next iteration of a restoration once
+/// `cancel` is set (from another thread, e.g. on Ctrl-C or a newer edit in an editor).
+///
+/// # Errors
+/// As [`run_design`]; [`FfdError::Cancelled`] when cancelled.
+pub fn run_design_with_cancel(
+    scene: &FfdScene,
+    mesh: &TriangleMesh,
+    progress: &mut dyn FnMut(&RestorationProgress),
+    cancel: Option<&std::sync::atomic::AtomicBool>,
+) -> Result<FfdDesign, FfdError> {
     scene.validate()?;
     let assembly = PanelAssembly::from_mesh(mesh)?;
     if assembly.node_count > crate::MAX_PROCEDURAL_VERTICES {
@@ -141,7 +155,8 @@ pub fn run_design_with_progress(
             &deformation.edits,
             &format!("deformations[{k}].edits"),
         )?;
-        let problem = DevelopabilityProblem::new(&volume, &assembly, parameters.clone(), &problem_options);
+        let mut problem = DevelopabilityProblem::new(&volume, &assembly, parameters.clone(), &problem_options);
+        problem.cancel = cancel;
         let deformation_count = scene.deformations.len();
         // The solvers report iteration 0 (the start) first.
         let mut angle_defect_max_start_rad = 0.0;
@@ -196,6 +211,8 @@ pub fn run_design_with_progress(
                 (parameters.clone(), info)
             }
         };
+        // (The paper's solver stops early when cancelled; the result is not used.)
+        problem.check_cancelled()?;
         let deformed = problem.target.clone();
         let restored: Vec<Vec3> = new_parameters.par_iter().map(|&x| volume.point(x)).collect();
         let deviation_max = deformed

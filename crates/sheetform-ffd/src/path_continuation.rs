@@ -97,7 +97,10 @@ pub fn restore_along_path(
             }
             h = (0.5 * h).max(shortest);
         };
-        let sub_problem = DevelopabilityProblem::new(&volume, problem.assembly, parameters.clone(), problem_options);
+        problem.check_cancelled()?;
+        let mut sub_problem =
+            DevelopabilityProblem::new(&volume, problem.assembly, parameters.clone(), problem_options);
+        sub_problem.cancel = problem.cancel;
         let offset = iterations;
         let (restored, sub_info) = restore_constrained_with_progress(&sub_problem, options, &mut |i, defect| {
             if i > 0 {

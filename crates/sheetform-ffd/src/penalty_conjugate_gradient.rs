@@ -74,6 +74,9 @@ pub fn restore_paper_with_progress(
     let mut converged = false;
     let mut alpha = f64::NAN;
     while steps < options.max_steps {
+        if problem.check_cancelled().is_err() {
+            break;
+        }
         steps += 1;
         let rho = mean_rest_square / (g_previous * g_previous);
         let mut gradient = penalty_gradient(problem, &e, rho);

@@ -501,3 +501,34 @@ fn a_misspelt_range_key_is_refused_not_made_global() {
     let good = scene.replace("\"kk\"", "\"k\"");
     assert!(FfdScene::from_json(&good).is_ok());
 }
+
+/// A restoration stops at its next iteration once the cancel flag is set (Ctrl-C, or a
+/// newer edit in an editor): the 100k duct's single restoration runs a minute.
+#[test]
+fn a_cancelled_restoration_stops_with_an_error() {
+    use std::sync::atomic::AtomicBool;
+    let scene = example("duct");
+    let cancelled = AtomicBool::new(true);
+    let mut iterations = 0;
+    let error = sheetform_ffd::run_design_with_cancel(
+        &scene,
+        &mesh_of(&scene),
+        &mut |p| iterations = iterations.max(p.iteration),
+        Some(&cancelled),
+    )
+    .unwrap_err();
+    assert_eq!(error, sheetform_ffd::FfdError::Cancelled);
+    assert_eq!(iterations, 0, "no iteration after the flag was set");
+    for continuation in [false, true] {
+        let mut scene = example("duct");
+        if continuation {
+            scene.solver.continuation = Some(Default::default());
+        }
+        let not_cancelled = AtomicBool::new(false);
+        assert!(
+            sheetform_ffd::run_design_with_cancel(&scene, &mesh_of(&scene), &mut |_| {}, Some(&not_cancelled)).is_ok()
+        );
+        let error = sheetform_ffd::run_design_with_cancel(&scene, &mesh_of(&scene), &mut |_| {}, Some(&cancelled));
+        assert_eq!(error.unwrap_err(), sheetform_ffd::FfdError::Cancelled);
+    }
+}

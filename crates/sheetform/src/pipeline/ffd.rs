@@ -1,7 +1,7 @@
 //! `sheetform ffd`: system C (Wang & Tang).
 
 use crate::report::{ChartMethod, Command, FfdReport, FfdStepReport, Report, Status, Timings};
-use sheetform_ffd::{run_design_with_progress, FfdDesign, FfdError, FfdScene, ModelSource, SolverMethod};
+use sheetform_ffd::{run_design_with_cancel, FfdDesign, FfdError, FfdScene, ModelSource, SolverMethod};
 use sheetform_flatten::Chart;
 use sheetform_flatten::{distortion, exact_unfold, ChartSet, UnfoldOptions};
 use sheetform_io::{glb_bytes, obj_string, stl_bytes};
@@ -76,17 +76,26 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
     // Restorations take 5 % to 90 % of the bar, in equal shares per deformation.
     let mut shown = 0.05;
     context.progress("restoring", shown);
-    let design = run_design_with_progress(&scene, &mesh, &mut |p| {
-        let fraction = 0.05 + 0.85 * (p.deformation as f64 + p.fraction()) / p.deformation_count as f64;
-        shown = fraction.max(shown);
-        let stage = format!(
-            "deformation {}/{}: iteration {}, max defect {:.1e} rad",
-            p.deformation + 1,
-            p.deformation_count,
-            p.iteration,
-            p.angle_defect_max_rad
-        );
-        context.progress(&stage, shown);
+    let design = run_design_with_cancel(
+        &scene,
+        &mesh,
+        &mut |p| {
+            let fraction = 0.05 + 0.85 * (p.deformation as f64 + p.fraction()) / p.deformation_count as f64;
+            shown = fraction.max(shown);
+            let stage = format!(
+                "deformation {}/{}: iteration {}, max defect {:.1e} rad",
+                p.deformation + 1,
+                p.deformation_count,
+                p.iteration,
+                p.angle_defect_max_rad
+            );
+            context.progress(&stage, shown);
+        },
+        context.cancel,
+    )
+    .map_err(|e| match e {
+        FfdError::Cancelled => PipelineError::Cancelled,
+        other => other.into(),
     })?;
     context.check_cancelled()?;
     context.progress("exporting", 0.9);
