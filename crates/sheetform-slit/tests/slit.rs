@@ -230,8 +230,8 @@ fn fits_a_point_cloud_sampled_from_another_design() {
     );
     let mut scene = SlitScene::from_json(&text).unwrap();
     let plain = solve_design(&SlitModel::from_scene(&scene, None).unwrap());
-    let dir = tempfile_dir();
-    let path = dir.join("scan.xyz");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scan.xyz");
     std::fs::write(
         &path,
         points
@@ -265,12 +265,6 @@ fn fits_a_point_cloud_sampled_from_another_design() {
     let after = distance(&fitted, &fitted_model);
     assert!(after < 0.5 * before, "scan fitting: {before} -> {after}");
     assert!(fitted.normalised_error <= 1e-6);
-}
-
-fn tempfile_dir() -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("sheetform-slit-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 #[test]

@@ -356,6 +356,130 @@ fn an_interrupted_run_leaves_the_previous_output_set_intact() {
     assert_eq!(before, after, "the previous set changed");
 }
 
+/// Every file under `dir` with its bytes, sorted: an output set to compare.
+fn snapshot(dir: &Path) -> Vec<(std::path::PathBuf, Vec<u8>)> {
+    let mut files: Vec<_> = walk(dir)
+        .into_iter()
+        .map(|p| (p.clone(), std::fs::read(&p).unwrap()))
+        .collect();
+    files.sort();
+    files
+}
+
+/// The names in `dir` that a run left behind besides `keep`: staging directories,
+/// temporary files.
+fn leftovers(dir: &Path, keep: &[&str]) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| !keep.contains(&n.as_str()))
+        .collect()
+}
+
+/// A bend run whose sixth file (a 276 KB tiled PDF at `--scale 10`) is over a 150 KB
+/// file-size limit (`ulimit -f`): `ignore_signal` makes the write fail with EFBIG, else
+/// SIGXFSZ kills the process in the middle of writing its set.
+#[cfg(target_os = "linux")]
+fn bend_over_a_file_size_limit(out: &Path, ignore_signal: bool) -> std::process::Output {
+    let scene = repo().join("examples/bent-rectangle.json");
+    let script = format!(
+        "{}ulimit -f 150; exec \"$0\" \"$@\"",
+        if ignore_signal { "trap '' XFSZ; " } else { "" }
+    );
+    let output = std::process::Command::new("bash")
+        .args(["-c", &script, env!("CARGO_BIN_EXE_sheetform"), "bend"])
+        .arg(&scene)
+        .arg("-o")
+        .arg(out)
+        .args(["--scale", "10", "-q"])
+        .output()
+        .unwrap();
+    output
+}
+
+/// Issue 19's two faults in the middle of writing a set, over a good set with frames:
+/// a write that fails (EFBIG: the file-size limit with its signal ignored) ends with an
+/// error naming the file, and a run killed while writing (SIGXFSZ) ends without a word.
+/// Both leave the previous set byte for byte; the failed run leaves no temporary file,
+/// and what the killed one could not clean up is removed by the next run.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_run_failing_or_killed_mid_write_leaves_the_previous_output_set_intact() {
+    use std::os::unix::process::ExitStatusExt;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let scene = repo().join("examples/bent-rectangle.json");
+    let good = sheetform_within(
+        &[
+            "bend",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--animate",
+            "3",
+            "-q",
+        ],
+        120,
+    );
+    assert!(good.status.success());
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let before = snapshot(&out);
+
+    let failed = bend_over_a_file_size_limit(&out, true);
+    let message = String::from_utf8_lossy(&failed.stderr);
+    assert_eq!(failed.status.code(), Some(1), "{message}");
+    assert!(
+        message.contains("pattern.pdf") && message.contains("too large"),
+        "{message}"
+    );
+    assert_eq!(snapshot(&out), before, "a failed write changed the previous set");
+    assert!(
+        leftovers(dir.path(), &["out"]).is_empty(),
+        "{:?}",
+        leftovers(dir.path(), &["out"])
+    );
+    assert!(leftovers(
+        &out,
+        &[
+            "model.obj",
+            "model.glb",
+            "model.stl",
+            "pattern.svg",
+            "pattern.dxf",
+            "pattern.pdf",
+            "frames",
+            "report.json",
+            "notes.txt"
+        ]
+    )
+    .is_empty());
+
+    let killed = bend_over_a_file_size_limit(&out, false);
+    assert_eq!(
+        killed.status.signal(),
+        Some(25),
+        "not killed by SIGXFSZ: {:?}",
+        killed.status
+    );
+    assert_eq!(snapshot(&out), before, "a kill mid-write changed the previous set");
+    let staged = leftovers(dir.path(), &["out"]);
+    assert!(
+        staged.len() == 1 && staged[0].starts_with(".out.sheetform-"),
+        "the killed run's staging directory: {staged:?}"
+    );
+
+    // The next run replaces the set, keeps the user's file, and removes the killed
+    // run's staging directory.
+    let next = sheetform_within(
+        &["bend", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"],
+        120,
+    );
+    assert!(next.status.success());
+    assert!(leftovers(dir.path(), &["out"]).is_empty());
+    assert!(!out.join("frames").exists());
+    assert_eq!(std::fs::read_to_string(out.join("notes.txt")).unwrap(), "mine");
+}
+
 /// Text that broke readers or documents: a UTF-8 byte-order mark hid an OBJ's first
 /// vertex (every index shifted); a 1 MB token was echoed whole into the error; a PLY
 /// parse error quoted the file's first line and the parser's internals; a NUL or escape

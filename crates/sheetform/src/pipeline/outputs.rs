@@ -2,7 +2,7 @@
 //! and report into a directory.
 
 use crate::report::{PatternReport, Report};
-use sheetform_io::{write_atomic, Texture, UpAxis};
+use sheetform_io::{Texture, UpAxis};
 use sheetform_mesh::SheetMesh;
 use sheetform_pattern::{
     dxf_bytes, pack_pieces, pattern_from_mesh, pdf_tiled, smallest_bounding_rotation, svg_bytes, DxfUnit, FoldStyle,
@@ -272,69 +272,29 @@ pub(crate) fn pattern_files(
 
 /// Writes rendered files and the report into `dir` (created if missing) as one set.
 ///
-/// 1. Every file is written into a fresh staging directory inside `dir`, created
-///    exclusively under an unpredictable name; a failure there (a full disk) leaves the
-///    previous set untouched.
-/// 2. The staged files are renamed into place, then the files of the previous run that
-///    this one does not write are removed: those listed in the previous `report.json`'s
-///    `outputs` (nothing else in `dir` is touched; `frames/` and `sheets/` go when they
-///    are left empty).
-/// 3. `report.json` is written last, atomically: a directory with a report always holds
-///    exactly the files it lists (an inadmissible bend, whose report lists only itself,
-///    no longer leaves the last good model beside it).
+/// The set replaces the previous run's as a unit ([`sheetform_io::replace_file_set`]):
+/// the previous run's files are those its `report.json` lists in `outputs`; those this
+/// run does not write again go (stale `frames/` and `sheets/`, the last good model
+/// beside an inadmissible report), nothing else in `dir` is touched, and a failed or
+/// killed write leaves the previous set as it was. A directory with a report holds
+/// exactly the files it lists.
 ///
 /// # Errors
-/// The directory cannot be created, or a write fails.
+/// `dir` is not a directory, or a write fails.
 pub fn write_outputs(dir: &Path, files: &[(String, Vec<u8>)], report: &Report) -> Result<(), PipelineError> {
-    let directory_error = |path: &Path, e: std::io::Error| PipelineError::OutputDirectory {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    };
     if dir.exists() && !dir.is_dir() {
         return Err(PipelineError::OutputDirectory {
             path: dir.display().to_string(),
             message: "exists and is not a directory".into(),
         });
     }
-    std::fs::create_dir_all(dir).map_err(|e| directory_error(dir, e))?;
-    let staging = tempfile::Builder::new()
-        .prefix(".sheetform-staging-")
-        .tempdir_in(dir)
-        .map_err(|e| directory_error(dir, e))?;
-    for (name, bytes) in files {
-        let path = staging.path().join(name);
-        if let Some(parent) = path.parent() {
-            std::fs::create_dir_all(parent).map_err(|e| directory_error(parent, e))?;
-        }
-        std::fs::write(&path, bytes).map_err(|e| directory_error(&dir.join(name), e))?;
-    }
-    let previous = previous_outputs(dir);
-    for (name, _) in files {
-        let path = dir.join(name);
-        if let Some(parent) = path.parent() {
-            std::fs::create_dir_all(parent).map_err(|e| directory_error(parent, e))?;
-        }
-        std::fs::rename(staging.path().join(name), &path).map_err(|e| directory_error(&path, e))?;
-    }
-    let written: std::collections::HashSet<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
-    for stale in previous
-        .iter()
-        .filter(|n| !written.contains(n.as_str()) && *n != "report.json")
-    {
-        let path = dir.join(stale);
-        match std::fs::remove_file(&path) {
-            Ok(()) => {
-                // Sub-directories of outputs (frames/, sheets/) go when left empty.
-                if let Some(parent) = path.parent().filter(|p| *p != dir) {
-                    let _ = std::fs::remove_dir(parent);
-                }
-            }
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-            Err(e) => return Err(directory_error(&path, e)),
-        }
-    }
     let json = serde_json::to_vec_pretty(report).expect("report serialises");
-    write_atomic(&dir.join("report.json"), &json)?;
+    let set: Vec<(&str, &[u8])> = files
+        .iter()
+        .map(|(name, bytes)| (name.as_str(), bytes.as_slice()))
+        .chain(std::iter::once(("report.json", json.as_slice())))
+        .collect();
+    sheetform_io::replace_file_set(dir, &set, &previous_outputs(dir))?;
     Ok(())
 }
 
