@@ -25,6 +25,10 @@ pub struct BendRunOptions {
 /// Most frames `--animate` may ask for: each is an OBJ of the whole sheet held in memory.
 pub const MAX_ANIMATION_FRAMES: usize = 10_000;
 
+/// Most vertices over all animation frames (frames × the sheet's vertices): about 200
+/// bytes of OBJ each, so at most about 400 MB of frames held in memory and written.
+pub const MAX_ANIMATION_VERTICES: usize = 2_000_000;
+
 /// A finished bend run: the model, the bent sheet, the files to write and the report.
 #[derive(Debug)]
 pub struct BendRun {
@@ -120,6 +124,17 @@ pub fn run_bend(scene: &BendScene, options: &BendRunOptions, context: &RunContex
     } else {
         0
     };
+    let vertices = sheet.mesh.positions.len();
+    if frames.saturating_mul(vertices) > MAX_ANIMATION_VERTICES {
+        return Err(PipelineError::Option {
+            option: "animate",
+            message: format!(
+                "{frames} frames of {vertices} vertices are over the budget of {MAX_ANIMATION_VERTICES} vertices in all \
+                 (at most {} frames of this sheet)",
+                MAX_ANIMATION_VERTICES / vertices.max(1)
+            ),
+        });
+    }
     for i in 0..frames {
         context.check_cancelled()?;
         let t = if frames == 1 {
