@@ -3,6 +3,8 @@
 
 use crate::pattern::{upright, Label, LabelKind, PatternPiece};
 use crate::Vec2;
+use rstar::primitives::{GeomWithData, Rectangle};
+use rstar::{RTree, AABB};
 use sheetform_geometry::{rings_contain, triangles_overlap};
 
 /// Where a label may go: a point on its piece's border (or inside it) and the direction
@@ -116,8 +118,8 @@ pub(crate) struct LabelPlacement {
 pub(crate) fn place_labels(pieces: &mut [PatternPiece], requests: &[LabelRequest]) -> LabelPlacement {
     let mut report = LabelPlacement::default();
     let mut placed: Vec<Vec<TextBox>> = (0..pieces.len()).map(|_| Vec::new()).collect();
-    // Every line of each piece, with its bounding box for a quick rejection.
-    let lines: Vec<Vec<(Vec2, Vec2, Vec2, Vec2)>> = pieces
+    // Every line of each piece, in an R-tree of their bounding boxes.
+    let lines: Vec<PieceLines> = pieces
         .iter()
         .map(|piece| {
             let cut = piece
@@ -125,7 +127,19 @@ pub(crate) fn place_labels(pieces: &mut [PatternPiece], requests: &[LabelRequest
                 .iter()
                 .flat_map(|l| (0..l.len()).map(move |i| (l[i], l[(i + 1) % l.len()])));
             let folds = piece.folds.iter().map(|f| (f.a, f.b));
-            cut.chain(folds).map(|(a, b)| (a, b, a.inf(&b), a.sup(&b))).collect()
+            let segments: Vec<(Vec2, Vec2)> = cut.chain(folds).collect();
+            let boxes = segments
+                .iter()
+                .enumerate()
+                .map(|(i, (a, b))| {
+                    let (lo, hi) = (a.inf(b), a.sup(b));
+                    GeomWithData::new(Rectangle::from_corners([lo.x, lo.y], [hi.x, hi.y]), i)
+                })
+                .collect();
+            PieceLines {
+                segments,
+                tree: RTree::bulk_load(boxes),
+            }
         })
         .collect();
     // Work budget in line tests (about a second): beyond it the remaining labels are
@@ -152,11 +166,12 @@ pub(crate) fn place_labels(pieces: &mut [PatternPiece], requests: &[LabelRequest
                     half_width,
                     half_height,
                 };
-                work += lines[request.piece].len() + placed[request.piece].len();
+                let (is_free, tests) = free(&candidate, piece, &lines[request.piece], &placed[request.piece]);
+                work += tests;
                 if work > MAX_LABEL_WORK {
                     break 'search;
                 }
-                if free(&candidate, piece, &lines[request.piece], &placed[request.piece]) {
+                if is_free {
                     chosen = Some((candidate, direction, height, k > 0));
                     break 'search;
                 }
@@ -180,19 +195,39 @@ pub(crate) fn place_labels(pieces: &mut [PatternPiece], requests: &[LabelRequest
     report
 }
 
-/// Whether a text box lies inside its piece, off every line and off the labels placed.
-fn free(text_box: &TextBox, piece: &PatternPiece, lines: &[(Vec2, Vec2, Vec2, Vec2)], placed: &[TextBox]) -> bool {
+/// A piece's cut and fold lines and an R-tree of their bounding boxes.
+struct PieceLines {
+    segments: Vec<(Vec2, Vec2)>,
+    tree: RTree<GeomWithData<Rectangle<[f64; 2]>, usize>>,
+}
+
+/// Whether a text box lies inside its piece, off every line and off the labels placed,
+/// and how many tests that took (for the work budget).
+///
+/// The lines (cut loops included) whose bounding boxes meet the box's are tested first
+/// (found in the R-tree): a box that meets none of them has its whole border on one
+/// side of every cut loop, so one corner decides whether it lies inside (one even–odd
+/// test instead of four).
+fn free(text_box: &TextBox, piece: &PatternPiece, lines: &PieceLines, placed: &[TextBox]) -> (bool, usize) {
     let corners = text_box.corners();
-    let rings = || piece.cut.iter().map(|l| l.as_slice());
-    if !corners.iter().all(|&c| rings_contain(rings(), c)) {
-        return false;
-    }
     let lo = corners[0].inf(&corners[1]).inf(&corners[2]).inf(&corners[3]);
     let hi = corners[0].sup(&corners[1]).sup(&corners[2]).sup(&corners[3]);
+    let mut tests = 1;
     let crossed = lines
-        .iter()
-        .any(|&(a, b, l, h)| l.x <= hi.x && h.x >= lo.x && l.y <= hi.y && h.y >= lo.y && text_box.meets_segment(a, b));
-    !crossed && !placed.iter().any(|p| p.overlaps(text_box))
+        .tree
+        .locate_in_envelope_intersecting(&AABB::from_corners([lo.x, lo.y], [hi.x, hi.y]))
+        .any(|candidate| {
+            tests += 1;
+            let (a, b) = lines.segments[candidate.data];
+            text_box.meets_segment(a, b)
+        });
+    if crossed {
+        return (false, tests);
+    }
+    let rings = piece.cut.iter().map(|l| l.as_slice());
+    tests += piece.cut.iter().map(Vec::len).sum::<usize>() + placed.len();
+    let inside = rings_contain(rings, corners[0]) && !placed.iter().any(|p| p.overlaps(text_box));
+    (inside, tests)
 }
 
 #[cfg(test)]

@@ -5,8 +5,8 @@ use crate::material_allowance::{add_kerf, add_seam_allowance, MaterialAllowance}
 use crate::seam_matching::{match_seams, SeamRun};
 use crate::sheet_packing::{pack_pieces, SheetOptions};
 use crate::{PatternError, Vec2};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet};
 use sheetform_mesh::SheetMesh;
-use std::collections::HashMap;
 
 /// How a fold line is folded, seen from the pattern's printed side (the side the mesh's
 /// face normals point to).
@@ -381,7 +381,7 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
             parent[a as usize] = b;
         }
     }
-    let mut part_of_root: HashMap<u32, usize> = HashMap::new();
+    let mut part_of_root: HashMap<u32, usize> = HashMap::default();
     let mut face_part = Vec::with_capacity(mesh.triangles.len());
     for t in &mesh.triangles {
         let root = find(&mut parent, t[0]);
@@ -423,7 +423,7 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
     }
 
     // Folds: interior edges by dihedral sign; ruling edges are guides.
-    let mut ruling_edge: std::collections::HashSet<[u32; 2]> = std::collections::HashSet::new();
+    let mut ruling_edge: FxHashSet<[u32; 2]> = FxHashSet::default();
     let key = |a: u32, b: u32| if a < b { [a, b] } else { [b, a] };
     for r in &mesh.rulings {
         for w in r.vertices.windows(2) {
@@ -821,7 +821,7 @@ fn separate_grown_pieces(pieces: &mut [PatternPiece], before: &[(Vec2, Vec2)]) {
 /// and fold the same way by the same angle (within 0.5°), they become one line. Returns
 /// each line's vertex chain and its mean signed angle (radians).
 fn merge_collinear_folds(edges: &[([u32; 2], f64)], at: impl Fn(u32) -> Vec2) -> Vec<(Vec<u32>, f64)> {
-    let mut at_vertex: HashMap<u32, Vec<usize>> = HashMap::new();
+    let mut at_vertex: HashMap<u32, Vec<usize>> = HashMap::default();
     for (i, ([a, b], _)) in edges.iter().enumerate() {
         at_vertex.entry(*a).or_default().push(i);
         at_vertex.entry(*b).or_default().push(i);

@@ -1,8 +1,8 @@
 //! Seams of a flat pattern: stretches of the cut outline that are glued to another
 //! stretch, found from the 3D positions of the boundary vertices.
 
+use rustc_hash::FxHashMap as HashMap;
 use sheetform_mesh::SheetMesh;
-use std::collections::HashMap;
 
 /// A stretch of consecutive boundary edges on one cut loop that is glued to a stretch of
 /// the same length elsewhere (on another piece or on the same one).
@@ -27,8 +27,8 @@ pub struct SeamRun {
 pub fn match_seams(mesh: &SheetMesh, loops: &[Vec<u32>], tolerance: f64) -> Vec<SeamRun> {
     // 3D point ids for boundary vertices (grid hash, neighbouring cells searched).
     let cell = |p: &nalgebra::Vector3<f64>| [0, 1, 2].map(|k| (p[k] / tolerance).floor() as i64);
-    let mut grid: HashMap<[i64; 3], Vec<(u32, usize)>> = HashMap::new();
-    let mut point_of: HashMap<u32, usize> = HashMap::new();
+    let mut grid: HashMap<[i64; 3], Vec<(u32, usize)>> = HashMap::default();
+    let mut point_of: HashMap<u32, usize> = HashMap::default();
     let mut points = 0usize;
     for &v in loops.iter().flatten() {
         if point_of.contains_key(&v) {
@@ -60,7 +60,7 @@ pub fn match_seams(mesh: &SheetMesh, loops: &[Vec<u32>], tolerance: f64) -> Vec<
         point_of.insert(v, id);
     }
     // Boundary edges by their unordered 3D end points.
-    let mut by_ends: HashMap<[usize; 2], Vec<(usize, usize)>> = HashMap::new();
+    let mut by_ends: HashMap<[usize; 2], Vec<(usize, usize)>> = HashMap::default();
     for (li, l) in loops.iter().enumerate() {
         for i in 0..l.len() {
             let (a, b) = (point_of[&l[i]], point_of[&l[(i + 1) % l.len()]]);
@@ -72,7 +72,7 @@ pub fn match_seams(mesh: &SheetMesh, loops: &[Vec<u32>], tolerance: f64) -> Vec<
             }
         }
     }
-    let mut partner: HashMap<(usize, usize), (usize, usize)> = HashMap::new();
+    let mut partner: HashMap<(usize, usize), (usize, usize)> = HashMap::default();
     for list in by_ends.values() {
         if let [x, y] = list[..] {
             partner.insert(x, y);
@@ -90,7 +90,7 @@ pub fn match_seams(mesh: &SheetMesh, loops: &[Vec<u32>], tolerance: f64) -> Vec<
         }
     };
     let mut runs: Vec<SeamRun> = Vec::new();
-    let mut run_of_edge: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut run_of_edge: HashMap<(usize, usize), usize> = HashMap::default();
     for (li, l) in loops.iter().enumerate() {
         let n = l.len();
         // Start where a run begins (or at 0 when the whole loop is one run).

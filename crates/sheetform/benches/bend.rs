@@ -70,4 +70,27 @@ fn bench_edits(c: &mut Criterion) {
 }
 
 criterion_group!(edits, bench_edits);
-criterion_main!(benches, edits);
+
+/// The web editor's solve (issue 20): the whole pipeline with the preview outputs (GLB,
+/// pattern SVG, report) next to the bend alone, at 1 000 rulings.
+fn bench_preview(c: &mut Criterion) {
+    use sheetform::pipeline::{run_bend, BendRunOptions, OutputSet, RunContext};
+    let text = include_str!("../../../examples/bent-rectangle.json");
+    let mut scene = BendScene::from_json(text).expect("example parses");
+    scene.tessellation.rulings = Some(1000);
+    let mut group = c.benchmark_group("editor");
+    group.bench_function("run_bend preview (1000 rulings)", |b| {
+        b.iter(|| {
+            let context = RunContext::new(".").with_outputs(OutputSet::Preview);
+            black_box(run_bend(&scene, &BendRunOptions::default(), &context).expect("bends"))
+        })
+    });
+    let model = BendModel::from_scene(&scene).expect("example is valid");
+    group.bench_function("bend alone (1000 rulings)", |b| {
+        b.iter(|| black_box(bend(&model).expect("bends")))
+    });
+    group.finish();
+}
+
+criterion_group!(editor, bench_preview);
+criterion_main!(benches, edits, editor);
