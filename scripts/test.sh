@@ -9,6 +9,12 @@ python3 -c "import ezdxf" 2>/dev/null || python3 -m pip install --quiet --disabl
 if ! command -v pdftoppm >/dev/null; then
   apt-get update -qq && apt-get install -y -qq poppler-utils >/dev/null
 fi
+# The web editor's browser test: Debian's chromium driven by playwright-core (installed
+# with the editor's npm packages, apps/serve/web/package.json).
+if ! command -v chromium >/dev/null; then
+  apt-get update -qq && apt-get install -y -qq chromium >/dev/null
+fi
+npm ci --prefix apps/serve/web --no-audit --no-fund --loglevel=error
 cargo test --workspace --all-targets
 cargo test --workspace --doc
 # The examples assert their results: run them (dev profile, built by the tests above).

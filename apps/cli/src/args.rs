@@ -130,6 +130,23 @@ pub(crate) enum Command {
         #[command(flatten)]
         pattern: PatternArgs,
     },
+    /// Serve the web editor on this machine: bend a sheet live in the browser, on the
+    /// same pipeline as `sheetform bend`; open and save the scene files of a directory.
+    Serve {
+        /// Interface to listen on (default: loopback only, 127.0.0.1). Give another
+        /// explicitly to let other machines connect.
+        #[arg(long)]
+        host: Option<std::net::IpAddr>,
+        /// Port (default: a free one, printed).
+        #[arg(long, default_value_t = 0)]
+        port: u16,
+        /// Directory whose scene files the editor may open and save.
+        #[arg(long, default_value = ".")]
+        root: PathBuf,
+        /// Open the editor in the default browser.
+        #[arg(long)]
+        open: bool,
+    },
     /// Print the JSON Schema of a scene format.
     Schema {
         /// Which format.

@@ -439,3 +439,51 @@ pub(crate) fn schema_command(format: SchemaFormat) -> ExitCode {
     println!("{}", serde_json::to_string_pretty(&schema).expect("schema serialises"));
     ExitCode::SUCCESS
 }
+
+/// `sheetform serve`: binds the editor's server, prints its address, serves until Ctrl-C.
+pub(crate) fn serve_command(
+    host: Option<std::net::IpAddr>,
+    port: u16,
+    root: PathBuf,
+    open: bool,
+    quiet: bool,
+) -> ExitCode {
+    let mut options = sheetform_serve::ServeOptions {
+        port,
+        root,
+        ..Default::default()
+    };
+    if let Some(host) = host {
+        options.host = host;
+    }
+    let server = match sheetform_serve::Server::bind(&options).and_then(|s| Ok((s.local_address()?, s))) {
+        Ok(bound) => bound,
+        Err(e) => {
+            eprintln!("sheetform: {e}");
+            return ExitCode::from(1);
+        }
+    };
+    let (address, server) = server;
+    let url = format!("http://{address}/");
+    // The address goes to stdout even with -q: scripts and tests read it there.
+    println!("{url}");
+    if !quiet {
+        eprintln!(
+            "sheetform editor at {url}, serving the scene files of {} (Ctrl-C stops it)",
+            options.root.display()
+        );
+    }
+    if open {
+        let opener = if cfg!(target_os = "macos") { "open" } else { "xdg-open" };
+        if let Err(e) = std::process::Command::new(opener).arg(&url).spawn() {
+            eprintln!("sheetform: could not start a browser ({opener}: {e}); open {url} yourself");
+        }
+    }
+    match server.run(&CANCELLED) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("sheetform: {e}");
+            ExitCode::from(1)
+        }
+    }
+}

@@ -16,7 +16,8 @@ mod commands;
 use args::{Cli, Command};
 use clap::Parser;
 use commands::{
-    bend_command, check_command, ffd_command, flatten_command, photo_command, schema_command, slit_command, FlattenArgs,
+    bend_command, check_command, ffd_command, flatten_command, photo_command, schema_command, serve_command,
+    slit_command, FlattenArgs,
 };
 use std::process::ExitCode;
 
@@ -84,6 +85,7 @@ fn main() -> ExitCode {
             cli.quiet,
         ),
         Command::Schema { format } => Ok(schema_command(format)),
+        Command::Serve { host, port, root, open } => return serve_command(host, port, root, open, cli.quiet),
     };
     match result {
         Ok(code) => code,

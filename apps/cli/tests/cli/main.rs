@@ -13,4 +13,5 @@ mod pattern;
 mod photo;
 mod robustness;
 mod schema;
+mod serve;
 mod slit;

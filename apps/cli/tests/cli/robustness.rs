@@ -239,7 +239,10 @@ fn option_values_that_made_a_wrong_success_are_refused() {
     let o = sheetform_within(&["bend", scene.to_str().unwrap(), "--animate", "10000", "-o", out], 60);
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{stderr}");
-    assert!(stderr.contains("`animate`") && stderr.contains("at most 5089 frames"), "{stderr}");
+    assert!(
+        stderr.contains("`animate`") && stderr.contains("at most 5089 frames"),
+        "{stderr}"
+    );
     assert!(!Path::new(out).join("frames").exists());
 }
 

@@ -97,6 +97,41 @@ impl AssetResolver {
         Ok(full)
     }
 
+    /// Where a front end may write the file a user names by `relative` (the editor's
+    /// save): plain names only (no `..`, not absolute), in an existing directory inside
+    /// the root (also through symbolic links), and not an existing file of another kind
+    /// than a regular one.
+    ///
+    /// # Errors
+    /// [`PipelineError::Asset`] naming `field` for any of those.
+    pub fn resolve_for_writing(&self, relative: &str, field: &str) -> Result<PathBuf, PipelineError> {
+        let fail = |message: String| PipelineError::Asset {
+            field: field.to_string(),
+            path: relative.to_string(),
+            message,
+        };
+        let path = Path::new(relative);
+        if relative.is_empty() || !path.components().all(|c| matches!(c, Component::Normal(_))) {
+            return Err(fail("not a plain relative path inside the served directory".into()));
+        }
+        let root = self
+            .root
+            .canonicalize()
+            .map_err(|e| fail(format!("the directory {}: {e}", self.root.display())))?;
+        let parent = root
+            .join(path.parent().unwrap_or(Path::new("")))
+            .canonicalize()
+            .map_err(|e| fail(format!("its directory: {e}")))?;
+        if !parent.starts_with(&root) {
+            return Err(fail("it lies outside the served directory".into()));
+        }
+        let full = parent.join(path.file_name().expect("a normal last component"));
+        match std::fs::symlink_metadata(&full) {
+            Ok(m) if !m.is_file() => Err(fail("exists and is not a regular file".into())),
+            _ => Ok(full),
+        }
+    }
+
     /// The bytes of the file a scene's `field` names (see [`Self::resolve`]).
     ///
     /// # Errors

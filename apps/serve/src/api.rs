@@ -1,0 +1,205 @@
+//! The solve routes: a scene in, what the editor draws out; and any output file for
+//! download. Each runs the library pipeline (the same `run_bend` as `sheetform bend`)
+//! on the blocking pool; nothing of a pipeline is repeated here.
+
+use crate::AppState;
+use axum::extract::{Path, State};
+use axum::http::{header, HeaderValue, StatusCode};
+use axum::response::{IntoResponse, Response};
+use axum::routing::post;
+use axum::{Json, Router};
+use serde::Serialize;
+use sheetform::bend::BendScene;
+use sheetform::mesh::SheetMesh;
+use sheetform::pipeline::{run_bend, BendRunOptions, ErrorKind, OutputSet, PipelineError, RunContext};
+use sheetform::report::Report;
+use std::sync::Arc;
+use std::time::Instant;
+
+pub(crate) fn routes() -> Router<Arc<AppState>> {
+    Router::new()
+        .route("/api/bend", post(bend))
+        .route("/api/bend/file/{name}", post(bend_file))
+}
+
+/// An error reply: `{"error": {"kind", "message"}, "report"?}` with the HTTP status of
+/// its kind (400 invalid input, 422 inadmissible, 500 failed, 503 cancelled).
+#[derive(Debug)]
+pub(crate) struct ApiError {
+    pub status: StatusCode,
+    pub kind: &'static str,
+    pub message: String,
+    pub report: Option<Box<Report>>,
+}
+
+impl ApiError {
+    pub fn invalid(message: impl Into<String>) -> Self {
+        Self {
+            status: StatusCode::BAD_REQUEST,
+            kind: "invalid_input",
+            message: message.into(),
+            report: None,
+        }
+    }
+}
+
+impl From<PipelineError> for ApiError {
+    fn from(error: PipelineError) -> Self {
+        let (status, kind) = match error.kind() {
+            ErrorKind::InvalidInput => (StatusCode::BAD_REQUEST, "invalid_input"),
+            ErrorKind::Inadmissible => (StatusCode::UNPROCESSABLE_ENTITY, "inadmissible"),
+            ErrorKind::Failed => (StatusCode::INTERNAL_SERVER_ERROR, "failed"),
+            ErrorKind::Output => (StatusCode::INTERNAL_SERVER_ERROR, "output"),
+            ErrorKind::Cancelled => (StatusCode::SERVICE_UNAVAILABLE, "cancelled"),
+        };
+        Self {
+            status,
+            kind,
+            message: error.to_string(),
+            report: error.report().cloned().map(Box::new),
+        }
+    }
+}
+
+impl IntoResponse for ApiError {
+    fn into_response(self) -> Response {
+        let body = serde_json::json!({
+            "error": {"kind": self.kind, "message": self.message},
+            "report": self.report,
+        });
+        (self.status, Json(body)).into_response()
+    }
+}
+
+/// The bent sheet as flat arrays for the browser (model units).
+#[derive(Debug, Serialize)]
+struct MeshArrays {
+    /// `x y z` per vertex.
+    positions: Vec<f64>,
+    /// `u v` per vertex: the flat pattern at 1:1.
+    flat: Vec<f64>,
+    /// Three vertex indices per triangle.
+    triangles: Vec<u32>,
+    /// Rulings as polylines of vertex indices.
+    rulings: Vec<Vec<u32>>,
+}
+
+impl MeshArrays {
+    fn new(mesh: &SheetMesh) -> Self {
+        Self {
+            positions: mesh.positions.iter().flat_map(|p| [p.x, p.y, p.z]).collect(),
+            flat: mesh.flat.iter().flat_map(|p| [p.x, p.y]).collect(),
+            triangles: mesh.triangles.iter().flatten().copied().collect(),
+            rulings: mesh.rulings.iter().map(|r| r.vertices.clone()).collect(),
+        }
+    }
+}
+
+/// The reply to a solve: the model, its pattern and the report.
+#[derive(Debug, Serialize)]
+struct BendReply {
+    model: MeshArrays,
+    pattern_svg: String,
+    report: Report,
+    /// Server time for parsing, solving and rendering (ms).
+    server_ms: f64,
+}
+
+/// Parses a bend scene at the edge (the same parser as the CLI's).
+fn bend_scene(body: &str) -> Result<BendScene, ApiError> {
+    BendScene::from_json(body).map_err(|e| ApiError::from(PipelineError::from(e)))
+}
+
+/// Runs `job` on the blocking pool, at most `max_concurrent_solves` at a time.
+async fn solve<T: Send + 'static>(
+    state: &AppState,
+    job: impl FnOnce() -> Result<T, ApiError> + Send + 'static,
+) -> Result<T, ApiError> {
+    let _permit = state
+        .solves
+        .acquire()
+        .await
+        .map_err(|_| ApiError::invalid("the server is stopping"))?;
+    tokio::task::spawn_blocking(job).await.unwrap_or_else(|e| {
+        Err(ApiError {
+            status: StatusCode::INTERNAL_SERVER_ERROR,
+            kind: "failed",
+            message: format!("the solve stopped: {e}"),
+            report: None,
+        })
+    })
+}
+
+async fn bend(State(state): State<Arc<AppState>>, body: String) -> Result<Response, ApiError> {
+    let start = Instant::now();
+    let root = state.root.clone();
+    let reply = solve(&state, move || {
+        let scene = bend_scene(&body)?;
+        let context = RunContext::new(root).with_outputs(OutputSet::Preview);
+        let run = run_bend(&scene, &BendRunOptions::default(), &context)?;
+        let pattern_svg = run
+            .files
+            .iter()
+            .find(|(name, _)| name == "pattern.svg")
+            .map(|(_, bytes)| String::from_utf8_lossy(bytes).into_owned())
+            .unwrap_or_default();
+        Ok(BendReply {
+            model: MeshArrays::new(&run.sheet.mesh),
+            pattern_svg,
+            report: run.report,
+            server_ms: start.elapsed().as_secs_f64() * 1e3,
+        })
+    })
+    .await?;
+    Ok(Json(reply).into_response())
+}
+
+/// Content type of a file the CLI writes.
+fn content_type(name: &str) -> &'static str {
+    match name.rsplit('.').next() {
+        Some("svg") => "image/svg+xml",
+        Some("pdf") => "application/pdf",
+        Some("glb") => "model/gltf-binary",
+        Some("json") => "application/json",
+        Some("obj" | "mtl" | "dxf") => "text/plain; charset=utf-8",
+        Some("png") => "image/png",
+        _ => "application/octet-stream",
+    }
+}
+
+async fn bend_file(
+    State(state): State<Arc<AppState>>,
+    Path(name): Path<String>,
+    body: String,
+) -> Result<Response, ApiError> {
+    let root = state.root.clone();
+    let wanted = name.clone();
+    let bytes = solve(&state, move || {
+        let scene = bend_scene(&body)?;
+        let run = run_bend(&scene, &BendRunOptions::default(), &RunContext::new(root))?;
+        if wanted == "report.json" {
+            return Ok(serde_json::to_vec_pretty(&run.report).expect("the report serialises"));
+        }
+        run.files
+            .into_iter()
+            .find(|(n, _)| *n == wanted)
+            .map(|(_, bytes)| bytes)
+            .ok_or_else(|| ApiError {
+                status: StatusCode::NOT_FOUND,
+                kind: "invalid_input",
+                message: format!("`sheetform bend` writes no file `{wanted}` for this scene"),
+                report: None,
+            })
+    })
+    .await?;
+    let disposition = HeaderValue::from_str(&format!("attachment; filename=\"{name}\""))
+        .unwrap_or(HeaderValue::from_static("attachment"));
+    Ok((
+        [
+            (header::CONTENT_TYPE, HeaderValue::from_static(content_type(&name))),
+            (header::CONTENT_DISPOSITION, disposition),
+        ],
+        bytes,
+    )
+        .into_response())
+}

@@ -1,0 +1,105 @@
+//! Opening and saving scene files, confined to the served directory through the
+//! pipeline's [`AssetResolver`] (the same rules as the files a scene may read: no
+//! absolute or escaping path, also not through a symbolic link; regular files only;
+//! bounded sizes).
+
+use crate::api::ApiError;
+use crate::AppState;
+use axum::extract::{Path, State};
+use axum::response::{IntoResponse, Response};
+use axum::routing::get;
+use axum::{Json, Router};
+use sheetform::pipeline::{AssetResolver, PipelineError};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// Most scene files listed.
+const MAX_LISTED_FILES: usize = 2_000;
+/// Deepest directory level listed below the served directory.
+const MAX_LISTED_DEPTH: usize = 4;
+
+pub(crate) fn routes() -> Router<Arc<AppState>> {
+    Router::new()
+        .route("/api/files", get(list))
+        .route("/api/files/{*path}", get(open).put(save))
+}
+
+/// The scene files (`*.json`) below the served directory, as relative paths with `/`,
+/// sorted; hidden directories, `target` and `node_modules` are skipped.
+fn scene_files(root: &std::path::Path) -> Vec<String> {
+    let mut found = Vec::new();
+    let mut pending = vec![(PathBuf::new(), 0usize)];
+    while let Some((relative, depth)) = pending.pop() {
+        let Ok(entries) = std::fs::read_dir(root.join(&relative)) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            let Ok(kind) = entry.file_type() else { continue };
+            let path = relative.join(&name);
+            if kind.is_dir() {
+                if depth < MAX_LISTED_DEPTH && !name.starts_with('.') && name != "target" && name != "node_modules" {
+                    pending.push((path, depth + 1));
+                }
+            } else if kind.is_file() && name.ends_with(".json") && !name.starts_with('.') {
+                found.push(
+                    path.components()
+                        .map(|c| c.as_os_str().to_string_lossy())
+                        .collect::<Vec<_>>()
+                        .join("/"),
+                );
+                if found.len() >= MAX_LISTED_FILES {
+                    found.sort();
+                    return found;
+                }
+            }
+        }
+    }
+    found.sort();
+    found
+}
+
+async fn list(State(state): State<Arc<AppState>>) -> Response {
+    let root = state.root.clone();
+    let files = tokio::task::spawn_blocking(move || scene_files(&root))
+        .await
+        .unwrap_or_default();
+    Json(serde_json::json!({ "files": files })).into_response()
+}
+
+fn resolver(state: &AppState) -> AssetResolver {
+    AssetResolver::new(&state.root).with_max_bytes(sheetform::io::MAX_SCENE_FILE_BYTES)
+}
+
+async fn open(State(state): State<Arc<AppState>>, Path(path): Path<String>) -> Result<Response, ApiError> {
+    let resolver = resolver(&state);
+    let text = tokio::task::spawn_blocking(move || -> Result<String, ApiError> {
+        let bytes = resolver.read(&path, "path")?;
+        String::from_utf8(bytes).map_err(|_| ApiError::invalid(format!("`{path}` is not UTF-8 text")))
+    })
+    .await
+    .map_err(|e| ApiError::invalid(e.to_string()))??;
+    Ok(([(axum::http::header::CONTENT_TYPE, "application/json")], text).into_response())
+}
+
+async fn save(
+    State(state): State<Arc<AppState>>,
+    Path(path): Path<String>,
+    body: String,
+) -> Result<Response, ApiError> {
+    if !path.ends_with(".json") {
+        return Err(ApiError::invalid("scenes are saved as `.json` files"));
+    }
+    if let Err(e) = serde_json::from_str::<serde_json::Value>(&body) {
+        return Err(ApiError::invalid(format!("not a JSON document: {e}")));
+    }
+    let resolver = resolver(&state);
+    tokio::task::spawn_blocking(move || -> Result<(), ApiError> {
+        let full = resolver.resolve_for_writing(&path, "path")?;
+        sheetform::io::write_atomic(&full, body.as_bytes()).map_err(|e| ApiError::from(PipelineError::from(e)))?;
+        Ok(())
+    })
+    .await
+    .map_err(|e| ApiError::invalid(e.to_string()))??;
+    Ok(Json(serde_json::json!({ "saved": true })).into_response())
+}

@@ -1,0 +1,180 @@
+//! `sheetform serve`: a local web editor over the same library pipelines as the CLI.
+//!
+//! An [axum] server on the loopback interface serves the editor's front end (embedded
+//! in the binary: our files from `web/src/`, three.js from npm, see `build.rs`) and a
+//! small JSON API over [`sheetform::pipeline`]:
+//!
+//! | route | what |
+//! |---|---|
+//! | `POST /api/bend` | a bend scene in, the bent sheet (arrays), the pattern SVG and the report out ([`sheetform::pipeline::run_bend`] with [`OutputSet::Preview`](sheetform::pipeline::OutputSet)) |
+//! | `POST /api/bend/file/{name}` | one of the files `sheetform bend` writes (OBJ, GLB, STL, SVG, DXF, PDF), for download |
+//! | `GET /api/files` | the scene files (`*.json`) under the served directory |
+//! | `GET /api/files/{path}` / `PUT /api/files/{path}` | open / save a scene file, confined to the served directory |
+//!
+//! Every request is bounded ([`ServeOptions::max_request_bytes`]), solves run on a
+//! blocking pool at most [`ServeOptions::max_concurrent_solves`] at a time, and a
+//! malformed, hostile or failing request gets an error reply (`{"error": {"kind",
+//! "message"}}`, with the report when a shape is inadmissible) while the server keeps
+//! serving. The library prints nothing: the caller is told the address through
+//! [`Server::local_address`].
+
+#![warn(missing_docs)]
+
+mod api;
+mod assets;
+mod files;
+
+use std::net::{IpAddr, Ipv4Addr, SocketAddr};
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+/// Largest request body by default (16 MiB): a scene file is far smaller.
+pub const DEFAULT_MAX_REQUEST_BYTES: usize = 16 << 20;
+
+/// How the editor is served.
+#[derive(Debug, Clone)]
+pub struct ServeOptions {
+    /// Interface to listen on: loopback unless the user asks for another explicitly.
+    pub host: IpAddr,
+    /// Port; 0 picks a free one.
+    pub port: u16,
+    /// The directory whose scene files the editor may open and save (and whose assets
+    /// the scenes may read).
+    pub root: PathBuf,
+    /// Largest request body (bytes).
+    pub max_request_bytes: usize,
+    /// Solves running at the same time; more wait their turn.
+    pub max_concurrent_solves: usize,
+}
+
+impl Default for ServeOptions {
+    fn default() -> Self {
+        Self {
+            host: IpAddr::V4(Ipv4Addr::LOCALHOST),
+            port: 0,
+            root: PathBuf::from("."),
+            max_request_bytes: DEFAULT_MAX_REQUEST_BYTES,
+            max_concurrent_solves: 2,
+        }
+    }
+}
+
+/// Errors starting or running the server.
+#[derive(Debug, thiserror::Error)]
+pub enum ServeError {
+    /// The served directory is not a directory.
+    #[error("the served directory {path}: {message}")]
+    Root {
+        /// The directory given.
+        path: String,
+        /// Why it cannot be served.
+        message: String,
+    },
+    /// The address cannot be bound or the server failed.
+    #[error("{0}")]
+    Io(#[from] std::io::Error),
+}
+
+/// What every request handler shares.
+#[derive(Debug)]
+pub(crate) struct AppState {
+    /// The served directory (canonical).
+    pub root: PathBuf,
+    /// Bounds the solves running at once.
+    pub solves: tokio::sync::Semaphore,
+}
+
+/// The editor's routes over a served directory (for tests and embedding; [`Server`]
+/// serves them).
+///
+/// # Errors
+/// [`ServeError::Root`] when `options.root` is not a directory.
+pub fn router(options: &ServeOptions) -> Result<axum::Router, ServeError> {
+    let root = options.root.canonicalize().map_err(|e| ServeError::Root {
+        path: options.root.display().to_string(),
+        message: e.to_string(),
+    })?;
+    if !root.is_dir() {
+        return Err(ServeError::Root {
+            path: options.root.display().to_string(),
+            message: "not a directory".into(),
+        });
+    }
+    let state = Arc::new(AppState {
+        root,
+        solves: tokio::sync::Semaphore::new(options.max_concurrent_solves.max(1)),
+    });
+    Ok(axum::Router::new()
+        .merge(assets::routes())
+        .merge(api::routes())
+        .merge(files::routes())
+        .layer(axum::extract::DefaultBodyLimit::max(options.max_request_bytes))
+        .with_state(state))
+}
+
+/// A bound server, ready to run.
+#[derive(Debug)]
+pub struct Server {
+    runtime: tokio::runtime::Runtime,
+    listener: tokio::net::TcpListener,
+    router: axum::Router,
+}
+
+impl Server {
+    /// Binds the address (a free port when `options.port` is 0).
+    ///
+    /// # Errors
+    /// The served directory is not one, or the address cannot be bound.
+    pub fn bind(options: &ServeOptions) -> Result<Self, ServeError> {
+        let router = router(options)?;
+        let runtime = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(2)
+            .enable_all()
+            .build()?;
+        let listener = runtime.block_on(tokio::net::TcpListener::bind(SocketAddr::new(
+            options.host,
+            options.port,
+        )))?;
+        Ok(Self {
+            runtime,
+            listener,
+            router,
+        })
+    }
+
+    /// The address the server listens on.
+    ///
+    /// # Errors
+    /// The OS cannot say.
+    pub fn local_address(&self) -> Result<SocketAddr, ServeError> {
+        Ok(self.listener.local_addr()?)
+    }
+
+    /// Serves until `stop` is set (by a Ctrl-C handler, say), finishing the requests
+    /// under way.
+    ///
+    /// # Errors
+    /// The server fails.
+    pub fn run(self, stop: &'static AtomicBool) -> Result<(), ServeError> {
+        let Self {
+            runtime,
+            listener,
+            router,
+        } = self;
+        let stopped = async move {
+            while !stop.load(Ordering::SeqCst) {
+                tokio::time::sleep(std::time::Duration::from_millis(100)).await;
+            }
+        };
+        // Replies go out at once (no Nagle delay): an edit's round trip is a few small
+        // messages, which delayed acknowledgements would hold up by tens of ms.
+        let listener = axum::serve::ListenerExt::tap_io(listener, |stream| {
+            if let Err(error) = stream.set_nodelay(true) {
+                tracing::debug!(%error, "TCP_NODELAY not set");
+            }
+        });
+        runtime.block_on(async move { axum::serve(listener, router).with_graceful_shutdown(stopped).await })?;
+        Ok(())
+    }
+}

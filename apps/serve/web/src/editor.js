@@ -1,0 +1,451 @@
+// The sheetform web editor: bend mode. Every edit sends the whole scene to the server,
+// which runs the same library pipeline as `sheetform bend` and answers with the bent
+// sheet, its flat pattern and the report. An edit the server refuses (an inadmissible
+// shape, an invalid scene) is shown and the last admissible scene is kept.
+
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+
+const $ = (id) => document.getElementById(id);
+
+/** Editor state: the last admissible scene and what the server said of it. */
+const state = {
+  path: null, // the scene file's path in the served directory, when it came from there
+  scene: null, // the last admissible scene (an object; never mutated in place)
+  reply: null, // the server's reply for `scene`
+  undo: [], // earlier scenes (JSON text)
+  redo: [],
+  roundTrips: [], // ms from an edit's event to the redraw of its reply
+  stages: [], // where each round trip's time went (ms)
+  refusals: 0,
+  inFlight: false,
+  pending: null, // the newest edit waiting for the one in flight: { scene, started }
+  lastError: null,
+};
+
+// ---------------------------------------------------------------- 3D view
+
+const canvas = $('model-canvas');
+const renderer = new THREE.WebGLRenderer({ canvas, antialias: false });
+renderer.setPixelRatio(window.devicePixelRatio);
+const view = new THREE.Scene();
+view.background = new THREE.Color(0xf7f7f5);
+const camera = new THREE.PerspectiveCamera(40, 1, 0.1, 1e6);
+camera.up.set(0, 0, 1); // scenes are z-up
+const controls = new OrbitControls(camera, canvas);
+view.add(new THREE.HemisphereLight(0xffffff, 0x667788, 1.6));
+const sun = new THREE.DirectionalLight(0xffffff, 1.4);
+sun.position.set(1, -2, 3);
+view.add(sun);
+
+const sheetMaterial = new THREE.MeshStandardMaterial({
+  color: 0xe9d8b4, side: THREE.DoubleSide, roughness: 0.85, polygonOffset: true,
+  polygonOffsetFactor: 1, polygonOffsetUnits: 1,
+});
+const sheet = new THREE.Mesh(new THREE.BufferGeometry(), sheetMaterial);
+const rulings = new THREE.LineSegments(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0x8a7a5a }));
+const handles = new THREE.Group();
+const handleLines = new THREE.Group();
+view.add(sheet, rulings, handles, handleLines);
+const handleGeometry = new THREE.SphereGeometry(1, 20, 14);
+// Handles and the control polygon are drawn over the sheet, never hidden behind it.
+const handleMaterial = new THREE.MeshBasicMaterial({ color: 0xe8731a, depthTest: false });
+const handleActive = new THREE.MeshBasicMaterial({ color: 0xc0392b, depthTest: false });
+let handleRadius = 3;
+let framed = false;
+
+function resize() {
+  const { clientWidth: w, clientHeight: h } = canvas.parentElement;
+  renderer.setSize(w, h, false);
+  camera.aspect = w / Math.max(h, 1);
+  camera.updateProjectionMatrix();
+}
+new ResizeObserver(() => { resize(); render(); }).observe(canvas.parentElement);
+
+function render() {
+  renderer.render(view, camera);
+}
+controls.addEventListener('change', render);
+
+/** The curves whose control points can be dragged: [{ region, points }]. */
+function draggableCurves(scene) {
+  return (scene.regions || [])
+    .map((region, index) => ({ region: index, points: region.curve && region.curve.control_points }))
+    .filter((c) => Array.isArray(c.points));
+}
+
+function drawHandles(scene) {
+  handles.clear();
+  handleLines.clear();
+  for (const { region, points } of draggableCurves(scene)) {
+    points.forEach((p, index) => {
+      const ball = new THREE.Mesh(handleGeometry, handleMaterial);
+      ball.position.set(p[0], p[1], p[2]);
+      ball.scale.setScalar(handleRadius);
+      ball.userData = { region, index };
+      ball.renderOrder = 2;
+      handles.add(ball);
+    });
+    const polygon = new THREE.BufferGeometry().setFromPoints(points.map((p) => new THREE.Vector3(...p)));
+    handleLines.add(new THREE.Line(polygon, new THREE.LineDashedMaterial({ color: 0xe8731a, dashSize: 4, gapSize: 3, depthTest: false })));
+    handleLines.children.at(-1).computeLineDistances();
+  }
+}
+
+function drawModel(model) {
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.Float32BufferAttribute(model.positions, 3));
+  geometry.setIndex(model.triangles);
+  geometry.computeVertexNormals();
+  sheet.geometry.dispose();
+  sheet.geometry = geometry;
+  const segments = [];
+  for (const line of model.rulings) {
+    for (let k = 0; k + 1 < line.length; k++) {
+      for (const v of [line[k], line[k + 1]]) {
+        segments.push(model.positions[3 * v], model.positions[3 * v + 1], model.positions[3 * v + 2]);
+      }
+    }
+  }
+  const lines = new THREE.BufferGeometry();
+  lines.setAttribute('position', new THREE.Float32BufferAttribute(segments, 3));
+  rulings.geometry.dispose();
+  rulings.geometry = lines;
+  if (!framed) {
+    geometry.computeBoundingSphere();
+    const { center, radius } = geometry.boundingSphere;
+    controls.target.copy(center);
+    camera.position.copy(center).add(new THREE.Vector3(0.9, -1.6, 1.1).multiplyScalar(radius * 1.6));
+    camera.near = radius / 100;
+    camera.far = radius * 100;
+    camera.updateProjectionMatrix();
+    controls.update();
+    handleRadius = radius / 45;
+    framed = true;
+  }
+}
+
+// ---------------------------------------------------------------- pattern view
+
+function drawPattern(svg) {
+  $('pattern').innerHTML = svg;
+}
+$('fit').addEventListener('change', (e) => $('pattern').classList.toggle('fit', e.target.checked));
+
+// ---------------------------------------------------------------- status
+
+const short = (x, digits = 3) => (x === null || x === undefined ? '–' : Number(x).toPrecision(digits));
+
+function showStatus(kind, text) {
+  const footer = $('status');
+  footer.dataset.state = kind;
+  footer.textContent = text;
+}
+
+function showReport(reply, roundTrip) {
+  const r = reply.report;
+  const margin = Math.min(...(r.regions || []).map((g) => g.regression_margin_mm ?? Infinity));
+  const parts = [
+    `${r.status}`,
+    `${r.ruling_count ?? 0} rulings`,
+    `${r.face_count} faces`,
+    `isometry error ${short(r.isometry_error_max_relative, 2)}`,
+    Number.isFinite(margin) ? `regression margin ${short(margin)} mm` : null,
+    `server ${short(reply.server_ms)} ms`,
+    roundTrip === undefined ? null : `round trip ${short(roundTrip)} ms`,
+  ];
+  showStatus('ok', parts.filter(Boolean).join(' · '));
+}
+
+// ---------------------------------------------------------------- solving
+
+async function post(url, body) {
+  const response = await fetch(url, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body });
+  return response;
+}
+
+/** Sends `scene` to the server; the newest edit wins while one is in flight. */
+function requestSolve(scene, started = performance.now()) {
+  if (state.inFlight) {
+    state.pending = { scene, started };
+    return;
+  }
+  state.inFlight = true;
+  solveNow(scene, started).finally(() => {
+    state.inFlight = false;
+    const next = state.pending;
+    state.pending = null;
+    if (next) requestSolve(next.scene, next.started);
+    else window.dispatchEvent(new Event('sheetform-idle'));
+  });
+}
+
+async function solveNow(scene, started) {
+  let response;
+  let body;
+  const sent = performance.now();
+  let received;
+  try {
+    response = await post('/api/bend', JSON.stringify(scene));
+    received = performance.now();
+    body = await response.json();
+  } catch (error) {
+    state.lastError = String(error);
+    showStatus('error', `the server did not answer: ${error}`);
+    return false;
+  }
+  if (!response.ok) {
+    state.refusals += 1;
+    state.lastError = body.error;
+    drawHandles(state.scene || scene);
+    render();
+    const kept = state.scene ? ' — kept the last admissible shape' : '';
+    showStatus('refused', `refused (${body.error.kind.replace('_', ' ')}): ${body.error.message}${kept}`);
+    return false;
+  }
+  state.scene = scene;
+  state.reply = body;
+  state.lastError = null;
+  drawModel(body.model);
+  drawHandles(scene);
+  drawPattern(body.pattern_svg);
+  render();
+  // The round trip ends when the redraw has been issued (WebGL commands and the new
+  // SVG); the browser shows it at its next frame, up to one display frame later.
+  const drawn = performance.now();
+  const roundTrip = drawn - started;
+  state.roundTrips.push(roundTrip);
+  await new Promise((resolve) => requestAnimationFrame(resolve));
+  state.stages.push({
+    queued: sent - started, server: body.server_ms, response: received - sent, parse_and_draw: drawn - received,
+    to_next_frame: performance.now() - drawn,
+  });
+  showReport(body, roundTrip);
+  return true;
+}
+
+function updateHistoryButtons() {
+  $('undo').disabled = state.undo.length === 0;
+  $('redo').disabled = state.redo.length === 0;
+}
+
+/** Makes `scene` current through the server; `remember` puts the old one on the undo stack. */
+function commit(scene, remember = true) {
+  if (remember && state.scene) {
+    state.undo.push(JSON.stringify(state.scene));
+    state.redo = [];
+  }
+  updateHistoryButtons();
+  requestSolve(scene);
+}
+
+function undo() {
+  if (!state.undo.length) return;
+  state.redo.push(JSON.stringify(state.scene));
+  requestSolve(JSON.parse(state.undo.pop()));
+  updateHistoryButtons();
+}
+
+function redo() {
+  if (!state.redo.length) return;
+  state.undo.push(JSON.stringify(state.scene));
+  requestSolve(JSON.parse(state.redo.pop()));
+  updateHistoryButtons();
+}
+
+$('undo').addEventListener('click', undo);
+$('redo').addEventListener('click', redo);
+window.addEventListener('keydown', (e) => {
+  if ((e.ctrlKey || e.metaKey) && e.key.toLowerCase() === 'z') {
+    e.preventDefault();
+    if (e.shiftKey) redo(); else undo();
+  }
+});
+
+// ---------------------------------------------------------------- dragging
+
+const raycaster = new THREE.Raycaster();
+let drag = null; // { region, index, plane, before, moved }
+
+function pointerRay(event) {
+  const rect = canvas.getBoundingClientRect();
+  const ndc = new THREE.Vector2(((event.clientX - rect.left) / rect.width) * 2 - 1, -((event.clientY - rect.top) / rect.height) * 2 + 1);
+  raycaster.setFromCamera(ndc, camera);
+  return raycaster.ray;
+}
+
+canvas.addEventListener('pointerdown', (event) => {
+  if (!state.scene || event.button !== 0) return;
+  pointerRay(event);
+  const hit = raycaster.intersectObjects(handles.children, false)[0];
+  if (!hit) return;
+  const { region, index } = hit.object.userData;
+  const normal = camera.getWorldDirection(new THREE.Vector3());
+  drag = {
+    region, index, moved: false, before: JSON.stringify(state.scene),
+    plane: new THREE.Plane().setFromNormalAndCoplanarPoint(normal, hit.object.position.clone()),
+  };
+  hit.object.material = handleActive;
+  controls.enabled = false;
+  canvas.setPointerCapture(event.pointerId);
+  render();
+});
+
+canvas.addEventListener('pointermove', (event) => {
+  if (!drag) return;
+  const started = performance.now();
+  const point = pointerRay(event).intersectPlane(drag.plane, new THREE.Vector3());
+  if (!point) return;
+  // The candidate: the last admissible scene with this one point moved.
+  const scene = structuredClone(state.scene);
+  scene.regions[drag.region].curve.control_points[drag.index] = [point.x, point.y, point.z];
+  const ball = handles.children.find((h) => h.userData.region === drag.region && h.userData.index === drag.index);
+  if (ball) { ball.position.copy(point); render(); }
+  drag.moved = true;
+  requestSolve(scene, started);
+});
+
+function endDrag(event) {
+  if (!drag) return;
+  const { before, moved } = drag;
+  drag = null;
+  controls.enabled = true;
+  if (canvas.hasPointerCapture(event.pointerId)) canvas.releasePointerCapture(event.pointerId);
+  const settle = () => {
+    if (moved && JSON.stringify(state.scene) !== before) {
+      state.undo.push(before);
+      state.redo = [];
+      updateHistoryButtons();
+    }
+    drawHandles(state.scene);
+    render();
+  };
+  if (state.inFlight) window.addEventListener('sheetform-idle', settle, { once: true });
+  else settle();
+}
+canvas.addEventListener('pointerup', endDrag);
+canvas.addEventListener('pointercancel', endDrag);
+
+// ---------------------------------------------------------------- files
+
+function isBendScene(scene) {
+  return scene && Array.isArray(scene.outline) && Array.isArray(scene.regions);
+}
+
+function load(text, path = null) {
+  let scene;
+  try {
+    scene = JSON.parse(text);
+  } catch (error) {
+    showStatus('error', `not a JSON document: ${error.message}`);
+    return;
+  }
+  if (!isBendScene(scene)) {
+    showStatus('error', 'not a bend scene (an `outline` and `regions`); the other modes are not in the editor yet');
+    return;
+  }
+  state.path = path;
+  state.undo = [];
+  state.redo = [];
+  state.scene = null;
+  framed = false;
+  updateHistoryButtons();
+  showStatus('busy', `solving ${path || 'the scene'}…`);
+  requestSolve(scene);
+}
+
+async function listFiles() {
+  const response = await fetch('/api/files');
+  const { files } = await response.json();
+  const select = $('file-list');
+  select.innerHTML = '';
+  for (const file of files) {
+    const option = document.createElement('option');
+    option.textContent = file;
+    select.append(option);
+  }
+  return files;
+}
+
+async function openFile(path) {
+  const response = await fetch(`/api/files/${path.split('/').map(encodeURIComponent).join('/')}`);
+  const text = await response.text();
+  if (!response.ok) {
+    showStatus('error', JSON.parse(text).error.message);
+    return;
+  }
+  load(text, path);
+}
+
+$('open').addEventListener('click', () => openFile($('file-list').value));
+$('open-local').addEventListener('change', async (event) => {
+  const file = event.target.files[0];
+  if (file) load(await file.text(), null);
+});
+
+$('save').addEventListener('click', async () => {
+  if (!state.scene) return;
+  const path = window.prompt('Save the scene as (a path in the served directory):', state.path || 'scene.json');
+  if (!path) return;
+  const response = await fetch(`/api/files/${path.split('/').map(encodeURIComponent).join('/')}`, {
+    method: 'PUT', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(state.scene, null, 2),
+  });
+  if (response.ok) {
+    state.path = path;
+    showStatus('ok', `saved ${path}`);
+    listFiles();
+  } else {
+    showStatus('error', `not saved: ${(await response.json()).error.message}`);
+  }
+});
+
+$('download').addEventListener('change', async (event) => {
+  const name = event.target.value;
+  event.target.value = '';
+  if (!name || !state.scene) return;
+  const response = await post(`/api/bend/file/${name}`, JSON.stringify(state.scene));
+  if (!response.ok) {
+    showStatus('error', `${name}: ${(await response.json()).error.message}`);
+    return;
+  }
+  const link = document.createElement('a');
+  link.href = URL.createObjectURL(await response.blob());
+  link.download = name;
+  link.click();
+  URL.revokeObjectURL(link.href);
+});
+
+// ---------------------------------------------------------------- for tests and scripts
+
+window.sheetformEditor = {
+  state,
+  load,
+  openFile,
+  /** The page coordinates of a control point's handle. */
+  handleScreenPosition(region, index) {
+    const p = state.scene.regions[region].curve.control_points[index];
+    const v = new THREE.Vector3(...p).project(camera);
+    const rect = canvas.getBoundingClientRect();
+    return { x: rect.left + ((v.x + 1) / 2) * rect.width, y: rect.top + ((1 - v.y) / 2) * rect.height };
+  },
+  /** Largest relative difference between a mesh edge's 3D and flat lengths. */
+  isometryError() {
+    const { positions: p, flat: f, triangles: t } = state.reply.model;
+    let worst = 0;
+    for (let k = 0; k < t.length; k += 3) {
+      for (const [a, b] of [[t[k], t[k + 1]], [t[k + 1], t[k + 2]], [t[k + 2], t[k]]]) {
+        const d3 = Math.hypot(p[3 * a] - p[3 * b], p[3 * a + 1] - p[3 * b + 1], p[3 * a + 2] - p[3 * b + 2]);
+        const d2 = Math.hypot(f[2 * a] - f[2 * b], f[2 * a + 1] - f[2 * b + 1]);
+        worst = Math.max(worst, Math.abs(d3 - d2) / Math.max(d2, 1e-300));
+      }
+    }
+    return worst;
+  },
+  idle: () => !state.inFlight && !state.pending,
+};
+
+resize();
+listFiles().then((files) => {
+  const first = files.find((f) => f === 'examples/bent-rectangle.json') || files[0];
+  if (first) $('file-list').value = first;
+});

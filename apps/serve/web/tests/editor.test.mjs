@@ -1,0 +1,154 @@
+// Browser test of `sheetform serve` (issue 20): Playwright (playwright-core from npm)
+// drives Debian's chromium against the real binary.
+//
+//   node apps/serve/web/tests/editor.test.mjs SHEETFORM_BINARY REPOSITORY OUTPUT_DIR
+//
+// Checks, in bend mode: an example loads; a control point dragged with the mouse changes
+// the model, which stays isometric to its pattern (in the page and in the server's
+// report); undo restores the exact previous scene; an inadmissible drag is refused and
+// the last admissible scene kept; the server refuses files outside its directory and
+// hostile requests and keeps serving. Measures an edit's round trip (event → server
+// solve → redraw) on a 1 000-ruling sheet. Screenshots go to OUTPUT_DIR; the figures
+// are printed as JSON on the last line.
+
+import { spawn } from 'node:child_process';
+import { createInterface } from 'node:readline';
+import { mkdirSync, readFileSync } from 'node:fs';
+import { join } from 'node:path';
+import assert from 'node:assert/strict';
+import { chromium } from 'playwright-core';
+
+const [binary, repository, outputDir] = process.argv.slice(2);
+assert.ok(binary && repository && outputDir, 'usage: editor.test.mjs SHEETFORM_BINARY REPOSITORY OUTPUT_DIR');
+mkdirSync(outputDir, { recursive: true });
+
+/** Starts `sheetform serve` and resolves with its URL (the first line it prints). */
+function startServer() {
+  const server = spawn(binary, ['serve', '--root', repository, '-q'], { stdio: ['ignore', 'pipe', 'inherit'] });
+  return new Promise((resolve, reject) => {
+    const lines = createInterface({ input: server.stdout });
+    lines.once('line', (url) => resolve({ server, url: url.trim() }));
+    server.once('exit', (code) => reject(new Error(`sheetform serve exited with ${code}`)));
+  });
+}
+
+const median = (xs) => {
+  const s = [...xs].sort((a, b) => a - b);
+  return s.length % 2 ? s[(s.length - 1) / 2] : (s[s.length / 2 - 1] + s[s.length / 2]) / 2;
+};
+
+const { server, url } = await startServer();
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+  args: ['--headless', '--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+});
+const figures = {};
+try {
+  const page = await browser.newPage({ viewport: { width: 1400, height: 800 } });
+  const pageErrors = [];
+  page.on('pageerror', (e) => pageErrors.push(String(e)));
+  await page.goto(url);
+  await page.waitForFunction(() => window.sheetformEditor && document.querySelectorAll('#file-list option').length > 0);
+
+  const idle = () => page.waitForFunction(() => window.sheetformEditor.idle() && window.sheetformEditor.state.reply !== null);
+  const sceneText = () => page.evaluate(() => JSON.stringify(window.sheetformEditor.state.scene));
+  const positions = () => page.evaluate(() => window.sheetformEditor.state.reply.model.positions);
+  /** Drags control point `index` of region 0 by (dx, dy) pixels in `steps` mouse moves. */
+  async function drag(index, dx, dy, steps = 8) {
+    const start = await page.evaluate((i) => window.sheetformEditor.handleScreenPosition(0, i), index);
+    await page.mouse.move(start.x, start.y);
+    await page.mouse.down();
+    for (let k = 1; k <= steps; k++) {
+      await page.mouse.move(start.x + (dx * k) / steps, start.y + (dy * k) / steps);
+      await idle();
+    }
+    await page.mouse.up();
+    await idle();
+  }
+
+  // 1. Open the bundled example through the file list.
+  await page.selectOption('#file-list', 'examples/bent-rectangle.json');
+  await page.click('#open');
+  await idle();
+  const original = await sceneText();
+  const before = await positions();
+  assert.equal(await page.getAttribute('#status', 'data-state'), 'ok');
+  assert.ok(await page.$('#pattern svg'), 'the pattern is drawn');
+
+  // 2. Drag a control point with the mouse: the model changes and stays isometric.
+  await drag(2, 20, -12);
+  assert.equal(await page.getAttribute('#status', 'data-state'), 'ok');
+  const dragged = await sceneText();
+  assert.notEqual(dragged, original, 'the drag changed the scene');
+  const after = await positions();
+  // The ruling count adapts to the curve: compare the models' bounding boxes.
+  const box = (p) => [0, 1, 2].flatMap((axis) => {
+    const xs = p.filter((_, i) => i % 3 === axis);
+    return [Math.min(...xs), Math.max(...xs)];
+  });
+  const moved = Math.max(...box(after).map((x, i) => Math.abs(x - box(before)[i])));
+  assert.ok(moved > 1, `the model moved (${moved} mm)`);
+  const pageIsometry = await page.evaluate(() => window.sheetformEditor.isometryError());
+  assert.ok(pageIsometry < 1e-9, `isometric in the page: ${pageIsometry}`);
+  const reply = await (await fetch(`${url}api/bend`, { method: 'POST', body: dragged })).json();
+  assert.equal(reply.report.status, 'ok');
+  assert.ok(reply.report.isometry_error_max_relative < 1e-9, 'isometric in the server report');
+  assert.deepEqual(reply.model.positions, after, 'the page shows what the server computes for its scene');
+  await page.screenshot({ path: join(outputDir, 'bend.png') });
+
+  // 3. Undo restores the exact previous scene; redo the drag.
+  await page.click('#undo');
+  await idle();
+  assert.equal(await sceneText(), original, 'undo restores the exact previous scene');
+  await page.click('#redo');
+  await idle();
+  assert.equal(await sceneText(), dragged);
+
+  // 4. An inadmissible drag: the same control point pulled further bends the sheet until
+  // its curve of regression enters it. The server refuses; the last admissible scene stays.
+  const refusalsBefore = await page.evaluate(() => window.sheetformEditor.state.refusals);
+  await drag(2, 60, -40, 12);
+  const refusals = await page.evaluate(() => window.sheetformEditor.state.refusals);
+  assert.ok(refusals > refusalsBefore, 'the inadmissible drag was refused');
+  assert.equal(await page.getAttribute('#status', 'data-state'), 'refused');
+  const kept = JSON.parse(await sceneText());
+  const keptReply = await (await fetch(`${url}api/bend`, { method: 'POST', body: JSON.stringify(kept) })).json();
+  assert.equal(keptReply.report.status, 'ok', 'the kept scene is admissible');
+  await page.screenshot({ path: join(outputDir, 'bend-refused.png') });
+  const lastError = await page.evaluate(() => window.sheetformEditor.state.lastError);
+  assert.equal(lastError.kind, 'inadmissible', JSON.stringify(lastError));
+
+  // 5. Round trip of an edit on a 1 000-ruling sheet: small drags, one edit at a time.
+  const fine = JSON.parse(original);
+  fine.tessellation = { rulings: 1000 };
+  await page.evaluate((text) => window.sheetformEditor.load(text), JSON.stringify(fine));
+  await idle();
+  assert.equal((await page.evaluate(() => window.sheetformEditor.state.reply.report.ruling_count)), 1000);
+  await page.evaluate(() => { window.sheetformEditor.state.roundTrips.length = 0; });
+  await drag(2, 30, -20, 40);
+  const trips = await page.evaluate(() => window.sheetformEditor.state.roundTrips);
+  const stages = await page.evaluate((n) => window.sheetformEditor.state.stages.slice(-n), trips.length);
+  const stageMedians = Object.fromEntries(Object.keys(stages[0]).map((k) => [k, median(stages.map((s) => s[k]))]));
+  figures.bend_1000_rulings_round_trip_ms = { median: median(trips), count: trips.length, max: Math.max(...trips), stage_medians: stageMedians };
+
+  // 6. The server: no file outside its directory, hostile requests answered with an
+  // error, and it keeps serving.
+  for (const path of ['..%2FCargo.toml', '%2Fetc%2Fpasswd', '..%2F..%2Fetc%2Fpasswd']) {
+    const response = await fetch(`${url}api/files/${path}`);
+    assert.equal(response.status, 400, `${path}: ${response.status}`);
+  }
+  const put = await fetch(`${url}api/files/..%2Foutside.json`, { method: 'PUT', body: '{}' });
+  assert.equal(put.status, 400, 'a save outside the directory is refused');
+  assert.equal((await fetch(`${url}api/bend`, { method: 'POST', body: '{"outline": [' })).status, 400);
+  const huge = 'x'.repeat(20 << 20);
+  const tooLarge = await fetch(`${url}api/bend`, { method: 'POST', body: huge }).catch(() => ({ status: 413 }));
+  assert.equal(tooLarge.status, 413, 'a request over the size bound is refused');
+  const still = await fetch(`${url}api/bend`, { method: 'POST', body: readFileSync(join(repository, 'examples/bent-rectangle.json')) });
+  assert.equal(still.status, 200, 'the server keeps serving');
+
+  assert.deepEqual(pageErrors, [], 'no script error in the page');
+  console.log(JSON.stringify(figures));
+} finally {
+  await browser.close();
+  server.kill('SIGINT');
+}
