@@ -196,6 +196,17 @@ pub struct SolverSpec {
     pub continuation: Option<ContinuationSpec>,
 }
 
+/// Most iterations `solver.max_iterations` and `solver.refine_iterations` may ask for
+/// (each is one sparse factorisation: seconds at the largest models).
+pub const MAX_SOLVER_ITERATIONS: usize = 10_000;
+/// Largest `solver.line_search_memory` (beyond it the stall detection has no effect).
+pub const MAX_LINE_SEARCH_MEMORY: usize = 100;
+/// Smallest `solver.tolerance_rad`: angle sums are exact to about 4e-15 rad, so a
+/// smaller tolerance could never be reached.
+pub const MIN_TOLERANCE_RAD: f64 = 1e-14;
+/// Most deformations in one scene (each is one restoration).
+pub const MAX_DEFORMATIONS: usize = 1_000;
+
 /// Continuation along the deformation (`solver.continuation`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
@@ -385,10 +396,42 @@ impl FfdScene {
                 "must be zero or positive",
             ));
         }
-        if s.line_search_memory == 0 {
+        if !(1..=MAX_LINE_SEARCH_MEMORY).contains(&s.line_search_memory) {
             return Err(FfdError::field(
                 "solver.line_search_memory",
-                "must be at least 1 (1: monotone)",
+                format!(
+                    "must be 1 (monotone) to {MAX_LINE_SEARCH_MEMORY}, got {}",
+                    s.line_search_memory
+                ),
+            ));
+        }
+        if s.tolerance_rad < MIN_TOLERANCE_RAD {
+            return Err(FfdError::field(
+                "solver.tolerance_rad",
+                format!(
+                    "at least {MIN_TOLERANCE_RAD} (angle sums are exact only to about 4e-15 rad), got {}",
+                    sheetform_geometry::short_number(s.tolerance_rad)
+                ),
+            ));
+        }
+        for (field, value) in [
+            ("solver.max_iterations", s.max_iterations.unwrap_or(0)),
+            ("solver.refine_iterations", s.refine_iterations),
+        ] {
+            if value > MAX_SOLVER_ITERATIONS {
+                return Err(FfdError::field(
+                    field,
+                    format!("at most {MAX_SOLVER_ITERATIONS}, got {value}"),
+                ));
+            }
+        }
+        if self.deformations.len() > MAX_DEFORMATIONS {
+            return Err(FfdError::field(
+                "deformations",
+                format!(
+                    "at most {MAX_DEFORMATIONS} deformations (each is a restoration), got {}",
+                    self.deformations.len()
+                ),
             ));
         }
         if let Some(c) = &s.continuation {

@@ -13,6 +13,10 @@ pub struct Bezier<const D: usize> {
     nets: Vec<Vec<SVector<f64, D>>>,
 }
 
+/// Highest degree of a [`Bezier`] curve: its derivative nets hold about `n²/2` points
+/// and each evaluation costs about `n²` (8 000 control points took 88 s and 860 MB).
+pub const MAX_BEZIER_DEGREE: usize = 64;
+
 /// A planar Bézier curve.
 pub type Bezier2 = Bezier<2>;
 /// A space Bézier curve.
@@ -22,13 +26,24 @@ impl<const D: usize> Bezier<D> {
     /// Builds the curve from its `n + 1` control points.
     ///
     /// # Errors
-    /// Fewer than two points, or a non-finite coordinate.
+    /// Fewer than two points, more than `MAX_BEZIER_DEGREE + 1`, or a non-finite
+    /// coordinate.
     pub fn new(control_points: Vec<SVector<f64, D>>) -> Result<Self, GeometryError> {
         if control_points.len() < 2 {
             return Err(GeometryError::TooFewControlPoints {
                 degree: control_points.len().saturating_sub(1),
                 needed: 2,
                 got: control_points.len(),
+            });
+        }
+        if control_points.len() - 1 > MAX_BEZIER_DEGREE {
+            return Err(GeometryError::BadDegree {
+                degree: control_points.len() - 1,
+                reason: format!(
+                    "a Bézier curve has at most {} control points (degree {MAX_BEZIER_DEGREE}; its derivatives cost the \
+                     square of the count); use a B-spline (`bspline`) for more",
+                    MAX_BEZIER_DEGREE + 1
+                ),
             });
         }
         for (index, p) in control_points.iter().enumerate() {

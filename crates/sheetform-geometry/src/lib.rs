@@ -18,7 +18,7 @@ mod polygon;
 mod rigid;
 
 pub use arc_length::{gauss_legendre_length, ArcLengthOptions, ArcLengthTable};
-pub use bezier::{Bezier, Bezier2, Bezier3};
+pub use bezier::{Bezier, Bezier2, Bezier3, MAX_BEZIER_DEGREE};
 pub use bspline::{BSpline, BSpline2, BSpline3};
 pub use bspline_basis::{BSplineBasis, BasisTable, MAX_BSPLINE_DEGREE};
 pub use curve::{Curve3, ParametricCurve};

@@ -150,8 +150,18 @@ impl TriangleMesh {
 /// or a new class. Grid hashing (cells of `2 × tolerance`, the 27 neighbouring cells
 /// searched): expected linear time. Used to weld meshes and to find the linked vertices
 /// of assembled panels.
+///
+/// The cells are at least `1e-12 ×` the largest coordinate magnitude: with a tolerance
+/// of 0 (exact coincidence) or far below the coordinates' precision, cells of
+/// `2 × tolerance` made every key saturate to the same `i64` extreme and the search
+/// quadratic (90k vertices at `--weld 0`: 6.5 s instead of 0.3 s).
 pub fn coincident_vertices(positions: &[Vec3], tolerance: f64) -> Vec<u32> {
-    let cell = tolerance.max(f64::MIN_POSITIVE) * 2.0;
+    let largest = positions
+        .iter()
+        .map(|p| p.amax())
+        .filter(|m| m.is_finite())
+        .fold(0.0f64, f64::max);
+    let cell = (tolerance * 2.0).max(largest * 1e-12).max(f64::MIN_POSITIVE);
     let key = |p: &Vec3| {
         [
             (p.x / cell).floor() as i64,
@@ -168,7 +178,11 @@ pub fn coincident_vertices(positions: &[Vec3], tolerance: f64) -> Vec<u32> {
         'search: for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
-                    if let Some(list) = grid.get(&[k[0] + dx, k[1] + dy, k[2] + dz]) {
+                    if let Some(list) = grid.get(&[
+                        k[0].saturating_add(dx),
+                        k[1].saturating_add(dy),
+                        k[2].saturating_add(dz),
+                    ]) {
                         for &i in list {
                             if (kept[i as usize] - p).norm() <= tolerance {
                                 found = Some(i);
@@ -188,4 +202,29 @@ pub fn coincident_vertices(positions: &[Vec3], tolerance: f64) -> Vec<u32> {
         remap.push(index);
     }
     remap
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 19: a weld tolerance of 0 welds exactly coincident points only, in expected
+    /// linear time (the cells no longer shrink to nothing: all 80 000 points used to
+    /// share one saturated key and be compared with each other).
+    #[test]
+    fn a_zero_tolerance_welds_exact_duplicates_only() {
+        let grid: Vec<Vec3> = (0..40_000)
+            .map(|i| Vec3::new(f64::from(i % 200) * 0.37, f64::from(i / 200) * 0.37, 1e3))
+            .collect();
+        let mut positions = grid.clone();
+        positions.extend(grid.iter().map(|p| p + Vec3::new(0.0, 0.0, 0.0)));
+        positions.push(grid[5] + Vec3::new(1e-9, 0.0, 0.0));
+        let classes = coincident_vertices(&positions, 0.0);
+        assert_eq!(classes[..40_000], (0..40_000).collect::<Vec<u32>>()[..]);
+        assert_eq!(classes[40_000..80_000], classes[..40_000]);
+        assert_eq!(
+            classes[80_000], 40_000,
+            "a point 1e-9 away is not the same at tolerance 0"
+        );
+    }
 }

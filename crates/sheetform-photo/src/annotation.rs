@@ -21,6 +21,11 @@ pub const MAX_CURVES: usize = 2_000;
 pub const MAX_CONTROL_POINTS: usize = 30_000;
 /// Largest image side (pixels).
 pub const MAX_IMAGE_SIDE: u32 = 40_000;
+/// Most pixels of the image (100 MP): the overlay decodes it whole, about 12 bytes per
+/// pixel.
+pub const MAX_IMAGE_PIXELS: u64 = 100_000_000;
+/// Most entries in each of `occlusions` and `openings`.
+pub const MAX_MARKERS: usize = 1_000;
 
 /// Curves traced over a photograph of a piecewise-developable, mirror-symmetric object
 /// (system D, Fondevilla et al. 2017).
@@ -309,8 +314,46 @@ impl PhotoAnnotation {
                 format!("width and height must be 1 … {MAX_IMAGE_SIDE} px (got {w} × {h})"),
             ));
         }
+        if u64::from(w) * u64::from(h) > MAX_IMAGE_PIXELS {
+            return Err(PhotoError::field(
+                "image",
+                format!(
+                    "{w} × {h} px is over {} megapixels; scale the photo and the curves down",
+                    MAX_IMAGE_PIXELS / 1_000_000
+                ),
+            ));
+        }
         if self.image.path.trim().is_empty() {
             return Err(PhotoError::field("image.path", "empty"));
+        }
+        for (field, count, limit) in [
+            ("symmetric_curves", self.symmetric_curves.len(), MAX_CURVES),
+            ("self_symmetric_curves", self.self_symmetric_curves.len(), MAX_CURVES),
+            ("occlusions", self.occlusions.len(), MAX_MARKERS),
+            ("openings", self.openings.len(), MAX_MARKERS),
+        ] {
+            if count > limit {
+                return Err(PhotoError::field(field, format!("{count} entries (at most {limit})")));
+            }
+        }
+        let mut pairs = std::collections::HashSet::new();
+        for (i, [a, b]) in self.symmetric_curves.iter().enumerate() {
+            let key = if a <= b { (a, b) } else { (b, a) };
+            if !pairs.insert(key) {
+                return Err(PhotoError::field(
+                    format!("symmetric_curves[{i}]"),
+                    format!("the pair `{a}`, `{b}` is given twice"),
+                ));
+            }
+        }
+        let mut singles = std::collections::HashSet::new();
+        for (i, name) in self.self_symmetric_curves.iter().enumerate() {
+            if !singles.insert(name) {
+                return Err(PhotoError::field(
+                    format!("self_symmetric_curves[{i}]"),
+                    format!("`{name}` is given twice"),
+                ));
+            }
         }
         let d = self.diagonal();
         // Points may lie a little outside the image (a curve traced to the border), not

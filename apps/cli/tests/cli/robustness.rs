@@ -74,6 +74,14 @@ fn sizes_over_their_documented_maxima_are_refused_naming_the_field() {
     let mut s = bend.clone();
     s["tessellation"] = json!({"max_rulings": u64::MAX});
     assert_refused("bend", &s, "tessellation.max_rulings");
+    // 8 000 Bézier control points: 88 s and 860 MB of derivative nets before the cap.
+    let mut s = bend.clone();
+    let many: Vec<[f64; 3]> = (0..8000)
+        .map(|i| [i as f64 * 0.02, 0.0, (i as f64 * 0.001).sin()])
+        .collect();
+    s["regions"][0]["curve"] = json!({"type": "bezier", "control_points": many});
+    let (code, stderr) = run_scene("bend", &s, &[]);
+    assert!(code == 1 && stderr.contains("at most 65 control points"), "{stderr}");
 
     let ffd = example("examples/ffd/duct.json");
     let mut s = ffd.clone();
@@ -85,6 +93,32 @@ fn sizes_over_their_documented_maxima_are_refused_naming_the_field() {
     let mut s = ffd.clone();
     s["model"]["procedural"]["around"] = json!(100_000_000u64);
     assert_refused("ffd", &s, "model.procedural.around");
+    // Iteration counts and a tolerance below what angle sums can reach: a restoration
+    // that could never end.
+    for (key, value, field) in [
+        ("max_iterations", json!(u64::MAX), "solver.max_iterations"),
+        ("refine_iterations", json!(1_000_000), "solver.refine_iterations"),
+        ("line_search_memory", json!(1_000_000), "solver.line_search_memory"),
+        ("tolerance_rad", json!(1e-300), "solver.tolerance_rad"),
+    ] {
+        let mut s = ffd.clone();
+        s["solver"][key] = value;
+        assert_refused("ffd", &s, field);
+    }
+
+    // System D: the photo's area (the overlay decodes it whole) and the lists whose
+    // entries each re-run a quadratic matching.
+    let photo = example("examples/photo/coffee-cup.json");
+    let mut s = photo.clone();
+    s["image"]["width"] = json!(40_000);
+    s["image"]["height"] = json!(40_000);
+    assert_refused("photo", &s, "image");
+    let mut s = photo.clone();
+    s["occlusions"] = json!(vec![[10.0, 10.0]; 1001]);
+    assert_refused("photo", &s, "occlusions");
+    let mut s = photo.clone();
+    s["self_symmetric_curves"] = json!(["rim", "bottom", "rim"]);
+    assert_refused("photo", &s, "self_symmetric_curves[2]");
 
     let slit = example("examples/slit/bench.json");
     let mut s = slit.clone();
