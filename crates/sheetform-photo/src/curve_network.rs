@@ -22,6 +22,14 @@ use crate::PhotoError;
 use nalgebra::Vector2;
 use sheetform_geometry::{segment_intersection, Bezier2};
 
+/// Most crossings between the traced curves: matching and clustering them is quadratic
+/// (two zig-zag curves of 1 440 control points crossing each other ran out of 6.5 GB
+/// after 10 minutes); a traced photo has tens.
+pub const MAX_CROSSINGS: usize = 2_000;
+/// Most samples along all curves (their control polygons' length over the sample
+/// spacing).
+pub const MAX_CURVE_SAMPLES: usize = 200_000;
+
 type Vec2 = Vector2<f64>;
 
 /// One cubic segment of the network.
@@ -100,11 +108,25 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
                 .collect()
         })
         .collect();
+    let mut hull_total = 0.0;
     for (c, segs) in curves.iter().enumerate() {
         let hull: f64 = segs.iter().map(cubic::hull_length).sum();
         if hull < 1e-3 {
             return Err(PhotoError::curve(&annotation.curves[c].name, "has zero length"));
         }
+        hull_total += hull;
+    }
+    // The control polygons bound the curves' lengths: at most this many samples.
+    let samples = hull_total / lengths.sample;
+    if samples > MAX_CURVE_SAMPLES as f64 {
+        return Err(PhotoError::field(
+            "analysis.sample_spacing_px",
+            format!(
+                "up to {} samples along the curves at {} px (at most {MAX_CURVE_SAMPLES}); give a larger spacing",
+                sheetform_geometry::short_number(samples.ceil()),
+                sheetform_geometry::short_number(lengths.sample)
+            ),
+        ));
     }
     let polylines: Vec<Vec<Vec<Vec2>>> = curves
         .iter()
@@ -183,6 +205,16 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
                         let ua = curve_end(a, i as f64 + ta).unwrap_or(i as f64 + ta);
                         let ub = curve_end(b, j as f64 + tb).unwrap_or(j as f64 + tb);
                         junctions.push((p, vec![CurvePlace { curve: a, u: ua }, CurvePlace { curve: b, u: ub }]));
+                        if junctions.len() > MAX_CROSSINGS {
+                            return Err(PhotoError::field(
+                                "curves",
+                                format!(
+                                    "the curves cross more than {MAX_CROSSINGS} times (`{}` and `{}` among them); \
+                                     trace the boundaries and silhouettes of the pieces, not a hatching",
+                                    annotation.curves[a].name, annotation.curves[b].name
+                                ),
+                            ));
+                        }
                     }
                 }
             }

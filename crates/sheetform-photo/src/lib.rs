@@ -48,7 +48,9 @@ pub use annotation::{
     ImageSpec, PhotoAnnotation, SymmetrySpec, TrueSizeSpec, MAX_CONTROL_POINTS, MAX_CURVES, MAX_IMAGE_SIDE,
 };
 pub use curve_lifting::{assemble_energy, image_prior, place_image, solve_energy, Energy, EnergyRow, EnergyTerm};
-pub use curve_network::{build_curve_network, CurveNetwork, NetworkCurve, NetworkSegment};
+pub use curve_network::{
+    build_curve_network, CurveNetwork, NetworkCurve, NetworkSegment, MAX_CROSSINGS, MAX_CURVE_SAMPLES,
+};
 pub use curve_samples::{sample_curves, CurvePoint, CurveSamples, SampledChain};
 pub use developability_refinement::{
     refine_developability, ruling_errors, Refinement, RefinementInfo, MAX_DENSE_VALUES, REFINEMENT_BOUND,

@@ -137,6 +137,55 @@ fn sizes_over_their_documented_maxima_are_refused_naming_the_field() {
     assert!(code == 1 && stderr.contains("joint mode"), "{stderr}");
 }
 
+/// Two zig-zag curves traced across each other 60 times each (3 600 crossings): the
+/// crossing matching is quadratic, 120 rows each took 31 s (180: out of 6.5 GB after
+/// 10 minutes). Now refused at once, naming the curves.
+#[test]
+fn a_hatching_of_crossing_curves_is_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(repo().join("examples/photo/coffee.png"), dir.path().join("coffee.png")).unwrap();
+    let rows = 60;
+    let cubic = |path: &[[f64; 2]]| -> Vec<[f64; 2]> {
+        let mut points = vec![path[0]];
+        for w in path.windows(2) {
+            let (p, q) = (w[0], w[1]);
+            let at = |f: f64| [p[0] + (q[0] - p[0]) * f, p[1] + (q[1] - p[1]) * f];
+            points.extend([at(1.0 / 3.0), at(2.0 / 3.0), q]);
+        }
+        points
+    };
+    let (mut across, mut down) = (Vec::new(), Vec::new());
+    for i in 0..rows {
+        let f = i as f64 / (rows - 1) as f64;
+        let (y, x) = (30.0 + 340.0 * f, 50.0 + 500.0 * f);
+        let (a, b) = if i % 2 == 0 { (45.0, 555.0) } else { (555.0, 45.0) };
+        across.extend([[a, y], [b, y]]);
+        let (a, b) = if i % 2 == 0 { (25.0, 375.0) } else { (375.0, 25.0) };
+        down.extend([[x, a], [x, b]]);
+    }
+    let annotation = json!({"name": "grid", "image": {"path": "coffee.png", "width": 600, "height": 400},
+        "curves": [{"name": "across", "kind": "boundary", "control_points": cubic(&across)},
+                   {"name": "down", "kind": "boundary", "control_points": cubic(&down)}],
+        "symmetry": {"frame": [[[284.26, 165.13], [290.24, 112.77]], [[290.24, 112.77], [240.04, 196.81]]],
+                     "points": [[183.81, 67.94], [396.68, 157.6]]},
+        "true_size": {"from": [100, 30], "to": [500, 30], "length": 62.0},
+        "analysis": {"snap_distance_px": 0.5}});
+    let path = dir.path().join("grid.json");
+    std::fs::write(&path, annotation.to_string()).unwrap();
+    let out = dir.path().join("out");
+    let o = sheetform_within(
+        &["photo", path.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"],
+        60,
+    );
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("`curves`") && stderr.contains("cross more than 2000 times"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("`across`") && stderr.contains("`down`"), "{stderr}");
+}
+
 /// Numbers near the floating-point range: the arc-length tables and the strip solver
 /// iterated for minutes (or until memory ran out); now an error, in short numbers.
 #[test]
