@@ -28,6 +28,11 @@ pub use admissibility::{check_region, RegionAdmissibility};
 /// each costs a few hundred bytes in the mesh and the flat layout, so a million keep a
 /// region within a few hundred megabytes (1e8 asked for 12 GB and aborted).
 pub const MAX_RULINGS: usize = 1_000_000;
+/// Most curved regions in one scene (each is placed against the others).
+pub const MAX_REGIONS: usize = 256;
+/// Most vertices of the outline and holes together (the crossing check and the ruling
+/// extents cost rulings × outline edges).
+pub const MAX_OUTLINE_VERTICES: usize = 100_000;
 pub use bend::{bend, place, region_geometries, region_geometry, BentSheet, Placement, RegionGeometry, RegionSummary};
 pub use control_curve::{AnalyticCurve, ControlCurve, CurveShape};
 pub use curve_of_regression::regression_distance;

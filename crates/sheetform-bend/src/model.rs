@@ -190,6 +190,34 @@ impl BendModel {
     /// differs from its flat segment's, a flat geodesic that leaves the sheet, a closed
     /// region whose curve is not closed, nonsensical tessellation settings.
     pub fn from_scene(scene: &BendScene) -> Result<Self, BendError> {
+        let outline_vertices = scene.outline.len() + scene.holes.iter().map(Vec::len).sum::<usize>();
+        if outline_vertices > crate::MAX_OUTLINE_VERTICES {
+            return Err(field(
+                "outline/holes",
+                format!(
+                    "{outline_vertices} vertices in all (at most {})",
+                    crate::MAX_OUTLINE_VERTICES
+                ),
+            ));
+        }
+        if scene.regions.len() > crate::MAX_REGIONS {
+            return Err(field(
+                "regions",
+                format!("{} regions (at most {})", scene.regions.len(), crate::MAX_REGIONS),
+            ));
+        }
+        if let Some(n) = scene.tessellation.rulings {
+            if n.saturating_mul(scene.regions.len()) > crate::MAX_RULINGS {
+                return Err(field(
+                    "tessellation.rulings",
+                    format!(
+                        "{n} rulings in each of {} regions: at most {} in all",
+                        scene.regions.len(),
+                        crate::MAX_RULINGS
+                    ),
+                ));
+            }
+        }
         let outer = scene
             .outline
             .iter()

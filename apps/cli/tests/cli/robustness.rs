@@ -74,6 +74,20 @@ fn sizes_over_their_documented_maxima_are_refused_naming_the_field() {
     let mut s = bend.clone();
     s["tessellation"] = json!({"max_rulings": u64::MAX});
     assert_refused("bend", &s, "tessellation.max_rulings");
+    // Counts multiplied by other counts: regions (each placed against the others),
+    // outline vertices (each ruling is clipped against every edge).
+    let mut s = bend.clone();
+    s["regions"] = json!(vec![s["regions"][0].clone(); 300]);
+    assert_refused("bend", &s, "regions");
+    let mut s = bend.clone();
+    let circle: Vec<[f64; 2]> = (0..100_001)
+        .map(|i| {
+            let a = i as f64 * std::f64::consts::TAU / 100_001.0;
+            [120.0 + 200.0 * a.cos(), 200.0 * a.sin()]
+        })
+        .collect();
+    s["outline"] = json!(circle);
+    assert_refused("bend", &s, "outline/holes");
     // 8 000 Bézier control points: 88 s and 860 MB of derivative nets before the cap.
     let mut s = bend.clone();
     let many: Vec<[f64; 3]> = (0..8000)
