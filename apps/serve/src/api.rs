@@ -10,8 +10,11 @@ use axum::routing::post;
 use axum::{Json, Router};
 use serde::Serialize;
 use sheetform::bend::BendScene;
+use sheetform::bend::EditInfo;
 use sheetform::mesh::SheetMesh;
-use sheetform::pipeline::{run_bend, BendRunOptions, ErrorKind, OutputSet, PipelineError, RunContext};
+use sheetform::pipeline::{
+    edit_bend_scene, run_bend, BendEdit, BendRunOptions, ErrorKind, OutputSet, PipelineError, RunContext,
+};
 use sheetform::report::Report;
 use std::sync::Arc;
 use std::time::Instant;
@@ -19,6 +22,7 @@ use std::time::Instant;
 pub(crate) fn routes() -> Router<Arc<AppState>> {
     Router::new()
         .route("/api/bend", post(bend))
+        .route("/api/bend/edit", post(bend_edit))
         .route("/api/bend/file/{name}", post(bend_file))
 }
 
@@ -130,24 +134,82 @@ async fn solve<T: Send + 'static>(
     })
 }
 
+/// Bends `scene` with the preview outputs: what the editor draws.
+fn preview(scene: &BendScene, root: std::path::PathBuf, start: Instant) -> Result<BendReply, ApiError> {
+    let context = RunContext::new(root).with_outputs(OutputSet::Preview);
+    let run = run_bend(scene, &BendRunOptions::default(), &context)?;
+    let pattern_svg = run
+        .files
+        .iter()
+        .find(|(name, _)| name == "pattern.svg")
+        .map(|(_, bytes)| String::from_utf8_lossy(bytes).into_owned())
+        .unwrap_or_default();
+    Ok(BendReply {
+        model: MeshArrays::new(&run.sheet.mesh),
+        pattern_svg,
+        report: run.report,
+        server_ms: start.elapsed().as_secs_f64() * 1e3,
+    })
+}
+
 async fn bend(State(state): State<Arc<AppState>>, body: String) -> Result<Response, ApiError> {
     let start = Instant::now();
     let root = state.root.clone();
+    let reply = solve(&state, move || preview(&bend_scene(&body)?, root, start)).await?;
+    Ok(Json(reply).into_response())
+}
+
+/// `POST /api/bend/edit`: `{"scene": …, "edit": …}`.
+#[derive(Debug, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EditRequest {
+    scene: serde_json::Value,
+    edit: serde_json::Value,
+}
+
+/// The reply to an edit: the edited scene, what the edit did, and its preview.
+#[derive(Debug, Serialize)]
+struct EditReply {
+    scene: BendScene,
+    edit: EditInfo,
+    #[serde(flatten)]
+    preview: BendReply,
+}
+
+async fn bend_edit(State(state): State<Arc<AppState>>, body: String) -> Result<Response, ApiError> {
+    let start = Instant::now();
+    let root = state.root.clone();
     let reply = solve(&state, move || {
-        let scene = bend_scene(&body)?;
-        let context = RunContext::new(root).with_outputs(OutputSet::Preview);
-        let run = run_bend(&scene, &BendRunOptions::default(), &context)?;
-        let pattern_svg = run
-            .files
-            .iter()
-            .find(|(name, _)| name == "pattern.svg")
-            .map(|(_, bytes)| String::from_utf8_lossy(bytes).into_owned())
-            .unwrap_or_default();
-        Ok(BendReply {
-            model: MeshArrays::new(&run.sheet.mesh),
-            pattern_svg,
-            report: run.report,
-            server_ms: start.elapsed().as_secs_f64() * 1e3,
+        let request: EditRequest = serde_json::from_str(&body).map_err(|e| {
+            ApiError::invalid(format!(
+                "an edit request is {{\"scene\": …, \"edit\": …}}: {}",
+                sheetform::geometry::shortened_message(&e.to_string())
+            ))
+        })?;
+        let scene = bend_scene(&request.scene.to_string())?;
+        let edit: BendEdit = serde_json::from_value(request.edit).map_err(|e| {
+            ApiError::invalid(format!(
+                "field `edit`: {}",
+                sheetform::geometry::shortened_message(&e.to_string())
+            ))
+        })?;
+        let result = edit_bend_scene(&scene, &edit)?;
+        if !result.info.applied {
+            return Err(ApiError {
+                status: StatusCode::UNPROCESSABLE_ENTITY,
+                kind: "inadmissible",
+                message: result
+                    .info
+                    .rejected_because
+                    .unwrap_or_else(|| "the edit would make the shape inadmissible".into()),
+                report: None,
+            });
+        }
+        let preview = preview(&result.scene, root, start)?;
+        Ok(EditReply {
+            scene: result.scene,
+            edit: result.info,
+            preview,
         })
     })
     .await?;

@@ -21,6 +21,7 @@ const state = {
   inFlight: false,
   pending: null, // the newest edit waiting for the one in flight: { scene, started }
   lastError: null,
+  lastEdit: null, // what the library's editor said of the last edit
 };
 
 // ---------------------------------------------------------------- 3D view
@@ -51,6 +52,7 @@ const handleGeometry = new THREE.SphereGeometry(1, 20, 14);
 // Handles and the control polygon are drawn over the sheet, never hidden behind it.
 const handleMaterial = new THREE.MeshBasicMaterial({ color: 0xe8731a, depthTest: false });
 const handleActive = new THREE.MeshBasicMaterial({ color: 0xc0392b, depthTest: false });
+const normalMaterial = new THREE.MeshBasicMaterial({ color: 0x2e8b57, depthTest: false });
 let handleRadius = 3;
 let framed = false;
 
@@ -74,18 +76,46 @@ function draggableCurves(scene) {
     .filter((c) => Array.isArray(c.points));
 }
 
+/** The principal normal of a Bézier curve at its start (`atEnd` false) or end, unit. */
+function endNormal(points, atEnd) {
+  const p = (atEnd ? [...points].reverse() : points).slice(0, 3).map((q) => new THREE.Vector3(...q));
+  const d = p[1].clone().sub(p[0]);
+  const second = p[2].clone().sub(p[1].clone().multiplyScalar(2)).add(p[0]);
+  return d.clone().cross(second).cross(d).normalize();
+}
+
+function dragMode() {
+  return $('drag-mode').value;
+}
+
 function drawHandles(scene) {
   handles.clear();
   handleLines.clear();
+  const ends = dragMode() === 'ends';
   for (const { region, points } of draggableCurves(scene)) {
     points.forEach((p, index) => {
+      const isEnd = index === 0 || index === points.length - 1;
+      if (ends && !isEnd) return;
       const ball = new THREE.Mesh(handleGeometry, handleMaterial);
       ball.position.set(p[0], p[1], p[2]);
       ball.scale.setScalar(handleRadius);
-      ball.userData = { region, index };
+      ball.userData = ends ? { region, end: index === 0 ? 'start' : 'end', what: 'position', index } : { region, index };
       ball.renderOrder = 2;
       handles.add(ball);
     });
+    if (ends && points.length >= 4) {
+      for (const atEnd of [false, true]) {
+        const origin = new THREE.Vector3(...points[atEnd ? points.length - 1 : 0]);
+        const tip = origin.clone().add(endNormal(points, atEnd).multiplyScalar(handleRadius * 10));
+        const ball = new THREE.Mesh(handleGeometry, normalMaterial);
+        ball.position.copy(tip);
+        ball.scale.setScalar(handleRadius * 0.8);
+        ball.userData = { region, end: atEnd ? 'end' : 'start', what: 'normal' };
+        ball.renderOrder = 2;
+        handles.add(ball);
+        handleLines.add(new THREE.Line(new THREE.BufferGeometry().setFromPoints([origin, tip]), new THREE.LineBasicMaterial({ color: 0x2e8b57, depthTest: false })));
+      }
+    }
     const polygon = new THREE.BufferGeometry().setFromPoints(points.map((p) => new THREE.Vector3(...p)));
     handleLines.add(new THREE.Line(polygon, new THREE.LineDashedMaterial({ color: 0xe8731a, dashSize: 4, gapSize: 3, depthTest: false })));
     handleLines.children.at(-1).computeLineDistances();
@@ -164,29 +194,34 @@ async function post(url, body) {
   return response;
 }
 
-/** Sends `scene` to the server; the newest edit wins while one is in flight. */
-function requestSolve(scene, started = performance.now()) {
+/**
+ * Sends a scene (or, with `edit`, an edit of the last admissible scene: the library's
+ * editor applies it) to the server; the newest request wins while one is in flight.
+ */
+function requestSolve(scene, started = performance.now(), edit = null) {
   if (state.inFlight) {
-    state.pending = { scene, started };
+    state.pending = { scene, started, edit };
     return;
   }
   state.inFlight = true;
-  solveNow(scene, started).finally(() => {
+  solveNow(scene, started, edit).finally(() => {
     state.inFlight = false;
     const next = state.pending;
     state.pending = null;
-    if (next) requestSolve(next.scene, next.started);
+    if (next) requestSolve(next.edit ? state.scene : next.scene, next.started, next.edit);
     else window.dispatchEvent(new Event('sheetform-idle'));
   });
 }
 
-async function solveNow(scene, started) {
+async function solveNow(scene, started, edit) {
   let response;
   let body;
   const sent = performance.now();
   let received;
   try {
-    response = await post('/api/bend', JSON.stringify(scene));
+    response = edit
+      ? await post('/api/bend/edit', JSON.stringify({ scene, edit }))
+      : await post('/api/bend', JSON.stringify(scene));
     received = performance.now();
     body = await response.json();
   } catch (error) {
@@ -202,6 +237,10 @@ async function solveNow(scene, started) {
     const kept = state.scene ? ' — kept the last admissible shape' : '';
     showStatus('refused', `refused (${body.error.kind.replace('_', ' ')}): ${body.error.message}${kept}`);
     return false;
+  }
+  if (edit) {
+    scene = body.scene;
+    state.lastEdit = body.edit;
   }
   state.scene = scene;
   state.reply = body;
@@ -254,6 +293,7 @@ function redo() {
 }
 
 $('undo').addEventListener('click', undo);
+$('drag-mode').addEventListener('change', () => { if (state.scene) { drawHandles(state.scene); render(); } });
 $('redo').addEventListener('click', redo);
 window.addEventListener('keydown', (e) => {
   if ((e.ctrlKey || e.metaKey) && e.key.toLowerCase() === 'z') {
@@ -279,10 +319,9 @@ canvas.addEventListener('pointerdown', (event) => {
   pointerRay(event);
   const hit = raycaster.intersectObjects(handles.children, false)[0];
   if (!hit) return;
-  const { region, index } = hit.object.userData;
   const normal = camera.getWorldDirection(new THREE.Vector3());
   drag = {
-    region, index, moved: false, before: JSON.stringify(state.scene),
+    ...hit.object.userData, handle: hit.object, moved: false, before: JSON.stringify(state.scene),
     plane: new THREE.Plane().setFromNormalAndCoplanarPoint(normal, hit.object.position.clone()),
   };
   hit.object.material = handleActive;
@@ -296,13 +335,32 @@ canvas.addEventListener('pointermove', (event) => {
   const started = performance.now();
   const point = pointerRay(event).intersectPlane(drag.plane, new THREE.Vector3());
   if (!point) return;
-  // The candidate: the last admissible scene with this one point moved.
-  const scene = structuredClone(state.scene);
-  scene.regions[drag.region].curve.control_points[drag.index] = [point.x, point.y, point.z];
-  const ball = handles.children.find((h) => h.userData.region === drag.region && h.userData.index === drag.index);
-  if (ball) { ball.position.copy(point); render(); }
+  drag.handle.position.copy(point);
+  render();
   drag.moved = true;
-  requestSolve(scene, started);
+  const position = [point.x, point.y, point.z];
+  const mode = dragMode();
+  if (mode === 'move') {
+    // The candidate: the last admissible scene with this one point moved.
+    const scene = structuredClone(state.scene);
+    scene.regions[drag.region].curve.control_points[drag.index] = position;
+    requestSolve(scene, started);
+  } else if (mode === 'length') {
+    requestSolve(state.scene, started, { kind: 'drag_preserving_length', region: drag.region, index: drag.index, position });
+  } else {
+    // End handles: the dragged end's position or normal; both normals are held.
+    const points = state.scene.regions[drag.region].curve.control_points;
+    const held = (atEnd) => endNormal(points, atEnd).toArray();
+    const handle = (end) => ({ normal: held(end === 'end') });
+    const edit = { kind: 'drag_end_handles', region: drag.region, start: handle('start'), end: handle('end') };
+    if (drag.what === 'position') {
+      edit[drag.end].position = position;
+    } else {
+      const origin = new THREE.Vector3(...points[drag.end === 'start' ? 0 : points.length - 1]);
+      edit[drag.end].normal = point.clone().sub(origin).toArray();
+    }
+    requestSolve(state.scene, started, edit);
+  }
 });
 
 function endDrag(event) {
@@ -428,6 +486,15 @@ window.sheetformEditor = {
     const rect = canvas.getBoundingClientRect();
     return { x: rect.left + ((v.x + 1) / 2) * rect.width, y: rect.top + ((1 - v.y) / 2) * rect.height };
   },
+  /** The page coordinates of a handle found by its userData fields (end-handle mode). */
+  handleScreenPositionWhere(match) {
+    const ball = handles.children.find((h) => Object.entries(match).every(([k, v]) => h.userData[k] === v));
+    const v = ball.position.clone().project(camera);
+    const rect = canvas.getBoundingClientRect();
+    return { x: rect.left + ((v.x + 1) / 2) * rect.width, y: rect.top + ((1 - v.y) / 2) * rect.height };
+  },
+  endNormal: (region, atEnd) => endNormal(state.scene.regions[region].curve.control_points, atEnd).toArray(),
+  curveLength: () => state.reply.report.regions.map((r) => r.curve_length_mm),
   /** Largest relative difference between a mesh edge's 3D and flat lengths. */
   isometryError() {
     const { positions: p, flat: f, triangles: t } = state.reply.model;

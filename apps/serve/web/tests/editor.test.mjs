@@ -118,7 +118,39 @@ try {
   const lastError = await page.evaluate(() => window.sheetformEditor.state.lastError);
   assert.equal(lastError.kind, 'inadmissible', JSON.stringify(lastError));
 
-  // 5. Round trip of an edit on a 1 000-ruling sheet: small drags, one edit at a time.
+  // 5. The library's editor (§4.1): a length-preserving drag keeps the curve's length;
+  // end handles turn the surface normal at an end. Both stay isometric.
+  await page.click('#undo');
+  await idle();
+  await page.selectOption('#drag-mode', 'length');
+  const lengthBefore = await page.evaluate(() => window.sheetformEditor.curveLength()[0]);
+  const sceneBefore = await sceneText();
+  await drag(2, 25, -10);
+  assert.notEqual(await sceneText(), sceneBefore, 'the length-preserving drag changed the scene');
+  const lengthAfter = await page.evaluate(() => window.sheetformEditor.curveLength()[0]);
+  assert.ok(Math.abs(lengthAfter - lengthBefore) < 1e-6, `length ${lengthBefore} -> ${lengthAfter}`);
+  assert.ok((await page.evaluate(() => window.sheetformEditor.isometryError())) < 1e-9);
+  await page.selectOption('#drag-mode', 'ends');
+  const normalBefore = await page.evaluate(() => window.sheetformEditor.endNormal(0, false));
+  const tip = await page.evaluate(() => window.sheetformEditor.handleScreenPositionWhere({ end: 'start', what: 'normal' }));
+  await page.mouse.move(tip.x, tip.y);
+  await page.mouse.down();
+  for (let k = 1; k <= 6; k++) {
+    await page.mouse.move(tip.x + 6 * k, tip.y);
+    await idle();
+  }
+  await page.mouse.up();
+  await idle();
+  const normalAfter = await page.evaluate(() => window.sheetformEditor.endNormal(0, false));
+  const turn = Math.acos(Math.min(1, normalBefore.reduce((a, x, i) => a + x * normalAfter[i], 0))) * 180 / Math.PI;
+  assert.ok(turn > 2, `the start normal turned by ${turn}°`);
+  assert.equal(await page.evaluate(() => window.sheetformEditor.state.lastEdit.applied), true);
+  assert.ok((await page.evaluate(() => window.sheetformEditor.isometryError())) < 1e-9);
+  figures.end_handle_turn_degrees = turn;
+  await page.screenshot({ path: join(outputDir, 'bend-end-handles.png') });
+  await page.selectOption('#drag-mode', 'move');
+
+  // 6. Round trip of an edit on a 1 000-ruling sheet: small drags, one edit at a time.
   const fine = JSON.parse(original);
   fine.tessellation = { rulings: 1000 };
   await page.evaluate((text) => window.sheetformEditor.load(text), JSON.stringify(fine));
@@ -131,7 +163,7 @@ try {
   const stageMedians = Object.fromEntries(Object.keys(stages[0]).map((k) => [k, median(stages.map((s) => s[k]))]));
   figures.bend_1000_rulings_round_trip_ms = { median: median(trips), count: trips.length, max: Math.max(...trips), stage_medians: stageMedians };
 
-  // 6. The server: no file outside its directory, hostile requests answered with an
+  // 7. The server: no file outside its directory, hostile requests answered with an
   // error, and it keeps serving.
   for (const path of ['..%2FCargo.toml', '%2Fetc%2Fpasswd', '..%2F..%2Fetc%2Fpasswd']) {
     const response = await fetch(`${url}api/files/${path}`);

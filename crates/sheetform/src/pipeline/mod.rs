@@ -2,6 +2,7 @@
 //! parts they share.
 
 mod bend;
+mod bend_edit;
 mod check;
 mod context;
 mod error;
@@ -13,6 +14,7 @@ mod sheet_report;
 mod slit;
 
 pub use bend::*;
+pub use bend_edit::*;
 pub use check::*;
 pub use context::*;
 pub use error::*;
