@@ -18,6 +18,11 @@ pub(crate) struct Cli {
     /// No progress bar.
     #[arg(long, short, global = true)]
     pub(crate) quiet: bool,
+    /// Let scenes read files (textures, scans, meshes, photos) anywhere inside this
+    /// directory, by absolute paths or paths leaving the scene's directory; by default
+    /// only files inside the scene's own directory are read.
+    #[arg(long, global = true, value_name = "DIR")]
+    pub(crate) assets_within: Option<PathBuf>,
 }
 
 #[derive(Subcommand)]

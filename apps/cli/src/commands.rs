@@ -190,9 +190,17 @@ pub(crate) fn stop_cleanly_on_interrupt() {
     });
 }
 
-/// The library's run context for a scene or mesh in `root`, cancelled by Ctrl-C.
+/// The directory `--assets-within` allows scenes to read from (set once by `main`).
+pub(crate) static ASSETS_WITHIN: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+
+/// The library's run context for a scene or mesh in `root`, cancelled by Ctrl-C; its
+/// assets confined to `root`, or to `--assets-within` when given.
 fn run_context(root: PathBuf) -> RunContext<'static> {
-    RunContext::new(root).with_cancel(&CANCELLED)
+    let mut context = RunContext::new(root).with_cancel(&CANCELLED);
+    if let Some(allowed) = ASSETS_WITHIN.get() {
+        context.assets = context.assets.with_confinement(allowed);
+    }
+    context
 }
 
 /// Writes the output set, unless Ctrl-C came after the run's last stage.

@@ -30,6 +30,9 @@ static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 fn main() -> ExitCode {
     let cli = Cli::parse();
     commands::stop_cleanly_on_interrupt();
+    if let Some(allowed) = cli.assets_within.clone() {
+        let _ = commands::ASSETS_WITHIN.set(allowed);
+    }
     // `SHEETFORM_TRACE=1`: the solvers' per-iteration traces on stderr.
     if std::env::var_os("SHEETFORM_TRACE").is_some() {
         tracing_subscriber::fmt()

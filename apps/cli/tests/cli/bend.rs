@@ -284,7 +284,8 @@ fn inadmissible_shape_writes_only_the_report_saying_where() {
 }
 
 /// A scene may read only files in its own directory: a texture named by `../` (or an
-/// absolute path) outside it is refused with the field named, exit 1, nothing written.
+/// absolute path) outside it is refused with the field named, exit 1, nothing written;
+/// only `--assets-within DIR` lets it read elsewhere, inside DIR.
 #[test]
 fn a_scene_cannot_read_files_outside_its_directory() {
     let tmp = tempfile::tempdir().unwrap();
@@ -307,8 +308,36 @@ fn a_scene_cannot_read_files_outside_its_directory() {
         let o = sheetform(&["bend", path.to_str().unwrap(), "-o", out.to_str().unwrap()]);
         let stderr = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(1), "{stderr}");
-        assert!(stderr.contains("texture"), "{stderr}");
+        assert!(
+            stderr.contains("texture") && stderr.contains("--assets-within"),
+            "{stderr}"
+        );
         assert!(!out.exists(), "nothing is written");
+        // With the explicit flag naming a directory that holds the file, it is read;
+        // naming the scene's own directory does not widen anything.
+        let allowed = sheetform(&[
+            "bend",
+            path.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "-q",
+            "--assets-within",
+            tmp.path().to_str().unwrap(),
+        ]);
+        assert!(allowed.status.success(), "{}", String::from_utf8_lossy(&allowed.stderr));
+        assert!(out.join("texture.png").exists());
+        std::fs::remove_dir_all(&out).unwrap();
+        let narrow = sheetform(&[
+            "bend",
+            path.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "-q",
+            "--assets-within",
+            project.to_str().unwrap(),
+        ]);
+        assert_eq!(narrow.status.code(), Some(1));
+        assert!(String::from_utf8_lossy(&narrow.stderr).contains("outside the allowed directory"));
     }
 }
 

@@ -17,10 +17,14 @@ pub const MAX_ASSET_BYTES: u64 = 1 << 30;
 /// relative to its own file. The resolver refuses absolute paths, paths that leave the
 /// root (also through a symbolic link), anything but a regular file (a FIFO or a device
 /// would block or never end) and files over its size bound, each with an error naming
-/// the scene field.
+/// the scene field. Only when the user widens it explicitly
+/// ([`Self::with_confinement`], the CLI's `--assets-within DIR`) may a scene name
+/// absolute paths and paths that leave its directory, and then only inside that
+/// directory.
 #[derive(Debug, Clone)]
 pub struct AssetResolver {
     root: PathBuf,
+    confinement: Option<PathBuf>,
     max_bytes: u64,
 }
 
@@ -30,8 +34,16 @@ impl AssetResolver {
     pub fn new(root: impl Into<PathBuf>) -> Self {
         Self {
             root: root.into(),
+            confinement: None,
             max_bytes: MAX_ASSET_BYTES,
         }
+    }
+
+    /// The same, letting a scene also name absolute paths and paths that leave `root`,
+    /// as long as they lie inside `confinement` (an explicit choice of the user).
+    pub fn with_confinement(mut self, confinement: impl Into<PathBuf>) -> Self {
+        self.confinement = Some(confinement.into());
+        self
     }
 
     /// The same with another size bound (bytes).
@@ -60,13 +72,15 @@ impl AssetResolver {
         if relative.is_empty() {
             return Err(fail("the path is empty".into()));
         }
-        if path.is_absolute()
+        let absolute = path.is_absolute()
             || path
                 .components()
-                .any(|c| matches!(c, Component::Prefix(_) | Component::RootDir))
-        {
+                .any(|c| matches!(c, Component::Prefix(_) | Component::RootDir));
+        if absolute && self.confinement.is_none() {
             return Err(fail(
-                "an absolute path; assets are named relative to the scene file".into(),
+                "an absolute path; assets are named relative to the scene file (or allow a directory with \
+                 --assets-within)"
+                    .into(),
             ));
         }
         let root = self
@@ -77,11 +91,26 @@ impl AssetResolver {
             .join(path)
             .canonicalize()
             .map_err(|e| fail(format!("cannot open it: {e}")))?;
-        if !full.starts_with(&root) {
-            return Err(fail(format!(
-                "it lies outside the scene's directory {} (assets must be inside it)",
-                root.display()
-            )));
+        match &self.confinement {
+            None if !full.starts_with(&root) => {
+                return Err(fail(format!(
+                    "it lies outside the scene's directory {} (assets must be inside it, or in a directory \
+                     allowed with --assets-within)",
+                    root.display()
+                )));
+            }
+            Some(confinement) => {
+                let allowed = confinement
+                    .canonicalize()
+                    .map_err(|e| fail(format!("the allowed directory {}: {e}", confinement.display())))?;
+                if !full.starts_with(&allowed) {
+                    return Err(fail(format!(
+                        "it lies outside the allowed directory {}",
+                        allowed.display()
+                    )));
+                }
+            }
+            None => {}
         }
         let metadata = std::fs::metadata(&full).map_err(|e| fail(format!("cannot open it: {e}")))?;
         if !metadata.is_file() {
