@@ -15,11 +15,15 @@ type Vec3 = nalgebra::Vector3<f64>;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NetOptions {
     /// Starting faces tried; the net with the fewest pieces (then the shortest cut) is
-    /// kept. Capped so that attempts × faces stays within [`MAX_NET_WORK`]. Default 12.
+    /// kept. Capped so that attempts × faces stays within [`MAX_NET_WORK`], and no
+    /// further attempt starts once [`MAX_NET_OVERLAP_TESTS`] are spent. Default 12.
     pub attempts: usize,
     /// Join small pieces to a neighbour along one of their cut edges wherever they fit
     /// without overlap. Default true.
     pub merge_pieces: bool,
+    /// Overlap tests the growth may make over all attempts, and again the merging:
+    /// [`MAX_NET_OVERLAP_TESTS`] (the default) at most, larger values count as that.
+    pub overlap_tests: usize,
 }
 
 impl Default for NetOptions {
@@ -27,12 +31,28 @@ impl Default for NetOptions {
         Self {
             attempts: 12,
             merge_pieces: true,
+            overlap_tests: MAX_NET_OVERLAP_TESTS,
         }
     }
 }
 
 /// Work budget of [`unfold_net`], in faces placed over all attempts (about a second).
 pub const MAX_NET_WORK: usize = 4_000_000;
+
+/// Work budget of [`unfold_net`] in overlap tests (a face of the piece examined against a
+/// face being placed): over all attempts of the growth, and again for the merging of
+/// pieces (about a second each; a torus of 160 000 faces takes 61 million in its 12
+/// attempts). Faces that share one spot of the flat piece,
+/// such as the thin triangles of a fan around one vertex, cannot be told apart by a
+/// spatial index, and every placement is tested against all of them; a mesh that needs
+/// more tests than this gets fewer attempts, its last growth joins a face only when
+/// [`NET_TESTS_PER_FACE_WHEN_SPENT`] tests settle it (otherwise the edge is cut, counted
+/// in [`Net::budget_cut_count`]), and the merging stops.
+pub const MAX_NET_OVERLAP_TESTS: usize = 100_000_000;
+
+/// Overlap tests a face may take to be joined to its piece once [`MAX_NET_OVERLAP_TESTS`]
+/// is spent: a placement that needs more is refused and the edge cut (never an overlap).
+pub const NET_TESTS_PER_FACE_WHEN_SPENT: usize = 64;
 
 /// A net: the pieces (charts whose flattening is an exact copy of every face) and how
 /// the mesh was cut.
@@ -52,6 +72,10 @@ pub struct Net {
     pub attempts: usize,
     /// Pieces joined to a neighbour after the growth.
     pub merged_piece_count: usize,
+    /// Edges cut only because [`MAX_NET_OVERLAP_TESTS`] was spent (the face would have
+    /// needed more than [`NET_TESTS_PER_FACE_WHEN_SPENT`] tests to be joined); 0 unless
+    /// the budget ran out.
+    pub budget_cut_count: usize,
 }
 
 /// Unfolds `mesh` into a net: a forest of faces joined across edges, each tree laid flat
@@ -72,6 +96,9 @@ pub struct Net {
 ///    left. User seams (`mesh.seam_edges`) are always cut.
 /// 2. **Attempts**: the growth is run from `options.attempts` seeds spread over the mesh
 ///    and the net with the fewest pieces, then the shortest total cut, is kept.
+///    The work is bounded: attempts × faces by [`MAX_NET_WORK`], overlap tests by
+///    [`MAX_NET_OVERLAP_TESTS`] (fewer attempts, then cuts counted in
+///    [`Net::budget_cut_count`], when they run out).
 /// 3. **Merging**: a piece, smallest first, is hinged onto a neighbouring piece across
 ///    one of the edges cut between them when it fits there without overlap (this gathers
 ///    the single faces and slivers a greedy growth leaves behind).
@@ -121,13 +148,25 @@ pub fn unfold_net(mesh: &TriangleMesh, options: &NetOptions) -> Result<Net, Flat
     let faces = FaceGeometry::new(mesh, &table);
     let attempts = options.attempts.clamp(1, (MAX_NET_WORK / (nf * variants.len())).max(1));
     let mut best: Option<(Growth, usize)> = None;
+    let overlap_tests = options.overlap_tests.min(MAX_NET_OVERLAP_TESTS);
+    let mut tests_left = overlap_tests;
+    // Seeds tried (fewer than `attempts` when the overlap tests ran out).
+    let mut tried = 0;
     for (i, variant) in (0..attempts).flat_map(|i| (0..variants.len()).map(move |v| (i, v))) {
+        if best.is_some() && tests_left == 0 {
+            tracing::warn!(
+                attempts = tried,
+                "net: the budget of overlap tests is spent, no further attempt"
+            );
+            break;
+        }
+        tried = i + 1;
         let seed = if i == 0 {
             faces.central
         } else {
             (i * nf / attempts) as u32
         };
-        let growth = grow(&faces, &table, variants[variant], seed);
+        let growth = grow(&faces, &table, variants[variant], seed, &mut tests_left);
         let better = best.as_ref().is_none_or(|(b, _)| {
             (growth.piece_count, growth.cut_length(&faces, &table)) < (b.piece_count, b.cut_length(&faces, &table))
         });
@@ -137,10 +176,11 @@ pub fn unfold_net(mesh: &TriangleMesh, options: &NetOptions) -> Result<Net, Flat
         }
     }
     let (mut growth, variant) = best.expect("at least one attempt");
+    let attempts = tried;
     let forced_cut = variants[variant].to_vec();
     let before_merge = growth.piece_count;
     if options.merge_pieces {
-        merge_pieces(&faces, &table, &forced_cut, &mut growth);
+        merge_pieces(&faces, &table, &forced_cut, overlap_tests, &mut growth);
     }
     let merged_piece_count = before_merge - growth.piece_count;
     close_zero_width_slits(&faces, &table, &forced_cut, &mut growth);
@@ -218,6 +258,7 @@ pub fn unfold_net(mesh: &TriangleMesh, options: &NetOptions) -> Result<Net, Flat
         cut_edge_count,
         attempts,
         merged_piece_count,
+        budget_cut_count: growth.budget_cuts,
     })
 }
 
@@ -346,34 +387,71 @@ impl OverlapGrid {
         }
     }
 
-    /// Whether `t` overlaps a face of the grid.
-    fn overlaps(&self, cell: f64, t: &[Vec2; 3], flat: &[[Vec2; 3]], tolerance: f64) -> bool {
-        let test = |g: &u32| triangles_overlap(*t, flat[*g as usize], tolerance);
+    /// Whether `t` overlaps a face of the grid, each face examined taking one test off
+    /// `tests_left`; [`Overlap::Unsettled`] when they run out first.
+    fn overlaps(
+        &self,
+        cell: f64,
+        t: &[Vec2; 3],
+        flat: &[[Vec2; 3]],
+        tolerance: f64,
+        tests_left: &mut usize,
+    ) -> Overlap {
+        // `Some(found)` per face examined, `None` once the tests are spent.
+        let mut test = |g: &u32, in_box: &dyn Fn(&[Vec2; 3]) -> bool| {
+            if *tests_left == 0 {
+                return None;
+            }
+            *tests_left -= 1;
+            let u = &flat[*g as usize];
+            Some(in_box(u) && triangles_overlap(*t, *u, tolerance))
+        };
+        let anywhere = |_: &[Vec2; 3]| true;
+        let verdict = |found: Option<bool>| match found {
+            None => Some(Overlap::Unsettled),
+            Some(true) => Some(Overlap::Yes),
+            Some(false) => None,
+        };
         let range = Self::range(cell, t);
         if Self::too_many(range) {
             // A large query: every face, after a bounding-box check.
             let (lo, hi) = (t[0].inf(&t[1]).inf(&t[2]), t[0].sup(&t[1]).sup(&t[2]));
-            return self.all.iter().any(|g| {
-                let u = &flat[*g as usize];
+            let in_box = |u: &[Vec2; 3]| {
                 let (a, b) = (u[0].inf(&u[1]).inf(&u[2]), u[0].sup(&u[1]).sup(&u[2]));
-                a.x <= hi.x && b.x >= lo.x && a.y <= hi.y && b.y >= lo.y && test(g)
-            });
+                a.x <= hi.x && b.x >= lo.x && a.y <= hi.y && b.y >= lo.y
+            };
+            return self
+                .all
+                .iter()
+                .find_map(|g| verdict(test(g, &in_box)))
+                .unwrap_or(Overlap::No);
         }
-        if self.big.iter().any(test) {
-            return true;
+        if let Some(v) = self.big.iter().find_map(|g| verdict(test(g, &anywhere))) {
+            return v;
         }
         let (x0, x1, y0, y1) = range;
         for x in x0..=x1 {
             for y in y0..=y1 {
                 if let Some(list) = self.cells.get(&(x, y)) {
-                    if list.iter().any(test) {
-                        return true;
+                    if let Some(v) = list.iter().find_map(|g| verdict(test(g, &anywhere))) {
+                        return v;
                     }
                 }
             }
         }
-        false
+        Overlap::No
     }
+}
+
+/// What [`OverlapGrid::overlaps`] found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Overlap {
+    /// The face overlaps none of the grid.
+    No,
+    /// The face overlaps one of the grid.
+    Yes,
+    /// The tests ran out before the answer was known.
+    Unsettled,
 }
 
 /// One growth of a net.
@@ -385,6 +463,8 @@ struct Growth {
     /// Edges kept whole (a fold or a flat hinge inside a piece).
     kept: Vec<bool>,
     piece_count: usize,
+    /// Placements refused only because the overlap tests ran out.
+    budget_cuts: usize,
 }
 
 impl Growth {
@@ -403,8 +483,10 @@ impl Growth {
 /// corner starting the edge, face across)`, ordered by the key.
 type HingeCandidate = ((u8, u64), u32, u8, u32);
 
-/// Grows a net from `seed` (step 1 of [`unfold_net`]).
-fn grow(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], seed: u32) -> Growth {
+/// Grows a net from `seed` (step 1 of [`unfold_net`]), each face of a piece examined
+/// against a face being placed taking one test off `tests_left`; once they are spent, a
+/// face is joined only when [`NET_TESTS_PER_FACE_WHEN_SPENT`] tests settle it.
+fn grow(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], seed: u32, tests_left: &mut usize) -> Growth {
     let mesh = faces.mesh;
     let nf = mesh.triangles.len();
     let mut growth = Growth {
@@ -412,6 +494,7 @@ fn grow(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], seed: u32)
         piece: vec![u32::MAX; nf],
         kept: vec![false; table.len()],
         piece_count: 0,
+        budget_cuts: 0,
     };
     let mut refused: Vec<u32> = Vec::new();
     let mut next_any = 0usize;
@@ -457,9 +540,23 @@ fn grow(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], seed: u32)
                 continue;
             };
             let t = faces.hinge(g, j, growth.flat[f as usize][(k + 1) % 3], growth.flat[f as usize][k]);
-            if grid.overlaps(faces.cell, &t, &growth.flat, faces.tolerance) {
-                refused.push(g);
-                continue;
+            let mut allowance = NET_TESTS_PER_FACE_WHEN_SPENT;
+            let budget = if *tests_left > 0 {
+                &mut *tests_left
+            } else {
+                &mut allowance
+            };
+            match grid.overlaps(faces.cell, &t, &growth.flat, faces.tolerance, budget) {
+                Overlap::No => {}
+                Overlap::Yes => {
+                    refused.push(g);
+                    continue;
+                }
+                Overlap::Unsettled => {
+                    growth.budget_cuts += 1;
+                    refused.push(g);
+                    continue;
+                }
             }
             growth.flat[g as usize] = t;
             growth.piece[g as usize] = p;
@@ -509,11 +606,19 @@ fn close_zero_width_slits(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &
 }
 
 /// Hinges small pieces onto neighbouring pieces where they fit (step 3 of [`unfold_net`]).
-fn merge_pieces(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], growth: &mut Growth) {
+fn merge_pieces(
+    faces: &FaceGeometry,
+    table: &EdgeTable,
+    forced_cut: &[bool],
+    overlap_tests: usize,
+    growth: &mut Growth,
+) {
     let mesh = faces.mesh;
     let nf = mesh.triangles.len();
-    // Work budget: overlap tests in all.
+    // Work budget: overlap tests in all (estimated before each trial), and the tests
+    // actually made.
     let mut budget = 20 * MAX_NET_WORK;
+    let mut tests_left = overlap_tests;
     loop {
         if budget < nf {
             return;
@@ -568,10 +673,21 @@ fn merge_pieces(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], gr
                         .iter()
                         .map(|&h| growth.flat[h as usize].map(motion))
                         .collect();
-                    if moved
-                        .iter()
-                        .any(|t| grid.overlaps(faces.cell, t, &growth.flat, faces.tolerance))
-                    {
+                    let mut fits = true;
+                    for t in &moved {
+                        match grid.overlaps(faces.cell, t, &growth.flat, faces.tolerance, &mut tests_left) {
+                            Overlap::No => {}
+                            Overlap::Yes => {
+                                fits = false;
+                                break;
+                            }
+                            Overlap::Unsettled => {
+                                tracing::warn!("net: the budget of overlap tests for merging pieces is spent");
+                                return;
+                            }
+                        }
+                    }
+                    if !fits {
                         continue;
                     }
                     merged = Some((p, q, e, moved));
@@ -623,30 +739,28 @@ fn saddle_cuts(mesh: &TriangleMesh, table: &EdgeTable, topology: &sheetform_mesh
         if total <= std::f64::consts::TAU + 1e-6 {
             continue;
         }
-        // Order the fan: a_0 → a_1 → … around v.
+        // Order the fan: a_0 → a_1 → … around v (the first face starting at each
+        // neighbour, looked up by it).
+        let mut starting: FxHashMap<u32, usize> = FxHashMap::default();
+        for (i, x) in around.iter().enumerate() {
+            starting.entry(x.0).or_insert(i);
+        }
         let mut order = vec![around[0]];
         while order.len() < around.len() {
             let last = order.last().expect("non-empty").1;
-            match around.iter().find(|x| x.0 == last) {
-                Some(&next) if next.0 != order[0].0 => order.push(next),
+            match starting.get(&last).map(|&i| around[i]) {
+                Some(next) if next.0 != order[0].0 => order.push(next),
                 _ => break,
             }
         }
         if order.len() != around.len() {
             continue;
         }
-        let k = order.len();
-        let mut best = (f64::INFINITY, 0, 0);
-        for i in 0..k {
-            let mut sum = 0.0;
-            for j in 1..k {
-                sum += order[(i + j - 1) % k].2;
-                let miss = (sum - 0.5 * total).abs();
-                if miss < best.0 {
-                    best = (miss, i, (i + j) % k);
-                }
-            }
-        }
+        let best = if order.len() <= SMALL_FAN {
+            halving_split_exhaustive(&order, total)
+        } else {
+            halving_split_sliding(&order, total)
+        };
         for index in [best.1, best.2] {
             if let Some(e) = table.find(v as u32, order[index].0) {
                 cuts.push(e);
@@ -654,4 +768,95 @@ fn saddle_cuts(mesh: &TriangleMesh, table: &EdgeTable, topology: &sheetform_mesh
         }
     }
     cuts
+}
+
+/// Fans up to this many faces are split by trying every pair of edges (the result
+/// depends on rounding when angles tie, as in symmetric meshes, and stays as it was);
+/// larger fans by a sliding window, in time linear in the fan.
+const SMALL_FAN: usize = 64;
+
+/// The two edges `(miss, i, j)` of an ordered fan (`(from, to, angle)` per face) that
+/// split its angles `total` most nearly in half: faces `i..j` (cyclically) on one side,
+/// `miss` the distance of their sum from `total / 2`. Every pair tried, O(k²).
+fn halving_split_exhaustive(order: &[(u32, u32, f64)], total: f64) -> (f64, usize, usize) {
+    let k = order.len();
+    let mut best = (f64::INFINITY, 0, 0);
+    for i in 0..k {
+        let mut sum = 0.0;
+        for j in 1..k {
+            sum += order[(i + j - 1) % k].2;
+            let miss = (sum - 0.5 * total).abs();
+            if miss < best.0 {
+                best = (miss, i, (i + j) % k);
+            }
+        }
+    }
+    best
+}
+
+/// As [`halving_split_exhaustive`], in O(k): the angles are non-negative, so for each
+/// start `i` the sums of `j` faces grow with `j`, and the best `j` is where the sum
+/// crosses `total / 2` or the one before; that crossing only moves forward with `i`
+/// (sums from prefix sums, so ties may go to another pair of equal miss).
+fn halving_split_sliding(order: &[(u32, u32, f64)], total: f64) -> (f64, usize, usize) {
+    let k = order.len();
+    // prefix[n] = sum of the first n angles of the fan run twice.
+    let mut prefix = Vec::with_capacity(2 * k + 1);
+    prefix.push(0.0);
+    for n in 0..2 * k {
+        prefix.push(prefix[n] + order[n % k].2);
+    }
+    let half = 0.5 * total;
+    let mut best = (f64::INFINITY, 0, 0);
+    let mut j = 1;
+    for i in 0..k {
+        // Faces i..i+j (j of them, 1 ≤ j ≤ k − 1).
+        j = j.max(1);
+        while j < k - 1 && prefix[i + j] - prefix[i] < half {
+            j += 1;
+        }
+        for jj in [j.saturating_sub(1).max(1), j] {
+            let miss = (prefix[i + jj] - prefix[i] - half).abs();
+            if miss < best.0 {
+                best = (miss, i, (i + jj) % k);
+            }
+        }
+        j = j.saturating_sub(1);
+    }
+    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 19: a saddle vertex of degree k was split in O(k²) (a fan of 40 000 faces,
+    /// 1.6e9 sums). The sliding window finds a split as near to half as every pair tried.
+    #[test]
+    fn the_sliding_halving_split_is_as_good_as_trying_every_pair() {
+        let mut seed = 7u64;
+        let mut random = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for k in [3, 4, 5, 17, 65, 300] {
+            for _ in 0..20 {
+                let order: Vec<(u32, u32, f64)> = (0..k)
+                    .map(|i| (i as u32, ((i + 1) % k) as u32, 0.01 + random() * random() * 2.0))
+                    .collect();
+                let total: f64 = order.iter().map(|x| x.2).sum();
+                let exhaustive = halving_split_exhaustive(&order, total);
+                let sliding = halving_split_sliding(&order, total);
+                assert!(
+                    (sliding.0 - exhaustive.0).abs() <= 1e-12 * total,
+                    "{k}: {sliding:?} {exhaustive:?}"
+                );
+                // The split it names has the miss it reports.
+                let (i, j) = (sliding.1, sliding.2);
+                let count = (j + k - i) % k;
+                let sum: f64 = (0..count).map(|n| order[(i + n) % k].2).sum();
+                assert!(((sum - 0.5 * total).abs() - sliding.0).abs() <= 1e-12 * total);
+            }
+        }
+    }
 }

@@ -23,7 +23,9 @@ pub use chart_segmentation::{
     cut_into_charts, Chart, ChartOptions, ChartSet, MAX_CONE_POINTS, MAX_SEAM_LOOPS, SMALL_CHART_FACES,
 };
 pub use distortion::{distortion, Distortion};
-pub use edge_unfolding::{unfold_net, Net, NetOptions, MAX_NET_WORK};
+pub use edge_unfolding::{
+    unfold_net, Net, NetOptions, MAX_NET_OVERLAP_TESTS, MAX_NET_WORK, NET_TESTS_PER_FACE_WHEN_SPENT,
+};
 pub use error::FlattenError;
 pub use exact_unfolding::{exact_unfold, UnfoldOptions, Unfolding};
 pub use layout_choice::{choose_layout, Layout, LayoutChoice, CONE_POINT_DEFECT, FACETED_FOLD_DEGREES};

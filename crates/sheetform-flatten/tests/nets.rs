@@ -68,6 +68,7 @@ fn nets_of_primitives_are_exact_overlap_free_and_in_few_pieces() {
     for (name, mesh, most) in cases {
         let net = unfold_net(&mesh, &NetOptions::default()).unwrap();
         assert!(net.pieces.len() <= most, "{name}: {} pieces", net.pieces.len());
+        assert_eq!(net.budget_cut_count, 0, "{name}: within the overlap tests");
         assert_exact_and_overlap_free(&mesh, &net);
     }
 }
@@ -162,4 +163,54 @@ fn an_open_tube_and_an_open_cone_are_cut_along_one_ruling_into_one_exact_piece()
             }
         }
     }
+}
+
+/// A disk fanned around one saddle vertex: `faces` thin triangles from the centre to a
+/// rim that waves up and down (angles around the centre add up to about 2.3 turns).
+fn saddle_fan(faces: usize) -> TriangleMesh {
+    use std::f64::consts::TAU;
+    let mut positions = vec![nalgebra::Vector3::zeros()];
+    for i in 0..faces {
+        let a = TAU * i as f64 / faces as f64;
+        positions.push(nalgebra::Vector3::new(a.cos(), a.sin(), 0.5 * (7.0 * a).sin()));
+    }
+    let triangles: Vec<[u32; 3]> = (0..faces as u32)
+        .map(|i| [0, 1 + i, 1 + (i + 1) % faces as u32])
+        .collect();
+    TriangleMesh {
+        positions,
+        face_groups: vec![0; triangles.len()],
+        triangles,
+        groups: vec!["fan".into()],
+        corner_uvs: None,
+        seam_edges: Vec::new(),
+    }
+}
+
+/// Issue 19: the thin triangles of a fan all meet at the centre, where no spatial index
+/// tells them apart, so every placement is tested against the whole piece (a fan of
+/// 40 000 faces took minutes). The overlap tests are a budget: spent, the attempts stop
+/// and the growth cuts an edge where a face would take more tests, counted; the net
+/// stays exact and free of overlaps.
+#[test]
+fn a_fan_of_thin_triangles_unfolds_within_the_budget_of_overlap_tests() {
+    let mesh = saddle_fan(400);
+    let full = unfold_net(&mesh, &NetOptions::default()).unwrap();
+    assert_exact_and_overlap_free(&mesh, &full);
+    assert_eq!((full.attempts, full.budget_cut_count), (12, 0));
+    assert!(full.pieces.len() <= 4, "{} pieces", full.pieces.len());
+    let options = NetOptions {
+        overlap_tests: 20_000,
+        ..NetOptions::default()
+    };
+    let net = unfold_net(&mesh, &options).unwrap();
+    assert_exact_and_overlap_free(&mesh, &net);
+    assert_eq!(net.attempts, 1, "no attempt after the budget is spent");
+    assert!(net.budget_cut_count > 0);
+    // A budget over the cap counts as the cap.
+    let capped = NetOptions {
+        overlap_tests: usize::MAX,
+        ..NetOptions::default()
+    };
+    assert_eq!(unfold_net(&mesh, &capped).unwrap(), full);
 }

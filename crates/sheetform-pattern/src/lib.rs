@@ -25,7 +25,7 @@ pub use pattern::{
     pattern_from_mesh, point_bounds, signed_fold_angle, Fold, FoldStyle, Label, LabelKind, Pattern, PatternOptions,
     PatternPiece, PatternTexture, Placement,
 };
-pub use pdf_tiles::{pdf_tiled, PageSize, PdfOptions, TiledPdf, DEFAULT_MAX_PAGES, MAX_PAGES};
+pub use pdf_tiles::{pdf_tiled, PageSize, PdfOptions, TiledPdf, DEFAULT_MAX_PAGES, MAX_PAGES, MAX_TEXTURE_PIXELS};
 pub use seam_matching::{match_seams, SeamRun};
 pub use sheet_packing::{arrange_in_rows, pack_pieces, rotated, smallest_bounding_rotation, SheetOptions};
 pub use svg_pattern::svg_bytes;

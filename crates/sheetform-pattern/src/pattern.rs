@@ -214,28 +214,57 @@ impl Pattern {
     }
 
     /// The pieces on sheet `sheet`, moved so that the sheet's corner is the origin, with
-    /// that sheet alone (for one cutter file per sheet).
+    /// that sheet alone (for one cutter file per sheet). This looks at every piece: for
+    /// all sheets, [`Pattern::sheet_patterns`] sorts the pieces out in one pass.
     pub fn sheet_pattern(&self, sheet: usize) -> Pattern {
+        let pieces = self.pieces.iter().filter(|p| p.sheet == sheet).collect();
+        self.with_sheet_pieces(sheet, pieces, true)
+    }
+
+    /// [`Pattern::sheet_pattern`] of every sheet in order, in one pass over the pieces
+    /// (pieces on no sheet of the list are left out).
+    pub fn sheet_patterns(&self) -> Vec<Pattern> {
+        self.split_into_sheets(true)
+    }
+
+    /// The sheets' patterns, with or without (a copy of) the texture and the bend
+    /// changes each (without: only what is drawn, for the PDF, which embeds the texture
+    /// once).
+    pub(crate) fn split_into_sheets(&self, whole: bool) -> Vec<Pattern> {
+        let mut on_sheet: Vec<Vec<&PatternPiece>> = vec![Vec::new(); self.sheets.len()];
+        for p in &self.pieces {
+            if let Some(list) = on_sheet.get_mut(p.sheet) {
+                list.push(p);
+            }
+        }
+        on_sheet
+            .into_iter()
+            .enumerate()
+            .map(|(sheet, pieces)| self.with_sheet_pieces(sheet, pieces, whole))
+            .collect()
+    }
+
+    /// The pattern of sheet `sheet` made of `pieces` (those on it), with the texture and
+    /// the bend changes when `whole`.
+    fn with_sheet_pieces(&self, sheet: usize, pieces: Vec<&PatternPiece>, whole: bool) -> Pattern {
         let (origin, size) = self
             .sheets
             .get(sheet)
             .copied()
             .unwrap_or((Vec2::zeros(), Vec2::zeros()));
-        let pieces = self
-            .pieces
-            .iter()
-            .filter(|p| p.sheet == sheet)
-            .map(|p| p.translated(-origin))
-            .collect();
         Pattern {
-            pieces,
+            pieces: pieces.into_iter().map(|p| p.translated(-origin)).collect(),
             sheets: vec![(Vec2::zeros(), size)],
             seam_count: self.seam_count,
             tabs: self.tabs,
             labels_shrunk: self.labels_shrunk,
             labels_dropped: self.labels_dropped,
-            texture: self.texture.clone(),
-            bend_flat_changes_mm: self.bend_flat_changes_mm.clone(),
+            texture: if whole { self.texture.clone() } else { None },
+            bend_flat_changes_mm: if whole {
+                self.bend_flat_changes_mm.clone()
+            } else {
+                Vec::new()
+            },
         }
     }
 }

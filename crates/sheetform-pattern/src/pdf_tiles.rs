@@ -1,5 +1,8 @@
-use crate::{FoldStyle, Pattern, PatternError, Vec2};
+use crate::{Fold, FoldStyle, Label, Pattern, PatternError, Vec2};
 use pdf_writer::{Content, Name, Pdf, Rect, Ref, Str};
+use rstar::primitives::{GeomWithData, Rectangle};
+use rstar::{RTree, AABB};
+use std::borrow::Cow;
 
 /// Paper size.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
@@ -100,8 +103,13 @@ const PT: f64 = 72.0 / 25.4;
 /// did not scale the page ("print at 100 %"). Cut lines red, fold lines grey dashed,
 /// labels blue (Helvetica).
 ///
+/// A page's content holds only the marks whose bounds meet its printable area (found in
+/// an R-tree of the part's cut segments, folds, labels and texture clips), so the
+/// document grows with the drawing, not with pages × drawing; it prints the same.
+///
 /// # Errors
-/// Margins or overlap that leave no printable area; more pages than `options.max_pages`.
+/// Margins or overlap that leave no printable area; more pages than `options.max_pages`;
+/// a texture that cannot be read or has more than [`MAX_TEXTURE_PIXELS`].
 pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, PatternError> {
     if !(1..=MAX_PAGES).contains(&options.max_pages) {
         return Err(PatternError::Option {
@@ -118,12 +126,17 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
             message: "leave no printable area on the page".into(),
         });
     }
+    // Every sheet takes a tile at least: far too many sheets are refused before they are
+    // sorted out.
+    if pattern.sheets.len() > options.max_pages.saturating_mul(16) {
+        return Err(too_many_pages(pattern.sheets.len(), options));
+    }
     // A packed pattern is printed sheet by sheet (a sheet that fits the printable area on
     // one page), an unpacked one as a whole.
-    let parts: Vec<Pattern> = if pattern.sheets.is_empty() {
-        vec![pattern.clone()]
+    let parts: Vec<Cow<Pattern>> = if pattern.sheets.is_empty() {
+        vec![Cow::Borrowed(pattern)]
     } else {
-        (0..pattern.sheets.len()).map(|s| pattern.sheet_pattern(s)).collect()
+        pattern.split_into_sheets(false).into_iter().map(Cow::Owned).collect()
     };
     let (sx, sy) = (aw - o, ah - o);
     let grids: Vec<(usize, usize, Vec2)> = parts
@@ -173,6 +186,7 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
         None => None,
     };
     for (k, (pattern, &(rows, columns, origin))) in parts.iter().zip(&grids).enumerate() {
+        let index = PartIndex::new(pattern, texture.is_some());
         for r in 0..rows {
             for c in 0..columns {
                 // Pattern window of this tile: x from wx, y down from wy.
@@ -180,7 +194,7 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                 // (The last tile is printed when nothing was: a PDF has at least one page.)
                 let last = k + 1 == sheet_count && r + 1 == rows && c + 1 == columns && page_ids.is_empty();
                 if !last
-                    && !window_shows(
+                    && !index.window_shows(
                         pattern,
                         Vec2::new(wx, wy - ah),
                         Vec2::new(wx + aw, wy),
@@ -189,6 +203,10 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                 {
                     continue;
                 }
+                // What this page draws: the marks whose bounds meet its printable area (a
+                // little more, for the width of the strokes), in drawing order.
+                let pad = Vec2::repeat(STROKE_PAD_MM);
+                let marks = index.marks_in(Vec2::new(wx, wy - ah) - pad, Vec2::new(wx + aw, wy) + pad);
                 let (page_id, content_id) = (Ref::new(next), Ref::new(next + 1));
                 next += 2;
                 page_ids.push(page_id);
@@ -206,7 +224,10 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                 content.end_path();
                 // The texture under each piece, moved with it, clipped to its outline.
                 if let Some((_, t)) = texture {
-                    for piece in &pattern.pieces {
+                    for piece in marks.iter().filter_map(|m| match m {
+                        Mark::Texture(n) => Some(&pattern.pieces[*n as usize]),
+                        _ => None,
+                    }) {
                         content.save_state();
                         for cycle in &piece.cut {
                             trace_ring(&mut content, cycle, &to_page);
@@ -226,10 +247,30 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                 }
                 content.set_line_width(0.4);
                 content.set_stroke_rgb(0.85, 0.0, 0.0);
-                for cycle in pattern.cut_loops() {
-                    trace_ring(&mut content, cycle, &to_page);
+                let cuts: Vec<(u32, u32)> = marks
+                    .iter()
+                    .filter_map(|m| match *m {
+                        Mark::Cut { ring, segment } => Some((ring, segment)),
+                        _ => None,
+                    })
+                    .collect();
+                for same_ring in cuts.chunk_by(|a, b| a.0 == b.0) {
+                    let ring = index.rings[same_ring[0].0 as usize];
+                    if same_ring.len() == ring.len() {
+                        trace_ring(&mut content, ring, &to_page);
+                    } else {
+                        let segments: Vec<u32> = same_ring.iter().map(|c| c.1).collect();
+                        trace_segments(&mut content, ring, &segments, &to_page);
+                    }
                     content.stroke();
                 }
+                let folds: Vec<&Fold> = marks
+                    .iter()
+                    .filter_map(|m| match m {
+                        Mark::Fold(n) => Some(index.folds[*n as usize]),
+                        _ => None,
+                    })
+                    .collect();
                 content.set_line_width(0.3);
                 // Origami convention: mountain dash-dot red, valley dashed blue; guides and
                 // tab bases dotted grey; stitch lines dashed green, notches solid red (cuts),
@@ -269,7 +310,7 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                             content.set_dash_pattern([], 0.0);
                         }
                     }
-                    for f in pattern.folds().filter(|f| f.style == style) {
+                    for f in folds.iter().filter(|f| f.style == style) {
                         let ((x0, y0), (x1, y1)) = (to_page(f.a), to_page(f.b));
                         content.move_to(x0, y0);
                         content.line_to(x1, y1);
@@ -278,7 +319,10 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                 }
                 content.set_dash_pattern([], 0.0);
                 content.set_fill_rgb(0.2, 0.3, 0.65);
-                for label in pattern.labels() {
+                for label in marks.iter().filter_map(|m| match m {
+                    Mark::Label(n) => Some(index.labels[*n as usize]),
+                    _ => None,
+                }) {
                     let (x, y) = to_page(label.position);
                     let size = (label.height_mm * PT * 1.4) as f32;
                     let width = ascii(&label.text).len() as f32 * size * 0.55;
@@ -402,16 +446,42 @@ fn too_many_pages(pages: usize, options: &PdfOptions) -> PatternError {
     }
 }
 
+/// Most pixels of a texture printed on the PDF (100 megapixels, as for photos): its
+/// samples go into the PDF as 3 bytes a pixel, uncompressed, 300 MB at most.
+pub const MAX_TEXTURE_PIXELS: u64 = 100_000_000;
+
 /// Writes the texture as an image XObject of 8-bit RGB samples (PNG or JPEG decoded;
 /// uncompressed, which keeps the writer free of an encoder).
+///
+/// # Errors
+/// An image that cannot be read, or of more than [`MAX_TEXTURE_PIXELS`] (its size is read
+/// from its header before anything is decoded).
 fn embed_texture(pdf: &mut Pdf, id: Ref, texture: &crate::PatternTexture) -> Result<(), PatternError> {
+    use sheetform_geometry::short_number;
     let bad = |e: String| PatternError::Option {
         option: "texture",
         message: format!("cannot be printed on the PDF: {e}"),
     };
-    let rgb = image::load_from_memory(&texture.bytes)
-        .map_err(|e| bad(e.to_string()))?
-        .to_rgb8();
+    let reader = || {
+        image::ImageReader::new(std::io::Cursor::new(&texture.bytes))
+            .with_guessed_format()
+            .map_err(|e| bad(e.to_string()))
+    };
+    let (w, h) = reader()?.into_dimensions().map_err(|e| bad(e.to_string()))?;
+    let pixels = u64::from(w) * u64::from(h);
+    if pixels > MAX_TEXTURE_PIXELS {
+        return Err(bad(format!(
+            "the image is {w} × {h} pixels ({} megapixels), more than the {} megapixels a texture may have; use a smaller image",
+            short_number(pixels as f64 / 1e6),
+            short_number(MAX_TEXTURE_PIXELS as f64 / 1e6)
+        )));
+    }
+    let mut reader = reader()?;
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(w);
+    limits.max_image_height = Some(h);
+    reader.limits(limits);
+    let rgb = reader.decode().map_err(|e| bad(e.to_string()))?.to_rgb8();
     let (w, h) = rgb.dimensions();
     let mut xobject = pdf.image_xobject(id, rgb.as_raw());
     xobject.width(w as i32);
@@ -421,30 +491,169 @@ fn embed_texture(pdf: &mut Pdf, id: Ref, texture: &crate::PatternTexture) -> Res
     Ok(())
 }
 
-/// Whether any line, label or (when drawn) sheet outline of the pattern falls in the
-/// window `[lo, hi]` (pattern millimetres).
-fn window_shows(pattern: &Pattern, lo: Vec2, hi: Vec2, sheet_outlines: bool) -> bool {
-    let inside = |p: Vec2| p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y;
-    let corners = [lo, Vec2::new(hi.x, lo.y), hi, Vec2::new(lo.x, hi.y)];
-    let crosses = |a: Vec2, b: Vec2| {
-        inside(a)
-            || inside(b)
-            || (0..4).any(|k| sheetform_geometry::segments_meet(a, b, corners[k], corners[(k + 1) % 4]))
-    };
-    pattern
-        .cut_loops()
-        .any(|l| (0..l.len()).any(|i| crosses(l[i], l[(i + 1) % l.len()])))
-        || pattern.folds().any(|f| crosses(f.a, f.b))
-        || pattern.labels().any(|label| inside(label.position))
-        || pattern.sheets.iter().filter(|_| sheet_outlines).any(|(corner, size)| {
-            let q = [
-                *corner,
-                corner + Vec2::new(size.x, 0.0),
-                corner + size,
-                corner + Vec2::new(0.0, size.y),
-            ];
-            (0..4).any(|k| crosses(q[k], q[(k + 1) % 4]))
-        })
+/// Room around a page's printable area in which marks are still drawn (mm): a line just
+/// outside the area shows the edge of its stroke (and of a mitred corner) inside it.
+const STROKE_PAD_MM: f64 = 2.0;
+
+/// Something a page draws, in drawing order: the texture under each piece, the cut
+/// lines, the folds and the labels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Mark {
+    /// The texture clipped to piece `n`.
+    Texture(u32),
+    /// The segment from point `segment` of cut loop `ring` (numbered over
+    /// [`Pattern::cut_loops`]) to the next point.
+    Cut {
+        /// The loop.
+        ring: u32,
+        /// The segment's first point.
+        segment: u32,
+    },
+    /// Fold `n` of [`Pattern::folds`].
+    Fold(u32),
+    /// Label `n` of [`Pattern::labels`].
+    Label(u32),
+}
+
+/// The marks of a part of the pattern (a sheet, or the whole) in an R-tree of their
+/// bounds, so that each page looks only at what it shows: a page's content stream then
+/// holds its share of the drawing, not all of it.
+struct PartIndex<'a> {
+    rings: Vec<&'a [Vec2]>,
+    folds: Vec<&'a Fold>,
+    labels: Vec<&'a Label>,
+    tree: RTree<GeomWithData<Rectangle<[f64; 2]>, Mark>>,
+}
+
+impl<'a> PartIndex<'a> {
+    /// The marks of `pattern`, with the pieces' textures when `texture`.
+    fn new(pattern: &'a Pattern, texture: bool) -> Self {
+        let rings: Vec<&[Vec2]> = pattern.cut_loops().map(|l| l.as_slice()).collect();
+        let folds: Vec<&Fold> = pattern.folds().collect();
+        let labels: Vec<&Label> = pattern.labels().collect();
+        let mut entries = Vec::new();
+        // Marks with a coordinate that is not a number are nowhere on any page.
+        let mut add = |lo: Vec2, hi: Vec2, mark: Mark| {
+            if lo.iter().chain(hi.iter()).all(|x| x.is_finite()) {
+                entries.push(GeomWithData::new(
+                    Rectangle::from_corners([lo.x, lo.y], [hi.x, hi.y]),
+                    mark,
+                ));
+            }
+        };
+        if texture {
+            for (n, piece) in pattern.pieces.iter().enumerate() {
+                let (lo, hi) = piece.bounds();
+                add(lo, hi, Mark::Texture(n as u32));
+            }
+        }
+        for (ring, points) in rings.iter().enumerate() {
+            for (segment, &a) in points.iter().enumerate() {
+                let b = points[(segment + 1) % points.len()];
+                add(
+                    a.inf(&b),
+                    a.sup(&b),
+                    Mark::Cut {
+                        ring: ring as u32,
+                        segment: segment as u32,
+                    },
+                );
+            }
+        }
+        for (n, f) in folds.iter().enumerate() {
+            add(f.a.inf(&f.b), f.a.sup(&f.b), Mark::Fold(n as u32));
+        }
+        for (n, label) in labels.iter().enumerate() {
+            // Within a circle of (characters + 2) text heights of the anchor, turned any
+            // way (no Helvetica glyph is wider than its height).
+            let height = label.height_mm * 1.4;
+            let reach = Vec2::repeat((ascii(&label.text).len() as f64 + 2.0) * height);
+            add(label.position - reach, label.position + reach, Mark::Label(n as u32));
+        }
+        Self {
+            rings,
+            folds,
+            labels,
+            tree: RTree::bulk_load(entries),
+        }
+    }
+
+    /// The marks whose bounds meet `[lo, hi]`, in drawing order.
+    fn marks_in(&self, lo: Vec2, hi: Vec2) -> Vec<Mark> {
+        let mut marks: Vec<Mark> = self
+            .tree
+            .locate_in_envelope_intersecting(&AABB::from_corners([lo.x, lo.y], [hi.x, hi.y]))
+            .map(|e| e.data)
+            .collect();
+        marks.sort_unstable();
+        marks
+    }
+
+    /// Whether any line, label or (when drawn) sheet outline of `pattern` (the part
+    /// indexed) falls in the window `[lo, hi]` (pattern millimetres).
+    fn window_shows(&self, pattern: &Pattern, lo: Vec2, hi: Vec2, sheet_outlines: bool) -> bool {
+        let inside = |p: Vec2| p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y;
+        let corners = [lo, Vec2::new(hi.x, lo.y), hi, Vec2::new(lo.x, hi.y)];
+        let crosses = |a: Vec2, b: Vec2| {
+            inside(a)
+                || inside(b)
+                || (0..4).any(|k| sheetform_geometry::segments_meet(a, b, corners[k], corners[(k + 1) % 4]))
+        };
+        self.tree
+            .locate_in_envelope_intersecting(&AABB::from_corners([lo.x, lo.y], [hi.x, hi.y]))
+            .any(|e| match e.data {
+                Mark::Texture(_) => false,
+                Mark::Cut { ring, segment } => {
+                    let l = self.rings[ring as usize];
+                    let i = segment as usize;
+                    crosses(l[i], l[(i + 1) % l.len()])
+                }
+                Mark::Fold(n) => crosses(self.folds[n as usize].a, self.folds[n as usize].b),
+                Mark::Label(n) => inside(self.labels[n as usize].position),
+            })
+            || pattern.sheets.iter().filter(|_| sheet_outlines).any(|(corner, size)| {
+                let q = [
+                    *corner,
+                    corner + Vec2::new(size.x, 0.0),
+                    corner + size,
+                    corner + Vec2::new(0.0, size.y),
+                ];
+                (0..4).any(|k| crosses(q[k], q[(k + 1) % 4]))
+            })
+    }
+}
+
+/// Some segments of a closed ring (`segments`: first points, increasing) as open paths,
+/// each run of consecutive segments one path (a run through the ring's last point goes
+/// on into its first), to stroke.
+fn trace_segments(content: &mut Content, ring: &[Vec2], segments: &[u32], to_page: &impl Fn(Vec2) -> (f32, f32)) {
+    let n = ring.len();
+    // Runs as (first segment, count).
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    for &s in segments {
+        let s = s as usize;
+        match runs.last_mut() {
+            Some((first, count)) if *first + *count == s => *count += 1,
+            _ => runs.push((s, 1)),
+        }
+    }
+    if runs.len() > 1 {
+        let (first, count) = runs[runs.len() - 1];
+        if first + count == n && runs[0].0 == 0 {
+            runs[0] = (first, count + runs[0].1);
+            runs.pop();
+        }
+    }
+    for (first, count) in runs {
+        for k in 0..=count {
+            let (x, y) = to_page(ring[(first + k) % n]);
+            if k == 0 {
+                content.move_to(x, y);
+            } else {
+                content.line_to(x, y);
+            }
+        }
+    }
 }
 
 /// A closed ring as a path (page points from `to_page`), to stroke or clip.
@@ -534,5 +743,144 @@ mod tests {
         assert!((pdf.columns - 1) as f64 * (aw - o.overlap_mm) + o.overlap_mm < 500.0);
         assert!(pdf.rows as f64 * (ah - o.overlap_mm) + o.overlap_mm >= 300.0);
         assert!(pdf_tiled(&rectangle(10.0, 10.0), &PdfOptions { margin_mm: 150.0, ..o }).is_err());
+    }
+
+    /// The pages' content streams (text between `stream` and `endstream`).
+    fn page_streams(pdf: &[u8]) -> Vec<String> {
+        let text = String::from_utf8_lossy(pdf);
+        text.split("\nstream\n")
+            .skip(1)
+            .map(|s| s.split("\nendstream").next().unwrap_or_default().to_string())
+            .collect()
+    }
+
+    /// Operators `op` in a content stream.
+    fn count(stream: &str, op: &str) -> usize {
+        stream
+            .lines()
+            .filter(|l| l.split_whitespace().last() == Some(op))
+            .count()
+    }
+
+    /// Issue 19: every page streamed the whole drawing (desk.json at `--scale 8`: 319
+    /// pages of 12 KB each, 3.8 MB). A strip of 3 m with 600 fold guides and 30 labels
+    /// across 17 pages: each page holds the folds and labels near it; every one is on
+    /// some page.
+    #[test]
+    fn each_page_streams_only_the_marks_it_shows() {
+        let mut pattern = rectangle(3000.0, 100.0);
+        let piece = &mut pattern.pieces[0];
+        for i in 0..600 {
+            let x = 2.5 + 5.0 * i as f64;
+            piece.folds.push(Fold {
+                a: Vec2::new(x, 0.0),
+                b: Vec2::new(x, 100.0),
+                style: FoldStyle::Guide,
+                angle_degrees: 0.0,
+            });
+        }
+        for i in 0..30 {
+            piece.labels.push(Label {
+                position: Vec2::new(50.0 + 100.0 * i as f64, 50.0),
+                text: format!("L{i}"),
+                height_mm: 4.0,
+                angle_radians: 0.0,
+                kind: crate::LabelKind::Seam,
+            });
+        }
+        let pdf = pdf_tiled(&pattern, &PdfOptions::default()).unwrap();
+        assert_eq!(pdf.page_count, 17);
+        let streams = page_streams(&pdf.bytes);
+        assert_eq!(streams.len(), 17);
+        // A page shows 186 mm (+ 2 mm each side): 38 guides, 2 or 3 labels, and the
+        // strokes of its frame.
+        for s in &streams {
+            assert!(count(s, "m") < 70, "{} moves", count(s, "m"));
+            assert!(count(s, "Tj") <= 4 + 1, "{} texts", count(s, "Tj"));
+        }
+        // Every guide and label on some page.
+        let folds: usize = streams.iter().map(|s| count(s, "m")).sum();
+        assert!(folds > 600 + 17 * 8, "{folds}");
+        let labels: usize = streams.iter().map(|s| count(s, "Tj") - 1).sum();
+        assert!(labels >= 30, "{labels}");
+    }
+
+    /// A cut line across pages is drawn on each page as the runs of its segments that
+    /// meet the page (a ring of 4 000 points over 4 × 3 pages): no page draws all of it,
+    /// every segment is drawn.
+    #[test]
+    fn a_cut_line_across_pages_is_drawn_in_runs_where_it_shows() {
+        let mut pattern = rectangle(1.0, 1.0);
+        pattern.pieces[0].cut = vec![(0..4000)
+            .map(|i| {
+                let a = std::f64::consts::TAU * i as f64 / 4000.0;
+                Vec2::new(300.0 * a.cos(), 300.0 * a.sin())
+            })
+            .collect()];
+        let pdf = pdf_tiled(&pattern, &PdfOptions::default()).unwrap();
+        assert!(pdf.page_count >= 9, "{}", pdf.page_count);
+        let streams = page_streams(&pdf.bytes);
+        let mut drawn = 0;
+        for s in &streams {
+            let lines = count(s, "l");
+            assert!(lines < 2000, "{lines}");
+            drawn += lines;
+        }
+        assert!(drawn >= 4000, "{drawn}");
+    }
+
+    /// A PNG of `width × height` pixels: its header (and an empty image).
+    fn png_header(width: u32, height: u32) -> Vec<u8> {
+        fn crc(bytes: &[u8]) -> u32 {
+            let mut c = 0xffff_ffffu32;
+            for &b in bytes {
+                c ^= u32::from(b);
+                for _ in 0..8 {
+                    c = if c & 1 == 1 { 0xedb8_8320 ^ (c >> 1) } else { c >> 1 };
+                }
+            }
+            !c
+        }
+        let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+        let mut chunk = |kind: &[u8], data: &[u8]| {
+            png.extend((data.len() as u32).to_be_bytes());
+            let body = [kind, data].concat();
+            png.extend(&body);
+            png.extend(crc(&body).to_be_bytes());
+        };
+        let mut header = width.to_be_bytes().to_vec();
+        header.extend(height.to_be_bytes());
+        header.extend([8, 0, 0, 0, 0]);
+        chunk(b"IHDR", &header);
+        chunk(b"IDAT", &[]);
+        chunk(b"IEND", &[]);
+        png
+    }
+
+    /// Issue 19: the texture was decoded with no limit on its size (and turned into 3
+    /// bytes a pixel). Its size is read from the header first: over 100 megapixels it is
+    /// refused, before any pixel is decoded.
+    #[test]
+    fn a_texture_over_the_pixel_cap_is_refused_before_it_is_decoded() {
+        let mut pattern = rectangle(100.0, 50.0);
+        pattern.texture = Some(crate::PatternTexture {
+            bytes: png_header(20_000, 10_000),
+            mime_type: "image/png".into(),
+            origin: Vec2::zeros(),
+            size: Vec2::new(100.0, 50.0),
+        });
+        let e = pdf_tiled(&pattern, &PdfOptions::default()).unwrap_err().to_string();
+        assert!(
+            e.contains("20000 × 10000 pixels (200 megapixels)") && e.contains("100 megapixels"),
+            "{e}"
+        );
+        // A small texture is printed.
+        let mut image = Vec::new();
+        image::DynamicImage::new_rgb8(4, 3)
+            .write_to(&mut std::io::Cursor::new(&mut image), image::ImageFormat::Png)
+            .unwrap();
+        pattern.texture.as_mut().unwrap().bytes = image;
+        let pdf = pdf_tiled(&pattern, &PdfOptions::default()).unwrap();
+        assert!(String::from_utf8_lossy(&pdf.bytes).contains("/Im1"));
     }
 }

@@ -254,8 +254,7 @@ pub(crate) fn pattern_files(
         files.push(("pattern.pdf".to_string(), pdf.bytes));
         // One cutter file per sheet when packed.
         if pattern.sheets.len() > 1 || options.sheet.is_some() {
-            for sheet in 0..pattern.sheets.len() {
-                let one = pattern.sheet_pattern(sheet);
+            for (sheet, one) in pattern.sheet_patterns().into_iter().enumerate() {
                 files.push((
                     format!("sheets/sheet-{:02}.svg", sheet + 1),
                     svg_bytes(&one, &format!("{title}: sheet {}", sheet + 1), 0.0),
