@@ -419,6 +419,10 @@ pub struct NetReport {
     pub attempt_count: usize,
     /// Pieces joined to a neighbour after the growth.
     pub merged_piece_count: usize,
+    /// Edges cut because the budget of overlap tests ran out (0 on ordinary meshes; more
+    /// pieces than the budget-free growth would give, never an overlap).
+    #[serde(default)]
+    pub budget_cut_count: usize,
 }
 
 /// The printable pattern (`bend`, `flatten`).

@@ -240,6 +240,7 @@ pub fn run_flatten(
                 user_seam_edge_count: mesh.seam_edges.len(),
                 attempt_count: net.attempts,
                 merged_piece_count: net.merged_piece_count,
+                budget_cut_count: net.budget_cut_count,
             });
             report.charts = charts_report(&sheet, &net.pieces);
             (sheet, solved)
