@@ -32,10 +32,12 @@
 //! Gauss–Newton SQP step `[H Cᵀ; C 0][δ; λ] = [−∇f; −g]` solved through the Schur
 //! complement `C H⁻¹ Cᵀ + diag(c_t²/w)` (dense, one row per ruling), with a backtracking
 //! search on `max |g|` and the parameters clamped to their segment. It stops at
-//! `max |g| ≤ 1e-12`, when no step reduces `max |g|`, or after 50 iterations, and reports
-//! convergence when `max |g| ≤` [`REFINEMENT_BOUND`]. Rulings whose tangent is parallel
-//! to the ruling (a cone's apex) carry no constraint. The moved ends become curve
-//! samples ([`crate::move_ruling_ends`]), so the mesh's rulings are the refined ones.
+//! `max |g| ≤ 1e-12`, when no step reduces `max |g|`, after 50 iterations, or before an
+//! iteration would pass [`MAX_REFINEMENT_WORK`] (an iteration is cubic in the rulings),
+//! and reports convergence when `max |g| ≤` [`REFINEMENT_BOUND`]. Rulings whose tangent
+//! is parallel to the ruling (a cone's apex) carry no constraint. The moved ends become
+//! curve samples ([`crate::move_ruling_ends`]), so the mesh's rulings are the refined
+//! ones.
 //!
 //! **Symmetry**: after the symmetrisation (§7) the model is `q = P z + o` with `P` the
 //! [`MirrorMap`] (mirrored points follow their sources). The SQP then works in `z`:
@@ -66,6 +68,34 @@ pub const REFINEMENT_BOUND: f64 = 1e-7;
 /// Most values of the refinement's dense matrices (`n m + m²` for `n` unknowns and `m`
 /// rulings).
 pub const MAX_DENSE_VALUES: usize = 50_000_000;
+
+/// Most SQP iterations of one refinement.
+const ITERATIONS: usize = 50;
+
+/// Fewest iterations the work bound must allow before the refinement starts (it
+/// usually converges in one to five).
+const BUDGETED_ITERATIONS: usize = 5;
+
+/// Most work of one refinement, in units of its dense linear algebra: an iteration with
+/// `m` rulings and `n` unknowns costs [`refinement_iteration_work`]`(n, m) =
+/// m³ + 2 000 m² + 1 500 n m` (the LU of the `m × m` Schur complement, forming it, and
+/// the `m` solves through the sparse factor; about 0.02 ns a unit on the development
+/// machine, measured: 0.5 s an iteration at 2 100 rulings on 1 920 control points, 10 s
+/// estimated at the 7 000 that [`MAX_DENSE_VALUES`] lets through, 17 minutes for 50
+/// iterations twice). 7.5e11 is about 15 s; the reconstruction refines at most twice
+/// (with and without the mirror constraint). The iterations stop before one would pass
+/// the bound ([`RefinementInfo::work_bound_reached`]; the report says whether the model
+/// met [`REFINEMENT_BOUND`]), and a refinement the bound does not allow 5 iterations is
+/// refused: about 4 700 rulings on 100 control points, 4 200 on 2 000. A traced photo
+/// has tens to hundreds.
+pub const MAX_REFINEMENT_WORK: f64 = 7.5e11;
+
+/// The work of one refinement iteration with `n` unknowns and `m` rulings, in the units
+/// of [`MAX_REFINEMENT_WORK`].
+pub fn refinement_iteration_work(n: usize, m: usize) -> f64 {
+    let (n, m) = (n as f64, m as f64);
+    m * m * m + 2_000.0 * m * m + 1_500.0 * n * m
+}
 
 /// Point of the 3D network (unknown vector `x`) at a place.
 fn point3(network: &CurveNetwork, x: &[f64], place: CurvePoint) -> Vec3 {
@@ -111,6 +141,9 @@ pub struct RefinementInfo {
     pub displacement_max: f64,
     /// Largest slide of a ruling's end along its curve, in the image (pixels).
     pub slide_max_px: f64,
+    /// The iterations stopped at [`MAX_REFINEMENT_WORK`] (`converged` still says whether
+    /// the bound was met).
+    pub work_bound_reached: bool,
 }
 
 struct Constraint {
@@ -214,7 +247,7 @@ pub type Refinement = (Vec<f64>, Vec<Vec<Option<CurvePoint>>>, RefinementInfo);
 /// # Errors
 /// [`PhotoError::Solver`] if the factorisation fails; [`PhotoError::Field`] on
 /// `analysis.ruling_spacing_px` when the dense Schur complement would exceed
-/// [`MAX_DENSE_VALUES`].
+/// [`MAX_DENSE_VALUES`], or [`MAX_REFINEMENT_WORK`] would not allow 5 iterations.
 pub fn refine_developability(
     network: &CurveNetwork,
     energy: &Energy,
@@ -335,6 +368,29 @@ pub fn refine_developability(
             ),
         ));
     }
+    // The iterations' work (~15 s): refused when it would not allow a few.
+    let iteration_work = refinement_iteration_work(n, m);
+    if BUDGETED_ITERATIONS as f64 * iteration_work > MAX_REFINEMENT_WORK {
+        let fits = |k: usize| BUDGETED_ITERATIONS as f64 * refinement_iteration_work(n, k) <= MAX_REFINEMENT_WORK;
+        let (mut most, mut over) = (0, m);
+        while over - most > 1 {
+            let mid = most + (over - most) / 2;
+            if fits(mid) {
+                most = mid;
+            } else {
+                over = mid;
+            }
+        }
+        return Err(PhotoError::field(
+            "analysis.ruling_spacing_px",
+            format!(
+                "{m} rulings on {} control points are too many to refine in bounded time (at most {most} \
+                 with this many control points): space the rulings wider or set analysis.refine to false",
+                n / 3
+            ),
+        ));
+    }
+    let mut work = 0.0;
     // Sliding an end by one pixel costs `SLIDE_WEIGHT` (moving a control point by one
     // pixel costs at least `proximity`).
     let slide_weight: Vec<f64> = constraints
@@ -363,10 +419,15 @@ pub fn refine_developability(
         .collect();
     let (mut g, mut grads, mut slopes) = evaluate(network, &x, &constraints, &tb, &halves);
     let max_abs = |v: &[f64]| v.iter().fold(0.0f64, |a, b| a.max(b.abs()));
-    for iteration in 0..50 {
+    for iteration in 0..ITERATIONS {
         info.iterations = iteration;
         let violation = max_abs(&g);
         if violation <= 1e-12 {
+            break;
+        }
+        work += iteration_work;
+        if work > MAX_REFINEMENT_WORK {
+            info.work_bound_reached = true;
             break;
         }
         // ∇f = H x − Aᵀb − μ x_lin, and in t: w (t − t0).
@@ -385,15 +446,22 @@ pub fn refine_developability(
         let y = llt.solve_columns(ct.as_ref());
         // S = C_x Y + diag(c_t² / w) (symmetric positive semi-definite),
         // rhs = g − C_x z − c_t ∇_t f / w.
+        // Column by column: `y` and `s` are column-major (the same sums, in the same
+        // order, as row by row).
         let mut s = Mat::<f64>::zeros(m, m);
+        for j in 0..m {
+            let (y_j, s_j) = (y.col(j), s.col_mut(j));
+            for (s_rj, grad) in s_j.iter_mut().zip(&grads_z) {
+                for &(c, v) in grad {
+                    *s_rj += v * y_j[c];
+                }
+            }
+        }
         let mut rhs = Col::<f64>::zeros(m);
         for (r, grad) in grads_z.iter().enumerate() {
             let mut cz = 0.0;
             for &(c, v) in grad {
                 cz += v * z[c];
-                for j in 0..m {
-                    s[(r, j)] += v * y[(c, j)];
-                }
             }
             if slide_weight[r] > 0.0 {
                 s[(r, r)] += slopes[r] * slopes[r] / slide_weight[r];
@@ -407,15 +475,13 @@ pub fn refine_developability(
             s[(i, i)] += ridge;
         }
         let lambda = s.partial_piv_lu().solve(&rhs);
-        let step_z: Vec<f64> = (0..n)
-            .map(|k| {
-                let mut v = -z[k];
-                for j in 0..m {
-                    v -= y[(k, j)] * lambda[j];
-                }
-                v
-            })
-            .collect();
+        // −z − Y λ, column by column (each entry's terms in the same order as row by row).
+        let mut step_z: Vec<f64> = (0..n).map(|k| -z[k]).collect();
+        for j in 0..m {
+            for (v, &y_kj) in step_z.iter_mut().zip(y.col(j).iter()) {
+                *v -= y_kj * lambda[j];
+            }
+        }
         let step = map.apply(&step_z);
         let step_t: Vec<f64> = (0..m)
             .map(|r| {

@@ -53,18 +53,27 @@ pub use curve_network::{
 };
 pub use curve_samples::{sample_curves, CurvePoint, CurveSamples, SampledChain};
 pub use developability_refinement::{
-    refine_developability, ruling_errors, Refinement, RefinementInfo, MAX_DENSE_VALUES, REFINEMENT_BOUND,
+    refine_developability, refinement_iteration_work, ruling_errors, Refinement, RefinementInfo, MAX_DENSE_VALUES,
+    MAX_REFINEMENT_WORK, REFINEMENT_BOUND,
 };
 pub use error::PhotoError;
 pub use overlay::{overlay_png, overlay_svg};
 pub use patch_cycles::{find_patches, HalfEdge, Patch};
-pub use patch_mesh::{mesh_patches, PatchMesh, PatchSurface};
+pub use patch_mesh::{mesh_patches, PatchMesh, PatchSurface, MAX_FILL_VERTICES, MAX_FILL_VERTICES_PER_PATCH};
 pub use reconstruction::{
     place_point, reconstruct, AngleSummary, PhotoReconstruction, StageTimes, DEPTH_SENSITIVITY_BOUND,
 };
 pub use ruling_alignment::{align_rulings, move_ruling_ends};
-pub use ruling_propagation::{propagate_rulings, PropagationCounts, PropagationOptions, RuledStrip, MAX_WARPING_CELLS};
+pub use ruling_propagation::{
+    propagate_rulings, PropagationCounts, PropagationOptions, RuledStrip, MAX_STRIP_SAMPLES, MAX_WARPING_CELLS,
+    MAX_WARPING_CELLS_TOTAL,
+};
 pub use svg_import::{annotation_from_svg, svg_image_reference};
-pub use symmetric_correspondences::{curve_chain, symmetric_pairs, SymmetricPair};
-pub use symmetrization::{split_at_mirror_nodes, symmetrize, MirrorMap, SymmetrizationInfo};
+pub use symmetric_correspondences::{
+    curve_chain, symmetric_pairs, symmetric_pairs_of_curves, SymmetricPair, MAX_CORRESPONDENCE_TESTS,
+};
+pub use symmetrization::{
+    split_at_mirror_nodes, symmetrize, MirrorMap, SymmetrizationInfo, MAX_MIRROR_SEARCH_EVALUATIONS,
+    MAX_SEGMENT_COMPARISONS,
+};
 pub use symmetry_plane::SymmetryPlane;

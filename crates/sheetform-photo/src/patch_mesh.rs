@@ -26,11 +26,22 @@ use crate::{cubic, PhotoError};
 use faer::sparse::Triplet;
 use faer::Mat;
 use nalgebra::{Vector2, Vector3};
+use sheetform_geometry::short_number;
 use sheetform_solve::SparseCholesky;
 use spade::{AngleLimit, ConstrainedDelaunayTriangulation, HasPosition, Point2, RefinementParameters, Triangulation};
 
 type Vec2 = Vector2<f64>;
 type Vec3 = Vector3<f64>;
+
+/// Most interior vertices the Delaunay refinement adds to one filled patch; there it
+/// stops, and the patch keeps triangles larger than `2 h²`.
+pub const MAX_FILL_VERTICES_PER_PATCH: usize = 200_000;
+
+/// Most interior vertices of all filled patches together. One patch at
+/// [`MAX_FILL_VERTICES_PER_PATCH`] takes about 1.2 s (refinement and Laplace solve,
+/// measured on the cylinder at 0.2 px) and the mesh about 100 bytes a vertex, so about
+/// 4 s and 60 MB; without it, each of hundreds of patches could add 200 000 vertices.
+pub const MAX_FILL_VERTICES: usize = 600_000;
 
 /// The meshed model: one group per material patch, shared vertices along shared curves.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -115,8 +126,11 @@ impl SampleVertices {
 /// Meshes every material patch. `x` holds the solved 3D control points.
 ///
 /// # Errors
-/// [`PhotoError::Curve`]-free; [`PhotoError::Solver`] if a fill's solve fails, and
-/// [`PhotoError::NoPatch`] if a filled patch cannot be triangulated.
+/// [`PhotoError::Curve`]-free; [`PhotoError::Solver`] if a fill's solve fails,
+/// [`PhotoError::NoPatch`] if a filled patch cannot be triangulated, and
+/// [`PhotoError::Field`] on `analysis.sample_spacing_px` when the fills would need more
+/// than [`MAX_FILL_VERTICES`] interior vertices (a lower bound from the patches' areas
+/// is checked before any fill, the count before each patch's solve).
 pub fn mesh_patches(
     network: &CurveNetwork,
     samples: &CurveSamples,
@@ -219,11 +233,8 @@ pub fn mesh_patches(
             }
         }
     }
-    for (p, patch) in patches.iter().enumerate() {
-        if kinds[p] != PatchSurface::Filled {
-            continue;
-        }
-        // The outline's vertices in cycle order.
+    // The outline's vertices in cycle order.
+    let ring_of = |patch: &Patch| -> Vec<u32> {
         let mut ring: Vec<u32> = Vec::new();
         for h in &patch.cycle {
             let params = &samples.parameters[h.segment as usize];
@@ -233,10 +244,50 @@ pub fn mesh_patches(
                 ring.push(numbering.vertex(network, samples, CurvePoint { segment: h.segment, t }));
             }
         }
+        ring
+    };
+    // The fills' interior vertices, bounded below before any is made: an outline of area
+    // `A` and `B` vertices cut into triangles of at most `2 h²` has `T ≥ A / 2h²` of them
+    // and `(T − B + 2) / 2` interior vertices (Euler), unless the refinement stops at its
+    // per-patch bound. Counted at half of `T` (triangles along the outline may stay
+    // larger: its edges are not split; the cylinder's fill at 0.3 to 8 px has 1.6 to 2.7
+    // times the full estimate).
+    let mut least = 0usize;
+    for (p, patch) in patches.iter().enumerate() {
+        if kinds[p] != PatchSurface::Filled {
+            continue;
+        }
+        let ring: Vec<Vec2> = ring_of(patch).iter().map(|&v| mesh.image[v as usize]).collect();
+        let area = sheetform_geometry::signed_area(&ring).abs();
+        let triangles = 0.5 * area / (2.0 * sample_spacing * sample_spacing);
+        let interior = ((triangles - ring.len() as f64 + 2.0) / 2.0).clamp(0.0, MAX_FILL_VERTICES_PER_PATCH as f64);
+        least = least.saturating_add(interior as usize);
+        if least > MAX_FILL_VERTICES {
+            return Err(too_many_fill_vertices(p));
+        }
+    }
+    for (p, patch) in patches.iter().enumerate() {
+        if kinds[p] != PatchSurface::Filled {
+            continue;
+        }
+        let ring = ring_of(patch);
         fill_patch(&mut mesh, &ring, p, sample_spacing, &mut push_triangle)?;
     }
     mesh.patch_kind = kinds;
     Ok(mesh)
+}
+
+/// The error for fills over [`MAX_FILL_VERTICES`], passed at patch `patch`.
+fn too_many_fill_vertices(patch: usize) -> PhotoError {
+    PhotoError::field(
+        "analysis.sample_spacing_px",
+        format!(
+            "the minimal-surface fills need more than {} interior vertices by patch {} (triangles of at most \
+             twice the spacing squared): sample coarser",
+            short_number(MAX_FILL_VERTICES as f64),
+            patch + 1
+        ),
+    )
 }
 
 /// Constrained Delaunay triangulation of a patch outline and the Laplace fill.
@@ -247,6 +298,9 @@ fn fill_patch(
     spacing: f64,
     push_triangle: &mut impl FnMut(&mut PatchMesh, [u32; 3], usize),
 ) -> Result<(), PhotoError> {
+    // At most one vertex over the total bound, so that passing it is seen.
+    let remaining = MAX_FILL_VERTICES.saturating_sub(mesh.fill_vertex_count);
+    let additional = MAX_FILL_VERTICES_PER_PATCH.min(remaining + 1);
     let n = ring.len();
     let vertices: Vec<FillVertex> = ring
         .iter()
@@ -272,8 +326,11 @@ fn fill_patch(
             .with_angle_limit(AngleLimit::from_deg(25.0))
             .keep_constraint_edges()
             .exclude_outer_faces(true)
-            .with_max_additional_vertices(200_000),
+            .with_max_additional_vertices(additional),
     );
+    if cdt.num_vertices() - n > remaining {
+        return Err(too_many_fill_vertices(patch));
+    }
     let excluded: std::collections::HashSet<_> = result.excluded_faces.iter().copied().collect();
     // Interior vertices get new mesh indices.
     let total = cdt.num_vertices();

@@ -10,7 +10,7 @@ use crate::patch_cycles::{find_patches, Patch};
 use crate::patch_mesh::{mesh_patches, PatchMesh};
 use crate::ruling_alignment::{align_rulings, move_ruling_ends};
 use crate::ruling_propagation::{propagate_rulings, PropagationCounts, PropagationOptions, RuledStrip};
-use crate::symmetric_correspondences::{symmetric_pairs, SymmetricPair};
+use crate::symmetric_correspondences::{symmetric_pairs_of_curves, SymmetricPair};
 use crate::symmetrization::{split_at_mirror_nodes, symmetrize, MirrorMap, SymmetrizationInfo};
 use crate::symmetry_plane::SymmetryPlane;
 use crate::{cubic, PhotoError};
@@ -156,6 +156,22 @@ fn curve_index(network: &CurveNetwork, name: &str) -> usize {
         .expect("validated name")
 }
 
+/// The annotation's symmetric curve pairs, then its self-symmetric curves (`[c, c]`), as
+/// network curve indices.
+fn annotated_curve_pairs(annotation: &PhotoAnnotation, network: &CurveNetwork) -> Vec<[usize; 2]> {
+    annotation
+        .symmetric_curves
+        .iter()
+        .map(|[a, b]| [curve_index(network, a), curve_index(network, b)])
+        .chain(
+            annotation
+                .self_symmetric_curves
+                .iter()
+                .map(|a| [curve_index(network, a); 2]),
+        )
+        .collect()
+}
+
 /// The 2D analysis of a network (§5).
 #[derive(Clone)]
 struct Analysis {
@@ -193,21 +209,12 @@ fn analyse(
     let aligned_ruling_count = align_rulings(network, &mut samples, &mut strips);
     times.rulings_ms = milliseconds(start);
     let start = Instant::now();
-    let direction = plane.image_direction();
-    let mut pairs = Vec::new();
-    for [a, b] in &annotation.symmetric_curves {
-        pairs.extend(symmetric_pairs(
-            network,
-            &samples,
-            curve_index(network, a),
-            curve_index(network, b),
-            direction,
-        ));
-    }
-    for a in &annotation.self_symmetric_curves {
-        let i = curve_index(network, a);
-        pairs.extend(symmetric_pairs(network, &samples, i, i, direction));
-    }
+    let pairs = symmetric_pairs_of_curves(
+        network,
+        &samples,
+        &annotated_curve_pairs(annotation, network),
+        plane.image_direction(),
+    )?;
     times.symmetry_ms = milliseconds(start);
     Ok(Analysis {
         patches,
@@ -260,7 +267,7 @@ fn finish_model(
     let mut network = base.network.clone();
     let mut x = base.points.clone();
     let split_count = if symmetric {
-        split_at_mirror_nodes(&mut network, &mut x, plane, curve_pairs, annotation.lengths().sample)
+        split_at_mirror_nodes(&mut network, &mut x, plane, curve_pairs, annotation.lengths().sample)?
     } else {
         0
     };
@@ -286,7 +293,7 @@ fn finish_model(
             plane,
             curve_pairs,
             &x,
-        );
+        )?;
         if info.mirrored_segment_count == 0 {
             // Nothing mirrors: the model is the plain one (without the splits made for it).
             times.symmetrization_ms += milliseconds(start);
@@ -324,7 +331,7 @@ fn finish_model(
             plane,
             curve_pairs,
             &refined,
-        )
+        )?
         .0
     } else {
         refined.clone()
@@ -347,7 +354,9 @@ fn finish_model(
 ///
 /// # Errors
 /// Curves that cross themselves, have zero length or close no cycle; a degenerate
-/// symmetry annotation; true-size points far from every curve; solver failures.
+/// symmetry annotation; true-size points far from every curve; solver failures; a
+/// drawing whose analysis, symmetrisation, refinement or meshing would pass one of the
+/// work bounds (each error names the field to change and the bound).
 pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, PhotoError> {
     annotation.validate()?;
     let lengths = annotation.lengths();
@@ -397,17 +406,7 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
         .iter()
         .flat_map(|s| (0..s.rulings.len()).map(move |i| (s.patch, s.segment(i))))
         .collect();
-    let curve_pairs: Vec<[usize; 2]> = annotation
-        .symmetric_curves
-        .iter()
-        .map(|[a, b]| [curve_index(&network, a), curve_index(&network, b)])
-        .chain(
-            annotation
-                .self_symmetric_curves
-                .iter()
-                .map(|a| [curve_index(&network, a); 2]),
-        )
-        .collect();
+    let curve_pairs = annotated_curve_pairs(annotation, &network);
     let base = Solved {
         network,
         analysis,

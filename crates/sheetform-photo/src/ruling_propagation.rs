@@ -27,6 +27,7 @@ use crate::curve_samples::{CurvePoint, CurveSamples, SampledChain};
 use crate::patch_cycles::{HalfEdge, Patch};
 use crate::{CurveKind, PhotoError};
 use nalgebra::Vector2;
+use sheetform_geometry::short_number;
 
 type Vec2 = Vector2<f64>;
 
@@ -82,19 +83,76 @@ pub struct PropagationOptions {
 /// Most sample pairs one warping may weigh (the table of Eq. 2 is quadratic).
 pub const MAX_WARPING_CELLS: usize = 20_000_000;
 
+/// Most sample pairs the warpings of all patches together may weigh. A cell takes about
+/// 70 ns (measured: 7.7 million cells of one cylinder in 0.5 s), so about 7 s; the
+/// table is freed after each patch, so [`MAX_WARPING_CELLS`] bounds the memory. Without
+/// it 90 patches of 20 million cells each (the 200 000 samples split between them) would
+/// take two minutes.
+pub const MAX_WARPING_CELLS_TOTAL: usize = 100_000_000;
+
+/// Most samples the ruled strips may hold together. Each strip (a run of rulings inside
+/// its patch) keeps copies of its patch's two sampled chains, which the later stages
+/// resample in turn: a patch whose rulings leave it every third time (a wavy outline)
+/// makes a strip per run, each holding the whole chains (quadratic memory: about
+/// 0.8 GB for one patch of 4 500 samples a side). 4 million samples are about
+/// 230 MB (56 bytes a sample); a patch holds its chains once or a few times, and the
+/// curves have at most [`crate::MAX_CURVE_SAMPLES`] samples.
+pub const MAX_STRIP_SAMPLES: usize = 4_000_000;
+
 /// Rulings of every patch bounded by a silhouette.
 ///
 /// # Errors
 /// [`PhotoError::Field`] on `analysis.sample_spacing_px` when a warping would exceed
-/// [`MAX_WARPING_CELLS`].
+/// [`MAX_WARPING_CELLS`], all of them [`MAX_WARPING_CELLS_TOTAL`], or the strips would
+/// hold more than [`MAX_STRIP_SAMPLES`] samples.
 pub fn propagate_rulings(
     network: &CurveNetwork,
     samples: &CurveSamples,
     patches: &[Patch],
     options: &PropagationOptions,
 ) -> Result<(Vec<RuledStrip>, PropagationCounts), PhotoError> {
+    // The warping tables' sizes first: one too large (~180 MB) or all together too long
+    // (~70 ns a cell: ~7 s) is refused before any work.
+    let mut cells_total = 0usize;
+    for (p, patch) in patches.iter().enumerate() {
+        if patch.opening {
+            continue;
+        }
+        let Some((chain_a, chain_b, _)) = matching_chains(network, &patch.cycle) else {
+            continue;
+        };
+        let (len_a, len_b) = (
+            chain_sample_count(samples, &chain_a),
+            chain_sample_count(samples, &chain_b),
+        );
+        if len_a < 2 || len_b < 2 {
+            continue;
+        }
+        if len_a * len_b > MAX_WARPING_CELLS {
+            return Err(PhotoError::field(
+                "analysis.sample_spacing_px",
+                format!(
+                    "patch {}'s two chains have {len_a} × {len_b} samples (at most {MAX_WARPING_CELLS} pairs): \
+                     sample coarser",
+                    p + 1
+                ),
+            ));
+        }
+        cells_total += len_a * len_b;
+    }
+    if cells_total > MAX_WARPING_CELLS_TOTAL {
+        return Err(PhotoError::field(
+            "analysis.sample_spacing_px",
+            format!(
+                "the ruling warpings of all patches weigh {} sample pairs (at most {}): sample coarser",
+                short_number(cells_total as f64),
+                short_number(MAX_WARPING_CELLS_TOTAL as f64)
+            ),
+        ));
+    }
     let mut strips = Vec::new();
     let mut counts = PropagationCounts::default();
+    let mut strip_samples = 0usize;
     for (p, patch) in patches.iter().enumerate() {
         if patch.opening {
             continue;
@@ -107,18 +165,6 @@ pub fn propagate_rulings(
         if side_a.len() < 2 || side_b.len() < 2 {
             continue;
         }
-        // The warping table is quadratic in the samples: bounded (~180 MB).
-        if side_a.len() * side_b.len() > MAX_WARPING_CELLS {
-            return Err(PhotoError::field(
-                "analysis.sample_spacing_px",
-                format!(
-                    "patch {}'s two chains have {} × {} samples (at most {MAX_WARPING_CELLS} pairs): sample coarser",
-                    p + 1,
-                    side_a.len(),
-                    side_b.len()
-                ),
-            ));
-        }
         let path = warping_path(&side_a, &side_b, closed_end, options.smoothness_weight);
         let chosen = thin_path(&path, &side_a, &side_b, options.ruling_spacing);
         counts.candidate_count += chosen.len();
@@ -126,8 +172,28 @@ pub fn propagate_rulings(
         // closed-end match; the rest must lie inside the patch.
         let last = chosen.len() - 1;
         let mut run: Vec<(usize, usize)> = Vec::new();
-        let flush = |run: &mut Vec<(usize, usize)>, strips: &mut Vec<RuledStrip>| {
+        // Each strip holds copies of both chains: bounded in all (~230 MB).
+        let held = side_a.len() + side_b.len();
+        let flush = |run: &mut Vec<(usize, usize)>,
+                     strips: &mut Vec<RuledStrip>,
+                     strip_samples: &mut usize|
+         -> Result<(), PhotoError> {
             if run.len() >= 2 {
+                *strip_samples += held;
+                if *strip_samples > MAX_STRIP_SAMPLES {
+                    return Err(PhotoError::field(
+                        "analysis.sample_spacing_px",
+                        format!(
+                            "the ruled strips hold {} samples by patch {} (at most {} in all: each strip keeps \
+                             its patch's two curve chains, and the rulings leave patch {} between strips): \
+                             sample coarser",
+                            short_number(*strip_samples as f64),
+                            p + 1,
+                            short_number(MAX_STRIP_SAMPLES as f64),
+                            p + 1
+                        ),
+                    ));
+                }
                 strips.push(RuledStrip {
                     patch: p,
                     side_a: side_a.clone(),
@@ -139,6 +205,7 @@ pub fn propagate_rulings(
             } else {
                 run.clear();
             }
+            Ok(())
         };
         for (i, &(k, l)) in chosen.iter().enumerate() {
             let on_boundary = i == 0 || (closed_end && i == last);
@@ -152,12 +219,23 @@ pub fn propagate_rulings(
                 if !degenerate {
                     counts.rejected_count += 1;
                 }
-                flush(&mut run, &mut strips);
+                flush(&mut run, &mut strips, &mut strip_samples)?;
             }
         }
-        flush(&mut run, &mut strips);
+        flush(&mut run, &mut strips, &mut strip_samples)?;
     }
     Ok((strips, counts))
+}
+
+/// Samples of [`SampledChain::new`] on a chain (shared nodes once), without sampling it.
+fn chain_sample_count(samples: &CurveSamples, chain: &[HalfEdge]) -> usize {
+    if chain.is_empty() {
+        return 0;
+    }
+    1 + chain
+        .iter()
+        .map(|h| samples.parameters[h.segment as usize].len().saturating_sub(1))
+        .sum::<usize>()
 }
 
 /// The two chains to match in a patch's cycle and whether the match is closed-ended

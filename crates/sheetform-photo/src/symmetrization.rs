@@ -48,9 +48,67 @@ use crate::curve_network::CurveNetwork;
 use crate::curve_samples::{CurvePoint, CurveSamples, SampledChain};
 use crate::ruling_propagation::RuledStrip;
 use crate::symmetry_plane::SymmetryPlane;
+use crate::PhotoError;
 use nalgebra::{Vector2, Vector3};
+use sheetform_geometry::{quoted_token, short_number};
 
 type Vec3 = Vector3<f64>;
+
+/// Most segment comparisons of one call of [`symmetrize`] or [`split_at_mirror_nodes`]
+/// (which checks its splits with the same matching). Matching two curves of `n` segments
+/// scores every order-preserving and order-reversing map: one map each for open curves,
+/// `n` cyclic shifts each for closed ones, so `2n²` comparisons (four control points
+/// mirrored) for two closed curves and `n²` for a closed self-symmetric one. About 1 s
+/// at the measured 6 ns a comparison (3.6e7 in 0.23 s); a closed self-symmetric curve of
+/// 10 000 segments (all the annotation's control points) makes 1e8, a traced photo
+/// hundreds. The maps are scored one at a time, so the memory is linear in `n` (keeping
+/// every candidate map took 1.6 GB at 10 000 segments).
+pub const MAX_SEGMENT_COMPARISONS: usize = 150_000_000;
+
+/// Most curve evaluations of one call of [`split_at_mirror_nodes`]: every end node of
+/// one curve of a pair looks for the crossings of its mirror line with every segment of
+/// the other curve. A segment whose control polygon lies on one side of the line is
+/// rejected by one test (counted as one evaluation); another takes 64 evaluations of
+/// sign tests and 60 per bisection. About 2 s at the measured 4 ns an evaluation (a
+/// closed curve of 1 000 segments with itself: 2 million searches took 0.5 s before the
+/// polygon test, 0.07 s with it); a closed curve of 3 000 segments with itself makes
+/// 2e7, a comb whose every segment straddles every line 2e9 (a closed curve of 9 000
+/// segments took 2 minutes and 1.6 GB before the bound).
+pub const MAX_MIRROR_SEARCH_EVALUATIONS: usize = 400_000_000;
+
+/// Evaluations of one [`cubic::bisect`] that finds a root.
+const BISECTION_EVALUATIONS: usize = 60;
+
+/// Quoted name of network curve `c`.
+fn curve_name(network: &CurveNetwork, c: usize) -> String {
+    format!("`{}`", quoted_token(&network.curves[c].name))
+}
+
+/// Adds `cost` to `spent`, or the error when that passes `limit`: `step` says what was to
+/// be done, `unit` what is counted.
+fn charge(
+    spent: &mut usize,
+    cost: usize,
+    limit: usize,
+    unit: &str,
+    step: impl Fn() -> String,
+) -> Result<(), PhotoError> {
+    let total = spent.saturating_add(cost);
+    if total > limit {
+        return Err(PhotoError::field(
+            "analysis.symmetrize",
+            format!(
+                "{} would bring the symmetrisation to {} {unit} (at most {}): trace the curves with fewer \
+                 control points or set analysis.symmetrize to false",
+                step(),
+                short_number(total as f64),
+                short_number(limit as f64)
+            ),
+        ));
+    }
+    *spent = total;
+    Ok(())
+}
 
 /// What the symmetrisation did (the `photo.symmetrization` section of report.json).
 #[derive(Debug, Clone, PartialEq, Default, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
@@ -142,45 +200,94 @@ fn point(x: &[f64], i: u32) -> Vec3 {
 }
 
 /// The segment map between curves `a` and `b` (equal for a self-symmetric curve), or
-/// `None` when no map fits.
+/// `None` when no map fits. The comparisons made go to `spent`.
+///
+/// # Errors
+/// [`PhotoError::Field`] on `analysis.symmetrize` when `spent` would pass
+/// [`MAX_SEGMENT_COMPARISONS`] (checked before the work).
 fn match_curves(
     network: &CurveNetwork,
     x: &[f64],
     plane: &SymmetryPlane,
     a: usize,
     b: usize,
-) -> Option<Vec<SegmentMatch>> {
+    spent: &mut usize,
+) -> Result<Option<Vec<SegmentMatch>>, PhotoError> {
     let (ca, cb) = (&network.curves[a], &network.curves[b]);
     let n = ca.segments.len();
     if n != cb.segments.len() || ca.closed != cb.closed || n == 0 {
-        return None;
+        return Ok(None);
     }
-    // Candidate maps i → (j, reversed).
-    let mut candidates: Vec<Vec<(usize, bool)>> = Vec::new();
+    // Candidate maps i → (j, reversed): per shift c, the forward map i → i + c (two
+    // different curves only) and the backward one, scored one at a time in that order
+    // (the first of equal scores wins).
     let shifts = if ca.closed { n } else { 1 };
-    for c in 0..shifts {
-        if a != b {
-            candidates.push((0..n).map(|i| ((i + c) % n, false)).collect());
-        }
-        let back = if ca.closed { c } else { n - 1 };
-        candidates.push((0..n).map(|i| ((back + n - i) % n, true)).collect());
-    }
+    let per_shift = if a != b { 2 } else { 1 };
+    charge(
+        spent,
+        shifts.saturating_mul(per_shift).saturating_mul(n),
+        MAX_SEGMENT_COMPARISONS,
+        "segment comparisons",
+        || {
+            if a == b {
+                format!(
+                    "matching curve {}'s {n} segments with their mirror images",
+                    curve_name(network, a)
+                )
+            } else {
+                format!(
+                    "matching curves {} and {} ({n} segments each)",
+                    curve_name(network, a),
+                    curve_name(network, b)
+                )
+            }
+        },
+    )?;
     let control = |s: u32| network.segments[s as usize].points.map(|p| point(x, p));
-    let mismatch = |map: &[(usize, bool)]| -> f64 {
+    let map_of = |c: usize, reversed: bool| {
+        let back = if ca.closed { c } else { n - 1 };
+        move |i: usize| {
+            if reversed {
+                ((back + n - i) % n, true)
+            } else {
+                ((i + c) % n, false)
+            }
+        }
+    };
+    // Mirrored control points of `a` and control points of `b`, once.
+    let mirrored: Vec<[Vec3; 4]> = ca
+        .segments
+        .iter()
+        .map(|&s| control(s).map(|q| plane.mirror(q)))
+        .collect();
+    let partner: Vec<[Vec3; 4]> = cb.segments.iter().map(|&s| control(s)).collect();
+    let mismatch = |map: &dyn Fn(usize) -> (usize, bool)| -> f64 {
         let mut sum = 0.0;
-        for (i, &(j, reversed)) in map.iter().enumerate() {
-            let (qa, qb) = (control(ca.segments[i]), control(cb.segments[j]));
+        for (i, qa) in mirrored.iter().enumerate() {
+            let (j, reversed) = map(i);
+            let qb = &partner[j];
             for (k, &q) in qa.iter().enumerate() {
                 let kb = if reversed { 3 - k } else { k };
-                sum += (plane.mirror(q) - qb[kb]).norm_squared();
+                sum += (q - qb[kb]).norm_squared();
             }
         }
         (sum / (4 * n) as f64).sqrt()
     };
-    let (best, error) = candidates
-        .iter()
-        .map(|m| (m, mismatch(m)))
-        .min_by(|p, q| p.1.total_cmp(&q.1))?;
+    let mut best: Option<((usize, bool), f64)> = None;
+    for c in 0..shifts {
+        for reversed in [false, true] {
+            if !reversed && a == b {
+                continue;
+            }
+            let error = mismatch(&map_of(c, reversed));
+            if best.is_none_or(|(_, e)| error.total_cmp(&e) == std::cmp::Ordering::Less) {
+                best = Some(((c, reversed), error));
+            }
+        }
+    }
+    let Some(((c, reversed), error)) = best else {
+        return Ok(None);
+    };
     let chord: f64 = ca
         .segments
         .iter()
@@ -192,23 +299,30 @@ fn match_curves(
         / n as f64;
     // (A NaN mismatch fails too.)
     if error.is_nan() || error > 0.25 * chord {
-        return None;
+        return Ok(None);
     }
-    Some(
-        best.iter()
-            .enumerate()
-            .map(|(i, &(j, reversed))| SegmentMatch {
-                source: ca.segments[i],
-                partner: cb.segments[j],
-                reversed,
+    let map = map_of(c, reversed);
+    Ok(Some(
+        (0..n)
+            .map(|i| {
+                let (j, reversed) = map(i);
+                SegmentMatch {
+                    source: ca.segments[i],
+                    partner: cb.segments[j],
+                    reversed,
+                }
             })
             .collect(),
-    )
+    ))
 }
 
 /// Symmetrises the control points `x` (pixels), the samples and the strips' rulings.
 /// `curve_pairs` are the annotation's symmetric curve pairs and self-symmetric curves
 /// (`[c, c]`), as network curve indices.
+///
+/// # Errors
+/// [`PhotoError::Field`] on `analysis.symmetrize` when matching the curves would take
+/// more than [`MAX_SEGMENT_COMPARISONS`].
 pub fn symmetrize(
     network: &CurveNetwork,
     samples: &mut CurveSamples,
@@ -216,13 +330,14 @@ pub fn symmetrize(
     plane: &SymmetryPlane,
     curve_pairs: &[[usize; 2]],
     x: &[f64],
-) -> (Vec<f64>, SymmetrizationInfo, MirrorMap) {
+) -> Result<(Vec<f64>, SymmetrizationInfo, MirrorMap), PhotoError> {
     let mut info = SymmetrizationInfo::default();
+    let mut spent = 0;
     // Segment maps, both ways: mirror_of[s] = (partner, reversed).
     let mut mirror_of: Vec<Option<(u32, bool)>> = vec![None; network.segments.len()];
     let mut matches: Vec<SegmentMatch> = Vec::new();
     for &[a, b] in curve_pairs {
-        match match_curves(network, x, plane, a, b) {
+        match match_curves(network, x, plane, a, b, &mut spent)? {
             Some(m) => {
                 for s in &m {
                     mirror_of[s.source as usize] = Some((s.partner, s.reversed));
@@ -261,7 +376,7 @@ pub fn symmetrize(
         let first = network.segments[curve.segments[0] as usize].points[0];
         let last = network.segments[*curve.segments.last().expect("a curve has segments") as usize].points[3];
         if node_partner.get(&first) == Some(&last) {
-            if let Some(m) = match_curves(network, x, plane, c, c) {
+            if let Some(m) = match_curves(network, x, plane, c, c, &mut spent)? {
                 for s in &m {
                     mirror_of[s.source as usize] = Some((s.partner, s.reversed));
                 }
@@ -536,7 +651,7 @@ pub fn symmetrize(
         strip.side_a = side_a;
         strip.side_b = side_b;
     }
-    (y, info, map)
+    Ok((y, info, map))
 }
 
 /// The mirror place of a place, when its segment is matched.
@@ -602,41 +717,90 @@ fn ensure_sample(samples: &mut CurveSamples, place: CurvePoint) -> CurvePoint {
 /// `x` (`3 × point + axis`), in space, so neither the drawing nor the solved curves
 /// change. A pair whose curves still do not match segment for segment is left unsplit.
 /// Returns how many segments were split.
+///
+/// # Errors
+/// [`PhotoError::Field`] on `analysis.symmetrize` when the search would take more than
+/// [`MAX_MIRROR_SEARCH_EVALUATIONS`], or the matching of the split curves more than
+/// [`MAX_SEGMENT_COMPARISONS`] (checked before the work; `network` and `x` are then
+/// left as they were before the pair that failed).
 pub fn split_at_mirror_nodes(
     network: &mut CurveNetwork,
     x: &mut Vec<f64>,
     plane: &SymmetryPlane,
     curve_pairs: &[[usize; 2]],
     tolerance: f64,
-) -> usize {
+) -> Result<usize, PhotoError> {
     let direction = plane.image_direction();
     let normal = Vector2::new(-direction.y, direction.x);
     let mut count = 0;
+    let (mut evaluations, mut comparisons) = (0, 0);
     for &[a, b] in curve_pairs {
-        // Split a copy; keep it only if the pair then matches segment for segment.
-        let (mut trial, mut trial_x, mut trial_count) = (network.clone(), x.clone(), 0);
+        // Split in place; undone unless the pair then matches segment for segment.
+        let undo = SplitUndo::new(network, x, a, b);
+        let mut trial_count = 0;
         let directions: &[(usize, usize)] = if a == b { &[(a, a)] } else { &[(a, b), (b, a)] };
         for &(from, to) in directions {
-            let nodes: Vec<Vector2<f64>> = trial.curves[from]
+            let nodes: Vec<Vector2<f64>> = network.curves[from]
                 .segments
                 .iter()
                 .flat_map(|&s| {
-                    let q = trial.segments[s as usize].points;
+                    let q = network.segments[s as usize].points;
                     [q[0], q[3]]
                 })
-                .map(|p| trial.points[p as usize])
+                .map(|p| network.points[p as usize])
                 .collect();
-            for p in nodes {
+            // What is being done, for the error (the counts at the start).
+            let onto = if from == to {
+                "itself".to_string()
+            } else {
+                format!(
+                    "{} ({} segments)",
+                    curve_name(network, to),
+                    network.curves[to].segments.len()
+                )
+            };
+            let doing = format!(
+                "finding where the nodes of curve {} ({} segments) mirror onto {onto}",
+                curve_name(network, from),
+                network.curves[from].segments.len(),
+            );
+            let step = || doing.clone();
+            // One control-polygon test per node and segment, charged at once; the sign
+            // tests and bisections of the segments that straddle a node's line, and the
+            // tests of the segments each split adds, as they come.
+            let nodes_count = nodes.len();
+            let tests = nodes_count.saturating_mul(network.curves[to].segments.len());
+            if let Err(e) = charge(
+                &mut evaluations,
+                tests,
+                MAX_MIRROR_SEARCH_EVALUATIONS,
+                "curve evaluations",
+                step,
+            ) {
+                undo.restore(network, x);
+                return Err(e);
+            }
+            for (k, p) in nodes.into_iter().enumerate() {
                 // Crossings of `to` with the line through p along the direction.
                 let mut best: Option<(f64, u32, f64)> = None;
-                for &s in &trial.curves[to].segments {
-                    let control = trial.control_points(s as usize);
+                let mut work = 0usize;
+                for &s in &network.curves[to].segments {
+                    let control = network.control_points(s as usize);
+                    // The curve lies in its control polygon's hull: no crossing when all
+                    // four control points are strictly on one side of the line.
+                    let offsets = control.map(|q| (q - p).dot(&normal));
+                    let margin = 1e-9 * control.iter().fold(p.norm(), |m, q| m.max(q.norm())).max(1.0);
+                    if offsets.iter().all(|&d| d > margin) || offsets.iter().all(|&d| d < -margin) {
+                        continue;
+                    }
                     let f = |t: f64| (cubic::point(&control, t) - p).dot(&normal);
                     let pieces = 32;
+                    work += 2 * pieces;
                     for i in 0..pieces {
                         let Some(t) = cubic::bisect(f, i as f64 / pieces as f64, (i + 1) as f64 / pieces as f64) else {
                             continue;
                         };
+                        work += BISECTION_EVALUATIONS;
                         let distance = (cubic::point(&control, t) - p).dot(&direction).abs();
                         if from == to && distance <= tolerance {
                             continue; // the node itself
@@ -646,29 +810,119 @@ pub fn split_at_mirror_nodes(
                         }
                     }
                 }
+                // A split adds a segment for each node after this one to test.
+                let added = if best.is_some() { nodes_count - k - 1 } else { 0 };
+                if let Err(e) = charge(
+                    &mut evaluations,
+                    work + added,
+                    MAX_MIRROR_SEARCH_EVALUATIONS,
+                    "curve evaluations",
+                    step,
+                ) {
+                    undo.restore(network, x);
+                    return Err(e);
+                }
                 let Some((_, s, t)) = best else { continue };
-                let control = trial.control_points(s as usize);
+                let control = network.control_points(s as usize);
                 let q = cubic::point(&control, t);
-                let near_node = trial.curves[to].segments.iter().any(|&o| {
-                    let ids = trial.segments[o as usize].points;
+                let near_node = network.curves[to].segments.iter().any(|&o| {
+                    let ids = network.segments[o as usize].points;
                     [ids[0], ids[3]]
                         .iter()
-                        .any(|&i| (trial.points[i as usize] - q).norm() <= tolerance)
+                        .any(|&i| (network.points[i as usize] - q).norm() <= tolerance)
                 });
                 if near_node {
                     continue;
                 }
-                split_segment(&mut trial, &mut trial_x, s, t);
+                split_segment(network, x, s, t);
                 trial_count += 1;
             }
         }
-        if trial_count > 0 && match_curves(&trial, &trial_x, plane, a, b).is_some() {
-            *network = trial;
-            *x = trial_x;
+        let matched = if trial_count > 0 {
+            match match_curves(network, x, plane, a, b, &mut comparisons) {
+                Ok(m) => m.is_some(),
+                Err(e) => {
+                    undo.restore(network, x);
+                    return Err(e);
+                }
+            }
+        } else {
+            false
+        };
+        if matched {
             count += trial_count;
+        } else {
+            undo.restore(network, x);
         }
     }
-    count
+    Ok(count)
+}
+
+/// What [`split_segment`] may change while curves `a` and `b` are split, to put it back
+/// (a trial costs the size of the two curves, not a copy of the network).
+struct SplitUndo {
+    point_count: usize,
+    segment_count: usize,
+    unknown_count: usize,
+    /// Curve and its segment list.
+    curves: Vec<(usize, Vec<u32>)>,
+    segments: Vec<SavedSegment>,
+}
+
+/// A segment as it was before a trial split.
+struct SavedSegment {
+    segment: u32,
+    /// Its control point indices.
+    points: [u32; 4],
+    /// Its two inner control points, in the image and in space.
+    inner: [Vector2<f64>; 2],
+    inner3: [Vec3; 2],
+}
+
+impl SplitUndo {
+    fn new(network: &CurveNetwork, x: &[f64], a: usize, b: usize) -> Self {
+        let curves: Vec<(usize, Vec<u32>)> = if a == b { vec![a] } else { vec![a, b] }
+            .into_iter()
+            .map(|c| (c, network.curves[c].segments.clone()))
+            .collect();
+        let segments = curves
+            .iter()
+            .flat_map(|(_, list)| list.iter())
+            .map(|&segment| {
+                let points = network.segments[segment as usize].points;
+                SavedSegment {
+                    segment,
+                    points,
+                    inner: [network.points[points[1] as usize], network.points[points[2] as usize]],
+                    inner3: [point(x, points[1]), point(x, points[2])],
+                }
+            })
+            .collect();
+        Self {
+            point_count: network.points.len(),
+            segment_count: network.segments.len(),
+            unknown_count: x.len(),
+            curves,
+            segments,
+        }
+    }
+
+    fn restore(self, network: &mut CurveNetwork, x: &mut Vec<f64>) {
+        for saved in self.segments {
+            network.segments[saved.segment as usize].points = saved.points;
+            for k in 0..2 {
+                let i = saved.points[k + 1] as usize;
+                network.points[i] = saved.inner[k];
+                x[3 * i..3 * i + 3].copy_from_slice(saved.inner3[k].as_slice());
+            }
+        }
+        for (c, list) in self.curves {
+            network.curves[c].segments = list;
+        }
+        network.points.truncate(self.point_count);
+        network.segments.truncate(self.segment_count);
+        x.truncate(self.unknown_count);
+    }
 }
 
 /// Splits segment `s` at `t` (de Casteljau): `s` keeps the first part, a new segment
