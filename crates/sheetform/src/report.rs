@@ -691,6 +691,10 @@ pub struct PhotoReport {
     /// Whether the refinement met its bound (sine of the error ≤ 1e-12).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refinement_converged: Option<bool>,
+    /// The refinement stopped at its work budget (`refinement_converged` says whether
+    /// the bound was met all the same).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refinement_work_bound_reached: Option<bool>,
     /// Largest move of a control point by the refinement (pixels).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refinement_displacement_max_px: Option<f64>,

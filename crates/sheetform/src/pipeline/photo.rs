@@ -340,6 +340,7 @@ pub fn run_photo(
         developability_error_refined: annotation.analysis.refine.then_some(refined),
         refinement_iterations: r.refinement.map(|i| i.iterations),
         refinement_converged: r.refinement.map(|i| i.converged),
+        refinement_work_bound_reached: r.refinement.map(|i| i.work_bound_reached),
         refinement_displacement_max_px: r.refinement.map(|i| i.displacement_max),
         refinement_slide_max_px: r.refinement.map(|i| i.slide_max_px),
         refinement_bound: sheetform_photo::REFINEMENT_BOUND,
