@@ -484,14 +484,49 @@ fn leftovers(dir: &Path, keep: &[&str]) -> Vec<String> {
         .collect()
 }
 
-/// A bend run whose sixth file (a 276 KB tiled PDF at `--scale 10`) is over a 150 KB
-/// file-size limit (`ulimit -f`): `ignore_signal` makes the write fail with EFBIG, else
-/// SIGXFSZ kills the process in the middle of writing its set.
+/// A file-size limit (`ulimit -f`, KiB) between the first file `bend --scale 10` writes
+/// (model.obj, 76 KB) and its sixth (the tiled PDF, 136 KB), measured by an unlimited
+/// run so the test follows the files' sizes.
 #[cfg(target_os = "linux")]
-fn bend_over_a_file_size_limit(out: &Path, ignore_signal: bool) -> std::process::Output {
+fn limit_between_the_first_file_and_the_pdf() -> u64 {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repo().join("examples/bent-rectangle.json");
+    let out = dir.path().join("out");
+    let o = sheetform_within(
+        &[
+            "bend",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--scale",
+            "10",
+            "-q",
+        ],
+        120,
+    );
+    assert!(o.status.success());
+    let size = |name: &str| std::fs::metadata(out.join(name)).unwrap().len();
+    let largest_before_pdf = ["model.obj", "model.glb", "model.stl", "pattern.svg", "pattern.dxf"]
+        .map(size)
+        .into_iter()
+        .max()
+        .unwrap();
+    let pdf = size("pattern.pdf");
+    assert!(
+        pdf > largest_before_pdf + 8192,
+        "the PDF ({pdf} B) must be the first file over the limit (others up to {largest_before_pdf} B)"
+    );
+    (largest_before_pdf + pdf) / 2 / 1024
+}
+
+/// A bend run whose sixth file (the tiled PDF at `--scale 10`) is over a file-size limit
+/// (`ulimit -f`): `ignore_signal` makes the write fail with EFBIG, else SIGXFSZ kills the
+/// process in the middle of writing its set.
+#[cfg(target_os = "linux")]
+fn bend_over_a_file_size_limit(out: &Path, ignore_signal: bool, limit_kib: u64) -> std::process::Output {
     let scene = repo().join("examples/bent-rectangle.json");
     let script = format!(
-        "{}ulimit -f 150; exec \"$0\" \"$@\"",
+        "{}ulimit -f {limit_kib}; exec \"$0\" \"$@\"",
         if ignore_signal { "trap '' XFSZ; " } else { "" }
     );
     let output = std::process::Command::new("bash")
@@ -533,7 +568,8 @@ fn a_run_failing_or_killed_mid_write_leaves_the_previous_output_set_intact() {
     std::fs::write(out.join("notes.txt"), "mine").unwrap();
     let before = snapshot(&out);
 
-    let failed = bend_over_a_file_size_limit(&out, true);
+    let limit = limit_between_the_first_file_and_the_pdf();
+    let failed = bend_over_a_file_size_limit(&out, true, limit);
     let message = String::from_utf8_lossy(&failed.stderr);
     assert_eq!(failed.status.code(), Some(1), "{message}");
     assert!(
@@ -562,7 +598,7 @@ fn a_run_failing_or_killed_mid_write_leaves_the_previous_output_set_intact() {
     )
     .is_empty());
 
-    let killed = bend_over_a_file_size_limit(&out, false);
+    let killed = bend_over_a_file_size_limit(&out, false, limit);
     assert_eq!(
         killed.status.signal(),
         Some(25),
