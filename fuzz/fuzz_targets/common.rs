@@ -17,6 +17,15 @@ pub fn photo_context() -> RunContext<'static> {
     RunContext::new(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/photo"))
 }
 
+#[allow(dead_code)]
+/// Any bytes as a mesh file: the first byte picks OBJ, OFF, PLY or STL, the rest is the
+/// file; `None` when the reader refuses it.
+pub fn mesh_from_fuzz_bytes(data: &[u8]) -> Option<sheetform::mesh::TriangleMesh> {
+    let (&kind, bytes) = data.split_first()?;
+    let name = ["m.obj", "m.off", "m.ply", "m.stl"][kind as usize % 4];
+    sheetform::io::mesh_from_bytes(std::path::Path::new(name), bytes).ok()
+}
+
 /// Every `v` and `vt` line of the OBJ files has finite numbers ("no NaN reaches a file").
 pub fn assert_finite(files: &[(String, Vec<u8>)]) {
     for (name, bytes) in files {

@@ -3,16 +3,10 @@
 mod common;
 
 use libfuzzer_sys::fuzz_target;
-use sheetform::io::mesh_from_bytes;
 use sheetform::pipeline::{run_check, CheckOptions};
-use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
-    let Some((&kind, bytes)) = data.split_first() else {
-        return;
-    };
-    let name = ["m.obj", "m.off", "m.ply", "m.stl"][kind as usize % 4];
-    let Ok(mesh) = mesh_from_bytes(Path::new(name), bytes) else {
+    let Some(mesh) = common::mesh_from_fuzz_bytes(data) else {
         return;
     };
     if let Ok(run) = run_check(mesh, &CheckOptions::default(), &common::context()) {

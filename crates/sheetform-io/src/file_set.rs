@@ -49,8 +49,9 @@ pub fn replace_file_set(dir: &Path, files: &[(&str, &[u8])], previous: &[String]
     replace_in_place(dir, files, previous)
 }
 
-/// True for a non-empty path made of normal components only (no `..`, no root).
-pub(crate) fn is_plain_relative(name: &str) -> bool {
+/// True for a non-empty path made of normal components only (no `..`, no `.`, no root):
+/// a path that stays inside whatever directory it is joined to.
+pub fn is_plain_relative(name: &str) -> bool {
     !name.is_empty() && Path::new(name).components().all(|c| matches!(c, Component::Normal(_)))
 }
 

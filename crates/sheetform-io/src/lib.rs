@@ -19,7 +19,7 @@ pub use atomic::write_atomic;
 pub use bounded_read::{read_bounded, MAX_MESH_FILE_BYTES, MAX_SCENE_FILE_BYTES};
 pub use colour_map::{colour_ramp, ply_vertex_colours};
 pub use error::IoError;
-pub use file_set::replace_file_set;
+pub use file_set::{is_plain_relative, replace_file_set};
 pub use glb::{glb_bytes, glb_bytes_projected, glb_vertex_colours, Texture, GLB_FLAT_ATTRIBUTE};
 pub use mesh_read::{mesh_from_bytes, parse_obj, parse_off, parse_ply, parse_stl, read_mesh, MeshReadError};
 pub use obj::obj_string;

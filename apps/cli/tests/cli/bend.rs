@@ -315,27 +315,22 @@ fn a_scene_cannot_read_files_outside_its_directory() {
         assert!(!out.exists(), "nothing is written");
         // With the explicit flag naming a directory that holds the file, it is read;
         // naming the scene's own directory does not widen anything.
-        let allowed = sheetform(&[
-            "bend",
-            path.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "-q",
-            "--assets-within",
-            tmp.path().to_str().unwrap(),
-        ]);
+        let within = |dir: &Path| {
+            sheetform(&[
+                "bend",
+                path.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+                "-q",
+                "--assets-within",
+                dir.to_str().unwrap(),
+            ])
+        };
+        let allowed = within(tmp.path());
         assert!(allowed.status.success(), "{}", String::from_utf8_lossy(&allowed.stderr));
         assert!(out.join("texture.png").exists());
         std::fs::remove_dir_all(&out).unwrap();
-        let narrow = sheetform(&[
-            "bend",
-            path.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "-q",
-            "--assets-within",
-            project.to_str().unwrap(),
-        ]);
+        let narrow = within(&project);
         assert_eq!(narrow.status.code(), Some(1));
         assert!(String::from_utf8_lossy(&narrow.stderr).contains("outside the allowed directory"));
     }

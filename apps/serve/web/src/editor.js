@@ -475,23 +475,25 @@ $('download').addEventListener('change', async (event) => {
 
 // ---------------------------------------------------------------- for tests and scripts
 
+/** Where a point of the 3D view appears on the page (CSS pixels). */
+function pageCoordinates(point) {
+  const v = point.clone().project(camera);
+  const rect = canvas.getBoundingClientRect();
+  return { x: rect.left + ((v.x + 1) / 2) * rect.width, y: rect.top + ((1 - v.y) / 2) * rect.height };
+}
+
 window.sheetformEditor = {
   state,
   load,
   openFile,
   /** The page coordinates of a control point's handle. */
   handleScreenPosition(region, index) {
-    const p = state.scene.regions[region].curve.control_points[index];
-    const v = new THREE.Vector3(...p).project(camera);
-    const rect = canvas.getBoundingClientRect();
-    return { x: rect.left + ((v.x + 1) / 2) * rect.width, y: rect.top + ((1 - v.y) / 2) * rect.height };
+    return pageCoordinates(new THREE.Vector3(...state.scene.regions[region].curve.control_points[index]));
   },
   /** The page coordinates of a handle found by its userData fields (end-handle mode). */
   handleScreenPositionWhere(match) {
     const ball = handles.children.find((h) => Object.entries(match).every(([k, v]) => h.userData[k] === v));
-    const v = ball.position.clone().project(camera);
-    const rect = canvas.getBoundingClientRect();
-    return { x: rect.left + ((v.x + 1) / 2) * rect.width, y: rect.top + ((1 - v.y) / 2) * rect.height };
+    return pageCoordinates(ball.position);
   },
   endNormal: (region, atEnd) => endNormal(state.scene.regions[region].curve.control_points, atEnd).toArray(),
   curveLength: () => state.reply.report.regions.map((r) => r.curve_length_mm),

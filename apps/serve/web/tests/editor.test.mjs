@@ -162,6 +162,18 @@ try {
   const stages = await page.evaluate((n) => window.sheetformEditor.state.stages.slice(-n), trips.length);
   const stageMedians = Object.fromEntries(Object.keys(stages[0]).map((k) => [k, median(stages.map((s) => s[k]))]));
   figures.bend_1000_rulings_round_trip_ms = { median: median(trips), count: trips.length, max: Math.max(...trips), stage_medians: stageMedians };
+  // The same request from the page with nothing drawn: what the network and the server
+  // take without the page's rendering.
+  const postOnly = await page.evaluate(async (body) => {
+    const times = [];
+    for (let k = 0; k < 15; k++) {
+      const t = performance.now();
+      await (await fetch('/api/bend', { method: 'POST', body })).text();
+      times.push(performance.now() - t);
+    }
+    return times;
+  }, JSON.stringify(fine));
+  figures.bend_1000_rulings_post_only_ms = { median: median(postOnly), count: postOnly.length };
 
   // 7. The server: no file outside its directory, hostile requests answered with an
   // error, and it keeps serving.

@@ -140,7 +140,7 @@ impl AssetResolver {
             message,
         };
         let path = Path::new(relative);
-        if relative.is_empty() || !path.components().all(|c| matches!(c, Component::Normal(_))) {
+        if !sheetform_io::is_plain_relative(relative) {
             return Err(fail("not a plain relative path inside the served directory".into()));
         }
         let root = self

@@ -312,10 +312,7 @@ fn previous_outputs(dir: &Path) -> Vec<String> {
     };
     list.iter()
         .filter_map(|n| n.as_str())
-        .filter(|n| {
-            let path = Path::new(n);
-            !n.is_empty() && path.components().all(|c| matches!(c, std::path::Component::Normal(_)))
-        })
+        .filter(|n| sheetform_io::is_plain_relative(n))
         .map(str::to_string)
         .collect()
 }
