@@ -1,8 +1,8 @@
 //! Criterion benchmarks of developability restoration: both solvers (and the constrained
-//! one along the deformation's path) on the examples at the paper's sizes, and a
-//! warm-started drag. The 100k-vertex duct
-//! (`examples/ffd/duct-100k.json`) is not benchmarked here: the constrained solver takes
-//! about a minute a run (docs/benchmarks.md gives its timed runs).
+//! one along the deformation's path, and with steps along the normals) on the examples
+//! at the paper's sizes, and a warm-started drag. The 100k-vertex duct
+//! (`examples/ffd/duct-100k.json`) is not benchmarked here: 13 s a run with its normal
+//! steps, 72 s with every parameter (docs/benchmarks.md gives its timed runs).
 //!
 //! `cargo bench -p sheetform-ffd --bench ffd`
 
@@ -36,11 +36,15 @@ fn restoration(c: &mut Criterion) {
         // Restored along the deformation's path in adaptive sub-steps.
         let mut continuation = constrained.clone();
         continuation.solver.continuation = Some(Default::default());
+        // One unknown per node, along the normal.
+        let mut normal = constrained.clone();
+        normal.solver.step_unknowns = sheetform_ffd::StepUnknowns::Normal;
         for (label, s) in [
             ("constrained", &constrained),
             ("paper", &paper),
             ("springs", &springs),
             ("continuation", &continuation),
+            ("normal", &normal),
         ] {
             group.bench_function(format!("{name}/{label}"), |b| {
                 b.iter(|| black_box(run_design(s, &mesh).expect("design")))

@@ -31,6 +31,7 @@ mod error;
 mod fold_angle;
 mod kkt_system;
 mod nested_dissection;
+mod normal_step_reduction;
 mod nurbs_volume;
 mod panel_assembly;
 mod path_continuation;
@@ -42,7 +43,9 @@ pub mod lattice_edit;
 pub mod procedural_panels;
 pub mod scene;
 
-pub use constrained_gauss_newton::{restore_constrained, restore_constrained_with_progress, ConstrainedOptions};
+pub use constrained_gauss_newton::{
+    restore_constrained, restore_constrained_with_progress, ConstrainedOptions, StepUnknowns,
+};
 pub use corner_angle::{corner_angle, corner_angle_gradient, corner_angle_hessian};
 pub use developability_problem::{DevelopabilityProblem, Evaluation, ProblemOptions, Spring};
 pub use embedding::{embed_points, lattice_size, newton_inversion, EMBEDDING_TOLERANCE};

@@ -194,6 +194,12 @@ pub struct SolverSpec {
     /// deformations, whose one-shot restoration cuts its steps and crumples the panels.
     #[serde(default)]
     pub continuation: Option<ContinuationSpec>,
+    /// The constrained solver's step unknowns: `parameters` (default: each node's three
+    /// lattice parameters) or `normal` (one per node, along the surface normal: about a
+    /// third of the time on large meshes, larger edge-length changes on small ones; see
+    /// docs/benchmarks.md).
+    #[serde(default)]
+    pub step_unknowns: crate::StepUnknowns,
 }
 
 /// Most iterations `solver.max_iterations` and `solver.refine_iterations` may ask for
@@ -312,6 +318,7 @@ impl Default for SolverSpec {
             stall_bending_weight: default_stall_bending_weight(),
             line_search_memory: default_line_search_memory(),
             continuation: None,
+            step_unknowns: crate::StepUnknowns::default(),
         }
     }
 }
@@ -340,6 +347,7 @@ impl SolverSpec {
             bending_weight: self.bending_weight,
             line_search_memory: self.line_search_memory,
             stall_bending_weight: self.stall_bending_weight,
+            step_unknowns: self.step_unknowns,
             ..Default::default()
         };
         if let Some(m) = self.max_iterations {

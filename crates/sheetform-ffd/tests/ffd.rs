@@ -136,6 +136,39 @@ fn continuation_reaches_the_direct_defect_bound_on_every_example() {
     }
 }
 
+/// Steps along the normals only (`solver.step_unknowns: "normal"`) reach the same defect
+/// bound on every example, keep linked vertices together and the panels fair, at the
+/// price of larger edge-length changes than the full parameter steps (measured 0.7× to
+/// 1.8×: the skirt's are smaller, the two panels' largest; docs/benchmarks.md).
+#[test]
+fn normal_steps_reach_the_defect_bound_on_every_example() {
+    for name in ["two-panels", "duct", "skirt", "trousers", "skirt-drag"] {
+        let full = example(name);
+        let mut scene = full.clone();
+        scene.solver.step_unknowns = sheetform_ffd::StepUnknowns::Normal;
+        let design = run_design(&scene, &mesh_of(&scene)).unwrap();
+        let plain = run_design(&full, &mesh_of(&full)).unwrap();
+        for (step, full_step) in design.steps.iter().zip(&plain.steps) {
+            let label = format!("{name} / {}", step.name);
+            assert!(step.info.converged, "{label}: {:?}", step.info);
+            assert!(max_defect(&design, &step.restored) <= 1e-8, "{label}");
+            assert!(
+                step.info.iterations <= full_step.info.iterations + 2,
+                "{label}: {:?}",
+                step.info
+            );
+            assert!(step.fold_angle_max_after < 1.5 * step.fold_angle_max_before, "{label}");
+            assert!(
+                step.edge_length_change_max_relative < 2.0 * full_step.edge_length_change_max_relative,
+                "{label}: {} against {}",
+                step.edge_length_change_max_relative,
+                full_step.edge_length_change_max_relative
+            );
+        }
+        assert_linked_vertices_coincide(name, &design);
+    }
+}
+
 /// The duct's deformation five times over: restored in one go, the steps are cut and
 /// the panels fold over (fold angle 0.44 -> 2.97 rad, an edge length doubled); along
 /// the path each sub-step starts near the developable set and the duct stays fair.

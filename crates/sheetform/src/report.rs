@@ -198,6 +198,8 @@ pub struct FfdReport {
     /// The constrained solver's line-search memory (`solver.line_search_memory`; 1:
     /// monotone, default 12).
     pub line_search_memory: usize,
+    /// The constrained solver's step unknowns (`solver.step_unknowns`).
+    pub step_unknowns: sheetform_ffd::StepUnknowns,
     /// Panels (mesh patches).
     pub panel_count: usize,
     /// Nodes (linked vertex sets): one parameter triple each.

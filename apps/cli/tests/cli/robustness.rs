@@ -442,6 +442,8 @@ fn an_interrupted_run_leaves_the_previous_output_set_intact() {
     let mut fine = example("examples/ffd/duct-100k.json");
     fine["model"]["procedural"]["around"] = json!(160);
     fine["model"]["procedural"]["along"] = json!(100);
+    // Every parameter a step (the default): the slower solve leaves time to interrupt.
+    fine["solver"] = json!({});
     let scene = dir.path().join("fine.json");
     std::fs::write(&scene, fine.to_string()).unwrap();
     let child = std::process::Command::new(env!("CARGO_BIN_EXE_sheetform"))

@@ -245,6 +245,7 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
         solver: scene.solver.method,
         bending_weight: scene.solver.bending_weight,
         line_search_memory: scene.solver.line_search_memory,
+        step_unknowns: scene.solver.step_unknowns,
         panel_count: assembly.panels.len(),
         node_count: assembly.node_count,
         linked_node_count: assembly.linked_node_count(),
