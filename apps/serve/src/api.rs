@@ -75,9 +75,9 @@ impl IntoResponse for ApiError {
     }
 }
 
-/// The bent sheet as flat arrays for the browser (model units).
+/// A sheet (bent, or a flattened mesh) as flat arrays for the browser (model units).
 #[derive(Debug, Serialize)]
-struct MeshArrays {
+pub(crate) struct MeshArrays {
     /// `x y z` per vertex.
     positions: Vec<f64>,
     /// `u v` per vertex: the flat pattern at 1:1.
@@ -86,15 +86,18 @@ struct MeshArrays {
     triangles: Vec<u32>,
     /// Rulings as polylines of vertex indices.
     rulings: Vec<Vec<u32>>,
+    /// The piece of each triangle (composite sheets, charts, net pieces).
+    face_pieces: Vec<u32>,
 }
 
 impl MeshArrays {
-    fn new(mesh: &SheetMesh) -> Self {
+    pub(crate) fn new(mesh: &SheetMesh) -> Self {
         Self {
             positions: mesh.positions.iter().flat_map(|p| [p.x, p.y, p.z]).collect(),
             flat: mesh.flat.iter().flat_map(|p| [p.x, p.y]).collect(),
             triangles: mesh.triangles.iter().flatten().copied().collect(),
             rulings: mesh.rulings.iter().map(|r| r.vertices.clone()).collect(),
+            face_pieces: mesh.face_pieces.clone(),
         }
     }
 }
@@ -115,7 +118,7 @@ fn bend_scene(body: &str) -> Result<BendScene, ApiError> {
 }
 
 /// Runs `job` on the blocking pool, at most `max_concurrent_solves` at a time.
-async fn solve<T: Send + 'static>(
+pub(crate) async fn solve<T: Send + 'static>(
     state: &AppState,
     job: impl FnOnce() -> Result<T, ApiError> + Send + 'static,
 ) -> Result<T, ApiError> {
@@ -217,7 +220,7 @@ async fn bend_edit(State(state): State<Arc<AppState>>, body: String) -> Result<R
 }
 
 /// Content type of a file the CLI writes.
-fn content_type(name: &str) -> &'static str {
+pub(crate) fn content_type(name: &str) -> &'static str {
     match name.rsplit('.').next() {
         Some("svg") => "image/svg+xml",
         Some("pdf") => "application/pdf",

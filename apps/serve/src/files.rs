@@ -1,4 +1,4 @@
-//! Opening and saving scene files, confined to the served directory through the
+//! Listing scene and mesh files, opening them, and saving scene files, confined to the served directory through the
 //! pipeline's [`AssetResolver`] (the same rules as the files a scene may read: no
 //! absolute or escaping path, also not through a symbolic link; regular files only;
 //! bounded sizes).
@@ -24,12 +24,22 @@ pub(crate) fn routes() -> Router<Arc<AppState>> {
         .route("/api/files/{*path}", get(open).put(save))
 }
 
-/// The scene files (`*.json`) below the served directory, as relative paths with `/`,
-/// sorted; hidden directories, `target` and `node_modules` are skipped.
-fn scene_files(root: &std::path::Path) -> Vec<String> {
-    let mut found = Vec::new();
+/// Extensions of the mesh files the mesh mode reads.
+pub(crate) const MESH_EXTENSIONS: [&str; 4] = ["obj", "ply", "stl", "off"];
+
+/// Whether `name` is a mesh file by its extension.
+fn is_mesh(name: &str) -> bool {
+    name.rsplit_once('.')
+        .is_some_and(|(_, extension)| MESH_EXTENSIONS.contains(&extension.to_ascii_lowercase().as_str()))
+}
+
+/// The scene files (`*.json`) and the meshes (`*.obj`, `*.ply`, `*.stl`, `*.off`) below
+/// the served directory, as relative paths with `/`, sorted; hidden directories,
+/// `target` and `node_modules` are skipped.
+fn listed_files(root: &std::path::Path) -> (Vec<String>, Vec<String>) {
+    let (mut scenes, mut meshes) = (Vec::new(), Vec::new());
     let mut pending = vec![(PathBuf::new(), 0usize)];
-    while let Some((relative, depth)) = pending.pop() {
+    'walk: while let Some((relative, depth)) = pending.pop() {
         let Ok(entries) = std::fs::read_dir(root.join(&relative)) else {
             continue;
         };
@@ -41,30 +51,40 @@ fn scene_files(root: &std::path::Path) -> Vec<String> {
                 if depth < MAX_LISTED_DEPTH && !name.starts_with('.') && name != "target" && name != "node_modules" {
                     pending.push((path, depth + 1));
                 }
-            } else if kind.is_file() && name.ends_with(".json") && !name.starts_with('.') {
-                found.push(
-                    path.components()
-                        .map(|c| c.as_os_str().to_string_lossy())
-                        .collect::<Vec<_>>()
-                        .join("/"),
-                );
-                if found.len() >= MAX_LISTED_FILES {
-                    found.sort();
-                    return found;
-                }
+                continue;
+            }
+            if !kind.is_file() || name.starts_with('.') {
+                continue;
+            }
+            let list = if name.ends_with(".json") {
+                &mut scenes
+            } else if is_mesh(&name) {
+                &mut meshes
+            } else {
+                continue;
+            };
+            list.push(
+                path.components()
+                    .map(|c| c.as_os_str().to_string_lossy())
+                    .collect::<Vec<_>>()
+                    .join("/"),
+            );
+            if scenes.len() + meshes.len() >= MAX_LISTED_FILES {
+                break 'walk;
             }
         }
     }
-    found.sort();
-    found
+    scenes.sort();
+    meshes.sort();
+    (scenes, meshes)
 }
 
 async fn list(State(state): State<Arc<AppState>>) -> Response {
     let root = state.root.clone();
-    let files = tokio::task::spawn_blocking(move || scene_files(&root))
+    let (files, meshes) = tokio::task::spawn_blocking(move || listed_files(&root))
         .await
         .unwrap_or_default();
-    Json(serde_json::json!({ "files": files })).into_response()
+    Json(serde_json::json!({ "files": files, "meshes": meshes })).into_response()
 }
 
 fn resolver(state: &AppState) -> AssetResolver {
@@ -73,13 +93,23 @@ fn resolver(state: &AppState) -> AssetResolver {
 
 async fn open(State(state): State<Arc<AppState>>, Path(path): Path<String>) -> Result<Response, ApiError> {
     let resolver = resolver(&state);
-    let text = tokio::task::spawn_blocking(move || -> Result<String, ApiError> {
+    let mesh = is_mesh(&path);
+    let bytes = tokio::task::spawn_blocking(move || -> Result<Vec<u8>, ApiError> {
         let bytes = resolver.read(&path, "path")?;
-        String::from_utf8(bytes).map_err(|_| ApiError::invalid(format!("`{path}` is not UTF-8 text")))
+        // Scenes are JSON text; meshes go out as they are (binary STL and PLY too).
+        if !mesh && std::str::from_utf8(&bytes).is_err() {
+            return Err(ApiError::invalid(format!("`{path}` is not UTF-8 text")));
+        }
+        Ok(bytes)
     })
     .await
     .map_err(|e| ApiError::invalid(e.to_string()))??;
-    Ok(([(axum::http::header::CONTENT_TYPE, "application/json")], text).into_response())
+    let content_type = if mesh {
+        "application/octet-stream"
+    } else {
+        "application/json"
+    };
+    Ok(([(axum::http::header::CONTENT_TYPE, content_type)], bytes).into_response())
 }
 
 async fn save(

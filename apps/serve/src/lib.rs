@@ -8,7 +8,9 @@
 //! |---|---|
 //! | `POST /api/bend` | a bend scene in, the bent sheet (arrays), the pattern SVG and the report out ([`sheetform::pipeline::run_bend`] with [`OutputSet::Preview`](sheetform::pipeline::OutputSet)) |
 //! | `POST /api/bend/file/{name}` | one of the files `sheetform bend` writes (OBJ, GLB, STL, SVG, DXF, PDF), for download |
-//! | `GET /api/files` | the scene files (`*.json`) under the served directory |
+//! | `POST /api/mesh?name=…` | a mesh file's bytes in (OBJ, PLY, STL, OFF), its developability ([`sheetform::pipeline::run_check`]), the flattened model, its pattern and both reports out ([`sheetform::pipeline::run_flatten`], preview outputs) |
+//! | `POST /api/mesh/file/{name}?name=…` | one of the files `sheetform flatten` writes, for download |
+//! | `GET /api/files` | the scene files (`*.json`) and the meshes under the served directory |
 //! | `GET /api/files/{path}` / `PUT /api/files/{path}` | open / save a scene file, confined to the served directory |
 //!
 //! Every request is bounded ([`ServeOptions::max_request_bytes`]), solves run on a
@@ -23,6 +25,7 @@
 mod api;
 mod assets;
 mod files;
+mod mesh;
 
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 use std::path::PathBuf;
@@ -108,6 +111,7 @@ pub fn router(options: &ServeOptions) -> Result<axum::Router, ServeError> {
     Ok(axum::Router::new()
         .merge(assets::routes())
         .merge(api::routes())
+        .merge(mesh::routes())
         .merge(files::routes())
         .layer(axum::extract::DefaultBodyLimit::max(options.max_request_bytes))
         .with_state(state))

@@ -217,3 +217,165 @@ async fn the_front_end_is_embedded() {
     assert_eq!(status, StatusCode::OK);
     assert!(three.len() > 100_000);
 }
+
+/// Largest relative difference between a triangle edge's 3D and flat lengths.
+fn isometry_error(model: &Value) -> f64 {
+    let p: Vec<f64> = serde_json::from_value(model["positions"].clone()).unwrap();
+    let f: Vec<f64> = serde_json::from_value(model["flat"].clone()).unwrap();
+    let t: Vec<usize> = serde_json::from_value(model["triangles"].clone()).unwrap();
+    let mut worst: f64 = 0.0;
+    for tri in t.chunks(3) {
+        for (a, b) in [(tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])] {
+            let d3 = ((p[3 * a] - p[3 * b]).powi(2)
+                + (p[3 * a + 1] - p[3 * b + 1]).powi(2)
+                + (p[3 * a + 2] - p[3 * b + 2]).powi(2))
+            .sqrt();
+            let d2 = ((f[2 * a] - f[2 * b]).powi(2) + (f[2 * a + 1] - f[2 * b + 1]).powi(2)).sqrt();
+            worst = worst.max((d3 - d2).abs() / d2);
+        }
+    }
+    worst
+}
+
+/// The mesh mode: a developable lamp shade is flattened exactly (opened along a seam), a
+/// closed box unfolds as a net whose corners carry their angle defect (π/2 each); the
+/// files `sheetform flatten` writes can be downloaded; bad names, options and meshes get
+/// error replies naming what is wrong.
+#[tokio::test]
+async fn a_mesh_is_checked_and_flattened_into_a_pattern_isometric_to_it() {
+    let (_dir, root) = served();
+    let app = router(&ServeOptions {
+        root,
+        ..Default::default()
+    })
+    .unwrap();
+    let shade = std::fs::read(repository().join("examples/meshes/lamp-shade.obj")).unwrap();
+    let (status, body) = send(&app, "POST", "/api/mesh?name=lamp-shade.obj", shade.clone()).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let reply = json(&body);
+    assert_eq!(reply["report"]["status"], "ok");
+    assert!(
+        isometry_error(&reply["model"]) < 1e-9,
+        "{}",
+        isometry_error(&reply["model"])
+    );
+    let defects: Vec<f64> = serde_json::from_value(reply["input"]["angle_defects_rad"].clone()).unwrap();
+    assert_eq!(defects.len(), 7 * 48);
+    assert!(
+        defects.iter().all(|g| g.abs() < 1e-9),
+        "the cone frustum is developable"
+    );
+    // The annulus is opened into a disk: its flat copy has the seam's vertices twice.
+    let flat: Vec<f64> = serde_json::from_value(reply["model"]["flat"].clone()).unwrap();
+    assert!(flat.len() / 2 > 7 * 48);
+    assert!(
+        reply["pattern_svg"].as_str().unwrap().starts_with("<?xml")
+            || reply["pattern_svg"].as_str().unwrap().contains("<svg")
+    );
+
+    let gift = std::fs::read(repository().join("examples/meshes/gift-box.obj")).unwrap();
+    let (status, body) = send(&app, "POST", "/api/mesh?name=gift-box.obj&charts=net", gift.clone()).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let reply = json(&body);
+    assert_eq!(reply["report"]["layout"], "net");
+    assert!(isometry_error(&reply["model"]) < 1e-9);
+    let defects: Vec<f64> = serde_json::from_value(reply["input"]["angle_defects_rad"].clone()).unwrap();
+    assert_eq!(defects.len(), 8);
+    for g in &defects {
+        assert!(
+            (g - std::f64::consts::FRAC_PI_2).abs() < 1e-12,
+            "a box corner's defect is π/2: {g}"
+        );
+    }
+    let pieces: std::collections::BTreeSet<u64> = reply["model"]["face_pieces"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p.as_u64().unwrap())
+        .collect();
+    assert_eq!(
+        pieces.len(),
+        reply["report"]["net"]["piece_count"].as_u64().unwrap() as usize
+    );
+
+    // A download: the OBJ with the pattern as `vt`.
+    let (status, body) = send(
+        &app,
+        "POST",
+        "/api/mesh/file/model.obj?name=gift-box.obj&charts=net",
+        gift.clone(),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(String::from_utf8_lossy(&body).lines().any(|l| l.starts_with("vt ")));
+    let (status, _) = send(
+        &app,
+        "POST",
+        "/api/mesh/file/frames.zip?name=gift-box.obj",
+        gift.clone(),
+    )
+    .await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+
+    // Errors name what is wrong; the server keeps serving.
+    for (uri, body, expected) in [
+        ("/api/mesh?name=gift-box.obj&charts=zigzag", gift.clone(), "charts"),
+        ("/api/mesh?name=gift-box.obj&units=furlong", gift.clone(), "units"),
+        ("/api/mesh?name=..%2Fgift-box.obj", gift.clone(), "name"),
+        ("/api/mesh?name=gift-box.obj&colour=red", gift.clone(), "colour"),
+        ("/api/mesh", gift.clone(), "name"),
+        (
+            "/api/mesh?name=bad.obj",
+            b"v 0 0 0\nv 1 0 0\nf 1 2 9\n".to_vec(),
+            "bad.obj",
+        ),
+        ("/api/mesh?name=gift-box.xyz", gift.clone(), "xyz"),
+    ] {
+        let (status, reply) = send(&app, "POST", uri, body).await;
+        assert_eq!(
+            status,
+            StatusCode::BAD_REQUEST,
+            "{uri}: {}",
+            String::from_utf8_lossy(&reply)
+        );
+        let text = String::from_utf8_lossy(&reply).to_string();
+        assert!(text.contains(expected), "{uri}: {text}");
+    }
+    // A closed box cannot be laid out whole.
+    let (status, body) = send(&app, "POST", "/api/mesh?name=gift-box.obj&charts=never", gift).await;
+    assert!(status.is_client_error(), "{status}: {}", String::from_utf8_lossy(&body));
+    let (status, _) = send(&app, "POST", "/api/mesh?name=lamp-shade.obj", shade).await;
+    assert_eq!(status, StatusCode::OK);
+}
+
+/// The listing names the meshes under the served directory, and a binary mesh opens as
+/// it is.
+#[tokio::test]
+async fn meshes_are_listed_and_opened_as_bytes() {
+    let (_dir, root) = served();
+    std::fs::create_dir_all(root.join("meshes")).unwrap();
+    // A binary STL of one triangle.
+    let mut stl = vec![0u8; 80];
+    stl.extend(1u32.to_le_bytes());
+    for value in [0.0f32, 0.0, 1.0, 0.0, 0.0, 0.0, 10.0, 0.0, 0.0, 0.0, 10.0, 0.0] {
+        stl.extend(value.to_le_bytes());
+    }
+    stl.extend([0u8, 0]);
+    std::fs::write(root.join("meshes/triangle.stl"), &stl).unwrap();
+    let app = router(&ServeOptions {
+        root,
+        ..Default::default()
+    })
+    .unwrap();
+    let (status, body) = send(&app, "GET", "/api/files", Body::empty()).await;
+    assert_eq!(status, StatusCode::OK);
+    let listing = json(&body);
+    assert_eq!(listing["meshes"], serde_json::json!(["meshes/triangle.stl"]));
+    assert_eq!(listing["files"], serde_json::json!(["scenes/bent-rectangle.json"]));
+    let (status, body) = send(&app, "GET", "/api/files/meshes/triangle.stl", Body::empty()).await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(body, stl);
+    let (status, body) = send(&app, "POST", "/api/mesh?name=triangle.stl", stl).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    assert!(isometry_error(&json(&body)["model"]) < 1e-9);
+}

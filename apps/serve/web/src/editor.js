@@ -1,7 +1,10 @@
-// The sheetform web editor: bend mode. Every edit sends the whole scene to the server,
+// The sheetform web editor. Bend mode: every edit sends the whole scene to the server,
 // which runs the same library pipeline as `sheetform bend` and answers with the bent
 // sheet, its flat pattern and the report. An edit the server refuses (an inadmissible
-// shape, an invalid scene) is shown and the last admissible scene is kept.
+// shape, an invalid scene) is shown and the last admissible scene is kept. Mesh mode: a
+// mesh file (from the served directory, the disk, or dropped on the 3D view) goes to the
+// server, which runs `sheetform check` and `sheetform flatten`'s pipelines and answers
+// with its angle defects, the flattened model, its pattern and both reports.
 
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
@@ -10,6 +13,9 @@ const $ = (id) => document.getElementById(id);
 
 /** Editor state: the last admissible scene and what the server said of it. */
 const state = {
+  mode: 'bend', // 'bend' or 'mesh'
+  mesh: null, // mesh mode: { name, bytes (ArrayBuffer), path } of the loaded mesh
+  meshOptions: null, // mesh mode: the layout options of the last answered request
   path: null, // the scene file's path in the served directory, when it came from there
   scene: null, // the last admissible scene (an object; never mutated in place)
   reply: null, // the server's reply for `scene`
@@ -18,6 +24,7 @@ const state = {
   roundTrips: [], // ms from an edit's event to the redraw of its reply
   stages: [], // where each round trip's time went (ms)
   refusals: 0,
+  answers: 0, // server answers (solved or refused), for tests and scripts to wait on
   inFlight: false,
   pending: null, // the newest edit waiting for the one in flight: { scene, started }
   lastError: null,
@@ -41,6 +48,11 @@ view.add(sun);
 
 const sheetMaterial = new THREE.MeshStandardMaterial({
   color: 0xe9d8b4, side: THREE.DoubleSide, roughness: 0.85, polygonOffset: true,
+  polygonOffsetFactor: 1, polygonOffsetUnits: 1,
+});
+// Mesh mode colours each triangle (its piece, or the angle defect at its vertices).
+const colouredMaterial = new THREE.MeshStandardMaterial({
+  vertexColors: true, side: THREE.DoubleSide, roughness: 0.85, polygonOffset: true,
   polygonOffsetFactor: 1, polygonOffsetUnits: 1,
 });
 const sheet = new THREE.Mesh(new THREE.BufferGeometry(), sheetMaterial);
@@ -141,6 +153,12 @@ function drawModel(model) {
   lines.setAttribute('position', new THREE.Float32BufferAttribute(segments, 3));
   rulings.geometry.dispose();
   rulings.geometry = lines;
+  sheet.material = sheetMaterial;
+  frame(geometry);
+}
+
+/** Points the camera at `geometry` once per loaded scene or mesh. */
+function frame(geometry) {
   if (!framed) {
     geometry.computeBoundingSphere();
     const { center, radius } = geometry.boundingSphere;
@@ -153,6 +171,46 @@ function drawModel(model) {
     handleRadius = radius / 45;
     framed = true;
   }
+}
+
+// ---------------------------------------------------------------- mesh mode view
+
+/** A colour per piece: evenly spaced hues, light enough to shade. */
+function pieceColour(piece) {
+  return new THREE.Color().setHSL(((piece * 0.618034) % 1 + 1) % 1, 0.55, 0.68);
+}
+
+/** The colour of an angle defect `g` (rad): grey when developable (|g| ≤ 1e-6 rad),
+ * then yellow to red on a log scale up to 0.1 rad. */
+function defectColour(g) {
+  const t = Math.min(1, Math.max(0, (Math.log10(Math.abs(g) + 1e-300) + 6) / 5));
+  return Math.abs(g) <= 1e-6 ? new THREE.Color(0xd9d6cf) : new THREE.Color().setHSL(0.15 * (1 - t), 0.85, 0.55);
+}
+
+/** Mesh mode: the flattened model coloured by piece, or the input by angle defect. */
+function drawMeshModel(reply) {
+  const byDefect = $('colour').value === 'defect';
+  const { positions, triangles } = byDefect ? reply.input : reply.model;
+  const position = new Float32Array(triangles.length * 3);
+  const colour = new Float32Array(triangles.length * 3);
+  for (let k = 0; k < triangles.length; k++) {
+    const v = triangles[k];
+    position.set([positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]], 3 * k);
+    const c = byDefect ? defectColour(reply.input.angle_defects_rad[v]) : pieceColour(reply.model.face_pieces[Math.floor(k / 3)]);
+    colour.set([c.r, c.g, c.b], 3 * k);
+  }
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.BufferAttribute(position, 3));
+  geometry.setAttribute('color', new THREE.BufferAttribute(colour, 3));
+  geometry.computeVertexNormals();
+  sheet.geometry.dispose();
+  sheet.geometry = geometry;
+  sheet.material = colouredMaterial;
+  rulings.geometry.dispose();
+  rulings.geometry = new THREE.BufferGeometry();
+  handles.clear();
+  handleLines.clear();
+  frame(geometry);
 }
 
 // ---------------------------------------------------------------- pattern view
@@ -185,6 +243,22 @@ function showReport(reply, roundTrip) {
     roundTrip === undefined ? null : `round trip ${short(roundTrip)} ms`,
   ];
   showStatus('ok', parts.filter(Boolean).join(' · '));
+}
+
+function showMeshReport(reply) {
+  const r = reply.report;
+  const d = reply.check_report.angle_defects || {};
+  const pieces = new Set(reply.model.face_pieces).size;
+  const parts = [
+    state.mesh.name,
+    `${r.status}`,
+    `${r.layout || ''} ${pieces} piece${pieces === 1 ? '' : 's'}`.trim(),
+    `${reply.check_report.face_count} faces`,
+    d.max_rad === undefined ? null : `largest angle defect ${short(d.max_rad, 2)} rad`,
+    `isometry error ${short(r.isometry_error_max_relative, 2)}`,
+    `server ${short(reply.server_ms)} ms`,
+  ];
+  showStatus(r.status === 'ok' ? 'ok' : 'refused', parts.filter(Boolean).join(' · '));
 }
 
 // ---------------------------------------------------------------- solving
@@ -224,6 +298,7 @@ async function solveNow(scene, started, edit) {
       : await post('/api/bend', JSON.stringify(scene));
     received = performance.now();
     body = await response.json();
+    state.answers += 1;
   } catch (error) {
     state.lastError = String(error);
     showStatus('error', `the server did not answer: ${error}`);
@@ -278,17 +353,26 @@ function commit(scene, remember = true) {
   requestSolve(scene);
 }
 
+function current() {
+  return JSON.stringify(state.mode === 'mesh' ? state.meshOptions : state.scene);
+}
+
+function restore(text) {
+  if (state.mode === 'mesh') solveMesh(JSON.parse(text));
+  else requestSolve(JSON.parse(text));
+}
+
 function undo() {
   if (!state.undo.length) return;
-  state.redo.push(JSON.stringify(state.scene));
-  requestSolve(JSON.parse(state.undo.pop()));
+  state.redo.push(current());
+  restore(state.undo.pop());
   updateHistoryButtons();
 }
 
 function redo() {
   if (!state.redo.length) return;
-  state.undo.push(JSON.stringify(state.scene));
-  requestSolve(JSON.parse(state.redo.pop()));
+  state.undo.push(current());
+  restore(state.redo.pop());
   updateHistoryButtons();
 }
 
@@ -398,6 +482,7 @@ function load(text, path = null) {
     showStatus('error', `not a JSON document: ${error.message}`);
     return;
   }
+  if (state.mode !== 'bend') setMode('bend');
   if (!isBendScene(scene)) {
     showStatus('error', 'not a bend scene (an `outline` and `regions`); the other modes are not in the editor yet');
     return;
@@ -412,16 +497,20 @@ function load(text, path = null) {
   requestSolve(scene);
 }
 
-async function listFiles() {
-  const response = await fetch('/api/files');
-  const { files } = await response.json();
-  const select = $('file-list');
+function fillSelect(select, names) {
   select.innerHTML = '';
-  for (const file of files) {
+  for (const name of names) {
     const option = document.createElement('option');
-    option.textContent = file;
+    option.textContent = name;
     select.append(option);
   }
+}
+
+async function listFiles() {
+  const response = await fetch('/api/files');
+  const { files, meshes } = await response.json();
+  fillSelect($('file-list'), files);
+  fillSelect($('mesh-list'), meshes);
   return files;
 }
 
@@ -436,6 +525,152 @@ async function openFile(path) {
 }
 
 $('open').addEventListener('click', () => openFile($('file-list').value));
+
+// ---------------------------------------------------------------- mesh mode
+
+const MESH_EXTENSIONS = ['obj', 'ply', 'stl', 'off'];
+const isMeshName = (name) => MESH_EXTENSIONS.includes(name.split('.').pop().toLowerCase());
+const DOWNLOADS = {
+  bend: ['model.obj', 'model.glb', 'model.stl', 'pattern.svg', 'pattern.dxf', 'pattern.pdf', 'report.json'],
+  mesh: ['model.obj', 'model.glb', 'pattern.svg', 'pattern.dxf', 'pattern.pdf', 'report.json'],
+};
+
+function setMode(mode) {
+  state.mode = mode;
+  for (const button of document.querySelectorAll('#modes .mode')) button.classList.toggle('active', button.dataset.mode === mode);
+  for (const element of document.querySelectorAll('[data-for]')) element.hidden = element.dataset.for !== mode;
+  $('model-caption').textContent = mode === 'mesh'
+    ? '3D model: each piece of the pattern in its own colour (or the angle defect at each vertex); orbit, pan and zoom; drop a mesh file here.'
+    : '3D model: drag an orange control point (in end-handle mode: an end, or a green normal tip); orbit, pan and zoom elsewhere.';
+  fillSelect($('download'), ['Download…', ...DOWNLOADS[mode]]);
+  $('download').options[0].value = '';
+  state.undo = [];
+  state.redo = [];
+  updateHistoryButtons();
+}
+for (const button of document.querySelectorAll('#modes .mode')) {
+  button.addEventListener('click', () => {
+    if (button.dataset.mode === state.mode) return;
+    setMode(button.dataset.mode);
+    // Back to what this mode showed last.
+    framed = false;
+    if (state.mode === 'mesh' && state.mesh && state.meshOptions) solveMesh(state.meshOptions);
+    else if (state.mode === 'bend' && state.scene) requestSolve(state.scene);
+  });
+}
+
+function meshQuery(options) {
+  return new URLSearchParams({ name: state.mesh.name, charts: options.charts }).toString();
+}
+
+/** Checks and flattens the loaded mesh with `options`; a refusal keeps the last answer. */
+async function solveMesh(options) {
+  state.inFlight = true;
+  showStatus('busy', `flattening ${state.mesh.name}…`);
+  try {
+    const response = await fetch(`/api/mesh?${meshQuery(options)}`, { method: 'POST', body: state.mesh.bytes });
+    const body = await response.json();
+    if (!response.ok) {
+      state.refusals += 1;
+      state.lastError = body.error;
+      const kept = state.reply ? ' — kept the last result' : '';
+      showStatus('refused', `refused (${body.error.kind.replace('_', ' ')}): ${body.error.message}${kept}`);
+      return false;
+    }
+    state.reply = body;
+    state.meshOptions = options;
+    state.lastError = null;
+    $('charts').value = options.charts;
+    drawMeshModel(body);
+    drawPattern(body.pattern_svg);
+    render();
+    showMeshReport(body);
+    return true;
+  } catch (error) {
+    state.lastError = String(error);
+    showStatus('error', `the server did not answer: ${error}`);
+    return false;
+  } finally {
+    state.answers += 1;
+    state.inFlight = false;
+    window.dispatchEvent(new Event('sheetform-idle'));
+  }
+}
+
+/** Loads a mesh file's bytes (a fresh history); the mesh mode is switched on. */
+async function loadMesh(name, bytes, path = null) {
+  if (state.mode !== 'mesh') setMode('mesh');
+  const previous = { mesh: state.mesh, reply: state.reply, options: state.meshOptions, undo: state.undo, redo: state.redo };
+  state.mesh = { name, bytes, path };
+  state.undo = [];
+  state.redo = [];
+  updateHistoryButtons();
+  framed = false;
+  if (!(await solveMesh({ charts: $('charts').value }))) {
+    // A mesh the server refuses is not loaded: the last one stays.
+    state.mesh = previous.mesh;
+    state.reply = previous.reply;
+    state.meshOptions = previous.options;
+    state.undo = previous.undo;
+    state.redo = previous.redo;
+    updateHistoryButtons();
+    framed = true;
+  }
+}
+
+async function openMesh(path) {
+  const response = await fetch(`/api/files/${path.split('/').map(encodeURIComponent).join('/')}`);
+  if (!response.ok) {
+    showStatus('error', (await response.json()).error.message);
+    return;
+  }
+  await loadMesh(path.split('/').pop(), await response.arrayBuffer(), path);
+}
+
+$('open-mesh').addEventListener('click', () => openMesh($('mesh-list').value));
+$('open-local-mesh').addEventListener('change', async (event) => {
+  const file = event.target.files[0];
+  if (file) await loadMesh(file.name, await file.arrayBuffer());
+});
+$('charts').addEventListener('change', (event) => {
+  if (!state.mesh || !state.meshOptions) return;
+  const before = JSON.stringify(state.meshOptions);
+  solveMesh({ ...state.meshOptions, charts: event.target.value }).then((solved) => {
+    if (solved) {
+      state.undo.push(before);
+      state.redo = [];
+      updateHistoryButtons();
+    } else {
+      $('charts').value = JSON.parse(before).charts;
+    }
+  });
+});
+$('colour').addEventListener('change', () => {
+  if (state.mode === 'mesh' && state.reply) {
+    drawMeshModel(state.reply);
+    render();
+  }
+});
+
+// Files dropped on the 3D view: a mesh opens in mesh mode, a scene in bend mode.
+const modelView = $('model-view');
+modelView.addEventListener('dragover', (event) => {
+  event.preventDefault();
+  modelView.classList.add('dropping');
+});
+modelView.addEventListener('dragleave', () => modelView.classList.remove('dropping'));
+modelView.addEventListener('drop', async (event) => {
+  event.preventDefault();
+  modelView.classList.remove('dropping');
+  const file = event.dataTransfer.files[0];
+  if (!file) return;
+  if (isMeshName(file.name)) {
+    await loadMesh(file.name, await file.arrayBuffer());
+  } else {
+    setMode('bend');
+    load(await file.text(), null);
+  }
+});
 $('open-local').addEventListener('change', async (event) => {
   const file = event.target.files[0];
   if (file) load(await file.text(), null);
@@ -460,8 +695,10 @@ $('save').addEventListener('click', async () => {
 $('download').addEventListener('change', async (event) => {
   const name = event.target.value;
   event.target.value = '';
-  if (!name || !state.scene) return;
-  const response = await post(`/api/bend/file/${name}`, JSON.stringify(state.scene));
+  if (!name || (state.mode === 'mesh' ? !state.meshOptions : !state.scene)) return;
+  const response = state.mode === 'mesh'
+    ? await fetch(`/api/mesh/file/${name}?${meshQuery(state.meshOptions)}`, { method: 'POST', body: state.mesh.bytes })
+    : await post(`/api/bend/file/${name}`, JSON.stringify(state.scene));
   if (!response.ok) {
     showStatus('error', `${name}: ${(await response.json()).error.message}`);
     return;
@@ -486,6 +723,9 @@ window.sheetformEditor = {
   state,
   load,
   openFile,
+  openMesh,
+  loadMesh,
+  setMode,
   /** The page coordinates of a control point's handle. */
   handleScreenPosition(region, index) {
     return pageCoordinates(new THREE.Vector3(...state.scene.regions[region].curve.control_points[index]));
@@ -514,6 +754,7 @@ window.sheetformEditor = {
 };
 
 resize();
+setMode('bend');
 listFiles().then((files) => {
   const first = files.find((f) => f === 'examples/bent-rectangle.json') || files[0];
   if (first) $('file-list').value = first;

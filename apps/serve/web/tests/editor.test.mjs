@@ -6,8 +6,11 @@
 // Checks, in bend mode: an example loads; a control point dragged with the mouse changes
 // the model, which stays isometric to its pattern (in the page and in the server's
 // report); undo restores the exact previous scene; an inadmissible drag is refused and
-// the last admissible scene kept; the server refuses files outside its directory and
-// hostile requests and keeps serving. Measures an edit's round trip (event → server
+// the last admissible scene kept. In mesh mode: a bundled mesh is checked and flattened
+// exactly, a mesh dropped on the 3D view replaces it, a layout change is undone exactly,
+// an impossible layout and a malformed mesh are refused with the last result kept, and
+// the OBJ downloads. The server refuses files outside its directory and hostile
+// requests and keeps serving. Measures an edit's round trip (event → server
 // solve → redraw) on a 1 000-ruling sheet. Screenshots go to OUTPUT_DIR; the figures
 // are printed as JSON on the last line.
 
@@ -175,7 +178,87 @@ try {
   }, JSON.stringify(fine));
   figures.bend_1000_rulings_post_only_ms = { median: median(postOnly), count: postOnly.length };
 
-  // 7. The server: no file outside its directory, hostile requests answered with an
+  // 7. Mesh mode: a bundled mesh opens from the list and is checked and flattened; a
+  // mesh dropped on the 3D view replaces it; a layout change is undone exactly; a layout
+  // the mesh cannot have and a malformed mesh are refused and the last result kept; the
+  // files `sheetform flatten` writes download.
+  const answers = () => page.evaluate(() => window.sheetformEditor.state.answers);
+  async function answered(action) {
+    const before = await answers();
+    await action();
+    await page.waitForFunction((n) => window.sheetformEditor.state.answers > n && window.sheetformEditor.idle(), before);
+  }
+  const meshReply = () => page.evaluate(() => window.sheetformEditor.state.reply);
+  await page.click('#modes .mode[data-mode="mesh"]');
+  await page.waitForFunction(() => document.querySelectorAll('#mesh-list option').length > 0);
+  await page.selectOption('#mesh-list', 'examples/meshes/lamp-shade.obj');
+  await answered(() => page.click('#open-mesh'));
+  let mesh = await meshReply();
+  assert.equal(mesh.report.status, 'ok', JSON.stringify(mesh.report.layout_reason));
+  assert.equal(await page.getAttribute('#status', 'data-state'), 'ok');
+  assert.ok(Math.max(...mesh.input.angle_defects_rad.map(Math.abs)) < 1e-9, 'the lamp shade is developable');
+  assert.ok((await page.evaluate(() => window.sheetformEditor.isometryError())) < 1e-9, 'flattened exactly');
+  assert.ok(await page.$('#pattern svg'), 'the pattern is drawn');
+  assert.equal(await page.isVisible('#drag-mode'), false, 'bend controls are hidden in mesh mode');
+  await page.screenshot({ path: join(outputDir, 'mesh.png') });
+
+  // Dropped on the 3D view (a drag and drop of a file): the closed gift box, a net.
+  const dropFile = (name, text) => page.evaluate(([n, t]) => {
+    const transfer = new DataTransfer();
+    transfer.items.add(new File([t], n));
+    const target = document.getElementById('model-view');
+    target.dispatchEvent(new DragEvent('dragover', { dataTransfer: transfer, bubbles: true, cancelable: true }));
+    target.dispatchEvent(new DragEvent('drop', { dataTransfer: transfer, bubbles: true, cancelable: true }));
+  }, [name, text]);
+  await answered(() => dropFile('gift-box.obj', readFileSync(join(repository, 'examples/meshes/gift-box.obj'), 'utf8')));
+  mesh = await meshReply();
+  assert.equal(mesh.report.layout, 'net');
+  assert.equal(new Set(mesh.model.face_pieces).size, mesh.report.net.piece_count);
+  for (const g of mesh.input.angle_defects_rad) assert.ok(Math.abs(g - Math.PI / 2) < 1e-12, `a box corner's defect: ${g}`);
+  assert.ok((await page.evaluate(() => window.sheetformEditor.isometryError())) < 1e-9);
+  await page.selectOption('#colour', 'defect');
+  await page.screenshot({ path: join(outputDir, 'mesh-net.png') });
+  await page.selectOption('#colour', 'pieces');
+
+  // A layout change, undone exactly.
+  const net = await meshReply();
+  await answered(() => page.selectOption('#charts', 'smooth'));
+  const smooth = await meshReply();
+  assert.equal(smooth.report.status, 'ok');
+  assert.notDeepEqual(smooth.model.face_pieces, net.model.face_pieces, 'the layout changed the pieces');
+  await answered(() => page.click('#undo'));
+  const undone = await meshReply();
+  assert.deepEqual(undone.model, net.model, 'undo restores the exact previous result');
+  assert.equal(await page.inputValue('#charts'), 'auto');
+  await answered(() => page.click('#redo'));
+  assert.deepEqual((await meshReply()).model, smooth.model);
+
+  // Refusals: a closed box cannot lie whole; a malformed mesh is not a mesh.
+  const refusalsBeforeMesh = await page.evaluate(() => window.sheetformEditor.state.refusals);
+  await answered(() => page.selectOption('#charts', 'never'));
+  assert.equal(await page.getAttribute('#status', 'data-state'), 'refused');
+  assert.equal(await page.inputValue('#charts'), 'smooth', 'the last admissible layout is kept');
+  assert.deepEqual((await meshReply()).model, smooth.model);
+  await answered(() => dropFile('broken.obj', 'v 0 0 0\nv 1 0 0\nf 1 2 9\n'));
+  assert.equal(await page.getAttribute('#status', 'data-state'), 'refused');
+  assert.match(await page.textContent('#status'), /broken\.obj/);
+  assert.equal(await page.evaluate(() => window.sheetformEditor.state.mesh.name), 'gift-box.obj', 'the last mesh is kept');
+  assert.equal((await page.evaluate(() => window.sheetformEditor.state.refusals)) - refusalsBeforeMesh, 2);
+  assert.equal(await page.isEnabled('#undo'), true, 'the kept result keeps its history');
+  await page.screenshot({ path: join(outputDir, 'mesh-refused.png') });
+
+  // A download: the model as OBJ with the pattern as `vt`.
+  const [download] = await Promise.all([page.waitForEvent('download'), page.selectOption('#download', 'model.obj')]);
+  const obj = readFileSync(await download.path(), 'utf8');
+  assert.ok(obj.split('\n').some((line) => line.startsWith('vt ')), 'the OBJ carries the pattern');
+
+  // Back to bend mode: the last bend scene is drawn again, its controls shown.
+  await answered(() => page.click('#modes .mode[data-mode="bend"]'));
+  assert.equal((await meshReply()).report.ruling_count, 1000);
+  assert.equal(await page.isVisible('#drag-mode'), true);
+  assert.equal(await page.isVisible('#charts'), false);
+
+  // 8. The server: no file outside its directory, hostile requests answered with an
   // error, and it keeps serving.
   for (const path of ['..%2FCargo.toml', '%2Fetc%2Fpasswd', '..%2F..%2Fetc%2Fpasswd']) {
     const response = await fetch(`${url}api/files/${path}`);

@@ -136,6 +136,11 @@ impl PipelineError {
             Self::Inadmissible { .. } => ErrorKind::Inadmissible,
             Self::Cancelled => ErrorKind::Cancelled,
             Self::Io(_) | Self::OutputDirectory { .. } => ErrorKind::Output,
+            // A mesh that is not a clean manifold, or not a disk where one is needed, is
+            // the input's problem; a layout solver that fails is ours.
+            Self::Flatten(
+                sheetform_flatten::FlattenError::Topology { .. } | sheetform_flatten::FlattenError::NotADisk { .. },
+            ) => ErrorKind::InvalidInput,
             Self::Flatten(_) | Self::InvalidResult(_) => ErrorKind::Failed,
             Self::Photo(PhotoError::Solver(_)) => ErrorKind::Failed,
             Self::Read { .. }

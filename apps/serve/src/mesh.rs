@@ -1,0 +1,229 @@
+//! The mesh mode's routes: a mesh file's bytes in (OBJ, PLY, STL, OFF, as `sheetform
+//! check` and `sheetform flatten` read them), its developability, the flattened model
+//! and its pattern out; and any file `sheetform flatten` writes, for download. Both run
+//! the library's `run_check` and `run_flatten`; nothing of a pipeline is repeated here.
+
+use crate::api::{content_type, solve, ApiError, MeshArrays};
+use crate::AppState;
+use axum::body::Bytes;
+use axum::extract::{Path, Query, State};
+use axum::http::{header, HeaderValue, StatusCode};
+use axum::response::{IntoResponse, Response};
+use axum::routing::post;
+use axum::{Json, Router};
+use serde::{Deserialize, Serialize};
+use sheetform::mesh::{LengthUnit, TriangleMesh};
+use sheetform::pipeline::{
+    run_check, run_flatten, ChartMode, CheckOptions, FlattenMethod, FlattenOptions, OutputSet, PipelineError,
+    RunContext,
+};
+use sheetform::report::Report;
+use std::sync::Arc;
+use std::time::Instant;
+
+pub(crate) fn routes() -> Router<Arc<AppState>> {
+    Router::new()
+        .route("/api/mesh", post(mesh))
+        .route("/api/mesh/file/{name}", post(mesh_file))
+}
+
+/// The query of a mesh request: the file's name (its extension picks the reader) and
+/// the options of `sheetform flatten` the editor offers, spelled as on the command line.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MeshQuery {
+    /// The file's name (`box.obj`): its extension picks the format.
+    name: String,
+    /// `auto` (default), `smooth`, `net` or `never` (`--charts`).
+    #[serde(default)]
+    charts: Option<String>,
+    /// `exact` (default), `lscm` or `arap` (`--method`).
+    #[serde(default)]
+    method: Option<String>,
+    /// Weld vertices closer than this (model units; `--weld`).
+    #[serde(default)]
+    weld: Option<f64>,
+    /// `mm` (default), `cm`, `m` or `in` (`--units`).
+    #[serde(default)]
+    units: Option<String>,
+}
+
+impl MeshQuery {
+    /// The flatten options, parsed at the edge like the CLI's arguments.
+    fn flatten_options(&self) -> Result<FlattenOptions, ApiError> {
+        let charts = match self.charts.as_deref().unwrap_or("auto") {
+            "auto" => ChartMode::Auto,
+            "smooth" => ChartMode::Smooth,
+            "net" => ChartMode::Net,
+            "never" => ChartMode::Never,
+            other => {
+                return Err(ApiError::invalid(format!(
+                    "charts: `{}` is not auto, smooth, net or never",
+                    short(other)
+                )))
+            }
+        };
+        let method = match self.method.as_deref().unwrap_or("exact") {
+            "exact" => FlattenMethod::Exact,
+            "lscm" => FlattenMethod::Lscm,
+            "arap" => FlattenMethod::Arap,
+            other => {
+                return Err(ApiError::invalid(format!(
+                    "method: `{}` is not exact, lscm or arap",
+                    short(other)
+                )))
+            }
+        };
+        Ok(FlattenOptions {
+            charts,
+            method,
+            weld: self.weld,
+            unit: self.unit()?,
+            input: Some(self.name.clone()),
+            ..Default::default()
+        })
+    }
+
+    fn unit(&self) -> Result<LengthUnit, ApiError> {
+        Ok(match self.units.as_deref().unwrap_or("mm") {
+            "mm" => LengthUnit::Mm,
+            "cm" => LengthUnit::Cm,
+            "m" => LengthUnit::M,
+            "in" => LengthUnit::In,
+            other => {
+                return Err(ApiError::invalid(format!(
+                    "units: `{}` is not mm, cm, m or in",
+                    short(other)
+                )))
+            }
+        })
+    }
+
+    /// The mesh in the body, read by the CLI's reader for the name's extension.
+    fn read(&self, body: &[u8]) -> Result<TriangleMesh, ApiError> {
+        let name = std::path::Path::new(&self.name);
+        if name.file_name().is_none() || self.name.contains(['/', '\\']) {
+            return Err(ApiError::invalid("name: a file name such as `model.obj`"));
+        }
+        sheetform::io::mesh_from_bytes(name, body).map_err(|e| ApiError::from(PipelineError::from(e)))
+    }
+}
+
+/// A token of a query value, cut short for a message.
+fn short(value: &str) -> String {
+    sheetform::geometry::shortened_message(value)
+}
+
+/// The input mesh with its angle defects, for the developability colour map.
+#[derive(Debug, Serialize)]
+struct CheckedMesh {
+    /// `x y z` per vertex.
+    positions: Vec<f64>,
+    /// Three vertex indices per triangle.
+    triangles: Vec<u32>,
+    /// `2π − Σθ` per vertex (0 on the boundary; radians).
+    angle_defects_rad: Vec<f64>,
+}
+
+/// The reply to a mesh: its check, the flattened model and pattern, both reports.
+#[derive(Debug, Serialize)]
+struct MeshReply {
+    /// The mesh as read (and welded), with its angle defects.
+    input: CheckedMesh,
+    /// The flattened model: cut where the layout cut it, `flat` its pattern at 1:1.
+    model: MeshArrays,
+    pattern_svg: String,
+    /// `sheetform flatten`'s report.
+    report: Report,
+    /// `sheetform check`'s report.
+    check_report: Report,
+    /// Server time for reading, checking, flattening and rendering (ms).
+    server_ms: f64,
+}
+
+fn check_and_flatten(query: &MeshQuery, body: &[u8], root: std::path::PathBuf) -> Result<MeshReply, ApiError> {
+    let start = Instant::now();
+    let options = query.flatten_options()?;
+    let mesh = query.read(body)?;
+    let context = RunContext::new(root).with_outputs(OutputSet::Preview);
+    let check = run_check(
+        mesh.clone(),
+        &CheckOptions {
+            weld: query.weld,
+            unit: options.unit,
+            input: Some(query.name.clone()),
+            ..Default::default()
+        },
+        &context,
+    )?;
+    let run = run_flatten(mesh, &options, &context)?;
+    let pattern_svg = run
+        .files
+        .iter()
+        .find(|(name, _)| name == "pattern.svg")
+        .map(|(_, bytes)| String::from_utf8_lossy(bytes).into_owned())
+        .unwrap_or_default();
+    Ok(MeshReply {
+        input: CheckedMesh {
+            positions: check.mesh.positions.iter().flat_map(|p| [p.x, p.y, p.z]).collect(),
+            triangles: check.mesh.triangles.iter().flatten().copied().collect(),
+            angle_defects_rad: check.vertices.angle_defect.clone(),
+        },
+        model: MeshArrays::new(&run.sheet),
+        pattern_svg,
+        report: run.report,
+        check_report: check.report,
+        server_ms: start.elapsed().as_secs_f64() * 1e3,
+    })
+}
+
+/// `POST /api/mesh?name=…&charts=…`: the mesh file's bytes as the body.
+async fn mesh(
+    State(state): State<Arc<AppState>>,
+    Query(query): Query<MeshQuery>,
+    body: Bytes,
+) -> Result<Response, ApiError> {
+    let root = state.root.clone();
+    let reply = solve(&state, move || check_and_flatten(&query, &body, root)).await?;
+    Ok(Json(reply).into_response())
+}
+
+/// `POST /api/mesh/file/{name}?name=…&charts=…`: one file `sheetform flatten` writes.
+async fn mesh_file(
+    State(state): State<Arc<AppState>>,
+    Path(file): Path<String>,
+    Query(query): Query<MeshQuery>,
+    body: Bytes,
+) -> Result<Response, ApiError> {
+    let root = state.root.clone();
+    let wanted = file.clone();
+    let bytes = solve(&state, move || {
+        let options = query.flatten_options()?;
+        let mesh = query.read(&body)?;
+        let run = run_flatten(mesh, &options, &RunContext::new(root))?;
+        if wanted == "report.json" {
+            return Ok(serde_json::to_vec_pretty(&run.report).expect("the report serialises"));
+        }
+        run.files
+            .into_iter()
+            .find(|(n, _)| *n == wanted)
+            .map(|(_, bytes)| bytes)
+            .ok_or_else(|| ApiError {
+                status: StatusCode::NOT_FOUND,
+                kind: "invalid_input",
+                message: format!("`sheetform flatten` writes no file `{}` for this mesh", short(&wanted)),
+                report: None,
+            })
+    })
+    .await?;
+    let disposition = HeaderValue::from_str(&format!("attachment; filename=\"{file}\""))
+        .unwrap_or(HeaderValue::from_static("attachment"));
+    Ok((
+        [
+            (header::CONTENT_TYPE, HeaderValue::from_static(content_type(&file))),
+            (header::CONTENT_DISPOSITION, disposition),
+        ],
+        bytes,
+    )
+        .into_response())
+}
