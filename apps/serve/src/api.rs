@@ -137,19 +137,22 @@ pub(crate) async fn solve<T: Send + 'static>(
     })
 }
 
+/// The pattern SVG of a run's rendered files (empty when it has none).
+pub(crate) fn pattern_svg(files: &[(String, Vec<u8>)]) -> String {
+    files
+        .iter()
+        .find(|(name, _)| name == "pattern.svg")
+        .map(|(_, bytes)| String::from_utf8_lossy(bytes).into_owned())
+        .unwrap_or_default()
+}
+
 /// Bends `scene` with the preview outputs: what the editor draws.
 fn preview(scene: &BendScene, root: std::path::PathBuf, start: Instant) -> Result<BendReply, ApiError> {
     let context = RunContext::new(root).with_outputs(OutputSet::Preview);
     let run = run_bend(scene, &BendRunOptions::default(), &context)?;
-    let pattern_svg = run
-        .files
-        .iter()
-        .find(|(name, _)| name == "pattern.svg")
-        .map(|(_, bytes)| String::from_utf8_lossy(bytes).into_owned())
-        .unwrap_or_default();
     Ok(BendReply {
         model: MeshArrays::new(&run.sheet.mesh),
-        pattern_svg,
+        pattern_svg: pattern_svg(&run.files),
         report: run.report,
         server_ms: start.elapsed().as_secs_f64() * 1e3,
     })
@@ -220,7 +223,7 @@ async fn bend_edit(State(state): State<Arc<AppState>>, body: String) -> Result<R
 }
 
 /// Content type of a file the CLI writes.
-pub(crate) fn content_type(name: &str) -> &'static str {
+fn content_type(name: &str) -> &'static str {
     match name.rsplit('.').next() {
         Some("svg") => "image/svg+xml",
         Some("pdf") => "application/pdf",
@@ -230,6 +233,46 @@ pub(crate) fn content_type(name: &str) -> &'static str {
         Some("png") => "image/png",
         _ => "application/octet-stream",
     }
+}
+
+/// The file `wanted` of a run's outputs (`report.json` from its report), or a 404 naming
+/// the command that does not write it.
+pub(crate) fn output_file(
+    files: Vec<(String, Vec<u8>)>,
+    report: &Report,
+    wanted: &str,
+    command: &str,
+) -> Result<Vec<u8>, ApiError> {
+    if wanted == "report.json" {
+        return Ok(serde_json::to_vec_pretty(report).expect("the report serialises"));
+    }
+    files
+        .into_iter()
+        .find(|(n, _)| n == wanted)
+        .map(|(_, bytes)| bytes)
+        .ok_or_else(|| ApiError {
+            status: StatusCode::NOT_FOUND,
+            kind: "invalid_input",
+            message: format!(
+                "`sheetform {command}` writes no file `{}` here",
+                sheetform::geometry::shortened_message(wanted)
+            ),
+            report: None,
+        })
+}
+
+/// A download: `bytes` as the file `name`.
+pub(crate) fn attachment(name: &str, bytes: Vec<u8>) -> Response {
+    let disposition = HeaderValue::from_str(&format!("attachment; filename=\"{name}\""))
+        .unwrap_or(HeaderValue::from_static("attachment"));
+    (
+        [
+            (header::CONTENT_TYPE, HeaderValue::from_static(content_type(name))),
+            (header::CONTENT_DISPOSITION, disposition),
+        ],
+        bytes,
+    )
+        .into_response()
 }
 
 async fn bend_file(
@@ -242,29 +285,8 @@ async fn bend_file(
     let bytes = solve(&state, move || {
         let scene = bend_scene(&body)?;
         let run = run_bend(&scene, &BendRunOptions::default(), &RunContext::new(root))?;
-        if wanted == "report.json" {
-            return Ok(serde_json::to_vec_pretty(&run.report).expect("the report serialises"));
-        }
-        run.files
-            .into_iter()
-            .find(|(n, _)| *n == wanted)
-            .map(|(_, bytes)| bytes)
-            .ok_or_else(|| ApiError {
-                status: StatusCode::NOT_FOUND,
-                kind: "invalid_input",
-                message: format!("`sheetform bend` writes no file `{wanted}` for this scene"),
-                report: None,
-            })
+        output_file(run.files, &run.report, &wanted, "bend")
     })
     .await?;
-    let disposition = HeaderValue::from_str(&format!("attachment; filename=\"{name}\""))
-        .unwrap_or(HeaderValue::from_static("attachment"));
-    Ok((
-        [
-            (header::CONTENT_TYPE, HeaderValue::from_static(content_type(&name))),
-            (header::CONTENT_DISPOSITION, disposition),
-        ],
-        bytes,
-    )
-        .into_response())
+    Ok(attachment(&name, bytes))
 }

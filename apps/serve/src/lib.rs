@@ -8,6 +8,8 @@
 //! |---|---|
 //! | `POST /api/bend` | a bend scene in, the bent sheet (arrays), the pattern SVG and the report out ([`sheetform::pipeline::run_bend`] with [`OutputSet::Preview`](sheetform::pipeline::OutputSet)) |
 //! | `POST /api/bend/file/{name}` | one of the files `sheetform bend` writes (OBJ, GLB, STL, SVG, DXF, PDF), for download |
+//! | `POST /api/slit` | a slit scene in, the bent sheet, its pattern and the report (per-strip gaps) out ([`sheetform::pipeline::run_slit`], preview outputs) |
+//! | `POST /api/slit/file/{name}` | one of the files `sheetform slit` writes, for download |
 //! | `POST /api/mesh?name=…` | a mesh file's bytes in (OBJ, PLY, STL, OFF), its developability ([`sheetform::pipeline::run_check`]), the flattened model, its pattern and both reports out ([`sheetform::pipeline::run_flatten`], preview outputs) |
 //! | `POST /api/mesh/file/{name}?name=…` | one of the files `sheetform flatten` writes, for download |
 //! | `GET /api/files` | the scene files (`*.json`) and the meshes under the served directory |
@@ -26,6 +28,7 @@ mod api;
 mod assets;
 mod files;
 mod mesh;
+mod slit;
 
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 use std::path::PathBuf;
@@ -112,6 +115,7 @@ pub fn router(options: &ServeOptions) -> Result<axum::Router, ServeError> {
         .merge(assets::routes())
         .merge(api::routes())
         .merge(mesh::routes())
+        .merge(slit::routes())
         .merge(files::routes())
         .layer(axum::extract::DefaultBodyLimit::max(options.max_request_bytes))
         .with_state(state))

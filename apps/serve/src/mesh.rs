@@ -3,11 +3,10 @@
 //! and its pattern out; and any file `sheetform flatten` writes, for download. Both run
 //! the library's `run_check` and `run_flatten`; nothing of a pipeline is repeated here.
 
-use crate::api::{content_type, solve, ApiError, MeshArrays};
+use crate::api::{attachment, output_file, pattern_svg, solve, ApiError, MeshArrays};
 use crate::AppState;
 use axum::body::Bytes;
 use axum::extract::{Path, Query, State};
-use axum::http::{header, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::routing::post;
 use axum::{Json, Router};
@@ -157,12 +156,6 @@ fn check_and_flatten(query: &MeshQuery, body: &[u8], root: std::path::PathBuf) -
         &context,
     )?;
     let run = run_flatten(mesh, &options, &context)?;
-    let pattern_svg = run
-        .files
-        .iter()
-        .find(|(name, _)| name == "pattern.svg")
-        .map(|(_, bytes)| String::from_utf8_lossy(bytes).into_owned())
-        .unwrap_or_default();
     Ok(MeshReply {
         input: CheckedMesh {
             positions: check.mesh.positions.iter().flat_map(|p| [p.x, p.y, p.z]).collect(),
@@ -170,7 +163,7 @@ fn check_and_flatten(query: &MeshQuery, body: &[u8], root: std::path::PathBuf) -
             angle_defects_rad: check.vertices.angle_defect.clone(),
         },
         model: MeshArrays::new(&run.sheet),
-        pattern_svg,
+        pattern_svg: pattern_svg(&run.files),
         report: run.report,
         check_report: check.report,
         server_ms: start.elapsed().as_secs_f64() * 1e3,
@@ -201,29 +194,8 @@ async fn mesh_file(
         let options = query.flatten_options()?;
         let mesh = query.read(&body)?;
         let run = run_flatten(mesh, &options, &RunContext::new(root))?;
-        if wanted == "report.json" {
-            return Ok(serde_json::to_vec_pretty(&run.report).expect("the report serialises"));
-        }
-        run.files
-            .into_iter()
-            .find(|(n, _)| *n == wanted)
-            .map(|(_, bytes)| bytes)
-            .ok_or_else(|| ApiError {
-                status: StatusCode::NOT_FOUND,
-                kind: "invalid_input",
-                message: format!("`sheetform flatten` writes no file `{}` for this mesh", short(&wanted)),
-                report: None,
-            })
+        output_file(run.files, &run.report, &wanted, "flatten")
     })
     .await?;
-    let disposition = HeaderValue::from_str(&format!("attachment; filename=\"{file}\""))
-        .unwrap_or(HeaderValue::from_static("attachment"));
-    Ok((
-        [
-            (header::CONTENT_TYPE, HeaderValue::from_static(content_type(&file))),
-            (header::CONTENT_DISPOSITION, disposition),
-        ],
-        bytes,
-    )
-        .into_response())
+    Ok(attachment(&file, bytes))
 }

@@ -379,3 +379,41 @@ async fn meshes_are_listed_and_opened_as_bytes() {
     assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
     assert!(isometry_error(&json(&body)["model"]) < 1e-9);
 }
+
+/// The slit mode: the chair is solved as `sheetform slit` solves it (every strip closed
+/// at the seat curve, the sheet isometric to its pattern), its files download, and an
+/// invalid scene is refused naming the field.
+#[tokio::test]
+async fn a_slit_scene_is_solved_with_its_gap_per_strip() {
+    let (_dir, root) = served();
+    let app = router(&ServeOptions {
+        root,
+        ..Default::default()
+    })
+    .unwrap();
+    let chair = std::fs::read_to_string(repository().join("examples/slit/chair.json")).unwrap();
+    let (status, body) = send(&app, "POST", "/api/slit", chair.clone()).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let reply = json(&body);
+    assert_eq!(reply["report"]["status"], "ok");
+    assert!(
+        isometry_error(&reply["model"]) < 1e-8,
+        "{}",
+        isometry_error(&reply["model"])
+    );
+    let strips = reply["report"]["slit"]["strips"].as_array().unwrap();
+    assert_eq!(strips.len(), 6);
+    assert!(strips.iter().all(|s| s["gap_mm"].as_f64().unwrap() < 1e-6));
+    assert!(reply["pattern_svg"].as_str().unwrap().contains("<svg"));
+    let (status, body) = send(&app, "POST", "/api/slit/file/model.obj", chair.clone()).await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(String::from_utf8_lossy(&body).lines().any(|l| l.starts_with("vt ")));
+    let (status, body) = send(&app, "POST", "/api/slit/file/mould.stl", chair.clone()).await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(body.len() > 84, "a binary STL with triangles");
+    let mut scene: Value = serde_json::from_str(&chair).unwrap();
+    scene["sheet"]["strip_count"] = 0.into();
+    let (status, body) = send(&app, "POST", "/api/slit", scene.to_string()).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(String::from_utf8_lossy(&body).contains("strip_count"));
+}

@@ -4,7 +4,9 @@
 // shape, an invalid scene) is shown and the last admissible scene is kept. Mesh mode: a
 // mesh file (from the served directory, the disk, or dropped on the 3D view) goes to the
 // server, which runs `sheetform check` and `sheetform flatten`'s pipelines and answers
-// with its angle defects, the flattened model, its pattern and both reports.
+// with its angle defects, the flattened model, its pattern and both reports. Slit mode:
+// the sheet's lengths and strip count, and the control points of the leg and seat
+// curves dragged in their planes; every change re-solves the strips (`sheetform slit`).
 
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
@@ -13,7 +15,8 @@ const $ = (id) => document.getElementById(id);
 
 /** Editor state: the last admissible scene and what the server said of it. */
 const state = {
-  mode: 'bend', // 'bend' or 'mesh'
+  mode: 'bend', // 'bend', 'slit' or 'mesh'
+  sceneByMode: {}, // the last admissible scene of each scene mode (bend, slit)
   mesh: null, // mesh mode: { name, bytes (ArrayBuffer), path } of the loaded mesh
   meshOptions: null, // mesh mode: the layout options of the last answered request
   path: null, // the scene file's path in the served directory, when it came from there
@@ -59,12 +62,17 @@ const sheet = new THREE.Mesh(new THREE.BufferGeometry(), sheetMaterial);
 const rulings = new THREE.LineSegments(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0x8a7a5a }));
 const handles = new THREE.Group();
 const handleLines = new THREE.Group();
-view.add(sheet, rulings, handles, handleLines);
+// Everything drawn of a design, in its own frame: bend scenes are z-up as the view,
+// slit scenes y-up (the paper's), turned upright by a quarter turn about x.
+const content = new THREE.Group();
+content.add(sheet, rulings, handles, handleLines);
+view.add(content);
 const handleGeometry = new THREE.SphereGeometry(1, 20, 14);
 // Handles and the control polygon are drawn over the sheet, never hidden behind it.
 const handleMaterial = new THREE.MeshBasicMaterial({ color: 0xe8731a, depthTest: false });
 const handleActive = new THREE.MeshBasicMaterial({ color: 0xc0392b, depthTest: false });
 const normalMaterial = new THREE.MeshBasicMaterial({ color: 0x2e8b57, depthTest: false });
+const seatMaterial = new THREE.MeshBasicMaterial({ color: 0x2b5d8a, depthTest: false });
 let handleRadius = 3;
 let framed = false;
 
@@ -103,6 +111,10 @@ function dragMode() {
 function drawHandles(scene) {
   handles.clear();
   handleLines.clear();
+  if (state.mode === 'slit') {
+    drawSlitHandles(scene);
+    return;
+  }
   const ends = dragMode() === 'ends';
   for (const { region, points } of draggableCurves(scene)) {
     points.forEach((p, index) => {
@@ -134,6 +146,34 @@ function drawHandles(scene) {
   }
 }
 
+/** A slit scene's draggable points: the leg curve at the sheet's front edge (`[x, y]`
+ * at z = 0) and the seat curve in the symmetry plane (`[z, y]` at x = 0), in the
+ * scene's y-up frame. */
+function slitCurves(scene) {
+  const curves = [];
+  if (scene.leg_curve) curves.push({ curve: 'leg_curve', points: scene.leg_curve.control_points.map(([x, y]) => [x, y, 0]) });
+  if (scene.seat_curve) curves.push({ curve: 'seat_curve', points: scene.seat_curve.control_points.map(([z, y]) => [0, y, z]) });
+  return curves;
+}
+
+function drawSlitHandles(scene) {
+  for (const { curve, points } of slitCurves(scene)) {
+    const material = curve === 'leg_curve' ? handleMaterial : seatMaterial;
+    points.forEach((p, index) => {
+      const ball = new THREE.Mesh(handleGeometry, material);
+      ball.position.set(...p);
+      ball.scale.setScalar(handleRadius);
+      ball.userData = { curve, index };
+      ball.renderOrder = 2;
+      handles.add(ball);
+    });
+    const polygon = new THREE.BufferGeometry().setFromPoints(points.map((p) => new THREE.Vector3(...p)));
+    const line = new THREE.Line(polygon, new THREE.LineDashedMaterial({ color: material.color, dashSize: 4, gapSize: 3, depthTest: false }));
+    line.computeLineDistances();
+    handleLines.add(line);
+  }
+}
+
 function drawModel(model) {
   const geometry = new THREE.BufferGeometry();
   geometry.setAttribute('position', new THREE.Float32BufferAttribute(model.positions, 3));
@@ -160,8 +200,11 @@ function drawModel(model) {
 /** Points the camera at `geometry` once per loaded scene or mesh. */
 function frame(geometry) {
   if (!framed) {
+    content.rotation.x = state.mode === 'slit' ? Math.PI / 2 : 0;
+    content.updateMatrixWorld(true);
     geometry.computeBoundingSphere();
-    const { center, radius } = geometry.boundingSphere;
+    const { radius } = geometry.boundingSphere;
+    const center = content.localToWorld(geometry.boundingSphere.center.clone());
     controls.target.copy(center);
     camera.position.copy(center).add(new THREE.Vector3(0.9, -1.6, 1.1).multiplyScalar(radius * 1.6));
     camera.near = radius / 100;
@@ -230,7 +273,30 @@ function showStatus(kind, text) {
   footer.textContent = text;
 }
 
+function showSlitReport(reply, roundTrip) {
+  const r = reply.report;
+  const strips = r.slit.strips;
+  const gap = Math.max(...strips.map((s) => s.gap_mm));
+  const parts = [
+    `${r.status}`,
+    `${strips.length} strips (${r.slit.solve_mode})`,
+    `largest gap ${short(gap, 2)} mm`,
+    `isometry error ${short(r.isometry_error_max_relative, 2)}`,
+    `server ${short(reply.server_ms)} ms`,
+    roundTrip === undefined ? null : `round trip ${short(roundTrip)} ms`,
+  ];
+  showStatus(r.status === 'ok' ? 'ok' : 'refused', parts.filter(Boolean).join(' · '));
+  // The gap each strip leaves at the seat curve, live (Tsuruta et al. Eq. 1's no-gap term).
+  $('strip-gaps').innerHTML = '<strong>gap per strip</strong>' + strips
+    .map((s) => `<div data-strip="${s.strip}">strip ${s.strip + 1}: ${short(s.gap_mm, 2)} mm${s.converged ? '' : ' (not converged)'}</div>`)
+    .join('');
+}
+
 function showReport(reply, roundTrip) {
+  if (state.mode === 'slit') {
+    showSlitReport(reply, roundTrip);
+    return;
+  }
   const r = reply.report;
   const margin = Math.min(...(r.regions || []).map((g) => g.regression_margin_mm ?? Infinity));
   const parts = [
@@ -288,6 +354,7 @@ function requestSolve(scene, started = performance.now(), edit = null) {
 }
 
 async function solveNow(scene, started, edit) {
+  const mode = state.mode;
   let response;
   let body;
   const sent = performance.now();
@@ -295,10 +362,12 @@ async function solveNow(scene, started, edit) {
   try {
     response = edit
       ? await post('/api/bend/edit', JSON.stringify({ scene, edit }))
-      : await post('/api/bend', JSON.stringify(scene));
+      : await post(state.mode === 'slit' ? '/api/slit' : '/api/bend', JSON.stringify(scene));
     received = performance.now();
     body = await response.json();
     state.answers += 1;
+    // The user switched modes while this was in flight: its answer is not drawn.
+    if (state.mode !== mode) return false;
   } catch (error) {
     state.lastError = String(error);
     showStatus('error', `the server did not answer: ${error}`);
@@ -308,6 +377,7 @@ async function solveNow(scene, started, edit) {
     state.refusals += 1;
     state.lastError = body.error;
     drawHandles(state.scene || scene);
+    if (state.mode === 'slit' && state.scene) fillSlitInputs(state.scene);
     render();
     const kept = state.scene ? ' — kept the last admissible shape' : '';
     showStatus('refused', `refused (${body.error.kind.replace('_', ' ')}): ${body.error.message}${kept}`);
@@ -318,8 +388,10 @@ async function solveNow(scene, started, edit) {
     state.lastEdit = body.edit;
   }
   state.scene = scene;
+  state.sceneByMode[state.mode] = scene;
   state.reply = body;
   state.lastError = null;
+  if (state.mode === 'slit') fillSlitInputs(scene);
   drawModel(body.model);
   drawHandles(scene);
   drawPattern(body.pattern_svg);
@@ -403,10 +475,14 @@ canvas.addEventListener('pointerdown', (event) => {
   pointerRay(event);
   const hit = raycaster.intersectObjects(handles.children, false)[0];
   if (!hit) return;
-  const normal = camera.getWorldDirection(new THREE.Vector3());
+  // A bend handle moves in the plane facing the camera; a slit curve's point in the
+  // curve's own plane (the leg's z = 0, the seat's symmetry plane x = 0).
+  const normal = state.mode === 'slit'
+    ? new THREE.Vector3(...(hit.object.userData.curve === 'leg_curve' ? [0, 0, 1] : [1, 0, 0])).applyQuaternion(content.quaternion)
+    : camera.getWorldDirection(new THREE.Vector3());
   drag = {
     ...hit.object.userData, handle: hit.object, moved: false, before: JSON.stringify(state.scene),
-    plane: new THREE.Plane().setFromNormalAndCoplanarPoint(normal, hit.object.position.clone()),
+    plane: new THREE.Plane().setFromNormalAndCoplanarPoint(normal, hit.object.getWorldPosition(new THREE.Vector3())),
   };
   hit.object.material = handleActive;
   controls.enabled = false;
@@ -417,11 +493,18 @@ canvas.addEventListener('pointerdown', (event) => {
 canvas.addEventListener('pointermove', (event) => {
   if (!drag) return;
   const started = performance.now();
-  const point = pointerRay(event).intersectPlane(drag.plane, new THREE.Vector3());
-  if (!point) return;
+  const world = pointerRay(event).intersectPlane(drag.plane, new THREE.Vector3());
+  if (!world) return;
+  const point = content.worldToLocal(world);
   drag.handle.position.copy(point);
   render();
   drag.moved = true;
+  if (state.mode === 'slit') {
+    const scene = structuredClone(state.scene);
+    scene[drag.curve].control_points[drag.index] = drag.curve === 'leg_curve' ? [point.x, point.y] : [point.z, point.y];
+    requestSolve(scene, started);
+    return;
+  }
   const position = [point.x, point.y, point.z];
   const mode = dragMode();
   if (mode === 'move') {
@@ -474,6 +557,10 @@ function isBendScene(scene) {
   return scene && Array.isArray(scene.outline) && Array.isArray(scene.regions);
 }
 
+function isSlitScene(scene) {
+  return scene && typeof scene.sheet === 'object' && scene.sheet !== null && !Array.isArray(scene.sheet);
+}
+
 function load(text, path = null) {
   let scene;
   try {
@@ -482,11 +569,12 @@ function load(text, path = null) {
     showStatus('error', `not a JSON document: ${error.message}`);
     return;
   }
-  if (state.mode !== 'bend') setMode('bend');
-  if (!isBendScene(scene)) {
-    showStatus('error', 'not a bend scene (an `outline` and `regions`); the other modes are not in the editor yet');
+  const mode = isBendScene(scene) ? 'bend' : isSlitScene(scene) ? 'slit' : null;
+  if (!mode) {
+    showStatus('error', 'not a bend scene (an `outline` and `regions`) or a slit scene (a `sheet`); FFD and photo scenes are not in the editor yet');
     return;
   }
+  if (state.mode !== mode) setMode(mode);
   state.path = path;
   state.undo = [];
   state.redo = [];
@@ -531,6 +619,7 @@ $('open').addEventListener('click', () => openFile($('file-list').value));
 const MESH_EXTENSIONS = ['obj', 'ply', 'stl', 'off'];
 const isMeshName = (name) => MESH_EXTENSIONS.includes(name.split('.').pop().toLowerCase());
 const DOWNLOADS = {
+  slit: ['model.obj', 'model.glb', 'model.stl', 'mould.stl', 'pattern.svg', 'pattern.dxf', 'pattern.pdf', 'report.json'],
   bend: ['model.obj', 'model.glb', 'model.stl', 'pattern.svg', 'pattern.dxf', 'pattern.pdf', 'report.json'],
   mesh: ['model.obj', 'model.glb', 'pattern.svg', 'pattern.dxf', 'pattern.pdf', 'report.json'],
 };
@@ -538,10 +627,12 @@ const DOWNLOADS = {
 function setMode(mode) {
   state.mode = mode;
   for (const button of document.querySelectorAll('#modes .mode')) button.classList.toggle('active', button.dataset.mode === mode);
-  for (const element of document.querySelectorAll('[data-for]')) element.hidden = element.dataset.for !== mode;
-  $('model-caption').textContent = mode === 'mesh'
-    ? '3D model: each piece of the pattern in its own colour (or the angle defect at each vertex); orbit, pan and zoom; drop a mesh file here.'
-    : '3D model: drag an orange control point (in end-handle mode: an end, or a green normal tip); orbit, pan and zoom elsewhere.';
+  for (const element of document.querySelectorAll('[data-for]')) element.hidden = !element.dataset.for.split(' ').includes(mode);
+  $('model-caption').textContent = {
+    mesh: '3D model: each piece of the pattern in its own colour (or the angle defect at each vertex); orbit, pan and zoom; drop a mesh file here.',
+    slit: '3D model: drag an orange point of the leg curve or a blue point of the seat curve (each in its own plane); orbit, pan and zoom elsewhere.',
+    bend: '3D model: drag an orange control point (in end-handle mode: an end, or a green normal tip); orbit, pan and zoom elsewhere.',
+  }[mode];
   fillSelect($('download'), ['Download…', ...DOWNLOADS[mode]]);
   $('download').options[0].value = '';
   state.undo = [];
@@ -552,10 +643,51 @@ for (const button of document.querySelectorAll('#modes .mode')) {
   button.addEventListener('click', () => {
     if (button.dataset.mode === state.mode) return;
     setMode(button.dataset.mode);
-    // Back to what this mode showed last.
+    // Back to what this mode showed last, or an empty view and its example selected.
     framed = false;
+    state.reply = null;
+    if (state.mode !== 'mesh') state.scene = state.sceneByMode[state.mode] || null;
     if (state.mode === 'mesh' && state.mesh && state.meshOptions) solveMesh(state.meshOptions);
-    else if (state.mode === 'bend' && state.scene) requestSolve(state.scene);
+    else if (state.mode !== 'mesh' && state.scene) requestSolve(state.scene);
+    else clearView(state.mode);
+  });
+}
+
+/** An empty view for a mode with nothing loaded yet; its example selected in the list. */
+function clearView(mode) {
+  sheet.geometry.dispose();
+  sheet.geometry = new THREE.BufferGeometry();
+  rulings.geometry.dispose();
+  rulings.geometry = new THREE.BufferGeometry();
+  handles.clear();
+  handleLines.clear();
+  drawPattern('');
+  $('strip-gaps').innerHTML = '';
+  render();
+  const example = { bend: 'examples/bent-rectangle.json', slit: 'examples/slit/chair.json', mesh: 'examples/meshes/lamp-shade.obj' }[mode];
+  const list = mode === 'mesh' ? $('mesh-list') : $('file-list');
+  if ([...list.options].some((o) => o.value === example)) list.value = example;
+  showStatus('idle', `Open a ${mode === 'mesh' ? 'mesh' : `${mode} scene`}.`);
+}
+
+// The slit sheet's lengths and strip count (Tsuruta et al. Fig. 2: L1..L4, N).
+const SLIT_INPUTS = { l1: 'l1_width', l2: 'l2_panel_length', l3: 'l3_strip_length', l4: 'l4_slit_width', strips: 'strip_count' };
+
+function fillSlitInputs(scene) {
+  for (const [id, field] of Object.entries(SLIT_INPUTS)) $(id).value = scene.sheet[field];
+}
+
+for (const [id, field] of Object.entries(SLIT_INPUTS)) {
+  $(id).addEventListener('change', (event) => {
+    if (state.mode !== 'slit' || !state.scene) return;
+    const value = Number(event.target.value);
+    if (!Number.isFinite(value)) {
+      fillSlitInputs(state.scene);
+      return;
+    }
+    const scene = structuredClone(state.scene);
+    scene.sheet[field] = value;
+    commit(scene);
   });
 }
 
@@ -698,7 +830,7 @@ $('download').addEventListener('change', async (event) => {
   if (!name || (state.mode === 'mesh' ? !state.meshOptions : !state.scene)) return;
   const response = state.mode === 'mesh'
     ? await fetch(`/api/mesh/file/${name}?${meshQuery(state.meshOptions)}`, { method: 'POST', body: state.mesh.bytes })
-    : await post(`/api/bend/file/${name}`, JSON.stringify(state.scene));
+    : await post(`/api/${state.mode}/file/${name}`, JSON.stringify(state.scene));
   if (!response.ok) {
     showStatus('error', `${name}: ${(await response.json()).error.message}`);
     return;
@@ -728,12 +860,17 @@ window.sheetformEditor = {
   setMode,
   /** The page coordinates of a control point's handle. */
   handleScreenPosition(region, index) {
-    return pageCoordinates(new THREE.Vector3(...state.scene.regions[region].curve.control_points[index]));
+    return pageCoordinates(content.localToWorld(new THREE.Vector3(...state.scene.regions[region].curve.control_points[index])));
+  },
+  /** The page coordinates of a slit curve's control point (`leg_curve` or `seat_curve`). */
+  slitHandleScreenPosition(curve, index) {
+    const { points } = slitCurves(state.scene).find((c) => c.curve === curve);
+    return pageCoordinates(content.localToWorld(new THREE.Vector3(...points[index])));
   },
   /** The page coordinates of a handle found by its userData fields (end-handle mode). */
   handleScreenPositionWhere(match) {
     const ball = handles.children.find((h) => Object.entries(match).every(([k, v]) => h.userData[k] === v));
-    return pageCoordinates(ball.position);
+    return pageCoordinates(ball.getWorldPosition(new THREE.Vector3()));
   },
   endNormal: (region, atEnd) => endNormal(state.scene.regions[region].curve.control_points, atEnd).toArray(),
   curveLength: () => state.reply.report.regions.map((r) => r.curve_length_mm),

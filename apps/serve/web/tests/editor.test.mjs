@@ -6,12 +6,14 @@
 // Checks, in bend mode: an example loads; a control point dragged with the mouse changes
 // the model, which stays isometric to its pattern (in the page and in the server's
 // report); undo restores the exact previous scene; an inadmissible drag is refused and
-// the last admissible scene kept. In mesh mode: a bundled mesh is checked and flattened
+// the last admissible scene kept. In slit mode: the chair's seat curve dragged with the
+// mouse re-solves the strips (isometric, a gap per strip shown), a typed sheet length is
+// undone exactly, an impossible strip count is refused. In mesh mode: a bundled mesh is checked and flattened
 // exactly, a mesh dropped on the 3D view replaces it, a layout change is undone exactly,
 // an impossible layout and a malformed mesh are refused with the last result kept, and
 // the OBJ downloads. The server refuses files outside its directory and hostile
 // requests and keeps serving. Measures an edit's round trip (event → server
-// solve → redraw) on a 1 000-ruling sheet. Screenshots go to OUTPUT_DIR; the figures
+// solve → redraw) on a 1 000-ruling sheet and on the slit chair. Screenshots go to OUTPUT_DIR; the figures
 // are printed as JSON on the last line.
 
 import { spawn } from 'node:child_process';
@@ -178,7 +180,72 @@ try {
   }, JSON.stringify(fine));
   figures.bend_1000_rulings_post_only_ms = { median: median(postOnly), count: postOnly.length };
 
-  // 7. Mesh mode: a bundled mesh opens from the list and is checked and flattened; a
+  // 7. Slit mode: the chair opens from the list; a seat curve point dragged with the
+  // mouse (in the symmetry plane) re-solves the strips, which stay isometric to the
+  // pattern with their gaps shown per strip; a sheet length changed in its field is
+  // undone exactly; a strip count the sheet cannot have is refused and the last scene
+  // kept. The round trip of the drags is measured (issue 20: the chair under 30 ms).
+  await page.selectOption('#file-list', 'examples/slit/chair.json');
+  await page.click('#open');
+  await page.waitForFunction(() => window.sheetformEditor.state.mode === 'slit' && window.sheetformEditor.idle() && window.sheetformEditor.state.reply);
+  const chair = await sceneText();
+  assert.equal(await page.getAttribute('#status', 'data-state'), 'ok', await page.textContent('#status'));
+  assert.equal(await page.inputValue('#strips'), '6');
+  assert.equal(await page.locator('#strip-gaps [data-strip]').count(), 6, 'a gap per strip');
+  assert.ok((await page.evaluate(() => window.sheetformEditor.isometryError())) < 1e-8);
+  const chairBefore = await positions();
+  await page.evaluate(() => { window.sheetformEditor.state.roundTrips.length = 0; window.sheetformEditor.state.stages.length = 0; });
+  {
+    const start = await page.evaluate(() => window.sheetformEditor.slitHandleScreenPosition('seat_curve', 2));
+    await page.mouse.move(start.x, start.y);
+    await page.mouse.down();
+    for (let k = 1; k <= 30; k++) {
+      await page.mouse.move(start.x, start.y - k);
+      await idle();
+    }
+    await page.mouse.up();
+    await idle();
+  }
+  const draggedChair = JSON.parse(await sceneText());
+  assert.notDeepEqual(draggedChair.seat_curve, JSON.parse(chair).seat_curve, 'the drag moved the seat curve');
+  assert.deepEqual(draggedChair.leg_curve, JSON.parse(chair).leg_curve, 'the leg curve stayed');
+  assert.equal(draggedChair.seat_curve.control_points[2].length, 2, 'the seat curve stays in its plane');
+  assert.notDeepEqual(await positions(), chairBefore, 'the strips moved');
+  assert.ok((await page.evaluate(() => window.sheetformEditor.isometryError())) < 1e-8);
+  const slitReply = await (await fetch(`${url}api/slit`, { method: 'POST', body: JSON.stringify(draggedChair) })).json();
+  assert.equal(slitReply.report.status, 'ok');
+  assert.deepEqual(slitReply.model.positions, await positions(), 'the page shows what the server computes for its scene');
+  const gapText = await page.textContent('#strip-gaps');
+  for (const strip of slitReply.report.slit.strips) assert.ok(gapText.includes(`strip ${strip.strip + 1}:`));
+  const slitTrips = await page.evaluate(() => window.sheetformEditor.state.roundTrips);
+  const slitStages = await page.evaluate((n) => window.sheetformEditor.state.stages.slice(-n), slitTrips.length);
+  figures.slit_chair_round_trip_ms = {
+    median: median(slitTrips), count: slitTrips.length, max: Math.max(...slitTrips),
+    stage_medians: Object.fromEntries(Object.keys(slitStages[0]).map((k) => [k, median(slitStages.map((s) => s[k]))])),
+  };
+  await page.screenshot({ path: join(outputDir, 'slit.png') });
+  // A sheet length typed into its field, undone exactly.
+  const beforeLength = await sceneText();
+  await page.fill('#l3', '320');
+  await page.press('#l3', 'Enter');
+  await idle();
+  assert.equal(JSON.parse(await sceneText()).sheet.l3_strip_length, 320);
+  await page.click('#undo');
+  await idle();
+  assert.equal(await sceneText(), beforeLength, 'undo restores the exact previous scene');
+  assert.equal(await page.inputValue('#l3'), '300');
+  // A refusal: no strips at all.
+  const slitRefusals = await page.evaluate(() => window.sheetformEditor.state.refusals);
+  await page.fill('#strips', '0');
+  await page.press('#strips', 'Enter');
+  await idle();
+  assert.equal(await page.evaluate(() => window.sheetformEditor.state.refusals), slitRefusals + 1);
+  assert.equal(await page.getAttribute('#status', 'data-state'), 'refused');
+  assert.match(await page.textContent('#status'), /strip_count/);
+  assert.equal(await sceneText(), beforeLength, 'the last admissible scene is kept');
+  assert.equal(await page.inputValue('#strips'), '6');
+
+  // 8. Mesh mode: a bundled mesh opens from the list and is checked and flattened; a
   // mesh dropped on the 3D view replaces it; a layout change is undone exactly; a layout
   // the mesh cannot have and a malformed mesh are refused and the last result kept; the
   // files `sheetform flatten` writes download.
@@ -252,13 +319,16 @@ try {
   const obj = readFileSync(await download.path(), 'utf8');
   assert.ok(obj.split('\n').some((line) => line.startsWith('vt ')), 'the OBJ carries the pattern');
 
-  // Back to bend mode: the last bend scene is drawn again, its controls shown.
+  // Back to slit and bend mode: the last scene of each is drawn again, its controls shown.
+  await answered(() => page.click('#modes .mode[data-mode="slit"]'));
+  assert.equal(await sceneText(), beforeLength);
+  assert.equal(await page.isVisible('#l1'), true);
   await answered(() => page.click('#modes .mode[data-mode="bend"]'));
   assert.equal((await meshReply()).report.ruling_count, 1000);
   assert.equal(await page.isVisible('#drag-mode'), true);
   assert.equal(await page.isVisible('#charts'), false);
 
-  // 8. The server: no file outside its directory, hostile requests answered with an
+  // 9. The server: no file outside its directory, hostile requests answered with an
   // error, and it keeps serving.
   for (const path of ['..%2FCargo.toml', '%2Fetc%2Fpasswd', '..%2F..%2Fetc%2Fpasswd']) {
     const response = await fetch(`${url}api/files/${path}`);

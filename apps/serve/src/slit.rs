@@ -1,0 +1,72 @@
+//! The slit mode's routes: a slit scene in (the same JSON `sheetform slit` reads), the
+//! bent sheet, its pattern and the report out; and any file `sheetform slit` writes, for
+//! download. Both run the library's `run_slit`; nothing of a pipeline is repeated here.
+
+use crate::api::{attachment, output_file, pattern_svg, solve, ApiError, MeshArrays};
+use crate::AppState;
+use axum::extract::{Path, State};
+use axum::response::{IntoResponse, Response};
+use axum::routing::post;
+use axum::{Json, Router};
+use serde::Serialize;
+use sheetform::pipeline::{run_slit, OutputSet, PipelineError, RunContext, SlitRunOptions};
+use sheetform::report::Report;
+use sheetform::slit::SlitScene;
+use std::sync::Arc;
+use std::time::Instant;
+
+pub(crate) fn routes() -> Router<Arc<AppState>> {
+    Router::new()
+        .route("/api/slit", post(slit))
+        .route("/api/slit/file/{name}", post(slit_file))
+}
+
+/// Parses a slit scene at the edge (the same parser as the CLI's).
+fn slit_scene(body: &str) -> Result<SlitScene, ApiError> {
+    SlitScene::from_json(body).map_err(|e| ApiError::from(PipelineError::from(e)))
+}
+
+/// The reply to a slit scene: the bent sheet, its pattern and the report (per-strip gaps
+/// in `report.slit.strips`).
+#[derive(Debug, Serialize)]
+struct SlitReply {
+    model: MeshArrays,
+    pattern_svg: String,
+    report: Report,
+    /// Server time for parsing, solving and rendering (ms).
+    server_ms: f64,
+}
+
+async fn slit(State(state): State<Arc<AppState>>, body: String) -> Result<Response, ApiError> {
+    let start = Instant::now();
+    let root = state.root.clone();
+    let reply = solve(&state, move || {
+        let scene = slit_scene(&body)?;
+        let context = RunContext::new(root).with_outputs(OutputSet::Preview);
+        let run = run_slit(&scene, &SlitRunOptions::default(), &context)?;
+        Ok(SlitReply {
+            model: MeshArrays::new(&run.mesh),
+            pattern_svg: pattern_svg(&run.files),
+            report: run.report,
+            server_ms: start.elapsed().as_secs_f64() * 1e3,
+        })
+    })
+    .await?;
+    Ok(Json(reply).into_response())
+}
+
+async fn slit_file(
+    State(state): State<Arc<AppState>>,
+    Path(name): Path<String>,
+    body: String,
+) -> Result<Response, ApiError> {
+    let root = state.root.clone();
+    let wanted = name.clone();
+    let bytes = solve(&state, move || {
+        let scene = slit_scene(&body)?;
+        let run = run_slit(&scene, &SlitRunOptions::default(), &RunContext::new(root))?;
+        output_file(run.files, &run.report, &wanted, "slit")
+    })
+    .await?;
+    Ok(attachment(&name, bytes))
+}
