@@ -65,12 +65,19 @@ impl From<PipelineError> for ApiError {
     }
 }
 
-impl IntoResponse for ApiError {
-    fn into_response(self) -> Response {
-        let body = serde_json::json!({
+impl ApiError {
+    /// The reply's body: `{"error": {"kind", "message"}, "report"}`.
+    pub fn body(&self) -> serde_json::Value {
+        serde_json::json!({
             "error": {"kind": self.kind, "message": self.message},
             "report": self.report,
-        });
+        })
+    }
+}
+
+impl IntoResponse for ApiError {
+    fn into_response(self) -> Response {
+        let body = self.body();
         (self.status, Json(body)).into_response()
     }
 }

@@ -417,3 +417,73 @@ async fn a_slit_scene_is_solved_with_its_gap_per_strip() {
     assert_eq!(status, StatusCode::BAD_REQUEST);
     assert!(String::from_utf8_lossy(&body).contains("strip_count"));
 }
+
+/// The FFD mode: progress lines, then the restored panels (developable to the solver's
+/// tolerance, isometric to their pattern), the plain FFD's defects and the deformed
+/// lattice; a scene that does not parse is refused before anything streams, one the run
+/// refuses ends the stream with the error.
+#[tokio::test]
+async fn an_ffd_scene_streams_its_progress_then_the_restored_panels() {
+    let (_dir, root) = served();
+    let app = router(&ServeOptions {
+        root,
+        ..Default::default()
+    })
+    .unwrap();
+    let duct = std::fs::read_to_string(repository().join("examples/ffd/duct.json")).unwrap();
+    let (status, body) = send(&app, "POST", "/api/ffd", duct.clone()).await;
+    assert_eq!(status, StatusCode::OK);
+    let lines: Vec<Value> = String::from_utf8(body)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let (last, progress) = lines.split_last().unwrap();
+    assert!(progress.len() >= 3, "{progress:?}");
+    let fractions: Vec<f64> = progress
+        .iter()
+        .map(|p| p["progress"]["fraction"].as_f64().unwrap())
+        .collect();
+    assert!(fractions.windows(2).all(|w| w[0] <= w[1]), "{fractions:?}");
+    let reply = &last["result"];
+    assert_eq!(reply["report"]["status"], "ok", "{last}");
+    let largest = |values: &Value| {
+        values
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|g| g.as_f64().unwrap().abs())
+            .fold(0.0, f64::max)
+    };
+    assert!(largest(&reply["plain"]["angle_defects_rad"]) > 1e-3);
+    assert!(largest(&reply["restored"]["angle_defects_rad"]) <= 1e-8);
+    assert!(isometry_error(&reply["model"]) < 1e-8);
+    let counts: Vec<usize> = serde_json::from_value(reply["lattice"]["counts"].clone()).unwrap();
+    assert_eq!(
+        reply["lattice"]["control_points"].as_array().unwrap().len(),
+        3 * counts.iter().product::<usize>()
+    );
+    let (status, body) = send(&app, "POST", "/api/ffd/file/deformed.obj", duct.clone()).await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(String::from_utf8_lossy(&body).lines().any(|l| l.starts_with("v ")));
+    // A scene that does not parse is refused before anything streams; one whose values
+    // the run refuses ends its stream with the error, naming the field.
+    let (status, body) = send(
+        &app,
+        "POST",
+        "/api/ffd",
+        r#"{"model": {"procedural": {"kind": "duct"}}, "lattice": "#,
+    )
+    .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{}", String::from_utf8_lossy(&body));
+    let mut scene: Value = serde_json::from_str(&duct).unwrap();
+    scene["lattice"]["counts"] = serde_json::json!([1000, 4, 4]);
+    let (status, body) = send(&app, "POST", "/api/ffd", scene.to_string()).await;
+    assert_eq!(status, StatusCode::OK);
+    let last: Value = serde_json::from_str(String::from_utf8(body).unwrap().lines().last().unwrap()).unwrap();
+    assert_eq!(last["error"]["kind"], "invalid_input");
+    assert!(
+        last["error"]["message"].as_str().unwrap().contains("lattice.counts"),
+        "{last}"
+    );
+}

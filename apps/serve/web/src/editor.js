@@ -7,6 +7,9 @@
 // with its angle defects, the flattened model, its pattern and both reports. Slit mode:
 // the sheet's lengths and strip count, and the control points of the leg and seat
 // curves dragged in their planes; every change re-solves the strips (`sheetform slit`).
+// FFD mode: a lattice control point dragged and released appends a deformation that
+// moves it; the server restores developability (`sheetform ffd`) while the page shows
+// its progress and can cancel it, then the restored panels and both colour maps.
 
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
@@ -15,7 +18,11 @@ const $ = (id) => document.getElementById(id);
 
 /** Editor state: the last admissible scene and what the server said of it. */
 const state = {
-  mode: 'bend', // 'bend', 'slit' or 'mesh'
+  mode: 'bend', // 'bend', 'slit', 'ffd' or 'mesh'
+  ffdController: null, // FFD mode: aborts the restoration under way
+  ffdPending: null, // FFD mode: the newest scene waiting for the run under way to stop
+  progress: [], // FFD mode: the progress lines of the last run
+  cancellations: 0,
   sceneByMode: {}, // the last admissible scene of each scene mode (bend, slit)
   mesh: null, // mesh mode: { name, bytes (ArrayBuffer), path } of the loaded mesh
   meshOptions: null, // mesh mode: the layout options of the last answered request
@@ -73,6 +80,7 @@ const handleMaterial = new THREE.MeshBasicMaterial({ color: 0xe8731a, depthTest:
 const handleActive = new THREE.MeshBasicMaterial({ color: 0xc0392b, depthTest: false });
 const normalMaterial = new THREE.MeshBasicMaterial({ color: 0x2e8b57, depthTest: false });
 const seatMaterial = new THREE.MeshBasicMaterial({ color: 0x2b5d8a, depthTest: false });
+const latticeMaterial = new THREE.MeshBasicMaterial({ color: 0x7a4fa0, depthTest: false });
 let handleRadius = 3;
 let framed = false;
 
@@ -115,6 +123,10 @@ function drawHandles(scene) {
     drawSlitHandles(scene);
     return;
   }
+  if (state.mode === 'ffd') {
+    drawLattice(state.reply && state.reply.lattice);
+    return;
+  }
   const ends = dragMode() === 'ends';
   for (const { region, points } of draggableCurves(scene)) {
     points.forEach((p, index) => {
@@ -154,6 +166,33 @@ function slitCurves(scene) {
   if (scene.leg_curve) curves.push({ curve: 'leg_curve', points: scene.leg_curve.control_points.map(([x, y]) => [x, y, 0]) });
   if (scene.seat_curve) curves.push({ curve: 'seat_curve', points: scene.seat_curve.control_points.map(([z, y]) => [0, y, z]) });
   return curves;
+}
+
+/** The deformed lattice: a handle per control point and its lines along i, j and k. */
+function drawLattice(lattice) {
+  if (!lattice) return;
+  const [nu, nv, nw] = lattice.counts;
+  const p = lattice.control_points;
+  const at = (i, j, k) => 3 * (i + nu * (j + nv * k));
+  const segments = [];
+  for (let k = 0; k < nw; k++) {
+    for (let j = 0; j < nv; j++) {
+      for (let i = 0; i < nu; i++) {
+        const ball = new THREE.Mesh(handleGeometry, latticeMaterial);
+        ball.position.set(p[at(i, j, k)], p[at(i, j, k) + 1], p[at(i, j, k) + 2]);
+        ball.scale.setScalar(handleRadius * 0.7);
+        ball.userData = { lattice: [i, j, k] };
+        ball.renderOrder = 2;
+        handles.add(ball);
+        for (const [a, b, c] of [[i + 1, j, k], [i, j + 1, k], [i, j, k + 1]]) {
+          if (a < nu && b < nv && c < nw) segments.push(...p.slice(at(i, j, k), at(i, j, k) + 3), ...p.slice(at(a, b, c), at(a, b, c) + 3));
+        }
+      }
+    }
+  }
+  const lines = new THREE.BufferGeometry();
+  lines.setAttribute('position', new THREE.Float32BufferAttribute(segments, 3));
+  handleLines.add(new THREE.LineSegments(lines, new THREE.LineBasicMaterial({ color: 0x7a4fa0, transparent: true, opacity: 0.45, depthTest: false })));
 }
 
 function drawSlitHandles(scene) {
@@ -200,7 +239,8 @@ function drawModel(model) {
 /** Points the camera at `geometry` once per loaded scene or mesh. */
 function frame(geometry) {
   if (!framed) {
-    content.rotation.x = state.mode === 'slit' ? Math.PI / 2 : 0;
+    const yUp = state.mode === 'slit' || (state.mode === 'ffd' && state.scene && state.scene.up_axis === 'y');
+    content.rotation.x = yUp ? Math.PI / 2 : 0;
     content.updateMatrixWorld(true);
     geometry.computeBoundingSphere();
     const { radius } = geometry.boundingSphere;
@@ -254,6 +294,51 @@ function drawMeshModel(reply) {
   handles.clear();
   handleLines.clear();
   frame(geometry);
+}
+
+/** A triangle soup of `mesh` ({positions, triangles}) with a colour per corner. */
+function colouredGeometry(mesh, colourOf) {
+  const { positions, triangles } = mesh;
+  const position = new Float32Array(triangles.length * 3);
+  const colour = new Float32Array(triangles.length * 3);
+  for (let k = 0; k < triangles.length; k++) {
+    const v = triangles[k];
+    position.set([positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]], 3 * k);
+    const c = colourOf(v, Math.floor(k / 3));
+    colour.set([c.r, c.g, c.b], 3 * k);
+  }
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.BufferAttribute(position, 3));
+  geometry.setAttribute('color', new THREE.BufferAttribute(colour, 3));
+  geometry.computeVertexNormals();
+  return geometry;
+}
+
+/** The FFD colour maps' scale (as the CLI's): blue at 1e-8 rad (developable) to red at
+ * the largest defect before restoration, logarithmic. */
+function ffdDefectColour(g, top) {
+  const floor = 1e-8;
+  const span = Math.max(Math.log10(Math.max(top, floor * 10) / floor), 1e-9);
+  const t = Math.min(1, Math.max(0, Math.log10(Math.max(Math.abs(g), floor) / floor) / span));
+  return new THREE.Color().setHSL(0.66 * (1 - t), 0.75, 0.55);
+}
+
+/** FFD mode: the restored or plain panels coloured by angle defect, or by panel. */
+function drawFfdModel(reply) {
+  const view = $('ffd-view').value;
+  const top = Math.max(...reply.plain.angle_defects_rad.map(Math.abs), 1e-300);
+  const geometry = view === 'pieces'
+    ? colouredGeometry(reply.model, (_, t) => pieceColour(reply.model.face_pieces[t]))
+    : colouredGeometry(reply[view === 'before' ? 'plain' : 'restored'], (v) => ffdDefectColour(reply[view === 'before' ? 'plain' : 'restored'].angle_defects_rad[v], top));
+  sheet.geometry.dispose();
+  sheet.geometry = geometry;
+  sheet.material = colouredMaterial;
+  rulings.geometry.dispose();
+  rulings.geometry = new THREE.BufferGeometry();
+  frame(geometry);
+  handles.clear();
+  handleLines.clear();
+  drawLattice(reply.lattice);
 }
 
 // ---------------------------------------------------------------- pattern view
@@ -410,6 +495,120 @@ async function solveNow(scene, started, edit) {
   return true;
 }
 
+function showFfdReport(reply) {
+  const r = reply.report;
+  const f = r.ffd;
+  const last = f.steps[f.steps.length - 1];
+  const iterations = f.steps.reduce((n, s) => n + s.iterations, 0);
+  const parts = [
+    `${r.status}`,
+    `${f.steps.length} deformation${f.steps.length === 1 ? '' : 's'}`,
+    `last: max defect ${short(last.angle_defect_max_before_rad, 2)} → ${short(last.angle_defect_max_after_rad, 2)} rad`,
+    `${iterations} iterations`,
+    `edges changed ≤ ${short(100 * last.edge_length_change_max_relative, 2)} %`,
+    `server ${short(reply.server_ms)} ms`,
+  ];
+  showStatus(r.status === 'ok' ? 'ok' : 'refused', parts.join(' · '));
+}
+
+/**
+ * Runs an FFD scene on the server, showing its progress; `remember` puts the scene it
+ * replaces on the undo stack once it is restored. A newer scene cancels the run under
+ * way and waits for it to stop; a refused or cancelled run keeps the last result.
+ */
+async function runFfd(scene, remember = true) {
+  if (state.ffdController) {
+    state.ffdPending = { scene, remember };
+    state.ffdController.abort();
+    return;
+  }
+  const controller = new AbortController();
+  state.ffdController = controller;
+  state.inFlight = true;
+  state.progress = [];
+  $('cancel').disabled = false;
+  showStatus('busy', 'restoring…');
+  const before = state.scene;
+  try {
+    const response = await fetch('/api/ffd', { method: 'POST', body: JSON.stringify(scene), signal: controller.signal });
+    let last = null;
+    if (!response.ok) {
+      last = await response.json();
+    } else {
+      const reader = response.body.getReader();
+      const decoder = new TextDecoder();
+      let buffer = '';
+      for (;;) {
+        const { value, done } = await reader.read();
+        if (done) break;
+        buffer += decoder.decode(value, { stream: true });
+        for (let end = buffer.indexOf('\n'); end >= 0; end = buffer.indexOf('\n')) {
+          const message = JSON.parse(buffer.slice(0, end));
+          buffer = buffer.slice(end + 1);
+          if (message.progress) {
+            state.progress.push(message.progress);
+            showStatus('busy', `${message.progress.stage} (${Math.round(100 * message.progress.fraction)} %) — Cancel stops it`);
+          } else {
+            last = message;
+          }
+        }
+      }
+    }
+    if (!last || last.error) {
+      state.refusals += 1;
+      state.lastError = last ? last.error : { kind: 'failed', message: 'the server closed the stream' };
+      drawHandles(state.scene);
+      render();
+      const kept = state.reply ? ' — kept the last result' : '';
+      showStatus('refused', `refused (${state.lastError.kind.replace('_', ' ')}): ${state.lastError.message}${kept}`);
+      return;
+    }
+    if (remember && before) {
+      state.undo.push(JSON.stringify(before));
+      state.redo = [];
+    }
+    state.scene = scene;
+    state.sceneByMode.ffd = scene;
+    state.reply = last.result;
+    state.lastError = null;
+    drawFfdModel(last.result);
+    drawPattern(last.result.pattern_svg);
+    render();
+    showFfdReport(last.result);
+  } catch (error) {
+    if (error.name === 'AbortError') {
+      state.cancellations += 1;
+      drawHandles(state.scene);
+      render();
+      showStatus('refused', `cancelled${state.reply ? ' — kept the last result' : ''}`);
+    } else {
+      state.lastError = String(error);
+      showStatus('error', `the server did not answer: ${error}`);
+    }
+  } finally {
+    state.answers += 1;
+    state.ffdController = null;
+    state.inFlight = false;
+    $('cancel').disabled = true;
+    updateHistoryButtons();
+    const next = state.ffdPending;
+    state.ffdPending = null;
+    if (next) runFfd(next.scene, next.remember);
+    else window.dispatchEvent(new Event('sheetform-idle'));
+  }
+}
+
+$('cancel').addEventListener('click', () => {
+  state.ffdPending = null;
+  if (state.ffdController) state.ffdController.abort();
+});
+$('ffd-view').addEventListener('change', () => {
+  if (state.mode === 'ffd' && state.reply) {
+    drawFfdModel(state.reply);
+    render();
+  }
+});
+
 function updateHistoryButtons() {
   $('undo').disabled = state.undo.length === 0;
   $('redo').disabled = state.redo.length === 0;
@@ -417,6 +616,10 @@ function updateHistoryButtons() {
 
 /** Makes `scene` current through the server; `remember` puts the old one on the undo stack. */
 function commit(scene, remember = true) {
+  if (state.mode === 'ffd') {
+    runFfd(scene, remember);
+    return;
+  }
   if (remember && state.scene) {
     state.undo.push(JSON.stringify(state.scene));
     state.redo = [];
@@ -431,6 +634,7 @@ function current() {
 
 function restore(text) {
   if (state.mode === 'mesh') solveMesh(JSON.parse(text));
+  else if (state.mode === 'ffd') runFfd(JSON.parse(text), false);
   else requestSolve(JSON.parse(text));
 }
 
@@ -505,6 +709,8 @@ canvas.addEventListener('pointermove', (event) => {
     requestSolve(scene, started);
     return;
   }
+  // FFD: the control point follows the pointer; the restoration runs on release.
+  if (state.mode === 'ffd') return;
   const position = [point.x, point.y, point.z];
   const mode = dragMode();
   if (mode === 'move') {
@@ -533,9 +739,25 @@ canvas.addEventListener('pointermove', (event) => {
 function endDrag(event) {
   if (!drag) return;
   const { before, moved } = drag;
+  const released = drag;
   drag = null;
   controls.enabled = true;
   if (canvas.hasPointerCapture(event.pointerId)) canvas.releasePointerCapture(event.pointerId);
+  if (state.mode === 'ffd') {
+    released.handle.material = latticeMaterial;
+    if (moved && released.lattice) {
+      // The drag becomes a deformation of its own, restored from the last result.
+      const [i, j, k] = released.lattice;
+      const p = state.reply.lattice.control_points;
+      const [nu, nv] = state.reply.lattice.counts;
+      const at = 3 * (i + nu * (j + nv * k));
+      const by = [0, 1, 2].map((a) => released.handle.position.getComponent(a) - p[at + a]);
+      const scene = structuredClone(state.scene);
+      scene.deformations.push({ name: `drag (${i}, ${j}, ${k})`, edits: [{ move: { points: [[i, j, k]], by } }] });
+      runFfd(scene);
+    }
+    return;
+  }
   const settle = () => {
     if (moved && JSON.stringify(state.scene) !== before) {
       state.undo.push(before);
@@ -557,6 +779,10 @@ function isBendScene(scene) {
   return scene && Array.isArray(scene.outline) && Array.isArray(scene.regions);
 }
 
+function isFfdScene(scene) {
+  return scene && typeof scene.model === 'object' && Array.isArray(scene.deformations);
+}
+
 function isSlitScene(scene) {
   return scene && typeof scene.sheet === 'object' && scene.sheet !== null && !Array.isArray(scene.sheet);
 }
@@ -569,9 +795,9 @@ function load(text, path = null) {
     showStatus('error', `not a JSON document: ${error.message}`);
     return;
   }
-  const mode = isBendScene(scene) ? 'bend' : isSlitScene(scene) ? 'slit' : null;
+  const mode = isBendScene(scene) ? 'bend' : isSlitScene(scene) ? 'slit' : isFfdScene(scene) ? 'ffd' : null;
   if (!mode) {
-    showStatus('error', 'not a bend scene (an `outline` and `regions`) or a slit scene (a `sheet`); FFD and photo scenes are not in the editor yet');
+    showStatus('error', 'not a bend scene (an `outline` and `regions`), a slit scene (a `sheet`) or an FFD scene (a `model` and `deformations`); photo annotations are not in the editor yet');
     return;
   }
   if (state.mode !== mode) setMode(mode);
@@ -582,7 +808,8 @@ function load(text, path = null) {
   framed = false;
   updateHistoryButtons();
   showStatus('busy', `solving ${path || 'the scene'}…`);
-  requestSolve(scene);
+  if (mode === 'ffd') runFfd(scene, false);
+  else requestSolve(scene);
 }
 
 function fillSelect(select, names) {
@@ -619,6 +846,7 @@ $('open').addEventListener('click', () => openFile($('file-list').value));
 const MESH_EXTENSIONS = ['obj', 'ply', 'stl', 'off'];
 const isMeshName = (name) => MESH_EXTENSIONS.includes(name.split('.').pop().toLowerCase());
 const DOWNLOADS = {
+  ffd: ['model.obj', 'model.glb', 'model.stl', 'deformed.obj', 'deformed.glb', 'developability-before.glb', 'developability-after.glb', 'pattern.svg', 'pattern.dxf', 'pattern.pdf', 'report.json'],
   slit: ['model.obj', 'model.glb', 'model.stl', 'mould.stl', 'pattern.svg', 'pattern.dxf', 'pattern.pdf', 'report.json'],
   bend: ['model.obj', 'model.glb', 'model.stl', 'pattern.svg', 'pattern.dxf', 'pattern.pdf', 'report.json'],
   mesh: ['model.obj', 'model.glb', 'pattern.svg', 'pattern.dxf', 'pattern.pdf', 'report.json'],
@@ -629,6 +857,7 @@ function setMode(mode) {
   for (const button of document.querySelectorAll('#modes .mode')) button.classList.toggle('active', button.dataset.mode === mode);
   for (const element of document.querySelectorAll('[data-for]')) element.hidden = !element.dataset.for.split(' ').includes(mode);
   $('model-caption').textContent = {
+    ffd: '3D model: drag a purple lattice control point and release it: the panels follow and their developability is restored (Cancel stops it); orbit, pan and zoom elsewhere.',
     mesh: '3D model: each piece of the pattern in its own colour (or the angle defect at each vertex); orbit, pan and zoom; drop a mesh file here.',
     slit: '3D model: drag an orange point of the leg curve or a blue point of the seat curve (each in its own plane); orbit, pan and zoom elsewhere.',
     bend: '3D model: drag an orange control point (in end-handle mode: an end, or a green normal tip); orbit, pan and zoom elsewhere.',
@@ -648,6 +877,7 @@ for (const button of document.querySelectorAll('#modes .mode')) {
     state.reply = null;
     if (state.mode !== 'mesh') state.scene = state.sceneByMode[state.mode] || null;
     if (state.mode === 'mesh' && state.mesh && state.meshOptions) solveMesh(state.meshOptions);
+    else if (state.mode === 'ffd' && state.scene) runFfd(state.scene, false);
     else if (state.mode !== 'mesh' && state.scene) requestSolve(state.scene);
     else clearView(state.mode);
   });
@@ -664,7 +894,9 @@ function clearView(mode) {
   drawPattern('');
   $('strip-gaps').innerHTML = '';
   render();
-  const example = { bend: 'examples/bent-rectangle.json', slit: 'examples/slit/chair.json', mesh: 'examples/meshes/lamp-shade.obj' }[mode];
+  const example = {
+    bend: 'examples/bent-rectangle.json', slit: 'examples/slit/chair.json', ffd: 'examples/ffd/skirt.json', mesh: 'examples/meshes/lamp-shade.obj',
+  }[mode];
   const list = mode === 'mesh' ? $('mesh-list') : $('file-list');
   if ([...list.options].some((o) => o.value === example)) list.value = example;
   showStatus('idle', `Open a ${mode === 'mesh' ? 'mesh' : `${mode} scene`}.`);
@@ -862,6 +1094,13 @@ window.sheetformEditor = {
   handleScreenPosition(region, index) {
     return pageCoordinates(content.localToWorld(new THREE.Vector3(...state.scene.regions[region].curve.control_points[index])));
   },
+  /** The page coordinates of lattice control point (i, j, k) (FFD mode). */
+  latticeScreenPosition(i, j, k) {
+    const [nu, nv] = state.reply.lattice.counts;
+    const p = state.reply.lattice.control_points.slice(3 * (i + nu * (j + nv * k)), 3 * (i + nu * (j + nv * k)) + 3);
+    return pageCoordinates(content.localToWorld(new THREE.Vector3(...p)));
+  },
+  runFfd,
   /** The page coordinates of a slit curve's control point (`leg_curve` or `seat_curve`). */
   slitHandleScreenPosition(curve, index) {
     const { points } = slitCurves(state.scene).find((c) => c.curve === curve);

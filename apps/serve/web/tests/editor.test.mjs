@@ -8,7 +8,10 @@
 // report); undo restores the exact previous scene; an inadmissible drag is refused and
 // the last admissible scene kept. In slit mode: the chair's seat curve dragged with the
 // mouse re-solves the strips (isometric, a gap per strip shown), a typed sheet length is
-// undone exactly, an impossible strip count is refused. In mesh mode: a bundled mesh is checked and flattened
+// undone exactly, an impossible strip count is refused. In FFD mode: a lattice control
+// point dragged and released is restored (progress shown), undone exactly; a long
+// restoration is cancelled and an edit of a point the lattice lacks refused, the last
+// result kept. In mesh mode: a bundled mesh is checked and flattened
 // exactly, a mesh dropped on the 3D view replaces it, a layout change is undone exactly,
 // an impossible layout and a malformed mesh are refused with the last result kept, and
 // the OBJ downloads. The server refuses files outside its directory and hostile
@@ -58,6 +61,14 @@ try {
   const idle = () => page.waitForFunction(() => window.sheetformEditor.idle() && window.sheetformEditor.state.reply !== null);
   const sceneText = () => page.evaluate(() => JSON.stringify(window.sheetformEditor.state.scene));
   const positions = () => page.evaluate(() => window.sheetformEditor.state.reply.model.positions);
+  /** Runs `action` and waits for the server's next answer (solved or refused) to be drawn. */
+  const answers = () => page.evaluate(() => window.sheetformEditor.state.answers);
+  async function answered(action) {
+    const before = await answers();
+    await action();
+    await page.waitForFunction((n) => window.sheetformEditor.state.answers > n && window.sheetformEditor.idle(), before);
+  }
+  const meshReply = () => page.evaluate(() => window.sheetformEditor.state.reply);
   /** Drags control point `index` of region 0 by (dx, dy) pixels in `steps` mouse moves. */
   async function drag(index, dx, dy, steps = 8) {
     const start = await page.evaluate((i) => window.sheetformEditor.handleScreenPosition(0, i), index);
@@ -245,17 +256,82 @@ try {
   assert.equal(await sceneText(), beforeLength, 'the last admissible scene is kept');
   assert.equal(await page.inputValue('#strips'), '6');
 
-  // 8. Mesh mode: a bundled mesh opens from the list and is checked and flattened; a
+  // 8. FFD mode: the skirt opens from the list and is restored with progress shown; a
+  // lattice control point dragged with the mouse and released becomes a deformation of
+  // its own, restored (the panels follow, stay developable and isometric to their
+  // pattern); undo restores the exact previous scene; a long restoration is cancelled
+  // and a lattice squashed flat is refused, the last result kept both times.
+  const maxAbs = (xs) => xs.reduce((m, x) => Math.max(m, Math.abs(x)), 0);
+  await page.selectOption('#file-list', 'examples/ffd/skirt.json');
+  await answered(() => page.click('#open'));
+  let ffd = await meshReply();
+  assert.equal(await page.evaluate(() => window.sheetformEditor.state.mode), 'ffd');
+  assert.equal(ffd.report.status, 'ok', await page.textContent('#status'));
+  assert.ok(maxAbs(ffd.plain.angle_defects_rad) > 1e-4, 'the plain FFD is not developable');
+  assert.ok(maxAbs(ffd.restored.angle_defects_rad) <= 1e-8, 'the restoration is');
+  assert.ok((await page.evaluate(() => window.sheetformEditor.isometryError())) < 1e-8);
+  const progressLines = await page.evaluate(() => window.sheetformEditor.state.progress);
+  assert.ok(progressLines.length >= 3 && progressLines.some((p) => /restor|iteration/i.test(p.stage)), JSON.stringify(progressLines.slice(0, 4)));
+  const skirt = await sceneText();
+  {
+    const [i, j, k] = [1, 1, 0];
+    const start = await page.evaluate(([a, b, c]) => window.sheetformEditor.latticeScreenPosition(a, b, c), [i, j, k]);
+    await page.mouse.move(start.x, start.y);
+    await page.mouse.down();
+    for (let step = 1; step <= 6; step++) await page.mouse.move(start.x + 4 * step, start.y + 2 * step);
+    await answered(() => page.mouse.up());
+  }
+  const draggedSkirt = JSON.parse(await sceneText());
+  assert.equal(draggedSkirt.deformations.length, JSON.parse(skirt).deformations.length + 1, 'the drag is a new deformation');
+  const dragStep = draggedSkirt.deformations.at(-1);
+  assert.equal(dragStep.name, "drag (1, 1, 0)");
+  assert.ok(Math.hypot(...dragStep.edits[0].move.by) > 1, `moved by ${dragStep.edits[0].move.by}`);
+  const afterDrag = await meshReply();
+  assert.equal(afterDrag.report.status, 'ok');
+  assert.notDeepEqual(afterDrag.restored.positions, ffd.restored.positions, 'the panels moved');
+  assert.ok(maxAbs(afterDrag.restored.angle_defects_rad) <= 1e-8, 'restored after the drag');
+  assert.ok((await page.evaluate(() => window.sheetformEditor.isometryError())) < 1e-8);
+  assert.equal(afterDrag.report.ffd.steps.length, draggedSkirt.deformations.length);
+  await page.screenshot({ path: join(outputDir, 'ffd.png') });
+  await page.selectOption('#ffd-view', 'before');
+  await page.screenshot({ path: join(outputDir, 'ffd-before.png') });
+  await page.selectOption('#ffd-view', 'after');
+  await answered(() => page.click('#undo'));
+  assert.equal(await sceneText(), skirt, 'undo restores the exact previous scene');
+  assert.deepEqual((await meshReply()).restored.positions, ffd.restored.positions);
+  // A long restoration (a 16k-vertex duct, every parameter a step: seconds), cancelled.
+  const duct = JSON.parse(readFileSync(join(repository, 'examples/ffd/duct-100k.json'), 'utf8'));
+  duct.model.procedural.around = 160;
+  duct.model.procedural.along = 100;
+  duct.solver = {};
+  const cancelled = await page.evaluate(() => window.sheetformEditor.state.cancellations);
+  await answered(async () => {
+    await page.evaluate((scene) => { window.sheetformEditor.runFfd(scene); }, duct);
+    await page.waitForFunction(() => window.sheetformEditor.state.progress.some((p) => p.fraction > 0.05));
+    await page.click('#cancel');
+  });
+  assert.equal(await page.evaluate(() => window.sheetformEditor.state.cancellations), cancelled + 1);
+  assert.match(await page.textContent('#status'), /cancelled/);
+  assert.equal(await sceneText(), skirt, 'the last result is kept');
+  // A drag of a control point the lattice does not have: refused, the last result kept.
+  const squashed = JSON.parse(skirt);
+  squashed.deformations.push({ name: 'outside', edits: [{ move: { points: [[9, 9, 9]], by: [5, 0, 0] } }] });
+  const ffdRefusals = await page.evaluate(() => window.sheetformEditor.state.refusals);
+  await answered(() => page.evaluate((scene) => { window.sheetformEditor.runFfd(scene); }, squashed));
+  assert.equal(await page.evaluate(() => window.sheetformEditor.state.refusals), ffdRefusals + 1);
+  assert.equal(await page.getAttribute('#status', 'data-state'), 'refused');
+  assert.match(await page.textContent('#status'), /deformations\[1\]/);
+  assert.equal(await sceneText(), skirt);
+  // The server stopped the cancelled run: a small scene is answered at once.
+  const quick = performance.now();
+  const ok = await page.evaluate(async (scene) => (await (await fetch('/api/ffd', { method: 'POST', body: scene })).text()).includes('"result"'), skirt);
+  assert.ok(ok, 'the server keeps serving');
+  figures.ffd_skirt_after_cancel_ms = performance.now() - quick;
+
+  // 9. Mesh mode: a bundled mesh opens from the list and is checked and flattened; a
   // mesh dropped on the 3D view replaces it; a layout change is undone exactly; a layout
   // the mesh cannot have and a malformed mesh are refused and the last result kept; the
   // files `sheetform flatten` writes download.
-  const answers = () => page.evaluate(() => window.sheetformEditor.state.answers);
-  async function answered(action) {
-    const before = await answers();
-    await action();
-    await page.waitForFunction((n) => window.sheetformEditor.state.answers > n && window.sheetformEditor.idle(), before);
-  }
-  const meshReply = () => page.evaluate(() => window.sheetformEditor.state.reply);
   await page.click('#modes .mode[data-mode="mesh"]');
   await page.waitForFunction(() => document.querySelectorAll('#mesh-list option').length > 0);
   await page.selectOption('#mesh-list', 'examples/meshes/lamp-shade.obj');
@@ -319,7 +395,11 @@ try {
   const obj = readFileSync(await download.path(), 'utf8');
   assert.ok(obj.split('\n').some((line) => line.startsWith('vt ')), 'the OBJ carries the pattern');
 
-  // Back to slit and bend mode: the last scene of each is drawn again, its controls shown.
+  // Back to the FFD, slit and bend modes: the last scene of each is drawn again, its
+  // controls shown.
+  await answered(() => page.click('#modes .mode[data-mode="ffd"]'));
+  assert.equal(await sceneText(), skirt);
+  assert.equal(await page.isVisible('#ffd-view'), true);
   await answered(() => page.click('#modes .mode[data-mode="slit"]'));
   assert.equal(await sceneText(), beforeLength);
   assert.equal(await page.isVisible('#l1'), true);
@@ -328,7 +408,7 @@ try {
   assert.equal(await page.isVisible('#drag-mode'), true);
   assert.equal(await page.isVisible('#charts'), false);
 
-  // 9. The server: no file outside its directory, hostile requests answered with an
+  // 10. The server: no file outside its directory, hostile requests answered with an
   // error, and it keeps serving.
   for (const path of ['..%2FCargo.toml', '%2Fetc%2Fpasswd', '..%2F..%2Fetc%2Fpasswd']) {
     const response = await fetch(`${url}api/files/${path}`);

@@ -34,6 +34,15 @@ pub struct FfdRun {
     pub design: FfdDesign,
     /// The restored object with each panel's exact flat pattern (pieces = panels).
     pub sheet: SheetMesh,
+    /// The panels after the last plain FFD (before restoration), welded at the seams.
+    pub plain: sheetform_mesh::TriangleMesh,
+    /// The panels after the last restoration, welded as `plain`.
+    pub restored: sheetform_mesh::TriangleMesh,
+    /// Angle defect at each vertex of `plain` (radians; the colour map
+    /// `developability-before`).
+    pub angle_defects_before_rad: Vec<f64>,
+    /// Angle defect at each vertex of `restored` (radians; `developability-after`).
+    pub angle_defects_after_rad: Vec<f64>,
     /// Rendered outputs `(file name, bytes)`, not yet written.
     pub files: RenderedFiles,
     /// The report.
@@ -312,6 +321,10 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
     Ok(FfdRun {
         design,
         sheet,
+        plain: deformed,
+        restored,
+        angle_defects_before_rad: before_vertices.angle_defect,
+        angle_defects_after_rad: after_vertices.angle_defect,
         files,
         report,
         outcome,

@@ -1,0 +1,172 @@
+//! The FFD mode's routes: an FFD scene in (the same JSON `sheetform ffd` reads), a stream
+//! of progress lines while the restorations run, then the restored panels, the plain FFD
+//! before restoration with the angle defects of both (the colour maps), the deformed
+//! lattice, the pattern and the report; and any file `sheetform ffd` writes, for
+//! download. Both run the library's `run_ffd`; nothing of a pipeline is repeated here.
+//!
+//! `POST /api/ffd` answers `application/x-ndjson`: one JSON object per line,
+//! `{"progress": {"stage", "fraction"}}` as the run advances (after each restoration
+//! iteration), then `{"result": …}` or `{"error": {"kind", "message"}, "report"?}`. A
+//! client that closes the connection (the editor's Cancel) cancels the run at its next
+//! progress report.
+
+use crate::api::{attachment, output_file, pattern_svg, solve, ApiError, MeshArrays};
+use crate::AppState;
+use axum::body::Body;
+use axum::extract::{Path, State};
+use axum::http::header;
+use axum::response::{IntoResponse, Response};
+use axum::routing::post;
+use axum::Router;
+use serde::Serialize;
+use sheetform::ffd::FfdScene;
+use sheetform::mesh::TriangleMesh;
+use sheetform::pipeline::{run_ffd, FfdRunOptions, OutputSet, PipelineError, RunContext};
+use sheetform::report::Report;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Progress lines buffered for a slow client before the run waits for it.
+const PROGRESS_BUFFER: usize = 64;
+
+pub(crate) fn routes() -> Router<Arc<AppState>> {
+    Router::new()
+        .route("/api/ffd", post(ffd))
+        .route("/api/ffd/file/{name}", post(ffd_file))
+}
+
+/// Parses an FFD scene at the edge (the same parser as the CLI's).
+fn ffd_scene(body: &str) -> Result<FfdScene, ApiError> {
+    FfdScene::from_json(body).map_err(|e| ApiError::from(PipelineError::from(e)))
+}
+
+/// The panels (welded) at one stage, with the angle defect at each vertex.
+#[derive(Debug, Serialize)]
+struct DefectMesh {
+    /// `x y z` per vertex.
+    positions: Vec<f64>,
+    /// Three vertex indices per triangle.
+    triangles: Vec<u32>,
+    /// `2π − Σθ` per vertex (0 on the boundary and the seams; radians).
+    angle_defects_rad: Vec<f64>,
+}
+
+impl DefectMesh {
+    fn new(mesh: &TriangleMesh, defects: &[f64]) -> Self {
+        Self {
+            positions: mesh.positions.iter().flat_map(|p| [p.x, p.y, p.z]).collect(),
+            triangles: mesh.triangles.iter().flatten().copied().collect(),
+            angle_defects_rad: defects.to_vec(),
+        }
+    }
+}
+
+/// The deformed lattice: control point `(i, j, k)` at `3 (i + nu (j + nv k))`.
+#[derive(Debug, Serialize)]
+struct LatticeArrays {
+    counts: [usize; 3],
+    control_points: Vec<f64>,
+}
+
+/// The result of an FFD scene.
+#[derive(Debug, Serialize)]
+struct FfdReply {
+    /// The restored panels with their exact patterns (pieces = panels).
+    model: MeshArrays,
+    /// The last plain FFD, before restoration.
+    plain: DefectMesh,
+    /// The last restoration.
+    restored: DefectMesh,
+    /// The lattice after the last deformation's edits.
+    lattice: LatticeArrays,
+    pattern_svg: String,
+    report: Report,
+    /// Server time for parsing, solving and rendering (ms).
+    server_ms: f64,
+}
+
+/// One NDJSON line.
+fn line(value: serde_json::Value) -> String {
+    let mut text = value.to_string();
+    text.push('\n');
+    text
+}
+
+async fn ffd(State(state): State<Arc<AppState>>, body: String) -> Result<Response, ApiError> {
+    let start = Instant::now();
+    // A scene that does not parse is answered at once, with its status.
+    let scene = ffd_scene(&body)?;
+    let (sender, mut receiver) = tokio::sync::mpsc::channel::<String>(PROGRESS_BUFFER);
+    let root = state.root.clone();
+    tokio::spawn(async move {
+        let Ok(_permit) = state.solves.acquire().await else {
+            return;
+        };
+        let progress_sender = sender.clone();
+        let outcome = tokio::task::spawn_blocking(move || -> Result<FfdReply, ApiError> {
+            let cancel = AtomicBool::new(false);
+            let progress = |stage: &str, fraction: f64| {
+                let message = line(serde_json::json!({"progress": {"stage": stage, "fraction": fraction}}));
+                // The client is gone (the editor cancelled): stop at the next check.
+                if progress_sender.blocking_send(message).is_err() {
+                    cancel.store(true, Ordering::SeqCst);
+                }
+            };
+            let context = RunContext::new(root)
+                .with_outputs(OutputSet::Preview)
+                .with_progress(&progress)
+                .with_cancel(&cancel);
+            let run = run_ffd(&scene, &FfdRunOptions::default(), &context)?;
+            let lattice = &run.design.steps.last().expect("a scene has a deformation").volume;
+            Ok(FfdReply {
+                model: MeshArrays::new(&run.sheet),
+                plain: DefectMesh::new(&run.plain, &run.angle_defects_before_rad),
+                restored: DefectMesh::new(&run.restored, &run.angle_defects_after_rad),
+                lattice: LatticeArrays {
+                    counts: lattice.counts(),
+                    control_points: lattice.control_points().iter().flat_map(|p| [p.x, p.y, p.z]).collect(),
+                },
+                pattern_svg: pattern_svg(&run.files),
+                report: run.report,
+                server_ms: start.elapsed().as_secs_f64() * 1e3,
+            })
+        })
+        .await;
+        let last = match outcome {
+            Ok(Ok(reply)) => serde_json::json!({ "result": reply }),
+            Ok(Err(error)) => error.body(),
+            Err(error) => {
+                serde_json::json!({"error": {"kind": "failed", "message": format!("the solve stopped: {error}")}})
+            }
+        };
+        // Nobody listens any more when the client cancelled.
+        let _ = sender.send(line(last)).await;
+    });
+    let stream = futures_util::stream::poll_fn(move |context| {
+        receiver
+            .poll_recv(context)
+            .map(|next| next.map(Ok::<_, std::convert::Infallible>))
+    });
+    Ok((
+        [(header::CONTENT_TYPE, "application/x-ndjson")],
+        Body::from_stream(stream),
+    )
+        .into_response())
+}
+
+async fn ffd_file(
+    State(state): State<Arc<AppState>>,
+    Path(name): Path<String>,
+    body: String,
+) -> Result<Response, ApiError> {
+    let root = state.root.clone();
+    let wanted = name.clone();
+    let bytes = solve(&state, move || {
+        let scene = ffd_scene(&body)?;
+        let run = run_ffd(&scene, &FfdRunOptions::default(), &RunContext::new(root))?;
+        output_file(run.files, &run.report, &wanted, "ffd")
+    })
+    .await?;
+    Ok(attachment(&name, bytes))
+}
