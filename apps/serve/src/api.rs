@@ -3,7 +3,7 @@
 //! on the blocking pool; nothing of a pipeline is repeated here.
 
 use crate::AppState;
-use axum::extract::{Path, State};
+use axum::extract::{Path, Query, State};
 use axum::http::{header, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::routing::post;
@@ -24,6 +24,61 @@ pub(crate) fn routes() -> Router<Arc<AppState>> {
         .route("/api/bend", post(bend))
         .route("/api/bend/edit", post(bend_edit))
         .route("/api/bend/file/{name}", post(bend_file))
+}
+
+/// `?dir=…` of a scene request: the directory of the scene file, relative to the served
+/// directory (the editor sends the directory of the file it opened), against which the
+/// scene's assets (textures, photos, scans) are resolved, as the CLI resolves them
+/// against the scene file's directory. Absent: the served directory.
+#[derive(Debug, Clone, Default, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SceneQuery {
+    #[serde(default)]
+    dir: Option<String>,
+}
+
+/// Where a scene's assets are read from: its directory, confined to the served one.
+#[derive(Debug, Clone)]
+pub(crate) struct SceneAssets {
+    directory: std::path::PathBuf,
+    root: std::path::PathBuf,
+}
+
+impl SceneAssets {
+    /// The scene directory `query.dir` names inside `root` (canonical).
+    pub fn new(root: &std::path::Path, query: &SceneQuery) -> Result<Self, ApiError> {
+        let directory = match query.dir.as_deref() {
+            None | Some("") => root.to_path_buf(),
+            Some(dir) => {
+                let refuse = || {
+                    ApiError::invalid(format!(
+                        "dir: `{}` is not a directory inside the served one (such as `examples/photo`)",
+                        sheetform::geometry::shortened_message(dir)
+                    ))
+                };
+                if !sheetform::io::is_plain_relative(dir) {
+                    return Err(refuse());
+                }
+                let full = root.join(dir).canonicalize().map_err(|_| refuse())?;
+                if !full.starts_with(root) || !full.is_dir() {
+                    return Err(refuse());
+                }
+                full
+            }
+        };
+        Ok(Self {
+            directory,
+            root: root.to_path_buf(),
+        })
+    }
+
+    /// A run context whose assets resolve against the scene's directory and may lie
+    /// anywhere inside the served directory, nowhere else.
+    pub fn context(&self) -> RunContext<'static> {
+        let mut context = RunContext::new(&self.directory);
+        context.assets = sheetform::pipeline::AssetResolver::new(&self.directory).with_confinement(&self.root);
+        context
+    }
 }
 
 /// An error reply: `{"error": {"kind", "message"}, "report"?}` with the HTTP status of
@@ -154,8 +209,8 @@ pub(crate) fn pattern_svg(files: &[(String, Vec<u8>)]) -> String {
 }
 
 /// Bends `scene` with the preview outputs: what the editor draws.
-fn preview(scene: &BendScene, root: std::path::PathBuf, start: Instant) -> Result<BendReply, ApiError> {
-    let context = RunContext::new(root).with_outputs(OutputSet::Preview);
+fn preview(scene: &BendScene, assets: &SceneAssets, start: Instant) -> Result<BendReply, ApiError> {
+    let context = assets.context().with_outputs(OutputSet::Preview);
     let run = run_bend(scene, &BendRunOptions::default(), &context)?;
     Ok(BendReply {
         model: MeshArrays::new(&run.sheet.mesh),
@@ -165,10 +220,14 @@ fn preview(scene: &BendScene, root: std::path::PathBuf, start: Instant) -> Resul
     })
 }
 
-async fn bend(State(state): State<Arc<AppState>>, body: String) -> Result<Response, ApiError> {
+async fn bend(
+    State(state): State<Arc<AppState>>,
+    Query(query): Query<SceneQuery>,
+    body: String,
+) -> Result<Response, ApiError> {
     let start = Instant::now();
-    let root = state.root.clone();
-    let reply = solve(&state, move || preview(&bend_scene(&body)?, root, start)).await?;
+    let assets = SceneAssets::new(&state.root, &query)?;
+    let reply = solve(&state, move || preview(&bend_scene(&body)?, &assets, start)).await?;
     Ok(Json(reply).into_response())
 }
 
@@ -189,9 +248,13 @@ struct EditReply {
     preview: BendReply,
 }
 
-async fn bend_edit(State(state): State<Arc<AppState>>, body: String) -> Result<Response, ApiError> {
+async fn bend_edit(
+    State(state): State<Arc<AppState>>,
+    Query(query): Query<SceneQuery>,
+    body: String,
+) -> Result<Response, ApiError> {
     let start = Instant::now();
-    let root = state.root.clone();
+    let assets = SceneAssets::new(&state.root, &query)?;
     let reply = solve(&state, move || {
         let request: EditRequest = serde_json::from_str(&body).map_err(|e| {
             ApiError::invalid(format!(
@@ -218,7 +281,7 @@ async fn bend_edit(State(state): State<Arc<AppState>>, body: String) -> Result<R
                 report: None,
             });
         }
-        let preview = preview(&result.scene, root, start)?;
+        let preview = preview(&result.scene, &assets, start)?;
         Ok(EditReply {
             scene: result.scene,
             edit: result.info,
@@ -285,13 +348,14 @@ pub(crate) fn attachment(name: &str, bytes: Vec<u8>) -> Response {
 async fn bend_file(
     State(state): State<Arc<AppState>>,
     Path(name): Path<String>,
+    Query(query): Query<SceneQuery>,
     body: String,
 ) -> Result<Response, ApiError> {
-    let root = state.root.clone();
+    let assets = SceneAssets::new(&state.root, &query)?;
     let wanted = name.clone();
     let bytes = solve(&state, move || {
         let scene = bend_scene(&body)?;
-        let run = run_bend(&scene, &BendRunOptions::default(), &RunContext::new(root))?;
+        let run = run_bend(&scene, &BendRunOptions::default(), &assets.context())?;
         output_file(run.files, &run.report, &wanted, "bend")
     })
     .await?;

@@ -10,10 +10,10 @@
 //! client that closes the connection (the editor's Cancel) cancels the run at its next
 //! progress report.
 
-use crate::api::{attachment, output_file, pattern_svg, solve, ApiError, MeshArrays};
+use crate::api::{attachment, output_file, pattern_svg, solve, ApiError, MeshArrays, SceneAssets, SceneQuery};
 use crate::AppState;
 use axum::body::Body;
-use axum::extract::{Path, State};
+use axum::extract::{Path, Query, State};
 use axum::http::header;
 use axum::response::{IntoResponse, Response};
 use axum::routing::post;
@@ -21,7 +21,7 @@ use axum::Router;
 use serde::Serialize;
 use sheetform::ffd::FfdScene;
 use sheetform::mesh::TriangleMesh;
-use sheetform::pipeline::{run_ffd, FfdRunOptions, OutputSet, PipelineError, RunContext};
+use sheetform::pipeline::{run_ffd, FfdRunOptions, OutputSet, PipelineError};
 use sheetform::report::Report;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -93,12 +93,16 @@ fn line(value: serde_json::Value) -> String {
     text
 }
 
-async fn ffd(State(state): State<Arc<AppState>>, body: String) -> Result<Response, ApiError> {
+async fn ffd(
+    State(state): State<Arc<AppState>>,
+    Query(query): Query<SceneQuery>,
+    body: String,
+) -> Result<Response, ApiError> {
     let start = Instant::now();
     // A scene that does not parse is answered at once, with its status.
     let scene = ffd_scene(&body)?;
+    let assets = SceneAssets::new(&state.root, &query)?;
     let (sender, mut receiver) = tokio::sync::mpsc::channel::<String>(PROGRESS_BUFFER);
-    let root = state.root.clone();
     tokio::spawn(async move {
         let Ok(_permit) = state.solves.acquire().await else {
             return;
@@ -113,7 +117,8 @@ async fn ffd(State(state): State<Arc<AppState>>, body: String) -> Result<Respons
                     cancel.store(true, Ordering::SeqCst);
                 }
             };
-            let context = RunContext::new(root)
+            let context = assets
+                .context()
                 .with_outputs(OutputSet::Preview)
                 .with_progress(&progress)
                 .with_cancel(&cancel);
@@ -158,13 +163,14 @@ async fn ffd(State(state): State<Arc<AppState>>, body: String) -> Result<Respons
 async fn ffd_file(
     State(state): State<Arc<AppState>>,
     Path(name): Path<String>,
+    Query(query): Query<SceneQuery>,
     body: String,
 ) -> Result<Response, ApiError> {
-    let root = state.root.clone();
+    let assets = SceneAssets::new(&state.root, &query)?;
     let wanted = name.clone();
     let bytes = solve(&state, move || {
         let scene = ffd_scene(&body)?;
-        let run = run_ffd(&scene, &FfdRunOptions::default(), &RunContext::new(root))?;
+        let run = run_ffd(&scene, &FfdRunOptions::default(), &assets.context())?;
         output_file(run.files, &run.report, &wanted, "ffd")
     })
     .await?;

@@ -91,12 +91,22 @@ fn resolver(state: &AppState) -> AssetResolver {
     AssetResolver::new(&state.root).with_max_bytes(sheetform::io::MAX_SCENE_FILE_BYTES)
 }
 
+/// The content type of an image a scene names (photographs, textures), by extension.
+fn image_type(name: &str) -> Option<&'static str> {
+    match name.rsplit_once('.')?.1.to_ascii_lowercase().as_str() {
+        "png" => Some("image/png"),
+        "jpg" | "jpeg" => Some("image/jpeg"),
+        _ => None,
+    }
+}
+
 async fn open(State(state): State<Arc<AppState>>, Path(path): Path<String>) -> Result<Response, ApiError> {
     let resolver = resolver(&state);
-    let mesh = is_mesh(&path);
+    let image = image_type(&path);
+    let mesh = is_mesh(&path) || image.is_some();
     let bytes = tokio::task::spawn_blocking(move || -> Result<Vec<u8>, ApiError> {
         let bytes = resolver.read(&path, "path")?;
-        // Scenes are JSON text; meshes go out as they are (binary STL and PLY too).
+        // Scenes are JSON text; meshes and images go out as they are.
         if !mesh && std::str::from_utf8(&bytes).is_err() {
             return Err(ApiError::invalid(format!("`{path}` is not UTF-8 text")));
         }
@@ -104,11 +114,11 @@ async fn open(State(state): State<Arc<AppState>>, Path(path): Path<String>) -> R
     })
     .await
     .map_err(|e| ApiError::invalid(e.to_string()))??;
-    let content_type = if mesh {
+    let content_type = image.unwrap_or(if mesh {
         "application/octet-stream"
     } else {
         "application/json"
-    };
+    });
     Ok(([(axum::http::header::CONTENT_TYPE, content_type)], bytes).into_response())
 }
 

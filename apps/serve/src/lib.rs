@@ -6,12 +6,14 @@
 //!
 //! | route | what |
 //! |---|---|
-//! | `POST /api/bend` | a bend scene in, the bent sheet (arrays), the pattern SVG and the report out ([`sheetform::pipeline::run_bend`] with [`OutputSet::Preview`](sheetform::pipeline::OutputSet)) |
+//! | `POST /api/bend?dir=…` | a bend scene in (its assets read relative to `dir`, inside the served directory; every scene route takes it), the bent sheet (arrays), the pattern SVG and the report out ([`sheetform::pipeline::run_bend`] with [`OutputSet::Preview`](sheetform::pipeline::OutputSet)) |
 //! | `POST /api/bend/file/{name}` | one of the files `sheetform bend` writes (OBJ, GLB, STL, SVG, DXF, PDF), for download |
 //! | `POST /api/slit` | a slit scene in, the bent sheet, its pattern and the report (per-strip gaps) out ([`sheetform::pipeline::run_slit`], preview outputs) |
 //! | `POST /api/slit/file/{name}` | one of the files `sheetform slit` writes, for download |
 //! | `POST /api/ffd` | an FFD scene in; progress lines while it runs (closing the connection cancels), then the restored panels, the plain FFD, both angle-defect maps, the deformed lattice, the pattern and the report ([`sheetform::pipeline::run_ffd`], preview outputs), as NDJSON |
 //! | `POST /api/ffd/file/{name}` | one of the files `sheetform ffd` writes, for download |
+//! | `POST /api/photo?dir=…` | a photo annotation in (its photograph read relative to `dir`), the reconstructed model, its pattern and the report out ([`sheetform::pipeline::run_photo`], preview outputs) |
+//! | `POST /api/photo/file/{name}?dir=…` | one of the files `sheetform photo` writes, for download |
 //! | `POST /api/mesh?name=…` | a mesh file's bytes in (OBJ, PLY, STL, OFF), its developability ([`sheetform::pipeline::run_check`]), the flattened model, its pattern and both reports out ([`sheetform::pipeline::run_flatten`], preview outputs) |
 //! | `POST /api/mesh/file/{name}?name=…` | one of the files `sheetform flatten` writes, for download |
 //! | `GET /api/files` | the scene files (`*.json`) and the meshes under the served directory |
@@ -31,6 +33,7 @@ mod assets;
 mod ffd;
 mod files;
 mod mesh;
+mod photo;
 mod slit;
 
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
@@ -120,6 +123,7 @@ pub fn router(options: &ServeOptions) -> Result<axum::Router, ServeError> {
         .merge(mesh::routes())
         .merge(slit::routes())
         .merge(ffd::routes())
+        .merge(photo::routes())
         .merge(files::routes())
         .layer(axum::extract::DefaultBodyLimit::max(options.max_request_bytes))
         .with_state(state))

@@ -2,14 +2,14 @@
 //! bent sheet, its pattern and the report out; and any file `sheetform slit` writes, for
 //! download. Both run the library's `run_slit`; nothing of a pipeline is repeated here.
 
-use crate::api::{attachment, output_file, pattern_svg, solve, ApiError, MeshArrays};
+use crate::api::{attachment, output_file, pattern_svg, solve, ApiError, MeshArrays, SceneAssets, SceneQuery};
 use crate::AppState;
-use axum::extract::{Path, State};
+use axum::extract::{Path, Query, State};
 use axum::response::{IntoResponse, Response};
 use axum::routing::post;
 use axum::{Json, Router};
 use serde::Serialize;
-use sheetform::pipeline::{run_slit, OutputSet, PipelineError, RunContext, SlitRunOptions};
+use sheetform::pipeline::{run_slit, OutputSet, PipelineError, SlitRunOptions};
 use sheetform::report::Report;
 use sheetform::slit::SlitScene;
 use std::sync::Arc;
@@ -37,12 +37,16 @@ struct SlitReply {
     server_ms: f64,
 }
 
-async fn slit(State(state): State<Arc<AppState>>, body: String) -> Result<Response, ApiError> {
+async fn slit(
+    State(state): State<Arc<AppState>>,
+    Query(query): Query<SceneQuery>,
+    body: String,
+) -> Result<Response, ApiError> {
     let start = Instant::now();
-    let root = state.root.clone();
+    let assets = SceneAssets::new(&state.root, &query)?;
     let reply = solve(&state, move || {
         let scene = slit_scene(&body)?;
-        let context = RunContext::new(root).with_outputs(OutputSet::Preview);
+        let context = assets.context().with_outputs(OutputSet::Preview);
         let run = run_slit(&scene, &SlitRunOptions::default(), &context)?;
         Ok(SlitReply {
             model: MeshArrays::new(&run.mesh),
@@ -58,13 +62,14 @@ async fn slit(State(state): State<Arc<AppState>>, body: String) -> Result<Respon
 async fn slit_file(
     State(state): State<Arc<AppState>>,
     Path(name): Path<String>,
+    Query(query): Query<SceneQuery>,
     body: String,
 ) -> Result<Response, ApiError> {
-    let root = state.root.clone();
+    let assets = SceneAssets::new(&state.root, &query)?;
     let wanted = name.clone();
     let bytes = solve(&state, move || {
         let scene = slit_scene(&body)?;
-        let run = run_slit(&scene, &SlitRunOptions::default(), &RunContext::new(root))?;
+        let run = run_slit(&scene, &SlitRunOptions::default(), &assets.context())?;
         output_file(run.files, &run.report, &wanted, "slit")
     })
     .await?;

@@ -487,3 +487,57 @@ async fn an_ffd_scene_streams_its_progress_then_the_restored_panels() {
         "{last}"
     );
 }
+
+/// The photo mode: an annotation's photograph is read relative to `?dir=` (the
+/// annotation's directory inside the served one, never outside it), the reconstruction
+/// answers with a model isometric to its pattern, and the photograph itself opens as an
+/// image.
+#[tokio::test]
+async fn a_photo_annotation_is_reconstructed_with_its_photograph_beside_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path().join("served");
+    std::fs::create_dir_all(root.join("photos")).unwrap();
+    for name in ["coffee-cup.json", "coffee.png"] {
+        std::fs::copy(
+            repository().join("examples/photo").join(name),
+            root.join("photos").join(name),
+        )
+        .unwrap();
+    }
+    let app = router(&ServeOptions {
+        root,
+        ..Default::default()
+    })
+    .unwrap();
+    let annotation = std::fs::read_to_string(repository().join("examples/photo/coffee-cup.json")).unwrap();
+    let (status, body) = send(&app, "POST", "/api/photo?dir=photos", annotation.clone()).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let reply = json(&body);
+    assert_eq!(reply["report"]["status"], "ok");
+    assert!(isometry_error(&reply["model"]) < 1e-8);
+    // Without the directory the photograph is not found; outside the root is refused.
+    let (status, body) = send(&app, "POST", "/api/photo", annotation.clone()).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(String::from_utf8_lossy(&body).contains("coffee.png"));
+    for dir in ["..", "%2Ftmp", "photos%2F..%2F..", "missing"] {
+        let (status, body) = send(&app, "POST", &format!("/api/photo?dir={dir}"), annotation.clone()).await;
+        assert_eq!(status, StatusCode::BAD_REQUEST, "{dir}");
+        assert!(
+            String::from_utf8_lossy(&body).contains("dir"),
+            "{dir}: {}",
+            String::from_utf8_lossy(&body)
+        );
+    }
+    let (status, body) = send(&app, "POST", "/api/photo/file/model.obj?dir=photos", annotation).await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(String::from_utf8_lossy(&body).lines().any(|l| l.starts_with("vt ")));
+    let request = Request::builder()
+        .uri("/api/files/photos/coffee.png")
+        .body(Body::empty())
+        .unwrap();
+    let response = app.clone().oneshot(request).await.unwrap();
+    assert_eq!(response.status(), StatusCode::OK);
+    assert_eq!(response.headers()["content-type"], "image/png");
+    let bytes = axum::body::to_bytes(response.into_body(), usize::MAX).await.unwrap();
+    assert_eq!(&bytes[1..4], b"PNG");
+}

@@ -10,6 +10,9 @@
 // FFD mode: a lattice control point dragged and released appends a deformation that
 // moves it; the server restores developability (`sheetform ffd`) while the page shows
 // its progress and can cancel it, then the restored panels and both colour maps.
+// Photo mode: the annotation's curves drawn over its photograph; control points dragged,
+// curves added, marked silhouette or boundary (or self-symmetric) or deleted, and each
+// change reconstructed (`sheetform photo`).
 
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
@@ -18,7 +21,7 @@ const $ = (id) => document.getElementById(id);
 
 /** Editor state: the last admissible scene and what the server said of it. */
 const state = {
-  mode: 'bend', // 'bend', 'slit', 'ffd' or 'mesh'
+  mode: 'bend', // 'bend', 'slit', 'ffd', 'photo' or 'mesh'
   ffdController: null, // FFD mode: aborts the restoration under way
   ffdPending: null, // FFD mode: the newest scene waiting for the run under way to stop
   progress: [], // FFD mode: the progress lines of the last run
@@ -125,6 +128,10 @@ function drawHandles(scene) {
   }
   if (state.mode === 'ffd') {
     drawLattice(state.reply && state.reply.lattice);
+    return;
+  }
+  if (state.mode === 'photo') {
+    drawPhotoEditor(scene);
     return;
   }
   const ends = dragMode() === 'ends';
@@ -341,6 +348,170 @@ function drawFfdModel(reply) {
   drawLattice(reply.lattice);
 }
 
+// ---------------------------------------------------------------- photo mode view
+
+const SVG = 'http://www.w3.org/2000/svg';
+const photoSvg = $('photo-svg');
+const KIND_COLOURS = { silhouette: '#2b5d8a', boundary: '#c0392b' };
+const photo = { drag: null, working: null, adding: null };
+
+function svgElement(name, attributes, parent) {
+  const element = document.createElementNS(SVG, name);
+  for (const [key, value] of Object.entries(attributes)) element.setAttribute(key, value);
+  parent.append(element);
+  return element;
+}
+
+/** The SVG path of a piecewise cubic Bézier (`3k + 1` points). */
+function bezierPath(points) {
+  let d = `M ${points[0][0]} ${points[0][1]}`;
+  for (let j = 1; j + 2 < points.length; j += 3) {
+    d += ` C ${points[j].join(' ')} ${points[j + 1].join(' ')} ${points[j + 2].join(' ')}`;
+  }
+  return d;
+}
+
+/** The annotation over its photograph: curves by kind, their control points, the
+ * symmetry frame and points, the true-size segment; and the list of curves. */
+function drawPhotoEditor(scene) {
+  const { width, height, path } = scene.image;
+  photoSvg.setAttribute('viewBox', `0 0 ${width} ${height}`);
+  photoSvg.innerHTML = '';
+  const href = `/api/files/${[sceneDirectory(), path].filter(Boolean).join('/').split('/').map(encodeURIComponent).join('/')}`;
+  svgElement('image', { href, x: 0, y: 0, width, height }, photoSvg);
+  const unit = Math.max(width, height) / 400;
+  const marks = svgElement('g', {}, photoSvg);
+  const symmetry = scene.symmetry;
+  if (symmetry) {
+    for (const [[x1, y1], [x2, y2]] of symmetry.frame || []) {
+      svgElement('line', { x1, y1, x2, y2, stroke: '#17a2b8', 'stroke-width': unit, 'pointer-events': 'none' }, marks);
+    }
+    for (const [x, y] of symmetry.points || []) {
+      svgElement('rect', { x: x - 2 * unit, y: y - 2 * unit, width: 4 * unit, height: 4 * unit, fill: '#e74c3c', 'pointer-events': 'none' }, marks);
+    }
+  }
+  if (scene.true_size) {
+    const { from: [x1, y1], to: [x2, y2] } = scene.true_size;
+    svgElement('line', { x1, y1, x2, y2, stroke: '#27ae60', 'stroke-width': unit * 0.7, 'stroke-dasharray': `${4 * unit} ${2 * unit}`, 'pointer-events': 'none' }, marks);
+  }
+  scene.curves.forEach((curve, c) => {
+    const colour = KIND_COLOURS[curve.kind] || '#555';
+    const group = svgElement('g', { 'data-curve': c }, photoSvg);
+    svgElement('polyline', {
+      points: curve.control_points.map((p) => p.join(',')).join(' '), fill: 'none', stroke: colour,
+      'stroke-width': unit * 0.4, 'stroke-dasharray': `${2 * unit} ${2 * unit}`, opacity: 0.6, 'pointer-events': 'none',
+    }, group);
+    svgElement('path', { d: bezierPath(curve.control_points), fill: 'none', stroke: colour, 'stroke-width': unit * 1.2, 'pointer-events': 'none' }, group);
+    curve.control_points.forEach(([x, y], index) => {
+      svgElement('circle', {
+        cx: x, cy: y, r: (index % 3 === 0 ? 2.4 : 1.8) * unit, fill: index % 3 === 0 ? colour : '#fff', stroke: colour,
+        'stroke-width': unit * 0.5, 'data-curve': c, 'data-index': index,
+      }, group);
+    });
+  });
+  for (const point of photo.adding || []) {
+    svgElement('circle', { cx: point[0], cy: point[1], r: 2 * unit, fill: '#f39c12' }, photoSvg);
+  }
+  drawCurveList(scene);
+}
+
+function drawCurveList(scene) {
+  const list = $('curve-list');
+  list.innerHTML = '<strong>curves</strong>';
+  const selfSymmetric = new Set(scene.self_symmetric_curves || []);
+  scene.curves.forEach((curve, c) => {
+    const row = document.createElement('div');
+    row.dataset.curve = curve.name;
+    row.innerHTML = `<span style="color:${KIND_COLOURS[curve.kind] || '#555'}">●</span> <span class="name"></span>
+      <select class="kind"><option value="boundary">boundary</option><option value="silhouette">silhouette</option></select>
+      <label title="The curve is its own mirror image"><input type="checkbox" class="self"> sym.</label>
+      <button class="delete" title="Delete the curve">×</button>`;
+    row.querySelector('.name').textContent = curve.name;
+    row.querySelector('.kind').value = curve.kind;
+    row.querySelector('.self').checked = selfSymmetric.has(curve.name);
+    row.querySelector('.kind').addEventListener('change', (event) => {
+      const next = structuredClone(state.scene);
+      next.curves[c].kind = event.target.value;
+      commit(next);
+    });
+    row.querySelector('.self').addEventListener('change', (event) => {
+      const next = structuredClone(state.scene);
+      const names = new Set(next.self_symmetric_curves || []);
+      if (event.target.checked) names.add(curve.name); else names.delete(curve.name);
+      next.self_symmetric_curves = [...names];
+      commit(next);
+    });
+    row.querySelector('.delete').addEventListener('click', () => {
+      const next = structuredClone(state.scene);
+      next.curves.splice(c, 1);
+      const keep = (name) => name !== curve.name;
+      if (next.self_symmetric_curves) next.self_symmetric_curves = next.self_symmetric_curves.filter(keep);
+      if (next.symmetric_curves) next.symmetric_curves = next.symmetric_curves.filter((pair) => pair.every(keep));
+      commit(next);
+    });
+    list.append(row);
+  });
+}
+
+/** A pointer event's position in the photograph's pixels. */
+function photoPoint(event) {
+  const point = new DOMPoint(event.clientX, event.clientY).matrixTransform(photoSvg.getScreenCTM().inverse());
+  return [point.x, point.y];
+}
+
+photoSvg.addEventListener('pointerdown', (event) => {
+  if (state.mode !== 'photo' || !state.scene || event.button !== 0) return;
+  if (photo.adding) {
+    photo.adding.push(photoPoint(event));
+    if (photo.adding.length === 4) {
+      const next = structuredClone(state.scene);
+      const names = new Set(next.curves.map((c) => c.name));
+      let n = next.curves.length + 1;
+      while (names.has(`curve-${n}`)) n += 1;
+      next.curves.push({ name: `curve-${n}`, kind: $('new-kind').value, control_points: photo.adding });
+      photo.adding = null;
+      photoSvg.classList.remove('adding');
+      commit(next);
+    } else {
+      drawPhotoEditor(state.scene);
+    }
+    return;
+  }
+  const target = event.target;
+  if (target.tagName !== 'circle' || target.dataset.curve === undefined) return;
+  photo.drag = { curve: Number(target.dataset.curve), index: Number(target.dataset.index), moved: false };
+  photo.working = structuredClone(state.scene);
+  photoSvg.setPointerCapture(event.pointerId);
+});
+
+photoSvg.addEventListener('pointermove', (event) => {
+  if (!photo.drag) return;
+  photo.working.curves[photo.drag.curve].control_points[photo.drag.index] = photoPoint(event);
+  photo.drag.moved = true;
+  drawPhotoEditor(photo.working);
+});
+
+function endPhotoDrag(event) {
+  if (!photo.drag) return;
+  const { moved } = photo.drag;
+  photo.drag = null;
+  if (photoSvg.hasPointerCapture(event.pointerId)) photoSvg.releasePointerCapture(event.pointerId);
+  // The reconstruction runs on release; a refusal redraws the last admissible annotation.
+  if (moved) commit(photo.working);
+}
+photoSvg.addEventListener('pointerup', endPhotoDrag);
+photoSvg.addEventListener('pointercancel', endPhotoDrag);
+
+$('add-curve').addEventListener('click', () => {
+  photo.adding = [];
+  photoSvg.classList.add('adding');
+  showStatus('busy', 'click the new curve\'s four control points on the photo');
+});
+$('photo-pane').addEventListener('change', (event) => {
+  $('photo-editor').hidden = event.target.value !== 'photo';
+  render();
+});
+
 // ---------------------------------------------------------------- pattern view
 
 function drawPattern(svg) {
@@ -377,7 +548,24 @@ function showSlitReport(reply, roundTrip) {
     .join('');
 }
 
+function showPhotoReport(reply) {
+  const r = reply.report;
+  const pieces = new Set(reply.model.face_pieces).size;
+  const parts = [
+    `${r.status}`,
+    `${pieces} patch${pieces === 1 ? '' : 'es'}`,
+    `${r.face_count} faces`,
+    `isometry error ${short(r.isometry_error_max_relative, 2)}`,
+    `server ${short(reply.server_ms)} ms`,
+  ];
+  showStatus(r.status === 'ok' ? 'ok' : 'refused', parts.join(' · '));
+}
+
 function showReport(reply, roundTrip) {
+  if (state.mode === 'photo') {
+    showPhotoReport(reply);
+    return;
+  }
   if (state.mode === 'slit') {
     showSlitReport(reply, roundTrip);
     return;
@@ -414,6 +602,16 @@ function showMeshReport(reply) {
 
 // ---------------------------------------------------------------- solving
 
+/** The directory of the scene file in the served directory ('' for one from disk). */
+function sceneDirectory() {
+  return state.path ? state.path.split('/').slice(0, -1).join('/') : '';
+}
+
+/** `?dir=…`: the server reads the scene's assets relative to its directory, as the CLI. */
+function dirQuery() {
+  return `?dir=${encodeURIComponent(sceneDirectory())}`;
+}
+
 async function post(url, body) {
   const response = await fetch(url, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body });
   return response;
@@ -446,8 +644,8 @@ async function solveNow(scene, started, edit) {
   let received;
   try {
     response = edit
-      ? await post('/api/bend/edit', JSON.stringify({ scene, edit }))
-      : await post(state.mode === 'slit' ? '/api/slit' : '/api/bend', JSON.stringify(scene));
+      ? await post(`/api/bend/edit${dirQuery()}`, JSON.stringify({ scene, edit }))
+      : await post(`/api/${mode}${dirQuery()}`, JSON.stringify(scene));
     received = performance.now();
     body = await response.json();
     state.answers += 1;
@@ -530,7 +728,7 @@ async function runFfd(scene, remember = true) {
   showStatus('busy', 'restoring…');
   const before = state.scene;
   try {
-    const response = await fetch('/api/ffd', { method: 'POST', body: JSON.stringify(scene), signal: controller.signal });
+    const response = await fetch(`/api/ffd${dirQuery()}`, { method: 'POST', body: JSON.stringify(scene), signal: controller.signal });
     let last = null;
     if (!response.ok) {
       last = await response.json();
@@ -779,6 +977,10 @@ function isBendScene(scene) {
   return scene && Array.isArray(scene.outline) && Array.isArray(scene.regions);
 }
 
+function isPhotoAnnotation(scene) {
+  return scene && typeof scene.image === 'object' && scene.image !== null && Array.isArray(scene.curves);
+}
+
 function isFfdScene(scene) {
   return scene && typeof scene.model === 'object' && Array.isArray(scene.deformations);
 }
@@ -795,9 +997,9 @@ function load(text, path = null) {
     showStatus('error', `not a JSON document: ${error.message}`);
     return;
   }
-  const mode = isBendScene(scene) ? 'bend' : isSlitScene(scene) ? 'slit' : isFfdScene(scene) ? 'ffd' : null;
+  const mode = isBendScene(scene) ? 'bend' : isSlitScene(scene) ? 'slit' : isFfdScene(scene) ? 'ffd' : isPhotoAnnotation(scene) ? 'photo' : null;
   if (!mode) {
-    showStatus('error', 'not a bend scene (an `outline` and `regions`), a slit scene (a `sheet`) or an FFD scene (a `model` and `deformations`); photo annotations are not in the editor yet');
+    showStatus('error', 'not a bend scene (an `outline` and `regions`), a slit scene (a `sheet`), an FFD scene (a `model` and `deformations`) or a photo annotation (an `image` and `curves`)');
     return;
   }
   if (state.mode !== mode) setMode(mode);
@@ -846,6 +1048,7 @@ $('open').addEventListener('click', () => openFile($('file-list').value));
 const MESH_EXTENSIONS = ['obj', 'ply', 'stl', 'off'];
 const isMeshName = (name) => MESH_EXTENSIONS.includes(name.split('.').pop().toLowerCase());
 const DOWNLOADS = {
+  photo: ['model.obj', 'model.glb', 'model.stl', 'pattern.svg', 'pattern.dxf', 'pattern.pdf', 'report.json'],
   ffd: ['model.obj', 'model.glb', 'model.stl', 'deformed.obj', 'deformed.glb', 'developability-before.glb', 'developability-after.glb', 'pattern.svg', 'pattern.dxf', 'pattern.pdf', 'report.json'],
   slit: ['model.obj', 'model.glb', 'model.stl', 'mould.stl', 'pattern.svg', 'pattern.dxf', 'pattern.pdf', 'report.json'],
   bend: ['model.obj', 'model.glb', 'model.stl', 'pattern.svg', 'pattern.dxf', 'pattern.pdf', 'report.json'],
@@ -856,7 +1059,9 @@ function setMode(mode) {
   state.mode = mode;
   for (const button of document.querySelectorAll('#modes .mode')) button.classList.toggle('active', button.dataset.mode === mode);
   for (const element of document.querySelectorAll('[data-for]')) element.hidden = !element.dataset.for.split(' ').includes(mode);
+  if (mode === 'photo') $('photo-editor').hidden = $('photo-pane').value !== 'photo';
   $('model-caption').textContent = {
+    photo: '3D model reconstructed from the photo (the photo view shows the curves: drag their points, add, mark or delete curves).',
     ffd: '3D model: drag a purple lattice control point and release it: the panels follow and their developability is restored (Cancel stops it); orbit, pan and zoom elsewhere.',
     mesh: '3D model: each piece of the pattern in its own colour (or the angle defect at each vertex); orbit, pan and zoom; drop a mesh file here.',
     slit: '3D model: drag an orange point of the leg curve or a blue point of the seat curve (each in its own plane); orbit, pan and zoom elsewhere.',
@@ -895,7 +1100,7 @@ function clearView(mode) {
   $('strip-gaps').innerHTML = '';
   render();
   const example = {
-    bend: 'examples/bent-rectangle.json', slit: 'examples/slit/chair.json', ffd: 'examples/ffd/skirt.json', mesh: 'examples/meshes/lamp-shade.obj',
+    bend: 'examples/bent-rectangle.json', slit: 'examples/slit/chair.json', ffd: 'examples/ffd/skirt.json', photo: 'examples/photo/coffee-cup.json', mesh: 'examples/meshes/lamp-shade.obj',
   }[mode];
   const list = mode === 'mesh' ? $('mesh-list') : $('file-list');
   if ([...list.options].some((o) => o.value === example)) list.value = example;
@@ -1062,7 +1267,7 @@ $('download').addEventListener('change', async (event) => {
   if (!name || (state.mode === 'mesh' ? !state.meshOptions : !state.scene)) return;
   const response = state.mode === 'mesh'
     ? await fetch(`/api/mesh/file/${name}?${meshQuery(state.meshOptions)}`, { method: 'POST', body: state.mesh.bytes })
-    : await post(`/api/${state.mode}/file/${name}`, JSON.stringify(state.scene));
+    : await post(`/api/${state.mode}/file/${name}${dirQuery()}`, JSON.stringify(state.scene));
   if (!response.ok) {
     showStatus('error', `${name}: ${(await response.json()).error.message}`);
     return;
@@ -1093,6 +1298,17 @@ window.sheetformEditor = {
   /** The page coordinates of a control point's handle. */
   handleScreenPosition(region, index) {
     return pageCoordinates(content.localToWorld(new THREE.Vector3(...state.scene.regions[region].curve.control_points[index])));
+  },
+  /** The page coordinates of control point `index` of curve `curve` (photo mode). */
+  photoPointScreenPosition(curve, index) {
+    const circle = photoSvg.querySelector(`circle[data-curve="${curve}"][data-index="${index}"]`);
+    const box = circle.getBoundingClientRect();
+    return { x: box.left + box.width / 2, y: box.top + box.height / 2 };
+  },
+  /** The page coordinates of a pixel of the photograph (photo mode). */
+  photoPixelScreenPosition(x, y) {
+    const point = new DOMPoint(x, y).matrixTransform(photoSvg.getScreenCTM());
+    return { x: point.x, y: point.y };
   },
   /** The page coordinates of lattice control point (i, j, k) (FFD mode). */
   latticeScreenPosition(i, j, k) {

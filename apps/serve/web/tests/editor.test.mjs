@@ -11,7 +11,9 @@
 // undone exactly, an impossible strip count is refused. In FFD mode: a lattice control
 // point dragged and released is restored (progress shown), undone exactly; a long
 // restoration is cancelled and an edit of a point the lattice lacks refused, the last
-// result kept. In mesh mode: a bundled mesh is checked and flattened
+// result kept. In photo mode: a curve's control point dragged over the photograph is
+// reconstructed and undone exactly, a deleted silhouette refused, a curve added with four
+// clicks sent. In mesh mode: a bundled mesh is checked and flattened
 // exactly, a mesh dropped on the 3D view replaces it, a layout change is undone exactly,
 // an impossible layout and a malformed mesh are refused with the last result kept, and
 // the OBJ downloads. The server refuses files outside its directory and hostile
@@ -328,7 +330,60 @@ try {
   assert.ok(ok, 'the server keeps serving');
   figures.ffd_skirt_after_cancel_ms = performance.now() - quick;
 
-  // 9. Mesh mode: a bundled mesh opens from the list and is checked and flattened; a
+  // 9. Photo mode: the coffee cup's annotation opens over its photograph and is
+  // reconstructed; a control point of the rim dragged with the mouse is reconstructed
+  // again (still isometric to the pattern) and undone exactly; a curve added with four
+  // clicks appears; deleting a silhouette leaves a curve without a cycle: refused, the
+  // last annotation kept.
+  await page.selectOption('#file-list', 'examples/photo/coffee-cup.json');
+  await answered(() => page.click('#open'));
+  assert.equal(await page.evaluate(() => window.sheetformEditor.state.mode), 'photo');
+  let cup = await meshReply();
+  assert.equal(cup.report.status, 'ok', await page.textContent('#status'));
+  assert.ok((await page.evaluate(() => window.sheetformEditor.isometryError())) < 1e-8);
+  assert.equal(await page.locator('#photo-svg g[data-curve] path').count(), 4, 'the four curves are drawn');
+  assert.ok(await page.evaluate(() => document.querySelector('#photo-svg image').getBBox().width > 0), 'the photograph is shown');
+  const cupScene = await sceneText();
+  await page.screenshot({ path: join(outputDir, 'photo.png') });
+  {
+    const start = await page.evaluate(() => window.sheetformEditor.photoPointScreenPosition(0, 15));
+    await page.mouse.move(start.x, start.y);
+    await page.mouse.down();
+    for (let step = 1; step <= 5; step++) await page.mouse.move(start.x, start.y + step);
+    await answered(() => page.mouse.up());
+  }
+  const draggedCup = JSON.parse(await sceneText());
+  const [beforePoint, afterPoint] = [JSON.parse(cupScene).curves[0].control_points[15], draggedCup.curves[0].control_points[15]];
+  assert.ok(afterPoint[1] - beforePoint[1] > 1, `the rim's point moved down in the photo: ${beforePoint} -> ${afterPoint}`);
+  const draggedCupReply = await meshReply();
+  assert.equal(draggedCupReply.report.status, 'ok');
+  assert.notDeepEqual(draggedCupReply.model.positions, cup.model.positions, 'the model changed');
+  assert.ok((await page.evaluate(() => window.sheetformEditor.isometryError())) < 1e-8);
+  await page.selectOption('#photo-pane', 'model');
+  await page.screenshot({ path: join(outputDir, 'photo-model.png') });
+  await page.selectOption('#photo-pane', 'photo');
+  await answered(() => page.click('#undo'));
+  assert.equal(await sceneText(), cupScene, 'undo restores the exact previous annotation');
+  // Deleting a silhouette: refused.
+  const photoRefusals = await page.evaluate(() => window.sheetformEditor.state.refusals);
+  await answered(() => page.click('#curve-list div[data-curve="left-silhouette"] .delete'));
+  assert.equal(await page.evaluate(() => window.sheetformEditor.state.refusals), photoRefusals + 1);
+  assert.equal(await page.getAttribute('#status', 'data-state'), 'refused');
+  assert.match(await page.textContent('#status'), /right-silhouette|cycle/);
+  assert.equal(await sceneText(), cupScene, 'the last annotation is kept');
+  assert.equal(await page.locator('#photo-svg g[data-curve] path').count(), 4);
+  // A curve added with four clicks (as a boundary away from the cup: refused or not, it
+  // is drawn and sent).
+  await page.click('#add-curve');
+  for (const [x, y] of [[20, 20], [40, 25], [60, 25], [80, 20]]) {
+    const at = await page.evaluate(([px, py]) => window.sheetformEditor.photoPixelScreenPosition(px, py), [x, y]);
+    if (x === 80) await answered(() => page.mouse.click(at.x, at.y));
+    else await page.mouse.click(at.x, at.y);
+  }
+  const lastSent = await page.evaluate(() => window.sheetformEditor.state.lastError);
+  assert.ok(lastSent && /curve-5/.test(lastSent.message), `the new curve was sent and judged: ${JSON.stringify(lastSent)}`);
+
+  // 10. Mesh mode: a bundled mesh opens from the list and is checked and flattened; a
   // mesh dropped on the 3D view replaces it; a layout change is undone exactly; a layout
   // the mesh cannot have and a malformed mesh are refused and the last result kept; the
   // files `sheetform flatten` writes download.
@@ -408,7 +463,7 @@ try {
   assert.equal(await page.isVisible('#drag-mode'), true);
   assert.equal(await page.isVisible('#charts'), false);
 
-  // 10. The server: no file outside its directory, hostile requests answered with an
+  // 11. The server: no file outside its directory, hostile requests answered with an
   // error, and it keeps serving.
   for (const path of ['..%2FCargo.toml', '%2Fetc%2Fpasswd', '..%2F..%2Fetc%2Fpasswd']) {
     const response = await fetch(`${url}api/files/${path}`);

@@ -1,0 +1,72 @@
+//! The photo mode's routes: a photo annotation in (the same JSON `sheetform photo`
+//! reads; its photograph is read relative to `?dir=`), the reconstructed model, its
+//! pattern and the report out; and any file `sheetform photo` writes, for download.
+//! Both run the library's `run_photo`; nothing of a pipeline is repeated here.
+
+use crate::api::{attachment, output_file, pattern_svg, solve, ApiError, MeshArrays, SceneAssets, SceneQuery};
+use crate::AppState;
+use axum::extract::{Path, Query, State};
+use axum::response::{IntoResponse, Response};
+use axum::routing::post;
+use axum::{Json, Router};
+use serde::Serialize;
+use sheetform::pipeline::{run_photo, OutputSet, PhotoInput, PhotoRunOptions};
+use sheetform::report::Report;
+use std::sync::Arc;
+use std::time::Instant;
+
+pub(crate) fn routes() -> Router<Arc<AppState>> {
+    Router::new()
+        .route("/api/photo", post(photo))
+        .route("/api/photo/file/{name}", post(photo_file))
+}
+
+/// The reply to an annotation: the reconstructed model (pieces = patches), its pattern
+/// and the report.
+#[derive(Debug, Serialize)]
+struct PhotoReply {
+    model: MeshArrays,
+    pattern_svg: String,
+    report: Report,
+    /// Server time for parsing, reconstructing and rendering (ms).
+    server_ms: f64,
+}
+
+async fn photo(
+    State(state): State<Arc<AppState>>,
+    Query(query): Query<SceneQuery>,
+    body: String,
+) -> Result<Response, ApiError> {
+    let start = Instant::now();
+    let assets = SceneAssets::new(&state.root, &query)?;
+    let reply = solve(&state, move || {
+        let input = PhotoInput::from_text(&body)?;
+        let context = assets.context().with_outputs(OutputSet::Preview);
+        let run = run_photo(&input, &PhotoRunOptions::default(), &context)?;
+        Ok(PhotoReply {
+            model: MeshArrays::new(&run.sheet),
+            pattern_svg: pattern_svg(&run.files),
+            report: run.report,
+            server_ms: start.elapsed().as_secs_f64() * 1e3,
+        })
+    })
+    .await?;
+    Ok(Json(reply).into_response())
+}
+
+async fn photo_file(
+    State(state): State<Arc<AppState>>,
+    Path(name): Path<String>,
+    Query(query): Query<SceneQuery>,
+    body: String,
+) -> Result<Response, ApiError> {
+    let assets = SceneAssets::new(&state.root, &query)?;
+    let wanted = name.clone();
+    let bytes = solve(&state, move || {
+        let input = PhotoInput::from_text(&body)?;
+        let run = run_photo(&input, &PhotoRunOptions::default(), &assets.context())?;
+        output_file(run.files, &run.report, &wanted, "photo")
+    })
+    .await?;
+    Ok(attachment(&name, bytes))
+}
