@@ -164,10 +164,17 @@ impl MeshArrays {
     }
 }
 
+/// How far beyond a ruling's ends (in multiples of its length on the sheet) the editor
+/// draws the curve of regression.
+const REGRESSION_REACH: f64 = 1.0;
+
 /// The reply to a solve: the model, its pattern and the report.
 #[derive(Debug, Serialize)]
 struct BendReply {
     model: MeshArrays,
+    /// The curve of regression where it comes near the sheet: polylines, `x y z` per
+    /// point (model units).
+    regression_curves: Vec<Vec<f64>>,
     pattern_svg: String,
     report: Report,
     /// Server time for parsing, solving and rendering (ms).
@@ -214,6 +221,12 @@ fn preview(scene: &BendScene, assets: &SceneAssets, start: Instant) -> Result<Be
     let run = run_bend(scene, &BendRunOptions::default(), &context)?;
     Ok(BendReply {
         model: MeshArrays::new(&run.sheet.mesh),
+        regression_curves: run
+            .sheet
+            .curves_of_regression_near_sheet(REGRESSION_REACH)
+            .iter()
+            .map(|stretch| stretch.iter().flat_map(|p| [p.x, p.y, p.z]).collect())
+            .collect(),
         pattern_svg: pattern_svg(&run.files),
         report: run.report,
         server_ms: start.elapsed().as_secs_f64() * 1e3,

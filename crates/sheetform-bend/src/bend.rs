@@ -210,6 +210,24 @@ pub struct BentSheet {
     pub placement: Placement,
 }
 
+impl BentSheet {
+    /// Where each region's curve of regression comes within `reach` times a ruling's
+    /// extent of the sheet ([`crate::curve_of_regression_near_sheet`]), placed in the
+    /// world as the mesh (model units): what an editor draws to show how close a shape
+    /// is to inadmissible (Bo & Wang 2007, Eq. 6).
+    pub fn curves_of_regression_near_sheet(&self, reach: f64) -> Vec<Vec<Vec3>> {
+        self.geometries
+            .iter()
+            .zip(&self.placement.region_motions)
+            .flat_map(|(geometry, motion)| {
+                crate::curve_of_regression_near_sheet(&geometry.samples, &geometry.extents, reach)
+                    .into_iter()
+                    .map(move |stretch| stretch.iter().map(|p| motion.apply(p)).collect())
+            })
+            .collect()
+    }
+}
+
 /// Samples every region and refuses inadmissible shapes.
 ///
 /// # Errors

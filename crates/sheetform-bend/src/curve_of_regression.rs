@@ -32,9 +32,91 @@ pub fn regression_distance(k: f64, tau: f64, dk: f64, dtau: f64, sin_alpha: f64)
     }
 }
 
+/// The stretches of a region's curve of regression that come near its sheet, as
+/// polylines in the region's curve coordinates (the caller places them with the region's
+/// rigid motion): the points `p(s) + l(s) r(s)` (Bo & Wang 2007, Eq. 4; `p` the geodesic
+/// point, `r` the unit 3D ruling, `l` [`regression_distance`]) of the samples whose `l`
+/// lies within `reach` times the ruling's extent beyond either end of it on the sheet
+/// (`reach` = 0: only where it lies on the sheet, which makes the shape inadmissible).
+/// A stretch ends where a sample is farther, where `l` is infinite (parallel rulings),
+/// or where `l` changes sign (the curve of regression passes through infinity).
+///
+/// Units: the model unit, as the samples.
+pub fn curve_of_regression_near_sheet(
+    samples: &[crate::RulingSample],
+    extents: &[crate::RulingExtent],
+    reach: f64,
+) -> Vec<Vec<sheetform_geometry::Vec3>> {
+    let mut stretches = Vec::new();
+    let mut current: Vec<sheetform_geometry::Vec3> = Vec::new();
+    let mut last_sign = 0.0;
+    for (sample, extent) in samples.iter().zip(extents) {
+        let l = sample.regression_distance;
+        let margin = reach * (extent.positive_end - extent.negative_end);
+        let near = l.is_finite() && l >= extent.negative_end - margin && l <= extent.positive_end + margin;
+        if !near || (last_sign != 0.0 && l.signum() != last_sign) {
+            if current.len() >= 2 {
+                stretches.push(std::mem::take(&mut current));
+            }
+            current.clear();
+        }
+        if near {
+            current.push(sample.point + l * sample.ruling);
+            last_sign = l.signum();
+        } else {
+            last_sign = 0.0;
+        }
+    }
+    if current.len() >= 2 {
+        stretches.push(current);
+    }
+    stretches
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The stretches near the sheet: real samples of the bundled bent rectangle with
+    /// their `l` set by hand — on the sheet, within reach, far, infinite, a sign change.
+    #[test]
+    fn the_curve_of_regression_is_kept_where_it_comes_near_the_sheet() {
+        let text = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../examples/bent-rectangle.json"
+        ))
+        .unwrap();
+        let model = crate::BendModel::from_scene(&crate::BendScene::from_json(&text).unwrap()).unwrap();
+        let geometry = crate::region_geometry(&model, 0).unwrap();
+        let (mut samples, extents) = (geometry.samples.clone(), geometry.extents.clone());
+        assert!(samples.len() >= 12);
+        let width = |j: usize| extents[j].positive_end - extents[j].negative_end;
+        for (j, sample) in samples.iter_mut().enumerate() {
+            sample.regression_distance = match j {
+                // On the sheet's positive half, then just beyond its positive end.
+                0..=2 => 0.5 * extents[j].positive_end,
+                3..=4 => extents[j].positive_end + 0.5 * width(j),
+                // Far away, then parallel rulings.
+                5 => extents[j].positive_end + 10.0 * width(j),
+                6 => f64::INFINITY,
+                // Near the negative end, then across to the positive side (through infinity).
+                7..=8 => extents[j].negative_end - 0.2 * width(j),
+                9..=10 => extents[j].positive_end + 0.2 * width(j),
+                _ => f64::NEG_INFINITY,
+            };
+        }
+        let stretches = curve_of_regression_near_sheet(&samples, &extents, 1.0);
+        assert_eq!(stretches.iter().map(Vec::len).collect::<Vec<_>>(), [5, 2, 2]);
+        let expected = |j: usize| samples[j].point + samples[j].regression_distance * samples[j].ruling;
+        for (got, j) in stretches[0].iter().zip(0..5) {
+            assert!((got - expected(j)).norm() <= 1e-12);
+        }
+        assert!((stretches[1][0] - expected(7)).norm() <= 1e-12);
+        assert!((stretches[2][1] - expected(10)).norm() <= 1e-12);
+        // Nothing within reach 0 but the points on the sheet.
+        let on_sheet = curve_of_regression_near_sheet(&samples, &extents, 0.0);
+        assert_eq!(on_sheet.iter().map(Vec::len).collect::<Vec<_>>(), [3]);
+    }
 
     #[test]
     fn cylinder_has_no_regression_point() {

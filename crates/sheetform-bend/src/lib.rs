@@ -35,7 +35,7 @@ pub const MAX_REGIONS: usize = 256;
 pub const MAX_OUTLINE_VERTICES: usize = 100_000;
 pub use bend::{bend, place, region_geometries, region_geometry, BentSheet, Placement, RegionGeometry, RegionSummary};
 pub use control_curve::{AnalyticCurve, ControlCurve, CurveShape};
-pub use curve_of_regression::regression_distance;
+pub use curve_of_regression::{curve_of_regression_near_sheet, regression_distance};
 pub use edit::{
     solve_end_normals, trim_to_length, BendEditor, EditInfo, EndHandle, EndHandleOptions, LengthPreservation,
 };

@@ -75,7 +75,9 @@ const handleLines = new THREE.Group();
 // Everything drawn of a design, in its own frame: bend scenes are z-up as the view,
 // slit scenes y-up (the paper's), turned upright by a quarter turn about x.
 const content = new THREE.Group();
-content.add(sheet, rulings, handles, handleLines);
+// Bend mode: the curve of regression where it comes near the sheet (red).
+const regression = new THREE.Group();
+content.add(sheet, rulings, handles, handleLines, regression);
 view.add(content);
 const handleGeometry = new THREE.SphereGeometry(1, 20, 14);
 // Handles and the control polygon are drawn over the sheet, never hidden behind it.
@@ -84,6 +86,7 @@ const handleActive = new THREE.MeshBasicMaterial({ color: 0xc0392b, depthTest: f
 const normalMaterial = new THREE.MeshBasicMaterial({ color: 0x2e8b57, depthTest: false });
 const seatMaterial = new THREE.MeshBasicMaterial({ color: 0x2b5d8a, depthTest: false });
 const latticeMaterial = new THREE.MeshBasicMaterial({ color: 0x7a4fa0, depthTest: false });
+const regressionMaterial = new THREE.LineBasicMaterial({ color: 0xd62728 });
 let handleRadius = 3;
 let framed = false;
 
@@ -217,6 +220,17 @@ function drawSlitHandles(scene) {
     const line = new THREE.Line(polygon, new THREE.LineDashedMaterial({ color: material.color, dashSize: 4, gapSize: 3, depthTest: false }));
     line.computeLineDistances();
     handleLines.add(line);
+  }
+}
+
+/** The curve of regression's stretches near the sheet (bend mode), as red polylines. */
+function drawRegression(curves) {
+  for (const line of regression.children) line.geometry.dispose();
+  regression.clear();
+  for (const curve of curves) {
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.Float32BufferAttribute(curve, 3));
+    regression.add(new THREE.Line(geometry, regressionMaterial));
   }
 }
 
@@ -676,6 +690,7 @@ async function solveNow(scene, started, edit) {
   state.lastError = null;
   if (state.mode === 'slit') fillSlitInputs(scene);
   drawModel(body.model);
+  drawRegression(body.regression_curves || []);
   drawHandles(scene);
   drawPattern(body.pattern_svg);
   render();
@@ -1057,6 +1072,7 @@ const DOWNLOADS = {
 
 function setMode(mode) {
   state.mode = mode;
+  drawRegression([]);
   for (const button of document.querySelectorAll('#modes .mode')) button.classList.toggle('active', button.dataset.mode === mode);
   for (const element of document.querySelectorAll('[data-for]')) element.hidden = !element.dataset.for.split(' ').includes(mode);
   if (mode === 'photo') $('photo-editor').hidden = $('photo-pane').value !== 'photo';
@@ -1065,7 +1081,7 @@ function setMode(mode) {
     ffd: '3D model: drag a purple lattice control point and release it: the panels follow and their developability is restored (Cancel stops it); orbit, pan and zoom elsewhere.',
     mesh: '3D model: each piece of the pattern in its own colour (or the angle defect at each vertex); orbit, pan and zoom; drop a mesh file here.',
     slit: '3D model: drag an orange point of the leg curve or a blue point of the seat curve (each in its own plane); orbit, pan and zoom elsewhere.',
-    bend: '3D model: drag an orange control point (in end-handle mode: an end, or a green normal tip); orbit, pan and zoom elsewhere.',
+    bend: '3D model: drag an orange control point (in end-handle mode: an end, or a green normal tip); orbit, pan and zoom elsewhere. Red: the curve of regression where it comes near the sheet.',
   }[mode];
   fillSelect($('download'), ['Download…', ...DOWNLOADS[mode]]);
   $('download').options[0].value = '';

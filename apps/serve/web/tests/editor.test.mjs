@@ -129,6 +129,10 @@ try {
   const refusals = await page.evaluate(() => window.sheetformEditor.state.refusals);
   assert.ok(refusals > refusalsBefore, 'the inadmissible drag was refused');
   assert.equal(await page.getAttribute('#status', 'data-state'), 'refused');
+  // Near the refusal, the curve of regression has come near the sheet and is drawn.
+  const nearRegression = await page.evaluate(() => window.sheetformEditor.state.reply.regression_curves.length);
+  assert.ok(nearRegression > 0, 'the curve of regression near the sheet is drawn before the refusal');
+  figures.bend_regression_stretches_at_refusal = nearRegression;
   const kept = JSON.parse(await sceneText());
   const keptReply = await (await fetch(`${url}api/bend`, { method: 'POST', body: JSON.stringify(kept) })).json();
   assert.equal(keptReply.report.status, 'ok', 'the kept scene is admissible');
