@@ -186,17 +186,25 @@ fn bend_scene(body: &str) -> Result<BendScene, ApiError> {
     BendScene::from_json(body).map_err(|e| ApiError::from(PipelineError::from(e)))
 }
 
-/// Runs `job` on the blocking pool, at most `max_concurrent_solves` at a time.
+/// Runs `job` on the blocking pool, at most `max_concurrent_solves` at a time. The
+/// permit moves into the job: a client that disconnects does not free its slot while
+/// its solve still runs.
 pub(crate) async fn solve<T: Send + 'static>(
     state: &AppState,
     job: impl FnOnce() -> Result<T, ApiError> + Send + 'static,
 ) -> Result<T, ApiError> {
-    let _permit = state
+    let permit = state
         .solves
-        .acquire()
+        .clone()
+        .acquire_owned()
         .await
         .map_err(|_| ApiError::invalid("the server is stopping"))?;
-    tokio::task::spawn_blocking(job).await.unwrap_or_else(|e| {
+    tokio::task::spawn_blocking(move || {
+        let _permit = permit;
+        job()
+    })
+    .await
+    .unwrap_or_else(|e| {
         Err(ApiError {
             status: StatusCode::INTERNAL_SERVER_ERROR,
             kind: "failed",
@@ -204,6 +212,59 @@ pub(crate) async fn solve<T: Send + 'static>(
             report: None,
         })
     })
+}
+
+/// A request's query, with a malformed one answered as every other error (JSON naming
+/// what is wrong), not as axum's plain text.
+pub(crate) struct ApiQuery<T>(pub T);
+
+impl<T, S> axum::extract::FromRequestParts<S> for ApiQuery<T>
+where
+    T: serde::de::DeserializeOwned,
+    S: Send + Sync,
+{
+    type Rejection = ApiError;
+
+    async fn from_request_parts(parts: &mut axum::http::request::Parts, state: &S) -> Result<Self, Self::Rejection> {
+        match Query::<T>::from_request_parts(parts, state).await {
+            Ok(Query(value)) => Ok(Self(value)),
+            Err(rejection) => Err(ApiError::invalid(format!(
+                "the query: {}",
+                sheetform::geometry::shortened_message(&rejection.body_text())
+            ))),
+        }
+    }
+}
+
+/// A request body, with a body over the size bound (or unreadable) answered as JSON.
+pub(crate) struct ApiBody<T>(pub T);
+
+impl<T, S> axum::extract::FromRequest<S> for ApiBody<T>
+where
+    T: axum::extract::FromRequest<S> + Send,
+    T::Rejection: IntoResponse + Send,
+    S: Send + Sync,
+{
+    type Rejection = ApiError;
+
+    async fn from_request(request: axum::extract::Request, state: &S) -> Result<Self, Self::Rejection> {
+        match T::from_request(request, state).await {
+            Ok(value) => Ok(Self(value)),
+            Err(rejection) => {
+                let response = rejection.into_response();
+                let status = response.status();
+                let bytes = axum::body::to_bytes(response.into_body(), 4096)
+                    .await
+                    .unwrap_or_default();
+                Err(ApiError {
+                    status,
+                    kind: "invalid_input",
+                    message: format!("the request body: {}", String::from_utf8_lossy(&bytes)),
+                    report: None,
+                })
+            }
+        }
+    }
 }
 
 /// The pattern SVG of a run's rendered files (empty when it has none).
@@ -235,8 +296,8 @@ fn preview(scene: &BendScene, assets: &SceneAssets, start: Instant) -> Result<Be
 
 async fn bend(
     State(state): State<Arc<AppState>>,
-    Query(query): Query<SceneQuery>,
-    body: String,
+    ApiQuery(query): ApiQuery<SceneQuery>,
+    ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
     let start = Instant::now();
     let assets = SceneAssets::new(&state.root, &query)?;
@@ -263,8 +324,8 @@ struct EditReply {
 
 async fn bend_edit(
     State(state): State<Arc<AppState>>,
-    Query(query): Query<SceneQuery>,
-    body: String,
+    ApiQuery(query): ApiQuery<SceneQuery>,
+    ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
     let start = Instant::now();
     let assets = SceneAssets::new(&state.root, &query)?;
@@ -361,8 +422,8 @@ pub(crate) fn attachment(name: &str, bytes: Vec<u8>) -> Response {
 async fn bend_file(
     State(state): State<Arc<AppState>>,
     Path(name): Path<String>,
-    Query(query): Query<SceneQuery>,
-    body: String,
+    ApiQuery(query): ApiQuery<SceneQuery>,
+    ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
     let assets = SceneAssets::new(&state.root, &query)?;
     let wanted = name.clone();

@@ -6,14 +6,17 @@
 //!
 //! `POST /api/ffd` answers `application/x-ndjson`: one JSON object per line,
 //! `{"progress": {"stage", "fraction"}}` as the run advances (after each restoration
-//! iteration), then `{"result": …}` or `{"error": {"kind", "message"}, "report"?}`. A
-//! client that closes the connection (the editor's Cancel) cancels the run at its next
-//! progress report.
+//! iteration; lossy: a slow reader misses some), then `{"result": …}` or `{"error":
+//! {"kind", "message"}, "report"?}`. A client that closes the connection (the editor's
+//! Cancel) cancels the run at its next progress report; one that left before its run
+//! started never starts it.
 
-use crate::api::{attachment, output_file, pattern_svg, solve, ApiError, MeshArrays, SceneAssets, SceneQuery};
+use crate::api::{
+    attachment, output_file, pattern_svg, solve, ApiBody, ApiError, ApiQuery, MeshArrays, SceneAssets, SceneQuery,
+};
 use crate::AppState;
 use axum::body::Body;
-use axum::extract::{Path, Query, State};
+use axum::extract::{Path, State};
 use axum::http::header;
 use axum::response::{IntoResponse, Response};
 use axum::routing::post;
@@ -95,8 +98,8 @@ fn line(value: serde_json::Value) -> String {
 
 async fn ffd(
     State(state): State<Arc<AppState>>,
-    Query(query): Query<SceneQuery>,
-    body: String,
+    ApiQuery(query): ApiQuery<SceneQuery>,
+    ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
     let start = Instant::now();
     // A scene that does not parse is answered at once, with its status.
@@ -107,14 +110,21 @@ async fn ffd(
         let Ok(_permit) = state.solves.acquire().await else {
             return;
         };
+        // The client left while the run waited for its turn: nothing to do.
+        if sender.is_closed() {
+            return;
+        }
         let progress_sender = sender.clone();
         let outcome = tokio::task::spawn_blocking(move || -> Result<FfdReply, ApiError> {
             let cancel = AtomicBool::new(false);
             let progress = |stage: &str, fraction: f64| {
                 let message = line(serde_json::json!({"progress": {"stage": stage, "fraction": fraction}}));
-                // The client is gone (the editor cancelled): stop at the next check.
-                if progress_sender.blocking_send(message).is_err() {
-                    cancel.store(true, Ordering::SeqCst);
+                // Progress is lossy: a client that reads slowly misses lines instead of
+                // holding the run up. A client that is gone (the editor cancelled) stops
+                // the run at its next check.
+                match progress_sender.try_send(message) {
+                    Ok(()) | Err(tokio::sync::mpsc::error::TrySendError::Full(_)) => {}
+                    Err(tokio::sync::mpsc::error::TrySendError::Closed(_)) => cancel.store(true, Ordering::SeqCst),
                 }
             };
             let context = assets
@@ -163,8 +173,8 @@ async fn ffd(
 async fn ffd_file(
     State(state): State<Arc<AppState>>,
     Path(name): Path<String>,
-    Query(query): Query<SceneQuery>,
-    body: String,
+    ApiQuery(query): ApiQuery<SceneQuery>,
+    ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
     let assets = SceneAssets::new(&state.root, &query)?;
     let wanted = name.clone();

@@ -3,7 +3,7 @@
 //! absolute or escaping path, also not through a symbolic link; regular files only;
 //! bounded sizes).
 
-use crate::api::ApiError;
+use crate::api::{ApiBody, ApiError};
 use crate::AppState;
 use axum::extract::{Path, State};
 use axum::response::{IntoResponse, Response};
@@ -125,7 +125,7 @@ async fn open(State(state): State<Arc<AppState>>, Path(path): Path<String>) -> R
 async fn save(
     State(state): State<Arc<AppState>>,
     Path(path): Path<String>,
-    body: String,
+    ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
     if !path.ends_with(".json") {
         return Err(ApiError::invalid("scenes are saved as `.json` files"));

@@ -41,8 +41,10 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
-/// Largest request body by default (16 MiB): a scene file is far smaller.
-pub const DEFAULT_MAX_REQUEST_BYTES: usize = 16 << 20;
+/// Largest request body by default (64 MiB, the largest file the editor opens from the
+/// served directory, `sheetform::io::MAX_SCENE_FILE_BYTES`, so that a mesh it opens can
+/// be sent back): a scene file is far smaller.
+pub const DEFAULT_MAX_REQUEST_BYTES: usize = 64 << 20;
 
 /// How the editor is served.
 #[derive(Debug, Clone)]
@@ -93,8 +95,9 @@ pub enum ServeError {
 pub(crate) struct AppState {
     /// The served directory (canonical).
     pub root: PathBuf,
-    /// Bounds the solves running at once.
-    pub solves: tokio::sync::Semaphore,
+    /// Bounds the solves running at once (a permit stays with its solve until it ends,
+    /// also when the client has gone).
+    pub solves: Arc<tokio::sync::Semaphore>,
 }
 
 /// The editor's routes over a served directory (for tests and embedding; [`Server`]
@@ -115,7 +118,7 @@ pub fn router(options: &ServeOptions) -> Result<axum::Router, ServeError> {
     }
     let state = Arc::new(AppState {
         root,
-        solves: tokio::sync::Semaphore::new(options.max_concurrent_solves.max(1)),
+        solves: Arc::new(tokio::sync::Semaphore::new(options.max_concurrent_solves.max(1))),
     });
     Ok(axum::Router::new()
         .merge(assets::routes())

@@ -3,10 +3,10 @@
 //! and its pattern out; and any file `sheetform flatten` writes, for download. Both run
 //! the library's `run_check` and `run_flatten`; nothing of a pipeline is repeated here.
 
-use crate::api::{attachment, output_file, pattern_svg, solve, ApiError, MeshArrays};
+use crate::api::{attachment, output_file, pattern_svg, solve, ApiBody, ApiError, ApiQuery, MeshArrays};
 use crate::AppState;
 use axum::body::Bytes;
-use axum::extract::{Path, Query, State};
+use axum::extract::{Path, State};
 use axum::response::{IntoResponse, Response};
 use axum::routing::post;
 use axum::{Json, Router};
@@ -173,8 +173,8 @@ fn check_and_flatten(query: &MeshQuery, body: &[u8], root: std::path::PathBuf) -
 /// `POST /api/mesh?name=…&charts=…`: the mesh file's bytes as the body.
 async fn mesh(
     State(state): State<Arc<AppState>>,
-    Query(query): Query<MeshQuery>,
-    body: Bytes,
+    ApiQuery(query): ApiQuery<MeshQuery>,
+    ApiBody(body): ApiBody<Bytes>,
 ) -> Result<Response, ApiError> {
     let root = state.root.clone();
     let reply = solve(&state, move || check_and_flatten(&query, &body, root)).await?;
@@ -185,8 +185,8 @@ async fn mesh(
 async fn mesh_file(
     State(state): State<Arc<AppState>>,
     Path(file): Path<String>,
-    Query(query): Query<MeshQuery>,
-    body: Bytes,
+    ApiQuery(query): ApiQuery<MeshQuery>,
+    ApiBody(body): ApiBody<Bytes>,
 ) -> Result<Response, ApiError> {
     let root = state.root.clone();
     let wanted = file.clone();

@@ -3,9 +3,11 @@
 //! pattern and the report out; and any file `sheetform photo` writes, for download.
 //! Both run the library's `run_photo`; nothing of a pipeline is repeated here.
 
-use crate::api::{attachment, output_file, pattern_svg, solve, ApiError, MeshArrays, SceneAssets, SceneQuery};
+use crate::api::{
+    attachment, output_file, pattern_svg, solve, ApiBody, ApiError, ApiQuery, MeshArrays, SceneAssets, SceneQuery,
+};
 use crate::AppState;
-use axum::extract::{Path, Query, State};
+use axum::extract::{Path, State};
 use axum::response::{IntoResponse, Response};
 use axum::routing::post;
 use axum::{Json, Router};
@@ -34,8 +36,8 @@ struct PhotoReply {
 
 async fn photo(
     State(state): State<Arc<AppState>>,
-    Query(query): Query<SceneQuery>,
-    body: String,
+    ApiQuery(query): ApiQuery<SceneQuery>,
+    ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
     let start = Instant::now();
     let assets = SceneAssets::new(&state.root, &query)?;
@@ -57,8 +59,8 @@ async fn photo(
 async fn photo_file(
     State(state): State<Arc<AppState>>,
     Path(name): Path<String>,
-    Query(query): Query<SceneQuery>,
-    body: String,
+    ApiQuery(query): ApiQuery<SceneQuery>,
+    ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
     let assets = SceneAssets::new(&state.root, &query)?;
     let wanted = name.clone();

@@ -2,9 +2,11 @@
 //! bent sheet, its pattern and the report out; and any file `sheetform slit` writes, for
 //! download. Both run the library's `run_slit`; nothing of a pipeline is repeated here.
 
-use crate::api::{attachment, output_file, pattern_svg, solve, ApiError, MeshArrays, SceneAssets, SceneQuery};
+use crate::api::{
+    attachment, output_file, pattern_svg, solve, ApiBody, ApiError, ApiQuery, MeshArrays, SceneAssets, SceneQuery,
+};
 use crate::AppState;
-use axum::extract::{Path, Query, State};
+use axum::extract::{Path, State};
 use axum::response::{IntoResponse, Response};
 use axum::routing::post;
 use axum::{Json, Router};
@@ -39,8 +41,8 @@ struct SlitReply {
 
 async fn slit(
     State(state): State<Arc<AppState>>,
-    Query(query): Query<SceneQuery>,
-    body: String,
+    ApiQuery(query): ApiQuery<SceneQuery>,
+    ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
     let start = Instant::now();
     let assets = SceneAssets::new(&state.root, &query)?;
@@ -62,8 +64,8 @@ async fn slit(
 async fn slit_file(
     State(state): State<Arc<AppState>>,
     Path(name): Path<String>,
-    Query(query): Query<SceneQuery>,
-    body: String,
+    ApiQuery(query): ApiQuery<SceneQuery>,
+    ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
     let assets = SceneAssets::new(&state.root, &query)?;
     let wanted = name.clone();

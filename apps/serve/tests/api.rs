@@ -338,8 +338,13 @@ async fn a_mesh_is_checked_and_flattened_into_a_pattern_isometric_to_it() {
             "{uri}: {}",
             String::from_utf8_lossy(&reply)
         );
-        let text = String::from_utf8_lossy(&reply).to_string();
-        assert!(text.contains(expected), "{uri}: {text}");
+        // A JSON error naming what is wrong (malformed queries too).
+        let reply = json(&reply);
+        assert_eq!(reply["error"]["kind"], "invalid_input", "{uri}");
+        assert!(
+            reply["error"]["message"].as_str().unwrap().contains(expected),
+            "{uri}: {reply}"
+        );
     }
     // A closed box cannot be laid out whole.
     let (status, body) = send(&app, "POST", "/api/mesh?name=gift-box.obj&charts=never", gift).await;
@@ -540,4 +545,46 @@ async fn a_photo_annotation_is_reconstructed_with_its_photograph_beside_it() {
     assert_eq!(response.headers()["content-type"], "image/png");
     let bytes = axum::body::to_bytes(response.into_body(), usize::MAX).await.unwrap();
     assert_eq!(&bytes[1..4], b"PNG");
+}
+
+/// A client that leaves an FFD run cancels it: with one solve at a time, a long run (a
+/// 16k-vertex duct deformed 30 times over) abandoned after its first progress line lets
+/// the next request through within a minute, where the run itself would hold the only
+/// slot for many minutes.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_client_that_leaves_cancels_its_ffd_run() {
+    use futures_util::StreamExt;
+    let (_dir, root) = served();
+    let app = router(&ServeOptions {
+        root,
+        max_concurrent_solves: 1,
+        ..Default::default()
+    })
+    .unwrap();
+    let mut long: Value =
+        serde_json::from_str(&std::fs::read_to_string(repository().join("examples/ffd/duct-100k.json")).unwrap())
+            .unwrap();
+    long["model"]["procedural"]["around"] = 160.into();
+    long["model"]["procedural"]["along"] = 100.into();
+    long["solver"] = serde_json::json!({});
+    let step = long["deformations"][0].clone();
+    long["deformations"] = Value::Array(vec![step; 30]);
+    let request = Request::builder()
+        .method("POST")
+        .uri("/api/ffd")
+        .body(Body::from(long.to_string()))
+        .unwrap();
+    let response = app.clone().oneshot(request).await.unwrap();
+    assert_eq!(response.status(), StatusCode::OK);
+    let mut stream = response.into_body().into_data_stream();
+    let first = stream.next().await.unwrap().unwrap();
+    assert!(String::from_utf8_lossy(&first).contains("progress"));
+    // The client leaves.
+    drop(stream);
+    let duct = std::fs::read_to_string(repository().join("examples/ffd/duct.json")).unwrap();
+    let next = tokio::time::timeout(std::time::Duration::from_secs(60), send(&app, "POST", "/api/ffd", duct))
+        .await
+        .expect("the abandoned run was cancelled and freed its slot");
+    assert_eq!(next.0, StatusCode::OK);
+    assert!(String::from_utf8_lossy(&next.1).contains("\"result\""));
 }

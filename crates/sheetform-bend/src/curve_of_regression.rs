@@ -39,7 +39,9 @@ pub fn regression_distance(k: f64, tau: f64, dk: f64, dtau: f64, sin_alpha: f64)
 /// lies within `reach` times the ruling's extent beyond either end of it on the sheet
 /// (`reach` = 0: only where it lies on the sheet, which makes the shape inadmissible).
 /// A stretch ends where a sample is farther, where `l` is infinite (parallel rulings),
-/// or where `l` changes sign (the curve of regression passes through infinity).
+/// or where `l` changes sign far from the geodesic (more than half a ruling's extent
+/// on both sides: the curve of regression passes through infinity); a sign change near
+/// the geodesic is the curve crossing the sheet, kept whole.
 ///
 /// Units: the model unit, as the samples.
 pub fn curve_of_regression_near_sheet(
@@ -49,12 +51,15 @@ pub fn curve_of_regression_near_sheet(
 ) -> Vec<Vec<sheetform_geometry::Vec3>> {
     let mut stretches = Vec::new();
     let mut current: Vec<sheetform_geometry::Vec3> = Vec::new();
-    let mut last_sign = 0.0;
+    // The last kept sample's `l` (`NaN`: none).
+    let mut last = f64::NAN;
     for (sample, extent) in samples.iter().zip(extents) {
         let l = sample.regression_distance;
-        let margin = reach * (extent.positive_end - extent.negative_end);
+        let width = extent.positive_end - extent.negative_end;
+        let margin = reach * width;
         let near = l.is_finite() && l >= extent.negative_end - margin && l <= extent.positive_end + margin;
-        if !near || (last_sign != 0.0 && l.signum() != last_sign) {
+        let through_infinity = last.signum() != l.signum() && last.abs().min(l.abs()) > 0.5 * width;
+        if !near || through_infinity {
             if current.len() >= 2 {
                 stretches.push(std::mem::take(&mut current));
             }
@@ -62,9 +67,9 @@ pub fn curve_of_regression_near_sheet(
         }
         if near {
             current.push(sample.point + l * sample.ruling);
-            last_sign = l.signum();
+            last = l;
         } else {
-            last_sign = 0.0;
+            last = f64::NAN;
         }
     }
     if current.len() >= 2 {
@@ -102,11 +107,16 @@ mod tests {
                 // Near the negative end, then across to the positive side (through infinity).
                 7..=8 => extents[j].negative_end - 0.2 * width(j),
                 9..=10 => extents[j].positive_end + 0.2 * width(j),
+                // Far, then across the geodesic (through zero): one stretch.
+                11 => f64::INFINITY,
+                12 => -0.05 * width(j),
+                13 => 0.05 * width(j),
                 _ => f64::NEG_INFINITY,
             };
         }
+        assert!(samples.len() >= 15);
         let stretches = curve_of_regression_near_sheet(&samples, &extents, 1.0);
-        assert_eq!(stretches.iter().map(Vec::len).collect::<Vec<_>>(), [5, 2, 2]);
+        assert_eq!(stretches.iter().map(Vec::len).collect::<Vec<_>>(), [5, 2, 2, 2]);
         let expected = |j: usize| samples[j].point + samples[j].regression_distance * samples[j].ruling;
         for (got, j) in stretches[0].iter().zip(0..5) {
             assert!((got - expected(j)).norm() <= 1e-12);
@@ -115,7 +125,7 @@ mod tests {
         assert!((stretches[2][1] - expected(10)).norm() <= 1e-12);
         // Nothing within reach 0 but the points on the sheet.
         let on_sheet = curve_of_regression_near_sheet(&samples, &extents, 0.0);
-        assert_eq!(on_sheet.iter().map(Vec::len).collect::<Vec<_>>(), [3]);
+        assert_eq!(on_sheet.iter().map(Vec::len).collect::<Vec<_>>(), [3, 2]);
     }
 
     #[test]

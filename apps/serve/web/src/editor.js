@@ -26,7 +26,10 @@ const state = {
   ffdPending: null, // FFD mode: the newest scene waiting for the run under way to stop
   progress: [], // FFD mode: the progress lines of the last run
   cancellations: 0,
-  sceneByMode: {}, // the last admissible scene of each scene mode (bend, slit)
+  sceneByMode: {}, // the last admissible scene of each scene mode
+  pathByMode: {}, // the served file each scene mode's scene came from
+  generation: 0, // bumped by a mode switch or a load: answers to older requests are dropped
+  ffdRequested: null, // FFD mode: the scene of the run under way
   mesh: null, // mesh mode: { name, bytes (ArrayBuffer), path } of the loaded mesh
   meshOptions: null, // mesh mode: the layout options of the last answered request
   path: null, // the scene file's path in the served directory, when it came from there
@@ -652,6 +655,7 @@ function requestSolve(scene, started = performance.now(), edit = null) {
 
 async function solveNow(scene, started, edit) {
   const mode = state.mode;
+  const generation = state.generation;
   let response;
   let body;
   const sent = performance.now();
@@ -663,8 +667,8 @@ async function solveNow(scene, started, edit) {
     received = performance.now();
     body = await response.json();
     state.answers += 1;
-    // The user switched modes while this was in flight: its answer is not drawn.
-    if (state.mode !== mode) return false;
+    // The user switched modes or loaded another scene meanwhile: not drawn.
+    if (state.mode !== mode || state.generation !== generation) return false;
   } catch (error) {
     state.lastError = String(error);
     showStatus('error', `the server did not answer: ${error}`);
@@ -736,7 +740,9 @@ async function runFfd(scene, remember = true) {
     return;
   }
   const controller = new AbortController();
+  const generation = state.generation;
   state.ffdController = controller;
+  state.ffdRequested = scene;
   state.inFlight = true;
   state.progress = [];
   $('cancel').disabled = false;
@@ -767,6 +773,7 @@ async function runFfd(scene, remember = true) {
         }
       }
     }
+    if (state.generation !== generation || state.mode !== 'ffd') return;
     if (!last || last.error) {
       state.refusals += 1;
       state.lastError = last ? last.error : { kind: 'failed', message: 'the server closed the stream' };
@@ -791,6 +798,7 @@ async function runFfd(scene, remember = true) {
   } catch (error) {
     if (error.name === 'AbortError') {
       state.cancellations += 1;
+      if (state.generation !== generation || state.mode !== 'ffd') return;
       drawHandles(state.scene);
       render();
       showStatus('refused', `cancelled${state.reply ? ' — kept the last result' : ''}`);
@@ -801,12 +809,17 @@ async function runFfd(scene, remember = true) {
   } finally {
     state.answers += 1;
     state.ffdController = null;
+    state.ffdRequested = null;
     state.inFlight = false;
     $('cancel').disabled = true;
     updateHistoryButtons();
     const next = state.ffdPending;
     state.ffdPending = null;
-    if (next) runFfd(next.scene, next.remember);
+    // A scene of another mode queued while this ran (after a mode switch) goes now.
+    const queued = state.pending;
+    state.pending = null;
+    if (next && state.mode === 'ffd') runFfd(next.scene, next.remember);
+    else if (queued) requestSolve(queued.edit ? state.scene : queued.scene, queued.started, queued.edit);
     else window.dispatchEvent(new Event('sheetform-idle'));
   }
 }
@@ -888,7 +901,8 @@ function pointerRay(event) {
 }
 
 canvas.addEventListener('pointerdown', (event) => {
-  if (!state.scene || event.button !== 0) return;
+  // Handles exist in the bend, slit and FFD modes only.
+  if (!state.scene || event.button !== 0 || !['bend', 'slit', 'ffd'].includes(state.mode)) return;
   pointerRay(event);
   const hit = raycaster.intersectObjects(handles.children, false)[0];
   if (!hit) return;
@@ -965,7 +979,10 @@ function endDrag(event) {
       const [nu, nv] = state.reply.lattice.counts;
       const at = 3 * (i + nu * (j + nv * k));
       const by = [0, 1, 2].map((a) => released.handle.position.getComponent(a) - p[at + a]);
-      const scene = structuredClone(state.scene);
+      // On the newest scene asked for: a drag released while the last one restores
+      // adds to it, it does not replace it.
+      const base = (state.ffdPending && state.ffdPending.scene) || state.ffdRequested || state.scene;
+      const scene = structuredClone(base);
       scene.deformations.push({ name: `drag (${i}, ${j}, ${k})`, edits: [{ move: { points: [[i, j, k]], by } }] });
       runFfd(scene);
     }
@@ -1018,7 +1035,11 @@ function load(text, path = null) {
     return;
   }
   if (state.mode !== mode) setMode(mode);
+  state.generation += 1;
+  photo.adding = null;
+  photoSvg.classList.remove('adding');
   state.path = path;
+  state.pathByMode[mode] = path;
   state.undo = [];
   state.redo = [];
   state.scene = null;
@@ -1071,7 +1092,13 @@ const DOWNLOADS = {
 };
 
 function setMode(mode) {
+  state.generation += 1;
+  state.ffdPending = null;
+  if (state.ffdController) state.ffdController.abort();
+  photo.adding = null;
+  photoSvg.classList.remove('adding');
   state.mode = mode;
+  state.path = state.pathByMode[mode] || null;
   drawRegression([]);
   for (const button of document.querySelectorAll('#modes .mode')) button.classList.toggle('active', button.dataset.mode === mode);
   for (const element of document.querySelectorAll('[data-for]')) element.hidden = !element.dataset.for.split(' ').includes(mode);
@@ -1150,11 +1177,13 @@ function meshQuery(options) {
 
 /** Checks and flattens the loaded mesh with `options`; a refusal keeps the last answer. */
 async function solveMesh(options) {
+  const generation = state.generation;
   state.inFlight = true;
   showStatus('busy', `flattening ${state.mesh.name}…`);
   try {
     const response = await fetch(`/api/mesh?${meshQuery(options)}`, { method: 'POST', body: state.mesh.bytes });
     const body = await response.json();
+    if (state.generation !== generation || state.mode !== 'mesh') return false;
     if (!response.ok) {
       state.refusals += 1;
       state.lastError = body.error;
@@ -1184,7 +1213,10 @@ async function solveMesh(options) {
 
 /** Loads a mesh file's bytes (a fresh history); the mesh mode is switched on. */
 async function loadMesh(name, bytes, path = null) {
-  if (state.mode !== 'mesh') setMode('mesh');
+  if (state.mode !== 'mesh') {
+    setMode('mesh');
+    state.reply = null;
+  }
   const previous = { mesh: state.mesh, reply: state.reply, options: state.meshOptions, undo: state.undo, redo: state.redo };
   state.mesh = { name, bytes, path };
   state.undo = [];
@@ -1200,6 +1232,13 @@ async function loadMesh(name, bytes, path = null) {
     state.redo = previous.redo;
     updateHistoryButtons();
     framed = true;
+    if (!previous.mesh) {
+      // Nothing of this mode to keep: an empty view, not the other mode's model.
+      const message = $('status').textContent;
+      state.reply = null;
+      clearView('mesh');
+      showStatus('refused', message);
+    }
   }
 }
 
@@ -1220,7 +1259,9 @@ $('open-local-mesh').addEventListener('change', async (event) => {
 $('charts').addEventListener('change', (event) => {
   if (!state.mesh || !state.meshOptions) return;
   const before = JSON.stringify(state.meshOptions);
+  const generation = state.generation;
   solveMesh({ ...state.meshOptions, charts: event.target.value }).then((solved) => {
+    if (state.generation !== generation) return;
     if (solved) {
       state.undo.push(before);
       state.redo = [];

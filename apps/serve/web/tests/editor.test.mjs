@@ -328,6 +328,16 @@ try {
   assert.equal(await page.getAttribute('#status', 'data-state'), 'refused');
   assert.match(await page.textContent('#status'), /deformations\[1\]/);
   assert.equal(await sceneText(), skirt);
+  // Switching modes during a restoration cancels it; the other mode's scene is drawn and
+  // the FFD result never lands in it.
+  await page.evaluate((scene) => { window.sheetformEditor.runFfd(scene); }, duct);
+  await page.waitForFunction(() => window.sheetformEditor.state.progress.length > 0);
+  await answered(() => page.click('#modes .mode[data-mode="bend"]'));
+  assert.equal(await page.evaluate(() => window.sheetformEditor.state.mode), 'bend');
+  assert.ok((await meshReply()).report.ruling_count > 0, 'the bend scene is drawn');
+  assert.ok(JSON.parse(await sceneText()).regions, 'the bend scene is current');
+  await answered(() => page.click('#modes .mode[data-mode="ffd"]'));
+  assert.equal(await sceneText(), skirt);
   // The server stopped the cancelled run: a small scene is answered at once.
   const quick = performance.now();
   const ok = await page.evaluate(async (scene) => (await (await fetch('/api/ffd', { method: 'POST', body: scene })).text()).includes('"result"'), skirt);
@@ -476,7 +486,7 @@ try {
   const put = await fetch(`${url}api/files/..%2Foutside.json`, { method: 'PUT', body: '{}' });
   assert.equal(put.status, 400, 'a save outside the directory is refused');
   assert.equal((await fetch(`${url}api/bend`, { method: 'POST', body: '{"outline": [' })).status, 400);
-  const huge = 'x'.repeat(20 << 20);
+  const huge = 'x'.repeat(70 << 20);
   const tooLarge = await fetch(`${url}api/bend`, { method: 'POST', body: huge }).catch(() => ({ status: 413 }));
   assert.equal(tooLarge.status, 413, 'a request over the size bound is refused');
   const still = await fetch(`${url}api/bend`, { method: 'POST', body: readFileSync(join(repository, 'examples/bent-rectangle.json')) });
