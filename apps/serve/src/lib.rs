@@ -19,7 +19,8 @@
 //! | `GET /api/files` | the scene files (`*.json`) and the meshes under the served directory |
 //! | `GET /api/files/{path}` / `PUT /api/files/{path}` | open / save a scene file, confined to the served directory |
 //!
-//! Every request is bounded ([`ServeOptions::max_request_bytes`]), solves run on a
+//! On loopback (the default) a request whose `Host` or `Origin` names another machine is
+//! refused (DNS rebinding, cross-site posts). Every request is bounded ([`ServeOptions::max_request_bytes`]), solves run on a
 //! blocking pool at most [`ServeOptions::max_concurrent_solves`] at a time, and a
 //! malformed, hostile or failing request gets an error reply (`{"error": {"kind",
 //! "message"}}`, with the report when a shape is inadmissible) while the server keeps
@@ -120,7 +121,7 @@ pub fn router(options: &ServeOptions) -> Result<axum::Router, ServeError> {
         root,
         solves: Arc::new(tokio::sync::Semaphore::new(options.max_concurrent_solves.max(1))),
     });
-    Ok(axum::Router::new()
+    let router = axum::Router::new()
         .merge(assets::routes())
         .merge(api::routes())
         .merge(mesh::routes())
@@ -129,7 +130,57 @@ pub fn router(options: &ServeOptions) -> Result<axum::Router, ServeError> {
         .merge(photo::routes())
         .merge(files::routes())
         .layer(axum::extract::DefaultBodyLimit::max(options.max_request_bytes))
-        .with_state(state))
+        .with_state(state);
+    // On loopback (the default), only pages of this machine may talk to the server: a
+    // web page elsewhere that points its own host name at 127.0.0.1 (DNS rebinding) or
+    // posts across origins is refused. With an explicit `--host` the user chose to serve
+    // other machines, whose names cannot be known here.
+    Ok(if options.host.is_loopback() {
+        router.layer(axum::middleware::from_fn(this_machine_only))
+    } else {
+        router
+    })
+}
+
+/// Whether an authority (`host[:port]`) names this machine's loopback interface.
+fn is_loopback_authority(authority: &str) -> bool {
+    let host = if let Some(rest) = authority.strip_prefix('[') {
+        rest.split(']').next().unwrap_or("")
+    } else {
+        authority.split(':').next().unwrap_or("")
+    };
+    host.eq_ignore_ascii_case("localhost") || host.parse::<IpAddr>().is_ok_and(|address| address.is_loopback())
+}
+
+/// Refuses a request whose `Host` or `Origin` header names another machine (absent
+/// headers pass: clients other than browsers need not send them).
+async fn this_machine_only(request: axum::extract::Request, next: axum::middleware::Next) -> axum::response::Response {
+    let headers = request.headers();
+    let allowed = |name: axum::http::HeaderName, authority: fn(&str) -> Option<&str>| {
+        headers.get(name).is_none_or(|value| {
+            value
+                .to_str()
+                .ok()
+                .and_then(authority)
+                .is_some_and(is_loopback_authority)
+        })
+    };
+    fn whole(authority: &str) -> Option<&str> {
+        Some(authority)
+    }
+    fn after_scheme(origin: &str) -> Option<&str> {
+        origin.split_once("://").map(|(_, rest)| rest)
+    }
+    if allowed(axum::http::header::HOST, whole) && allowed(axum::http::header::ORIGIN, after_scheme) {
+        next.run(request).await
+    } else {
+        axum::response::IntoResponse::into_response(api::ApiError {
+            status: axum::http::StatusCode::FORBIDDEN,
+            kind: "invalid_input",
+            message: "the editor answers pages of this machine only (its Host or Origin names another); serve with --host to allow others".into(),
+            report: None,
+        })
+    }
 }
 
 /// A bound server, ready to run.

@@ -588,3 +588,45 @@ async fn a_client_that_leaves_cancels_its_ffd_run() {
     assert_eq!(next.0, StatusCode::OK);
     assert!(String::from_utf8_lossy(&next.1).contains("\"result\""));
 }
+
+/// On loopback only pages of this machine are answered: a request whose `Host` or
+/// `Origin` names another machine (a DNS-rebinding page, a cross-site post) is refused.
+#[tokio::test]
+async fn pages_of_other_machines_are_refused() {
+    let (_dir, root) = served();
+    let app = router(&ServeOptions {
+        root,
+        ..Default::default()
+    })
+    .unwrap();
+    let request = |headers: &[(&str, &str)]| {
+        let mut builder = Request::builder().uri("/api/files");
+        for (name, value) in headers {
+            builder = builder.header(*name, *value);
+        }
+        builder.body(Body::empty()).unwrap()
+    };
+    for headers in [
+        vec![("host", "evil.example:8080")],
+        vec![("host", "127.0.0.1:8080"), ("origin", "http://evil.example")],
+        vec![("host", "localhost:8080"), ("origin", "null")],
+        vec![("host", "127.0.0.1.evil.example")],
+    ] {
+        let response = app.clone().oneshot(request(&headers)).await.unwrap();
+        assert_eq!(response.status(), StatusCode::FORBIDDEN, "{headers:?}");
+        let bytes = axum::body::to_bytes(response.into_body(), usize::MAX).await.unwrap();
+        assert!(json(&bytes)["error"]["message"]
+            .as_str()
+            .unwrap()
+            .contains("this machine"));
+    }
+    for headers in [
+        vec![],
+        vec![("host", "127.0.0.1:8080")],
+        vec![("host", "localhost:8080"), ("origin", "http://localhost:8080")],
+        vec![("host", "[::1]:8080"), ("origin", "http://[::1]:8080")],
+    ] {
+        let response = app.clone().oneshot(request(&headers)).await.unwrap();
+        assert_eq!(response.status(), StatusCode::OK, "{headers:?}");
+    }
+}
