@@ -16,6 +16,7 @@ use sheetform::pipeline::{
     edit_bend_scene, run_bend, BendEdit, BendRunOptions, ErrorKind, OutputSet, PipelineError, RunContext,
 };
 use sheetform::report::Report;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -74,7 +75,7 @@ impl SceneAssets {
 
     /// A run context whose assets resolve against the scene's directory and may lie
     /// anywhere inside the served directory, nowhere else.
-    pub fn context(&self) -> RunContext<'static> {
+    pub fn context<'a>(&self) -> RunContext<'a> {
         let mut context = RunContext::new(&self.directory);
         context.assets = sheetform::pipeline::AssetResolver::new(&self.directory).with_confinement(&self.root);
         context
@@ -186,12 +187,23 @@ fn bend_scene(body: &str) -> Result<BendScene, ApiError> {
     BendScene::from_json(body).map_err(|e| ApiError::from(PipelineError::from(e)))
 }
 
-/// Runs `job` on the blocking pool, at most `max_concurrent_solves` at a time. The
-/// permit moves into the job: a client that disconnects does not free its slot while
-/// its solve still runs.
+/// Sets its flag when dropped: the request handler holding it was dropped (its client
+/// disconnected) or finished.
+struct CancelOnDrop(Arc<AtomicBool>);
+
+impl Drop for CancelOnDrop {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::SeqCst);
+    }
+}
+
+/// Runs `job` on the blocking pool, at most `max_concurrent_solves` at a time, with a
+/// cancel flag for its run context. The permit moves into the job (a client that
+/// disconnects does not free its slot while its solve still runs), and the flag is set
+/// when the client disconnects, so the run stops at its next check.
 pub(crate) async fn solve<T: Send + 'static>(
     state: &AppState,
-    job: impl FnOnce() -> Result<T, ApiError> + Send + 'static,
+    job: impl FnOnce(&AtomicBool) -> Result<T, ApiError> + Send + 'static,
 ) -> Result<T, ApiError> {
     let permit = state
         .solves
@@ -199,9 +211,11 @@ pub(crate) async fn solve<T: Send + 'static>(
         .acquire_owned()
         .await
         .map_err(|_| ApiError::invalid("the server is stopping"))?;
+    let cancel = Arc::new(AtomicBool::new(false));
+    let _cancel_on_drop = CancelOnDrop(cancel.clone());
     tokio::task::spawn_blocking(move || {
         let _permit = permit;
-        job()
+        job(&cancel)
     })
     .await
     .unwrap_or_else(|e| {
@@ -277,8 +291,13 @@ pub(crate) fn pattern_svg(files: &[(String, Vec<u8>)]) -> String {
 }
 
 /// Bends `scene` with the preview outputs: what the editor draws.
-fn preview(scene: &BendScene, assets: &SceneAssets, start: Instant) -> Result<BendReply, ApiError> {
-    let context = assets.context().with_outputs(OutputSet::Preview);
+fn preview(
+    scene: &BendScene,
+    assets: &SceneAssets,
+    start: Instant,
+    cancel: &AtomicBool,
+) -> Result<BendReply, ApiError> {
+    let context = assets.context().with_outputs(OutputSet::Preview).with_cancel(cancel);
     let run = run_bend(scene, &BendRunOptions::default(), &context)?;
     Ok(BendReply {
         model: MeshArrays::new(&run.sheet.mesh),
@@ -301,7 +320,10 @@ async fn bend(
 ) -> Result<Response, ApiError> {
     let start = Instant::now();
     let assets = SceneAssets::new(&state.root, &query)?;
-    let reply = solve(&state, move || preview(&bend_scene(&body)?, &assets, start)).await?;
+    let reply = solve(&state, move |cancel| {
+        preview(&bend_scene(&body)?, &assets, start, cancel)
+    })
+    .await?;
     Ok(Json(reply).into_response())
 }
 
@@ -329,7 +351,7 @@ async fn bend_edit(
 ) -> Result<Response, ApiError> {
     let start = Instant::now();
     let assets = SceneAssets::new(&state.root, &query)?;
-    let reply = solve(&state, move || {
+    let reply = solve(&state, move |cancel| {
         let request: EditRequest = serde_json::from_str(&body).map_err(|e| {
             ApiError::invalid(format!(
                 "an edit request is {{\"scene\": …, \"edit\": …}}: {}",
@@ -355,7 +377,7 @@ async fn bend_edit(
                 report: None,
             });
         }
-        let preview = preview(&result.scene, &assets, start)?;
+        let preview = preview(&result.scene, &assets, start, cancel)?;
         Ok(EditReply {
             scene: result.scene,
             edit: result.info,
@@ -427,9 +449,13 @@ async fn bend_file(
 ) -> Result<Response, ApiError> {
     let assets = SceneAssets::new(&state.root, &query)?;
     let wanted = name.clone();
-    let bytes = solve(&state, move || {
+    let bytes = solve(&state, move |cancel| {
         let scene = bend_scene(&body)?;
-        let run = run_bend(&scene, &BendRunOptions::default(), &assets.context())?;
+        let run = run_bend(
+            &scene,
+            &BendRunOptions::default(),
+            &assets.context().with_cancel(cancel),
+        )?;
         output_file(run.files, &run.report, &wanted, "bend")
     })
     .await?;

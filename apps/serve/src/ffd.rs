@@ -178,9 +178,9 @@ async fn ffd_file(
 ) -> Result<Response, ApiError> {
     let assets = SceneAssets::new(&state.root, &query)?;
     let wanted = name.clone();
-    let bytes = solve(&state, move || {
+    let bytes = solve(&state, move |cancel| {
         let scene = ffd_scene(&body)?;
-        let run = run_ffd(&scene, &FfdRunOptions::default(), &assets.context())?;
+        let run = run_ffd(&scene, &FfdRunOptions::default(), &assets.context().with_cancel(cancel))?;
         output_file(run.files, &run.report, &wanted, "ffd")
     })
     .await?;

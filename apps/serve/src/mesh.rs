@@ -140,11 +140,18 @@ struct MeshReply {
     server_ms: f64,
 }
 
-fn check_and_flatten(query: &MeshQuery, body: &[u8], root: std::path::PathBuf) -> Result<MeshReply, ApiError> {
+fn check_and_flatten(
+    query: &MeshQuery,
+    body: &[u8],
+    root: std::path::PathBuf,
+    cancel: &std::sync::atomic::AtomicBool,
+) -> Result<MeshReply, ApiError> {
     let start = Instant::now();
     let options = query.flatten_options()?;
     let mesh = query.read(body)?;
-    let context = RunContext::new(root).with_outputs(OutputSet::Preview);
+    let context = RunContext::new(root)
+        .with_outputs(OutputSet::Preview)
+        .with_cancel(cancel);
     let check = run_check(
         mesh.clone(),
         &CheckOptions {
@@ -177,7 +184,7 @@ async fn mesh(
     ApiBody(body): ApiBody<Bytes>,
 ) -> Result<Response, ApiError> {
     let root = state.root.clone();
-    let reply = solve(&state, move || check_and_flatten(&query, &body, root)).await?;
+    let reply = solve(&state, move |cancel| check_and_flatten(&query, &body, root, cancel)).await?;
     Ok(Json(reply).into_response())
 }
 
@@ -190,10 +197,10 @@ async fn mesh_file(
 ) -> Result<Response, ApiError> {
     let root = state.root.clone();
     let wanted = file.clone();
-    let bytes = solve(&state, move || {
+    let bytes = solve(&state, move |cancel| {
         let options = query.flatten_options()?;
         let mesh = query.read(&body)?;
-        let run = run_flatten(mesh, &options, &RunContext::new(root))?;
+        let run = run_flatten(mesh, &options, &RunContext::new(root).with_cancel(cancel))?;
         output_file(run.files, &run.report, &wanted, "flatten")
     })
     .await?;

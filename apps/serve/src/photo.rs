@@ -41,9 +41,9 @@ async fn photo(
 ) -> Result<Response, ApiError> {
     let start = Instant::now();
     let assets = SceneAssets::new(&state.root, &query)?;
-    let reply = solve(&state, move || {
+    let reply = solve(&state, move |cancel| {
         let input = PhotoInput::from_text(&body)?;
-        let context = assets.context().with_outputs(OutputSet::Preview);
+        let context = assets.context().with_outputs(OutputSet::Preview).with_cancel(cancel);
         let run = run_photo(&input, &PhotoRunOptions::default(), &context)?;
         Ok(PhotoReply {
             model: MeshArrays::new(&run.sheet),
@@ -64,9 +64,13 @@ async fn photo_file(
 ) -> Result<Response, ApiError> {
     let assets = SceneAssets::new(&state.root, &query)?;
     let wanted = name.clone();
-    let bytes = solve(&state, move || {
+    let bytes = solve(&state, move |cancel| {
         let input = PhotoInput::from_text(&body)?;
-        let run = run_photo(&input, &PhotoRunOptions::default(), &assets.context())?;
+        let run = run_photo(
+            &input,
+            &PhotoRunOptions::default(),
+            &assets.context().with_cancel(cancel),
+        )?;
         output_file(run.files, &run.report, &wanted, "photo")
     })
     .await?;

@@ -46,9 +46,9 @@ async fn slit(
 ) -> Result<Response, ApiError> {
     let start = Instant::now();
     let assets = SceneAssets::new(&state.root, &query)?;
-    let reply = solve(&state, move || {
+    let reply = solve(&state, move |cancel| {
         let scene = slit_scene(&body)?;
-        let context = assets.context().with_outputs(OutputSet::Preview);
+        let context = assets.context().with_outputs(OutputSet::Preview).with_cancel(cancel);
         let run = run_slit(&scene, &SlitRunOptions::default(), &context)?;
         Ok(SlitReply {
             model: MeshArrays::new(&run.mesh),
@@ -69,9 +69,13 @@ async fn slit_file(
 ) -> Result<Response, ApiError> {
     let assets = SceneAssets::new(&state.root, &query)?;
     let wanted = name.clone();
-    let bytes = solve(&state, move || {
+    let bytes = solve(&state, move |cancel| {
         let scene = slit_scene(&body)?;
-        let run = run_slit(&scene, &SlitRunOptions::default(), &assets.context())?;
+        let run = run_slit(
+            &scene,
+            &SlitRunOptions::default(),
+            &assets.context().with_cancel(cancel),
+        )?;
         output_file(run.files, &run.report, &wanted, "slit")
     })
     .await?;

@@ -630,3 +630,39 @@ async fn pages_of_other_machines_are_refused() {
         assert_eq!(response.status(), StatusCode::OK, "{headers:?}");
     }
 }
+
+/// A client that leaves any other solve (here a download of the long FFD run's report)
+/// cancels it too: its handler is dropped, which sets the run's cancel flag, and the
+/// only slot is free again within seconds.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_client_that_leaves_a_download_cancels_its_run() {
+    let (_dir, root) = served();
+    let app = router(&ServeOptions {
+        root,
+        max_concurrent_solves: 1,
+        ..Default::default()
+    })
+    .unwrap();
+    let mut long: Value =
+        serde_json::from_str(&std::fs::read_to_string(repository().join("examples/ffd/duct-100k.json")).unwrap())
+            .unwrap();
+    long["model"]["procedural"]["around"] = 160.into();
+    long["model"]["procedural"]["along"] = 100.into();
+    long["solver"] = serde_json::json!({});
+    let step = long["deformations"][0].clone();
+    long["deformations"] = Value::Array(vec![step; 30]);
+    let request = Request::builder()
+        .method("POST")
+        .uri("/api/ffd/file/report.json")
+        .body(Body::from(long.to_string()))
+        .unwrap();
+    // The client gives up after half a second.
+    let abandoned = tokio::time::timeout(std::time::Duration::from_millis(500), app.clone().oneshot(request)).await;
+    assert!(abandoned.is_err(), "the long run cannot have finished");
+    let duct = std::fs::read_to_string(repository().join("examples/ffd/duct.json")).unwrap();
+    let next = tokio::time::timeout(std::time::Duration::from_secs(60), send(&app, "POST", "/api/ffd", duct))
+        .await
+        .expect("the abandoned run was cancelled and freed its slot");
+    assert_eq!(next.0, StatusCode::OK);
+    assert!(String::from_utf8_lossy(&next.1).contains("\"result\""));
+}
