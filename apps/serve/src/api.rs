@@ -13,7 +13,7 @@ use sheetform::bend::BendScene;
 use sheetform::bend::EditInfo;
 use sheetform::mesh::SheetMesh;
 use sheetform::pipeline::{
-    edit_bend_scene, run_bend, BendEdit, BendRunOptions, ErrorKind, OutputSet, PipelineError, RunContext,
+    edit_bend_scene, run_bend, BendEdit, BendRunOptions, ErrorKind, OutputSet, PipelineError, RenderedFiles, RunContext,
 };
 use sheetform::report::Report;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -427,6 +427,27 @@ pub(crate) fn output_file(
         })
 }
 
+/// A scene command's download route: `run` parses the body and runs the command in the
+/// given context (every output, assets against the scene's directory, cancelled when the
+/// client leaves); the file `name` of its outputs goes back as an attachment.
+pub(crate) async fn scene_download(
+    state: &AppState,
+    query: &SceneQuery,
+    name: String,
+    body: String,
+    command: &'static str,
+    run: impl FnOnce(&str, &RunContext) -> Result<(RenderedFiles, Report), ApiError> + Send + 'static,
+) -> Result<Response, ApiError> {
+    let assets = SceneAssets::new(&state.root, query)?;
+    let wanted = name.clone();
+    let bytes = solve(state, move |cancel| {
+        let (files, report) = run(&body, &assets.context().with_cancel(cancel))?;
+        output_file(files, &report, &wanted, command)
+    })
+    .await?;
+    Ok(attachment(&name, bytes))
+}
+
 /// A download: `bytes` as the file `name`.
 pub(crate) fn attachment(name: &str, bytes: Vec<u8>) -> Response {
     let disposition = HeaderValue::from_str(&format!("attachment; filename=\"{name}\""))
@@ -447,17 +468,9 @@ async fn bend_file(
     ApiQuery(query): ApiQuery<SceneQuery>,
     ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
-    let assets = SceneAssets::new(&state.root, &query)?;
-    let wanted = name.clone();
-    let bytes = solve(&state, move |cancel| {
-        let scene = bend_scene(&body)?;
-        let run = run_bend(
-            &scene,
-            &BendRunOptions::default(),
-            &assets.context().with_cancel(cancel),
-        )?;
-        output_file(run.files, &run.report, &wanted, "bend")
+    scene_download(&state, &query, name, body, "bend", |body, context| {
+        let run = run_bend(&bend_scene(body)?, &BendRunOptions::default(), context)?;
+        Ok((run.files, run.report))
     })
-    .await?;
-    Ok(attachment(&name, bytes))
+    .await
 }

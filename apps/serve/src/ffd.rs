@@ -11,9 +11,7 @@
 //! Cancel) cancels the run at its next progress report; one that left before its run
 //! started never starts it.
 
-use crate::api::{
-    attachment, output_file, pattern_svg, solve, ApiBody, ApiError, ApiQuery, MeshArrays, SceneAssets, SceneQuery,
-};
+use crate::api::{pattern_svg, scene_download, ApiBody, ApiError, ApiQuery, MeshArrays, SceneAssets, SceneQuery};
 use crate::AppState;
 use axum::body::Body;
 use axum::extract::{Path, State};
@@ -176,13 +174,9 @@ async fn ffd_file(
     ApiQuery(query): ApiQuery<SceneQuery>,
     ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
-    let assets = SceneAssets::new(&state.root, &query)?;
-    let wanted = name.clone();
-    let bytes = solve(&state, move |cancel| {
-        let scene = ffd_scene(&body)?;
-        let run = run_ffd(&scene, &FfdRunOptions::default(), &assets.context().with_cancel(cancel))?;
-        output_file(run.files, &run.report, &wanted, "ffd")
+    scene_download(&state, &query, name, body, "ffd", |body, context| {
+        let run = run_ffd(&ffd_scene(body)?, &FfdRunOptions::default(), context)?;
+        Ok((run.files, run.report))
     })
-    .await?;
-    Ok(attachment(&name, bytes))
+    .await
 }

@@ -4,7 +4,7 @@
 //! Both run the library's `run_photo`; nothing of a pipeline is repeated here.
 
 use crate::api::{
-    attachment, output_file, pattern_svg, solve, ApiBody, ApiError, ApiQuery, MeshArrays, SceneAssets, SceneQuery,
+    pattern_svg, scene_download, solve, ApiBody, ApiError, ApiQuery, MeshArrays, SceneAssets, SceneQuery,
 };
 use crate::AppState;
 use axum::extract::{Path, State};
@@ -62,17 +62,9 @@ async fn photo_file(
     ApiQuery(query): ApiQuery<SceneQuery>,
     ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
-    let assets = SceneAssets::new(&state.root, &query)?;
-    let wanted = name.clone();
-    let bytes = solve(&state, move |cancel| {
-        let input = PhotoInput::from_text(&body)?;
-        let run = run_photo(
-            &input,
-            &PhotoRunOptions::default(),
-            &assets.context().with_cancel(cancel),
-        )?;
-        output_file(run.files, &run.report, &wanted, "photo")
+    scene_download(&state, &query, name, body, "photo", |body, context| {
+        let run = run_photo(&PhotoInput::from_text(body)?, &PhotoRunOptions::default(), context)?;
+        Ok((run.files, run.report))
     })
-    .await?;
-    Ok(attachment(&name, bytes))
+    .await
 }

@@ -3,7 +3,7 @@
 //! download. Both run the library's `run_slit`; nothing of a pipeline is repeated here.
 
 use crate::api::{
-    attachment, output_file, pattern_svg, solve, ApiBody, ApiError, ApiQuery, MeshArrays, SceneAssets, SceneQuery,
+    pattern_svg, scene_download, solve, ApiBody, ApiError, ApiQuery, MeshArrays, SceneAssets, SceneQuery,
 };
 use crate::AppState;
 use axum::extract::{Path, State};
@@ -67,17 +67,9 @@ async fn slit_file(
     ApiQuery(query): ApiQuery<SceneQuery>,
     ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
-    let assets = SceneAssets::new(&state.root, &query)?;
-    let wanted = name.clone();
-    let bytes = solve(&state, move |cancel| {
-        let scene = slit_scene(&body)?;
-        let run = run_slit(
-            &scene,
-            &SlitRunOptions::default(),
-            &assets.context().with_cancel(cancel),
-        )?;
-        output_file(run.files, &run.report, &wanted, "slit")
+    scene_download(&state, &query, name, body, "slit", |body, context| {
+        let run = run_slit(&slit_scene(body)?, &SlitRunOptions::default(), context)?;
+        Ok((run.files, run.report))
     })
-    .await?;
-    Ok(attachment(&name, bytes))
+    .await
 }

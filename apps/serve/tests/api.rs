@@ -54,23 +54,11 @@ async fn a_solve_answers_with_a_model_isometric_to_its_pattern() {
     let reply = json(&body);
     assert_eq!(reply["report"]["status"], "ok");
     let model = &reply["model"];
-    let p: Vec<f64> = serde_json::from_value(model["positions"].clone()).unwrap();
-    let f: Vec<f64> = serde_json::from_value(model["flat"].clone()).unwrap();
-    let t: Vec<usize> = serde_json::from_value(model["triangles"].clone()).unwrap();
-    assert_eq!(p.len() / 3, f.len() / 2);
-    assert_eq!(reply["report"]["vertex_count"], p.len() / 3);
+    let vertices = model["positions"].as_array().unwrap().len() / 3;
+    assert_eq!(vertices, model["flat"].as_array().unwrap().len() / 2);
+    assert_eq!(reply["report"]["vertex_count"], vertices);
     // Every edge as long in 3D as in the pattern.
-    let mut worst: f64 = 0.0;
-    for tri in t.chunks(3) {
-        for (a, b) in [(tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])] {
-            let d3 = ((p[3 * a] - p[3 * b]).powi(2)
-                + (p[3 * a + 1] - p[3 * b + 1]).powi(2)
-                + (p[3 * a + 2] - p[3 * b + 2]).powi(2))
-            .sqrt();
-            let d2 = ((f[2 * a] - f[2 * b]).powi(2) + (f[2 * a + 1] - f[2 * b + 1]).powi(2)).sqrt();
-            worst = worst.max((d3 - d2).abs() / d2);
-        }
-    }
+    let worst = isometry_error(model);
     assert!(worst < 1e-9, "isometry error {worst}");
     let svg = reply["pattern_svg"].as_str().unwrap();
     assert!(
@@ -547,6 +535,19 @@ async fn a_photo_annotation_is_reconstructed_with_its_photograph_beside_it() {
     assert_eq!(&bytes[1..4], b"PNG");
 }
 
+/// An FFD scene that takes minutes: a 16k-vertex duct deformed 30 times over, every
+/// lattice parameter a step.
+fn long_ffd_scene() -> Value {
+    let path = repository().join("examples/ffd/duct-100k.json");
+    let mut scene: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    scene["model"]["procedural"]["around"] = 160.into();
+    scene["model"]["procedural"]["along"] = 100.into();
+    scene["solver"] = serde_json::json!({});
+    let step = scene["deformations"][0].clone();
+    scene["deformations"] = Value::Array(vec![step; 30]);
+    scene
+}
+
 /// A client that leaves an FFD run cancels it: with one solve at a time, a long run (a
 /// 16k-vertex duct deformed 30 times over) abandoned after its first progress line lets
 /// the next request through within a minute, where the run itself would hold the only
@@ -561,14 +562,7 @@ async fn a_client_that_leaves_cancels_its_ffd_run() {
         ..Default::default()
     })
     .unwrap();
-    let mut long: Value =
-        serde_json::from_str(&std::fs::read_to_string(repository().join("examples/ffd/duct-100k.json")).unwrap())
-            .unwrap();
-    long["model"]["procedural"]["around"] = 160.into();
-    long["model"]["procedural"]["along"] = 100.into();
-    long["solver"] = serde_json::json!({});
-    let step = long["deformations"][0].clone();
-    long["deformations"] = Value::Array(vec![step; 30]);
+    let long = long_ffd_scene();
     let request = Request::builder()
         .method("POST")
         .uri("/api/ffd")
@@ -643,14 +637,7 @@ async fn a_client_that_leaves_a_download_cancels_its_run() {
         ..Default::default()
     })
     .unwrap();
-    let mut long: Value =
-        serde_json::from_str(&std::fs::read_to_string(repository().join("examples/ffd/duct-100k.json")).unwrap())
-            .unwrap();
-    long["model"]["procedural"]["around"] = 160.into();
-    long["model"]["procedural"]["along"] = 100.into();
-    long["solver"] = serde_json::json!({});
-    let step = long["deformations"][0].clone();
-    long["deformations"] = Value::Array(vec![step; 30]);
+    let long = long_ffd_scene();
     let request = Request::builder()
         .method("POST")
         .uri("/api/ffd/file/report.json")

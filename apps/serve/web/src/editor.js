@@ -296,20 +296,13 @@ function defectColour(g) {
 
 /** Mesh mode: the flattened model coloured by piece, or the input by angle defect. */
 function drawMeshModel(reply) {
-  const byDefect = $('colour').value === 'defect';
-  const { positions, triangles } = byDefect ? reply.input : reply.model;
-  const position = new Float32Array(triangles.length * 3);
-  const colour = new Float32Array(triangles.length * 3);
-  for (let k = 0; k < triangles.length; k++) {
-    const v = triangles[k];
-    position.set([positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]], 3 * k);
-    const c = byDefect ? defectColour(reply.input.angle_defects_rad[v]) : pieceColour(reply.model.face_pieces[Math.floor(k / 3)]);
-    colour.set([c.r, c.g, c.b], 3 * k);
-  }
-  const geometry = new THREE.BufferGeometry();
-  geometry.setAttribute('position', new THREE.BufferAttribute(position, 3));
-  geometry.setAttribute('color', new THREE.BufferAttribute(colour, 3));
-  geometry.computeVertexNormals();
+  showColouredGeometry($('colour').value === 'defect'
+    ? colouredGeometry(reply.input, (v) => defectColour(reply.input.angle_defects_rad[v]))
+    : colouredGeometry(reply.model, (_, t) => pieceColour(reply.model.face_pieces[t])));
+}
+
+/** Shows a vertex-coloured geometry in place of the sheet, without rulings or handles. */
+function showColouredGeometry(geometry) {
   sheet.geometry.dispose();
   sheet.geometry = geometry;
   sheet.material = colouredMaterial;
@@ -350,18 +343,12 @@ function ffdDefectColour(g, top) {
 /** FFD mode: the restored or plain panels coloured by angle defect, or by panel. */
 function drawFfdModel(reply) {
   const view = $('ffd-view').value;
-  const top = Math.max(...reply.plain.angle_defects_rad.map(Math.abs), 1e-300);
-  const geometry = view === 'pieces'
+  // (A reduce, not a spread: a 100k-vertex model would overflow the argument list.)
+  const top = reply.plain.angle_defects_rad.reduce((m, g) => Math.max(m, Math.abs(g)), 1e-300);
+  const shown = reply[view === 'before' ? 'plain' : 'restored'];
+  showColouredGeometry(view === 'pieces'
     ? colouredGeometry(reply.model, (_, t) => pieceColour(reply.model.face_pieces[t]))
-    : colouredGeometry(reply[view === 'before' ? 'plain' : 'restored'], (v) => ffdDefectColour(reply[view === 'before' ? 'plain' : 'restored'].angle_defects_rad[v], top));
-  sheet.geometry.dispose();
-  sheet.geometry = geometry;
-  sheet.material = colouredMaterial;
-  rulings.geometry.dispose();
-  rulings.geometry = new THREE.BufferGeometry();
-  frame(geometry);
-  handles.clear();
-  handleLines.clear();
+    : colouredGeometry(shown, (v) => ffdDefectColour(shown.angle_defects_rad[v], top)));
   drawLattice(reply.lattice);
 }
 
