@@ -5,6 +5,11 @@
 
 use sheetform_ffd::{run_design, FfdScene, ModelSource, SolverMethod};
 
+// The allocator of the `sheetform` binary, so that the figures are the CLI's: glibc
+// returns large blocks to the system on free and each new one is faulted in again.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn main() {
     // `SHEETFORM_TRACE=1`: the solver's per-iteration traces on stderr.
     if std::env::var_os("SHEETFORM_TRACE").is_some() {

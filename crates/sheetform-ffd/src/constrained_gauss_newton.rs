@@ -108,6 +108,10 @@ impl Default for ConstrainedOptions {
 const STALL_STEP: f64 = 1.0 / 64.0;
 /// Stalled steps in a row before the bending term is switched on.
 const STALL_ITERATIONS: usize = 5;
+/// Most chord steps (projections with the last factorisation) after one factorised step.
+const MAX_CHORD_STEPS: usize = 8;
+/// A chord step is kept when the largest defect falls to at most this fraction.
+const CHORD_CONTRACTION: f64 = 0.5;
 
 /// The factorised system of the steps: the KKT system of every parameter, or its
 /// reduction to the normals.
@@ -118,8 +122,8 @@ struct StepSystem {
 
 impl StepSystem {
     /// The projection step `p` (full parameters) with `A p = −g` of least `H`-norm.
-    fn projection(&mut self, defects: &[f64]) -> Vec<f64> {
-        let step = self.kkt.projection(defects);
+    fn projection(&mut self, defects: &[f64], tolerance: f64) -> Vec<f64> {
+        let step = self.kkt.projection(defects, tolerance);
         match &self.reduction {
             Some(reduction) => reduction.expand(&step),
             None => step,
@@ -157,9 +161,6 @@ fn kkt_system_at(
     metric: &Metric<'_>,
     unknowns: StepUnknowns,
 ) -> Result<StepSystem, FfdError> {
-    let mut pairs = Vec::new();
-    let mut values = Vec::new();
-    assemble(problem, e, metric, Some(&mut pairs), &mut values);
     // Blocks (see `KktSystem::new`): a variable node's parameter triple and the defect at
     // that node; a defect whose node is fixed forms a block of its own.
     let mut block_coordinates: Vec<nalgebra::Vector3<f64>> =
@@ -176,21 +177,28 @@ fn kkt_system_at(
     }
     // With the bending term AMD fills less at every size compared (see `KktSystem::new`).
     let amd_when_small = metric.bending.is_some();
+    let n = problem.unknown_count();
     match unknowns {
-        StepUnknowns::Parameters => Ok(StepSystem {
-            kkt: KktSystem::new(
-                problem.unknown_count(),
-                problem.constraint_count(),
-                pairs,
-                &blocks,
-                &block_coordinates,
-                amd_when_small,
-            )?,
-            reduction: None,
-        }),
+        StepUnknowns::Parameters => {
+            let mut pairs = Vec::new();
+            assemble(problem, e, metric, |row, col, _| pairs.push(Pair { row, col }));
+            Ok(StepSystem {
+                kkt: KktSystem::new(
+                    n,
+                    problem.constraint_count(),
+                    pairs,
+                    &blocks,
+                    &block_coordinates,
+                    amd_when_small,
+                )?,
+                reduction: None,
+            })
+        }
         StepUnknowns::Normal => {
-            let n = problem.unknown_count();
-            let (reduction, reduced_pairs) = NormalStepReduction::new(n, &pairs);
+            let mut full_pairs = Vec::new();
+            assemble(problem, e, metric, |row, col, _| full_pairs.push((row, col)));
+            let (reduction, reduced_pairs) = NormalStepReduction::new(n, &full_pairs)?;
+            drop(full_pairs);
             // A node's one unknown is its block, as its three were.
             let reduced_blocks: Vec<usize> = (0..reduction.unknowns()).chain(blocks[n..].iter().copied()).collect();
             Ok(StepSystem {
@@ -220,12 +228,16 @@ fn factorise(
     let kkt = &mut system.kkt;
     let (delta, gradient) = match system.reduction.as_mut() {
         Some(reduction) => {
-            let assembled = assemble(problem, e, metric, None, &mut reduction.full_values);
+            // `BᵀKB` directly: each full entry scaled by `B` into its reduced slot.
             reduction.update(problem, e);
-            reduction.reduce_values(&mut kkt.values);
-            assembled
+            kkt.values.fill(0.0);
+            let mut reduced = reduction.reducer(&mut kkt.values);
+            assemble(problem, e, metric, |row, col, value| reduced.add(row, col, value))
         }
-        None => assemble(problem, e, metric, None, &mut kkt.values),
+        None => {
+            kkt.values.clear();
+            assemble(problem, e, metric, |_, _, value| kkt.values.push(value))
+        }
     };
     let assembled = clock.elapsed();
     if kkt.values.iter().any(|v| !v.is_finite()) {
@@ -310,7 +322,17 @@ pub(crate) fn degenerate(problem: &DevelopabilityProblem<'_>, e: &Evaluation) ->
 ///    converged in fewer iterations, but left edges changed by up to 37 % on the
 ///    trousers instead of 10 %; the largest defect keeps the path close to the
 ///    continuous Newton flow. Converges quadratically once close; ends when every
-///    `|g| ≤ tolerance`.
+///    `|g| ≤ tolerance`. Each projection is solved as an inexact Newton step (see
+///    `KktSystem::projection`). After a full step (`α = 1`), **chord steps** reuse its
+///    factorisation: `p′` with `A p′ = −g(X + p)` for the same `A` and metric (a
+///    simplified Newton step, Kantorovich's chord method), kept while each is at most
+///    half as long as the step before it and at least halves the largest defect, at
+///    most 8 in a row. A chord step costs one triangular solve and an
+///    evaluation of the defects, about a tenth of a factorisation on the 100k-vertex
+///    duct; there they replace 2 of 7 factorisations (docs/benchmarks.md, session 19).
+///    The length test keeps them inside the region where the old Jacobian still holds
+///    (without it, a duct deformed five times over and restored along its path
+///    wandered off and stopped unconverged).
 /// 2. **Refinement** (optional, `refine_iterations`, default 0; SQP with a Gauss–Newton
 ///    Hessian): `[H Aᵀ; A −δI] [p; λ] =
 ///    [−∇f; 0]` moves along the constraint surface to lower `f`, followed by projection
@@ -434,7 +456,7 @@ pub fn restore_constrained_with_progress(
             &Metric::new(problem, options, bending.as_ref()),
         )?;
         let factorised = clock.elapsed();
-        let step = system.projection(&e.defects);
+        let step = system.projection(&e.defects, options.tolerance);
         let solved = clock.elapsed();
         let reference = largest_defects
             .iter()
@@ -479,6 +501,39 @@ pub fn restore_constrained_with_progress(
         }
         y = new_y;
         e = new_e;
+        // Chord steps (see `restore_constrained`): projections with this factorisation
+        // at the new defects, after a full step, while each is at most half as long as
+        // the step before it and at least halves the largest defect.
+        let mut defects = e.defects.clone();
+        let mut chords = 0;
+        let mut last_length = alpha * norm(&step);
+        while alpha == 1.0 && chords < MAX_CHORD_STEPS && max_abs(&defects) > options.tolerance {
+            let clock = Instant::now();
+            let chord = system.projection(&defects, options.tolerance);
+            let length = norm(&chord);
+            if !contracts(length, last_length) {
+                break;
+            }
+            let trial_y: Vec<f64> = y.iter().zip(&chord).map(|(a, p)| a + p).collect();
+            let trial = problem.evaluate_defects(&trial_y);
+            tracing::debug!(
+                "chord: max defect {:.3e} -> {:.3e} ({:.2} ms)",
+                max_abs(&defects),
+                max_abs(&trial),
+                clock.elapsed().as_secs_f64() * 1e3
+            );
+            if !contracts(max_abs(&trial), max_abs(&defects)) {
+                break;
+            }
+            last_length = length;
+            y = trial_y;
+            defects = trial;
+            chords += 1;
+        }
+        if chords > 0 {
+            e = problem.evaluate(&y);
+            info.chord_steps += chords;
+        }
         largest_defects.push(max_abs(&e.defects));
         progress(iterations, max_abs(&e.defects));
     }
@@ -505,7 +560,7 @@ pub fn restore_constrained_with_progress(
                 if max_abs(&trial.defects) <= options.tolerance || max_abs(&trial.defects) > 1e-2 {
                     break;
                 }
-                let correction = system.projection(&trial.defects);
+                let correction = system.projection(&trial.defects, options.tolerance);
                 for (a, c) in trial_y.iter_mut().zip(&correction) {
                     *a += c;
                 }
@@ -537,6 +592,15 @@ pub fn restore_constrained_with_progress(
     }
     info.finish(problem, &e, iterations, converged, start);
     Ok((e.parameters, info))
+}
+
+/// Whether `after` is at most [`CHORD_CONTRACTION`] of `before` (false for NaN).
+fn contracts(after: f64, before: f64) -> bool {
+    after <= CHORD_CONTRACTION * before
+}
+
+fn norm(values: &[f64]) -> f64 {
+    values.iter().map(|v| v * v).sum::<f64>().sqrt()
 }
 
 fn max_abs(values: &[f64]) -> f64 {
@@ -572,19 +636,19 @@ impl<'a> Metric<'a> {
 /// Where entry `(k, l)`, `k ≤ l`, of a symmetric 3×3 block is kept in six numbers.
 const DIAGONAL_SLOT: [[usize; 3]; 3] = [[0, 1, 2], [1, 3, 4], [2, 4, 5]];
 
-/// Fills the upper triangle of the KKT matrix (values in a fixed order; the index pairs
-/// too when `pairs` is given) and returns `δ` and the objective's gradient.
+/// Produces the upper triangle of the KKT matrix, entry by entry, as
+/// `entry(row, column, value)` with `row ≤ column`, always in the same order for the same
+/// problem and metric (duplicates are summed by the receiver), and returns `δ` and the
+/// objective's gradient.
 fn assemble(
     problem: &DevelopabilityProblem<'_>,
     e: &Evaluation,
     metric: &Metric<'_>,
-    mut pairs: Option<&mut Vec<Pair<usize, usize>>>,
-    values: &mut Vec<f64>,
+    mut entry: impl FnMut(usize, usize, f64),
 ) -> (f64, Vec<f64>) {
     let (w, beta) = (metric.springs, metric.proximity);
     let n = problem.unknown_count();
     let nc = problem.constraint_count();
-    values.clear();
     let mut gradient = vec![0.0; n];
     // Each variable's 3×3 diagonal block of the metric (upper triangle, `(k, l)` at
     // `DIAGONAL_SLOT[k][l]`), summed over springs, proximity and bending before it is
@@ -592,19 +656,16 @@ fn assemble(
     // springs and hinges, and pushing them one by one doubled the entries the pattern
     // and every factorisation had to sum.
     let mut diagonal = vec![[0.0f64; 6]; n / 3];
-    let mut push_entry = |row: usize, col: usize, value: f64, values: &mut Vec<f64>| {
+    let mut push_entry = |row: usize, col: usize, value: f64| {
         let (r, c) = if row <= col { (row, col) } else { (col, row) };
-        if let Some(p) = pairs.as_deref_mut() {
-            p.push(Pair { row: r, col: c });
-        }
-        values.push(value);
+        entry(r, c, value);
     };
-    let mut push = |row: usize, col: usize, value: f64, values: &mut Vec<f64>| {
+    let mut push = |row: usize, col: usize, value: f64| {
         if row < n && col < n && row / 3 == col / 3 {
             let (k, l) = (row % 3, col % 3);
             diagonal[row / 3][DIAGONAL_SLOT[k.min(l)][k.max(l)]] += value;
         } else {
-            push_entry(row, col, value, values);
+            push_entry(row, col, value);
         }
     };
     // Springs: JᵀJ blocks and Jᵀr.
@@ -628,7 +689,7 @@ fn assemble(
                         if va == vb && l < k {
                             continue;
                         }
-                        push(row, col, w * ga[k] * gb[l], values);
+                        push(row, col, w * ga[k] * gb[l]);
                     }
                 }
             }
@@ -643,12 +704,12 @@ fn assemble(
         for k in 0..3 {
             gradient[3 * v + k] += g[k];
             for l in k..3 {
-                push(3 * v + k, 3 * v + l, jtj[(k, l)], values);
+                push(3 * v + k, 3 * v + l, jtj[(k, l)]);
             }
         }
     }
     if let Some((bending, weight)) = metric.bending {
-        bending.push_upper(e, weight, |row, col, value| push(row, col, value, values));
+        bending.push_upper(e, weight, &mut push);
     }
     let diagonal_sum: f64 = diagonal.iter().map(|b| b[0] + b[3] + b[5]).sum();
     let mean_diagonal = (diagonal_sum / n.max(1) as f64).max(1e-300);
@@ -657,7 +718,7 @@ fn assemble(
         for k in 0..3 {
             for l in k..3 {
                 let value = block[DIAGONAL_SLOT[k][l]] + if k == l { mu } else { 0.0 };
-                push_entry(3 * v + k, 3 * v + l, value, values);
+                push_entry(3 * v + k, 3 * v + l, value);
             }
         }
     }
@@ -669,13 +730,13 @@ fn assemble(
         for (v, d) in &row {
             for k in 0..3 {
                 a_norm += d[k] * d[k];
-                push_entry(3 * *v as usize + k, n + c, d[k], values);
+                push_entry(3 * *v as usize + k, n + c, d[k]);
             }
         }
     }
     let delta = 1e-10 * (a_norm / nc.max(1) as f64) / mean_diagonal;
     for c in 0..nc {
-        push_entry(n + c, n + c, -delta, values);
+        push_entry(n + c, n + c, -delta);
     }
     (delta.max(1e-300), gradient)
 }

@@ -41,6 +41,10 @@ pub struct RestorationInfo {
     /// Restorations run along the deformation's path (1: the whole deformation at once;
     /// more with `solver.continuation`, see [`crate::restore_along_path`]; 0: none).
     pub sub_steps: usize,
+    /// Chord steps of the constrained solver: projections that reused the last
+    /// factorisation instead of a new one (not counted in `iterations`, which are the
+    /// factorised steps).
+    pub chord_steps: usize,
 }
 
 /// Where a restoration is, reported after each iteration (constrained: each Gauss–Newton
@@ -99,6 +103,7 @@ impl RestorationInfo {
             bending_weight: 0.0,
             bending_fallback_iteration: None,
             sub_steps: 1,
+            chord_steps: 0,
         }
     }
 

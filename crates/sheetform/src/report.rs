@@ -234,8 +234,12 @@ pub struct FfdStepReport {
     pub name: String,
     /// Solver used.
     pub solver: sheetform_ffd::SolverMethod,
-    /// Iterations (constrained) or penalty updates (paper).
+    /// Iterations (constrained: factorised steps) or penalty updates (paper).
     pub iterations: usize,
+    /// Chord steps of the constrained solver: projections that reused the last
+    /// factorisation (not counted in `iterations`).
+    #[serde(default)]
+    pub chord_steps: usize,
     /// Whether the solver met its stopping rule.
     pub converged: bool,
     /// The constrained solver's bending weight at the end of the step (the scene's

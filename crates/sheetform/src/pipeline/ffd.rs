@@ -273,6 +273,7 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
                 name: s.name.clone(),
                 solver: s.info.solver,
                 iterations: s.info.iterations,
+                chord_steps: s.info.chord_steps,
                 converged: s.info.converged,
                 bending_weight: s.info.bending_weight,
                 bending_fallback_iteration: s.info.bending_fallback_iteration,
