@@ -69,6 +69,12 @@ pub struct ConstrainedOptions {
     /// the factor's values, for large meshes, at the price of larger edge-length changes
     /// on small ones.
     pub step_unknowns: StepUnknowns,
+    /// Most chord steps after a full step (see [`restore_constrained`]; 0: none).
+    /// Default 8. [`crate::restore_along_path`] sets 0: along the path of a large
+    /// deformation the chords' steps, each of least norm for the metric of an earlier
+    /// iterate, add up to larger edge-length changes (the duct deformed five times
+    /// over: 49 % against 42 %).
+    pub chord_steps: usize,
 }
 
 /// The unknowns of the constrained solver's steps (`solver.step_unknowns`).
@@ -98,6 +104,7 @@ impl Default for ConstrainedOptions {
             bending_weight: 3e-3,
             stall_bending_weight: 3e-3,
             step_unknowns: StepUnknowns::Parameters,
+            chord_steps: 8,
         }
     }
 }
@@ -108,8 +115,6 @@ impl Default for ConstrainedOptions {
 const STALL_STEP: f64 = 1.0 / 64.0;
 /// Stalled steps in a row before the bending term is switched on.
 const STALL_ITERATIONS: usize = 5;
-/// Most chord steps (projections with the last factorisation) after one factorised step.
-const MAX_CHORD_STEPS: usize = 8;
 /// A chord step is kept when the largest defect falls to at most this fraction.
 const CHORD_CONTRACTION: f64 = 0.5;
 
@@ -327,7 +332,7 @@ pub(crate) fn degenerate(problem: &DevelopabilityProblem<'_>, e: &Evaluation) ->
 ///    factorisation: `p′` with `A p′ = −g(X + p)` for the same `A` and metric (a
 ///    simplified Newton step, Kantorovich's chord method), kept while each is at most
 ///    half as long as the step before it and at least halves the largest defect, at
-///    most 8 in a row. A chord step costs one triangular solve and an
+///    most `chord_steps` in a row. A chord step costs one triangular solve and an
 ///    evaluation of the defects, about a tenth of a factorisation on the 100k-vertex
 ///    duct; there they replace 2 of 7 factorisations (docs/benchmarks.md, session 19).
 ///    The length test keeps them inside the region where the old Jacobian still holds
@@ -507,7 +512,7 @@ pub fn restore_constrained_with_progress(
         let mut defects = e.defects.clone();
         let mut chords = 0;
         let mut last_length = alpha * norm(&step);
-        while alpha == 1.0 && chords < MAX_CHORD_STEPS && max_abs(&defects) > options.tolerance {
+        while alpha == 1.0 && chords < options.chord_steps && max_abs(&defects) > options.tolerance {
             let clock = Instant::now();
             let chord = system.projection(&defects, options.tolerance);
             let length = norm(&chord);

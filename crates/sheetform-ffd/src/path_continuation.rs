@@ -69,6 +69,11 @@ pub fn restore_along_path(
     progress: &mut dyn FnMut(usize, f64),
 ) -> Result<(Vec<Vec3>, RestorationInfo), FfdError> {
     let clock = Instant::now();
+    // No chord steps along the path (see `ConstrainedOptions::chord_steps`).
+    let sub_options = ConstrainedOptions {
+        chord_steps: 0,
+        ..*options
+    };
     let mut info = RestorationInfo::begin(
         crate::SolverMethod::Constrained,
         problem,
@@ -103,7 +108,7 @@ pub fn restore_along_path(
             DevelopabilityProblem::new(&volume, problem.assembly, parameters.clone(), problem_options);
         sub_problem.cancel = problem.cancel;
         let offset = iterations;
-        let (restored, sub_info) = restore_constrained_with_progress(&sub_problem, options, &mut |i, defect| {
+        let (restored, sub_info) = restore_constrained_with_progress(&sub_problem, &sub_options, &mut |i, defect| {
             if i > 0 {
                 progress(offset + i, defect);
             }

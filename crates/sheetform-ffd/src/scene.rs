@@ -200,6 +200,15 @@ pub struct SolverSpec {
     /// docs/benchmarks.md).
     #[serde(default)]
     pub step_unknowns: crate::StepUnknowns,
+    /// Most chord steps of the constrained solver after each full step: projections that
+    /// reuse the step's factorisation, taken while each is at most half as long as the
+    /// one before and halves the largest defect (0: none, every step factorised; default
+    /// 8; not used with `continuation`). They cost about a tenth of a factorisation:
+    /// 100k-vertex duct 5 factorisations instead of 7, skirt 2 instead of 4, with the same
+    /// edge-length change.
+    #[serde(default = "default_chord_steps")]
+    #[schemars(range(max = 100))]
+    pub chord_steps: usize,
 }
 
 /// Most iterations `solver.max_iterations` and `solver.refine_iterations` may ask for
@@ -207,6 +216,8 @@ pub struct SolverSpec {
 pub const MAX_SOLVER_ITERATIONS: usize = 10_000;
 /// Largest `solver.line_search_memory` (beyond it the stall detection has no effect).
 pub const MAX_LINE_SEARCH_MEMORY: usize = 100;
+/// Most `solver.chord_steps` after one full step.
+pub const MAX_CHORD_STEPS: usize = 100;
 /// Smallest `solver.tolerance_rad`: angle sums are exact to about 4e-15 rad, so a
 /// smaller tolerance could never be reached.
 pub const MIN_TOLERANCE_RAD: f64 = 1e-14;
@@ -301,6 +312,9 @@ fn default_bending_weight() -> f64 {
 fn default_stall_bending_weight() -> f64 {
     crate::ConstrainedOptions::default().stall_bending_weight
 }
+fn default_chord_steps() -> usize {
+    crate::ConstrainedOptions::default().chord_steps
+}
 fn default_line_search_memory() -> usize {
     crate::ConstrainedOptions::default().line_search_memory
 }
@@ -319,6 +333,7 @@ impl Default for SolverSpec {
             line_search_memory: default_line_search_memory(),
             continuation: None,
             step_unknowns: crate::StepUnknowns::default(),
+            chord_steps: default_chord_steps(),
         }
     }
 }
@@ -348,6 +363,7 @@ impl SolverSpec {
             line_search_memory: self.line_search_memory,
             stall_bending_weight: self.stall_bending_weight,
             step_unknowns: self.step_unknowns,
+            chord_steps: self.chord_steps,
             ..Default::default()
         };
         if let Some(m) = self.max_iterations {
@@ -402,6 +418,12 @@ impl FfdScene {
             return Err(FfdError::field(
                 "solver.stall_bending_weight",
                 "must be zero or positive",
+            ));
+        }
+        if s.chord_steps > MAX_CHORD_STEPS {
+            return Err(FfdError::field(
+                "solver.chord_steps",
+                format!("must be 0 to {MAX_CHORD_STEPS}, got {}", s.chord_steps),
             ));
         }
         if !(1..=MAX_LINE_SEARCH_MEMORY).contains(&s.line_search_memory) {
