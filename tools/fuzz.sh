@@ -6,7 +6,9 @@
 #   tools/fuzz.sh TARGET|all SECONDS
 #
 # Limits per input: 30 s (-timeout) and 4 GB (-rss_limit_mb); a crash, a timeout or an
-# out-of-memory input is saved under fuzz/artifacts/TARGET/ and the script fails.
+# out-of-memory input is saved under fuzz/artifacts/TARGET/ and the script fails. It
+# fails too when cargo fuzz itself fails (the fuzz crate does not build, libFuzzer does
+# not start) or libFuzzer does not report its "Done N runs" at the time limit.
 # Installs cargo-fuzz when it is missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -38,16 +40,33 @@ seed() {
     photo_annotation) cp examples/photo/*.json examples/photo/*.svg examples/photo/synthetic/*.json "$dir/" 2>/dev/null || true ;;
   esac
 }
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
 for t in "${targets[@]}"; do
   seed "$t"
   echo "fuzzing $t for $seconds s"
+  # The whole output is kept: the summary lines are shown, and when cargo fuzz fails
+  # (the fuzz crate does not build, libFuzzer does not start or stops early) its tail.
+  status=0
   (cd fuzz && cargo fuzz run -O "$t" "corpus/$t" -- \
-    -max_total_time="$seconds" -timeout=30 -rss_limit_mb=4096 -print_final_stats=1 2>&1 |
-    grep -E "^(#[0-9]+ +DONE|stat::number_of_executed_units|stat::peak_rss_mb|==[0-9]+== ERROR|SUMMARY|artifact_prefix|Test unit written)" || true)
+    -max_total_time="$seconds" -timeout=30 -rss_limit_mb=4096 -print_final_stats=1) >"$log" 2>&1 || status=$?
+  grep -E "^(#[0-9]+[[:space:]]+DONE|Done [0-9]+ runs|stat::number_of_executed_units|stat::peak_rss_mb|==[0-9]+== ERROR|SUMMARY|artifact_prefix|Test unit written)" "$log" || true
   # libFuzzer also saves slow inputs (over 10 s with its instrumentation) as slow-unit-*:
   # reported, not failures (the limit is -timeout).
   if ls "fuzz/artifacts/$t/"{crash,timeout,oom,leak}-* >/dev/null 2>&1; then
     echo "fuzz/artifacts/$t/ holds failing inputs" >&2
+    exit 1
+  fi
+  # When the time limit ends the run, libFuzzer prints "Done N runs in S second(s)" and
+  # exits with 0; anything else is a failure, even with no artifact saved.
+  if [ "$status" -ne 0 ]; then
+    tail -n 40 "$log" >&2
+    echo "cargo fuzz run $t failed (exit status $status) before its time limit ended normally" >&2
+    exit 1
+  fi
+  if ! grep -qE "^Done [0-9]+ runs" "$log"; then
+    tail -n 40 "$log" >&2
+    echo "cargo fuzz run $t printed no \"Done N runs\" line: libFuzzer did not run to its time limit" >&2
     exit 1
   fi
   ls "fuzz/artifacts/$t/"slow-unit-* 2>/dev/null | sed 's/^/slow (not a failure): /' || true

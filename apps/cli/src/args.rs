@@ -192,7 +192,7 @@ pub(crate) struct PatternArgs {
     /// or a4 / letter); writes sheets/sheet-NN.svg and .dxf too.
     #[arg(long, value_name = "WxH", value_parser = parse_sheet)]
     pub(crate) sheet: Option<(f64, f64)>,
-    /// Gap between packed pieces and from the sheet's edges (mm).
+    /// Gap between packed pieces and from the sheet's edges (mm, at most 1000).
     #[arg(long, value_name = "MM", default_value_t = 5.0)]
     pub(crate) sheet_gap: f64,
     /// Most pages the PDF may print; a pattern that needs more is refused.

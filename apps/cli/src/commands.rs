@@ -3,7 +3,7 @@
 //! return the exit code the library decided.
 
 use crate::args::{ChartArgs, Charts, Method, PatternArgs, SchemaFormat, SolverArg, Tabs, Unit};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use sheetform::bend::BendScene;
 use sheetform::flatten::ChartOptions;
 use sheetform::io::read_mesh;
@@ -18,6 +18,7 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
 
 pub(crate) fn check_command(
     mesh: PathBuf,
@@ -147,17 +148,29 @@ pub(crate) fn flatten_command(
     Ok(ExitCode::from(run.outcome.exit_code()))
 }
 
+/// The progress bar on stderr when it is a terminal (none when `quiet` or not a terminal).
 pub(crate) fn progress_bar(quiet: bool) -> Option<ProgressBar> {
     if quiet || !std::io::stderr().is_terminal() {
         return None;
     }
-    let bar = ProgressBar::new(1000);
+    Some(styled_progress_bar(ProgressDrawTarget::stderr()))
+}
+
+/// How often the spinner turns by itself.
+const SPINNER_TICK: Duration = Duration::from_millis(100);
+
+/// The commands' bar (stage, bar, percent) drawn to `target`, its spinner turning every
+/// [`SPINNER_TICK`] on its own so that a long stage (an FFD restoration runs for minutes
+/// between reports) does not look frozen.
+fn styled_progress_bar(target: ProgressDrawTarget) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(Some(1000), target);
     bar.set_style(
         ProgressStyle::with_template("{spinner} {msg:<16} [{bar:30}] {percent:>3}%")
             .expect("valid template")
             .progress_chars("=> "),
     );
-    Some(bar)
+    bar.enable_steady_tick(SPINNER_TICK);
+    bar
 }
 
 /// Runs `job` with a progress callback that drives a bar on a terminal (nothing when
@@ -493,5 +506,73 @@ pub(crate) fn serve_command(
             eprintln!("sheetform: {e}");
             ExitCode::from(1)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::{Arc, Mutex};
+
+    /// A terminal that keeps the lines drawn on it.
+    #[derive(Debug, Clone, Default)]
+    struct Screen(Arc<Mutex<Vec<String>>>);
+
+    impl indicatif::TermLike for Screen {
+        fn width(&self) -> u16 {
+            80
+        }
+        fn move_cursor_up(&self, _: usize) -> std::io::Result<()> {
+            Ok(())
+        }
+        fn move_cursor_down(&self, _: usize) -> std::io::Result<()> {
+            Ok(())
+        }
+        fn move_cursor_right(&self, _: usize) -> std::io::Result<()> {
+            Ok(())
+        }
+        fn move_cursor_left(&self, _: usize) -> std::io::Result<()> {
+            Ok(())
+        }
+        fn write_line(&self, s: &str) -> std::io::Result<()> {
+            self.write_str(s)
+        }
+        fn write_str(&self, s: &str) -> std::io::Result<()> {
+            if !s.is_empty() {
+                self.0.lock().unwrap().push(s.to_string());
+            }
+            Ok(())
+        }
+        fn clear_line(&self) -> std::io::Result<()> {
+            Ok(())
+        }
+        fn flush(&self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    /// Issue 19: the bar was drawn only when a stage reported progress, so during a long
+    /// stage it froze. Updated once, it keeps redrawing with a turning spinner with no
+    /// further call. (No timing is asserted: the test waits, up to a generous limit, for
+    /// the spinner to show several different frames.)
+    #[test]
+    fn the_spinner_turns_between_progress_reports() {
+        let screen = Screen::default();
+        let bar = styled_progress_bar(ProgressDrawTarget::term_like(Box::new(screen.clone())));
+        bar.set_position(300);
+        bar.set_message("restoring");
+        let frames = || {
+            let lines = screen.0.lock().unwrap();
+            let mut spinners: Vec<char> = lines.iter().filter_map(|l| l.chars().next()).collect();
+            spinners.sort_unstable();
+            spinners.dedup();
+            spinners.len()
+        };
+        let give_up = std::time::Instant::now() + Duration::from_secs(30);
+        while frames() < 3 && std::time::Instant::now() < give_up {
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        bar.finish_and_clear();
+        assert!(frames() >= 3, "the bar was not redrawn: {:?}", screen.0.lock().unwrap());
     }
 }

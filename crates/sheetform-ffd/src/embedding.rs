@@ -78,8 +78,14 @@ pub fn embed_points(volume: &NurbsVolume, points: &[Vec3]) -> Result<Vec<Vec3>, 
                 [q.x, q.y, q.z]
             })
             .collect();
-        let tree: ImmutableKdTree<f64, 3> = ImmutableKdTree::new_from_slice(&samples)
-            .map_err(|e| FfdError::Solver(format!("cannot index the volume samples: {e:?}")))?;
+        let tree: ImmutableKdTree<f64, 3> = ImmutableKdTree::new_from_slice(&samples).map_err(|_| {
+            // kiddo fails only past 2^32 items or when too many share a coordinate;
+            // its Debug output names its variants, so say it in words.
+            FfdError::Solver(format!(
+                "cannot index the {} volume samples for the embedding: too many, or too many at one coordinate",
+                samples.len()
+            ))
+        })?;
         points
             .par_iter()
             .enumerate()

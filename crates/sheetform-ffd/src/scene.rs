@@ -474,7 +474,10 @@ impl FfdScene {
             if !(c.sub_step_curvature.is_finite() && c.sub_step_curvature > 0.0) {
                 return Err(FfdError::field(
                     "solver.continuation.sub_step_curvature",
-                    format!("{} must be positive", c.sub_step_curvature),
+                    format!(
+                        "{} must be positive",
+                        sheetform_geometry::short_number(c.sub_step_curvature)
+                    ),
                 ));
             }
             if !(1..=MAX_SUB_STEPS).contains(&c.max_sub_steps) {
@@ -514,7 +517,7 @@ impl FfdScene {
                 "lattice.margin",
                 format!(
                     "must be between {MIN_LATTICE_MARGIN} and {MAX_LATTICE_MARGIN} (the model's vertices on the lattice's boundary could not move outwards), got {}",
-                    self.lattice.margin
+                    sheetform_geometry::short_number(self.lattice.margin)
                 ),
             ));
         }

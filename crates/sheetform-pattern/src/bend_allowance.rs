@@ -34,6 +34,7 @@
 //! corners) are not trimmed for the thickness.
 
 use crate::{PatternError, Vec2};
+use sheetform_geometry::short_number;
 use sheetform_mesh::{EdgeTable, SheetMesh, UnionFind};
 use std::collections::HashMap;
 
@@ -127,7 +128,7 @@ impl BendAllowance {
                 "thickness_mm",
                 format!(
                     "must be above 0 and at most {MAX_THICKNESS_MM} mm, got {}",
-                    self.thickness_mm
+                    short_number(self.thickness_mm)
                 ),
             );
         }
@@ -136,12 +137,15 @@ impl BendAllowance {
                 "inner_radius_mm",
                 format!(
                     "must be between 0 and {MAX_THICKNESS_MM} mm, got {}",
-                    self.inner_radius_mm
+                    short_number(self.inner_radius_mm)
                 ),
             );
         }
         if !(self.k_factor.is_finite() && (0.0..=1.0).contains(&self.k_factor)) {
-            return bad("k_factor", format!("must be between 0 and 1, got {}", self.k_factor));
+            return bad(
+                "k_factor",
+                format!("must be between 0 and 1, got {}", short_number(self.k_factor)),
+            );
         }
         Ok(())
     }
@@ -251,9 +255,9 @@ pub(crate) fn lay_out_bends(
         return Err(PatternError::Option {
             option: "thickness_mm",
             message: format!(
-                "the fold at ({:.1}, {:.1}) mm on the pattern turns by {:.1}°, closer to flat on itself than a bend allowance can take (at most {MAX_BEND_DEGREES}°)",
-                point.x,
-                point.y,
+                "the fold at ({}, {}) mm on the pattern turns by {:.1}°, closer to flat on itself than a bend allowance can take (at most {MAX_BEND_DEGREES}°)",
+                short_number(point.x),
+                short_number(point.y),
                 angle.abs().to_degrees()
             ),
         });
@@ -496,11 +500,11 @@ pub(crate) fn lay_out_bends(
             return Err(PatternError::Option {
                 option: "thickness_mm",
                 message: format!(
-                    "piece `{}`: the flange at the fold near ({:.1}, {:.1}) mm is narrower than the setbacks of its bends ({:.2} mm here): it cannot be bent at this thickness and radius",
+                    "piece `{}`: the flange at the fold near ({}, {}) mm is narrower than the setbacks of its bends ({} mm here): it cannot be bent at this thickness and radius",
                     part_names[face_part[f]],
-                    point.x,
-                    point.y,
-                    zone.bend.setback_mm
+                    short_number(point.x),
+                    short_number(point.y),
+                    short_number(zone.bend.setback_mm)
                 ),
             });
         }

@@ -1,3 +1,4 @@
+use sheetform_geometry::short_number;
 use thiserror::Error;
 
 /// Why a pattern file could not be made.
@@ -16,7 +17,12 @@ pub enum PatternError {
     },
     /// A piece does not fit on the sheet in any orientation.
     #[error(
-        "piece `{piece}` measures {width_mm:.1} × {height_mm:.1} mm (smallest bounding rectangle) and does not fit on the {sheet_width_mm:.1} × {sheet_height_mm:.1} mm sheet with its {gap_mm:.1} mm margin"
+        "piece `{piece}` measures {} × {} mm (smallest bounding rectangle) and does not fit on the {} × {} mm sheet with its {} mm margin",
+        short_number(*.width_mm),
+        short_number(*.height_mm),
+        short_number(*.sheet_width_mm),
+        short_number(*.sheet_height_mm),
+        short_number(*.gap_mm)
     )]
     PieceTooLarge {
         /// The piece's name.
@@ -35,7 +41,9 @@ pub enum PatternError {
     /// Folds close a loop of flat panels around a point: with a thickness, the panels
     /// cannot all keep their bend allowances.
     #[error(
-        "piece `{piece}`: the folds near ({x_mm:.1}, {y_mm:.1}) mm on the pattern close a loop of flat panels (round an inner vertex, or strips between two rigid panels), whose bend allowances do not add up, so a sheet with thickness cannot be cut flat for them; cut the model open there (a seam) or leave out the thickness"
+        "piece `{piece}`: the folds near ({}, {}) mm on the pattern close a loop of flat panels (round an inner vertex, or strips between two rigid panels), whose bend allowances do not add up, so a sheet with thickness cannot be cut flat for them; cut the model open there (a seam) or leave out the thickness",
+        short_number(*.x_mm),
+        short_number(*.y_mm)
     )]
     BendLoop {
         /// The piece's name.

@@ -3,7 +3,7 @@
 use crate::pattern::{Fold, FoldStyle};
 use crate::seam_matching::SeamRun;
 use crate::{PatternError, Vec2};
-use sheetform_geometry::{cross2, segments_meet};
+use sheetform_geometry::{cross2, segments_meet, short_number};
 
 /// Which side of a seam carries the tabs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -98,13 +98,19 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
     if !(options.width_mm.is_finite() && options.width_mm > 0.0) {
         return Err(PatternError::Option {
             option: "tab width",
-            message: format!("must be a positive number of millimetres, got {}", options.width_mm),
+            message: format!(
+                "must be a positive number of millimetres, got {}",
+                short_number(options.width_mm)
+            ),
         });
     }
     if !(options.angle_degrees > 0.0 && options.angle_degrees <= 90.0) {
         return Err(PatternError::Option {
             option: "tab angle",
-            message: format!("must be in (0, 90] degrees, got {}", options.angle_degrees),
+            message: format!(
+                "must be in (0, 90] degrees, got {}",
+                short_number(options.angle_degrees)
+            ),
         });
     }
     let width = options.width_mm;

@@ -7,6 +7,7 @@ use crate::pattern::{Fold, FoldStyle, PatternPiece};
 use crate::{PatternError, Vec2};
 use geo::algorithm::buffer::{BufferStyle, LineJoin};
 use geo::{Buffer, LineString, Polygon};
+use sheetform_geometry::short_number;
 
 /// What the material needs around the design lines (every command's pattern; all zero by
 /// default: the pattern is the design as it is).
@@ -52,7 +53,10 @@ impl MaterialAllowance {
             if !(value.is_finite() && (0.0..=MAX_ALLOWANCE_MM).contains(&value)) {
                 return Err(PatternError::Option {
                     option,
-                    message: format!("must be between 0 and {MAX_ALLOWANCE_MM} mm, got {value}"),
+                    message: format!(
+                        "must be between 0 and {MAX_ALLOWANCE_MM} mm, got {}",
+                        short_number(value)
+                    ),
                 });
             }
         }

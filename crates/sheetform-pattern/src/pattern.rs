@@ -6,6 +6,7 @@ use crate::seam_matching::{match_seams, SeamRun};
 use crate::sheet_packing::{pack_pieces, SheetOptions};
 use crate::{PatternError, Vec2};
 use rustc_hash::{FxHashMap as HashMap, FxHashSet};
+use sheetform_geometry::short_number;
 use sheetform_mesh::SheetMesh;
 
 /// How a fold line is folded, seen from the pattern's printed side (the side the mesh's
@@ -363,19 +364,25 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
     if !(options.scale.is_finite() && options.scale > 0.0) {
         return Err(PatternError::Option {
             option: "scale",
-            message: format!("must be a positive number, got {}", options.scale),
+            message: format!("must be a positive number, got {}", short_number(options.scale)),
         });
     }
     if !(options.smooth_bend_degrees.is_finite() && (0.0..=180.0).contains(&options.smooth_bend_degrees)) {
         return Err(PatternError::Option {
             option: "smooth_bend_degrees",
-            message: format!("must be between 0 and 180 degrees, got {}", options.smooth_bend_degrees),
+            message: format!(
+                "must be between 0 and 180 degrees, got {}",
+                short_number(options.smooth_bend_degrees)
+            ),
         });
     }
     if !(options.min_fold_angle_degrees.is_finite() && options.min_fold_angle_degrees >= 0.0) {
         return Err(PatternError::Option {
             option: "min_fold_angle_degrees",
-            message: format!("must be a non-negative number, got {}", options.min_fold_angle_degrees),
+            message: format!(
+                "must be a non-negative number, got {}",
+                short_number(options.min_fold_angle_degrees)
+            ),
         });
     }
     options.allowance.validate()?;

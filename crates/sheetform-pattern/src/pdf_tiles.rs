@@ -435,12 +435,21 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
     })
 }
 
-/// The error for a PDF over the page cap.
+/// Most pages the page-cap error counts: past it the count (of tiles, saturating) says
+/// nothing more (`--scale 1e300` printed "18446744073709551615 or more").
+const MOST_PAGES_COUNTED: usize = 1_000_000;
+
+/// The error for a PDF over the page cap (`pages`: how many it would print at least).
 fn too_many_pages(pages: usize, options: &PdfOptions) -> PatternError {
+    let count = if pages > MOST_PAGES_COUNTED {
+        "over a million".to_string()
+    } else {
+        format!("{pages} or more")
+    };
     PatternError::Option {
         option: "max_pages",
         message: format!(
-            "the PDF would print more than {} {:?} pages ({pages} or more); shrink the pattern (--scale), pack it on sheets (--sheet), or raise the cap (--max-pages)",
+            "the PDF would print more than {} {:?} pages ({count}); shrink the pattern (--scale), pack it on sheets (--sheet), or raise the cap (--max-pages)",
             options.max_pages, options.page
         ),
     }
@@ -855,6 +864,22 @@ mod tests {
         chunk(b"IDAT", &[]);
         chunk(b"IEND", &[]);
         png
+    }
+
+    /// Issue 19: a pattern scaled by 1e300 needs a saturated 2^64 − 1 tiles, and the
+    /// error said "(18446744073709551615 or more)" pages; past a million it says so.
+    #[test]
+    fn the_page_cap_error_counts_in_words_people_read() {
+        let e = pdf_tiled(&rectangle(1e300, 1e300), &PdfOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("more than 100 A4 pages (over a million)"), "{e}");
+        assert!(!e.contains("18446744073709551615"), "{e}");
+        // A count within reach is stated.
+        let e = pdf_tiled(&rectangle(20_000.0, 20_000.0), &PdfOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(" or more)"), "{e}");
     }
 
     /// Issue 19: the texture was decoded with no limit on its size (and turned into 3

@@ -1,6 +1,7 @@
 //! Packing pattern pieces onto sheets of a given size.
 
 use crate::{Pattern, PatternError, Vec2};
+use sheetform_geometry::short_number;
 
 /// Sheet size and spacing for [`pack_pieces`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -9,7 +10,8 @@ pub struct SheetOptions {
     pub width_mm: f64,
     /// Sheet height (mm).
     pub height_mm: f64,
-    /// Gap kept between pieces and from the sheet's edges (mm). Default 5.
+    /// Gap kept between pieces and from the sheet's edges (mm), at most
+    /// [`MAX_SHEET_GAP_MM`]. Default 5.
     pub gap_mm: f64,
 }
 
@@ -23,6 +25,10 @@ impl SheetOptions {
         }
     }
 }
+
+/// Largest gap between packed pieces and from the sheet's edges (mm): a metre, more
+/// than any sheet a cutter takes needs.
+pub const MAX_SHEET_GAP_MM: f64 = 1000.0;
 
 /// Space between sheets in the combined drawing (mm).
 const SHEET_SPACING_MM: f64 = 20.0;
@@ -234,20 +240,28 @@ pub fn arrange_in_rows(sizes: &[Vec2], row_width: f64, gap: f64) -> Vec<Vec2> {
 /// 20 mm apart; [`Pattern::sheet_pattern`] extracts one.
 ///
 /// # Errors
-/// A sheet size or gap that is not a positive (non-negative for the gap) number; a piece
-/// that fits the sheet in no orientation (named, with its size).
+/// A sheet size or gap that is not a positive (non-negative for the gap) number, a gap
+/// over [`MAX_SHEET_GAP_MM`]; a piece that fits the sheet in no orientation (named, with
+/// its size).
 pub fn pack_pieces(pattern: &mut Pattern, options: &SheetOptions) -> Result<(), PatternError> {
     let (w, h, gap) = (options.width_mm, options.height_mm, options.gap_mm);
     if !(w.is_finite() && w > 0.0 && h.is_finite() && h > 0.0) {
         return Err(PatternError::Option {
             option: "sheet",
-            message: format!("the sheet size must be positive, got {w} × {h} mm"),
+            message: format!(
+                "the sheet size must be positive, got {} × {} mm",
+                short_number(w),
+                short_number(h)
+            ),
         });
     }
-    if !(gap.is_finite() && gap >= 0.0) {
+    if !(gap.is_finite() && (0.0..=MAX_SHEET_GAP_MM).contains(&gap)) {
         return Err(PatternError::Option {
-            option: "sheet gap",
-            message: format!("must be a non-negative number of millimetres, got {gap}"),
+            option: "sheet_gap",
+            message: format!(
+                "must be between 0 and {MAX_SHEET_GAP_MM} mm (--sheet-gap), got {}",
+                short_number(gap)
+            ),
         });
     }
     let (usable_w, usable_h) = (w - 2.0 * gap, h - 2.0 * gap);
@@ -340,6 +354,46 @@ mod tests {
         }
     }
 
+    /// Issue 19: `--sheet-gap 1e308` was accepted and the piece that then fitted nowhere
+    /// was reported with its sizes in 300 digits. The gap is bounded (naming the option),
+    /// and every number in these messages is short.
+    #[test]
+    fn sheet_options_out_of_range_are_refused_in_short_numbers() {
+        let pattern = || Pattern {
+            pieces: vec![square("p", 80.0, 0.0)],
+            ..Default::default()
+        };
+        let message = |sheet: SheetOptions| pack_pieces(&mut pattern(), &sheet).unwrap_err().to_string();
+        for gap in [1e308, MAX_SHEET_GAP_MM + 1.0, -1.0, f64::NAN] {
+            let e = message(SheetOptions {
+                gap_mm: gap,
+                ..SheetOptions::new(210.0, 297.0)
+            });
+            assert!(
+                e.contains("`sheet_gap`") && e.contains("--sheet-gap") && e.contains("1000 mm"),
+                "{e}"
+            );
+            assert!(e.len() < 200, "{e}");
+        }
+        let e = message(SheetOptions::new(1e300, -1e300));
+        assert!(e.contains("1e300 × -1e300 mm"), "{e}");
+        // The largest gap is allowed; the piece then fits no sheet, said in short numbers.
+        let e = message(SheetOptions {
+            gap_mm: MAX_SHEET_GAP_MM,
+            ..SheetOptions::new(1999.0, 1e300)
+        });
+        assert!(
+            e.contains("does not fit") && e.contains("1999 × 1e300 mm") && e.contains(" 1000 mm margin"),
+            "{e}"
+        );
+        let mut huge = pattern();
+        huge.pieces[0] = square("p", 1e300, 0.0);
+        let e = pack_pieces(&mut huge, &SheetOptions::new(210.0, 297.0))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("measures 1e300 × 5e299 mm"), "{e}");
+    }
+
     #[test]
     fn pieces_are_turned_square_and_never_overlap_or_leave_their_sheet() {
         let mut pattern = Pattern {
@@ -381,7 +435,7 @@ mod tests {
         };
         let e = pack_pieces(&mut pattern, &SheetOptions::new(210.0, 297.0)).unwrap_err();
         let text = e.to_string();
-        assert!(text.contains("`huge`") && text.contains("400.0 × 200.0"), "{text}");
+        assert!(text.contains("`huge`") && text.contains("400 × 200 mm"), "{text}");
     }
 
     fn random(seed: &mut u64) -> f64 {

@@ -689,3 +689,103 @@ fn text_inputs_are_read_and_quoted_safely() {
     let dxf = std::fs::read_to_string(out.join("pattern.dxf")).unwrap();
     assert!(!dxf.contains("EOF\r\n0\r\n\u{0}") && !dxf.contains('\u{0}'));
 }
+
+/// Pattern options near the floating-point range: `--kerf 1e308` and `--thickness 1e308`
+/// were refused with the value in 309 digits; `--sheet-gap` had no bound (at 1e308 the
+/// piece that then fitted nowhere was reported in 300-digit sizes); the page-cap error
+/// of `--scale 1e300` counted "18446744073709551615 or more" pages.
+#[test]
+fn pattern_options_are_bounded_and_reported_in_short_numbers() {
+    let scene = example("examples/bent-rectangle.json");
+    for (extra, option, expected) in [
+        (vec!["--kerf", "1e308"], "kerf_mm", "got 1e308"),
+        (vec!["--seam-allowance", "1e308"], "seam_allowance_mm", "got 1e308"),
+        (vec!["--thickness", "1e308"], "thickness_mm", "got 1e308"),
+        (vec!["--tab-width=-1e308", "--tabs", "one"], "tab width", "got -1e308"),
+        (
+            vec!["--sheet", "a4", "--sheet-gap", "1e308"],
+            "sheet_gap",
+            "between 0 and 1000 mm",
+        ),
+        (
+            vec!["--sheet", "a4", "--sheet-gap", "1001"],
+            "sheet_gap",
+            "between 0 and 1000 mm",
+        ),
+        (vec!["--scale", "1e300"], "max_pages", "(over a million)"),
+    ] {
+        let (code, stderr) = run_scene("bend", &scene, &extra);
+        assert_eq!(code, 1, "{extra:?}: {stderr}");
+        assert!(
+            stderr.contains(&format!("`{option}`")) && stderr.contains(expected),
+            "{extra:?}: {stderr}"
+        );
+        assert!(!stderr.contains("18446744073709551615"), "{stderr}");
+        assert_readable(&stderr);
+    }
+    // The largest gap is allowed (then the sheet must be large enough).
+    let (code, stderr) = run_scene("bend", &scene, &["--sheet", "3000x3000", "--sheet-gap", "1000"]);
+    assert_eq!(code, 0, "{stderr}");
+}
+
+/// An OFF face with a negative vertex count (`-1 0 1 2`) panicked (`-1 as usize`); now
+/// an error naming the file's line.
+#[test]
+fn an_off_face_with_a_negative_vertex_count_is_an_error_naming_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("negative.off");
+    std::fs::write(&mesh, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n-1 0 1 2\n").unwrap();
+    let out = dir.path().join("out");
+    let o = sheetform_within(&["check", mesh.to_str().unwrap(), "-o", out.to_str().unwrap()], 60);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("negative.off:6"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_readable(&stderr);
+    assert!(!out.join("report.json").exists());
+}
+
+/// `tools/fuzz.sh` piped cargo fuzz into `grep … || true`, so CI passed when the fuzz
+/// crate did not build or libFuzzer never ran. Run here with stand-ins for `cargo` and
+/// `cargo-fuzz`: a build failure and a run that ends without libFuzzer's "Done N runs"
+/// fail the script; a run that reaches its time limit passes.
+#[cfg(unix)]
+#[test]
+fn the_fuzz_smoke_fails_when_cargo_fuzz_fails() {
+    use std::os::unix::fs::PermissionsExt;
+    let run = |cargo_body: &str| {
+        let dir = tempfile::tempdir().unwrap();
+        let root = dir.path();
+        for sub in ["tools", "fuzz", "bin"] {
+            std::fs::create_dir_all(root.join(sub)).unwrap();
+        }
+        std::fs::copy(repo().join("tools/fuzz.sh"), root.join("tools/fuzz.sh")).unwrap();
+        for (name, body) in [("cargo", cargo_body), ("cargo-fuzz", "exit 0")] {
+            let path = root.join("bin").join(name);
+            std::fs::write(&path, format!("#!/usr/bin/env bash\n{body}\n")).unwrap();
+            std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+        }
+        let path = format!("{}:{}", root.join("bin").display(), std::env::var("PATH").unwrap());
+        let o = std::process::Command::new("bash")
+            .arg(root.join("tools/fuzz.sh"))
+            .args(["mesh_check", "5"])
+            .env("PATH", path)
+            .output()
+            .unwrap();
+        (o.status.code(), String::from_utf8_lossy(&o.stderr).into_owned())
+    };
+    let (code, stderr) = run("echo 'error: could not compile `sheetform-fuzz`' >&2; exit 101");
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(
+        stderr.contains("could not compile") && stderr.contains("exit status 101"),
+        "{stderr}"
+    );
+    let (code, stderr) = run("echo 'INFO: Seed: 1'; exit 0");
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains("Done N runs"), "{stderr}");
+    let (code, stderr) = run(
+        "echo '#1234\tDONE   cov: 10 ft: 20 corp: 3/30b exec/s: 246 rss: 40Mb' >&2; \
+         echo 'Done 1234 runs in 5 second(s)' >&2; exit 0",
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+}

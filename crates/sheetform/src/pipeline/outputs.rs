@@ -96,8 +96,10 @@ fn page_sheets(pattern: &sheetform_pattern::Pattern, pdf: &PdfOptions) -> Vec<Sh
     let tiles = |length: f64, step: f64| ((length + 2.0 * gap - o).max(0.0) / step).ceil().max(1.0) as usize;
     let mut grids = vec![(1, 1)];
     for (w, h) in [(largest.x, largest.y), (largest.y, largest.x)] {
+        // (The counts saturate for a huge piece, `--scale 1e300`: their product too.)
         let (c, r) = (tiles(w, sx), tiles(h, sy));
-        if c * r > 1 && c * r <= 64 {
+        let count = c.saturating_mul(r);
+        if count > 1 && count <= 64 {
             grids.extend([(c, r), (c + 1, r), (c, r + 1)]);
         }
     }
