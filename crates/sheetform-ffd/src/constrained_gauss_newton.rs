@@ -200,10 +200,12 @@ fn kkt_system_at(
             })
         }
         StepUnknowns::Normal => {
-            let mut full_pairs = Vec::new();
-            assemble(problem, e, metric, |row, col, _| full_pairs.push((row, col)));
-            let (reduction, reduced_pairs) = NormalStepReduction::new(n, &full_pairs)?;
-            drop(full_pairs);
+            let mut entries = Vec::new();
+            assemble(problem, e, metric, |row, col, _| {
+                entries.push(NormalStepReduction::reduced_entry(n, row, col));
+            });
+            let (reduction, reduced_pairs) = NormalStepReduction::new(n, &entries)?;
+            drop(entries);
             // A node's one unknown is its block, as its three were.
             let reduced_blocks: Vec<usize> = (0..reduction.unknowns()).chain(blocks[n..].iter().copied()).collect();
             Ok(StepSystem {

@@ -41,55 +41,43 @@ pub(crate) struct NormalStepReduction {
 
 impl NormalStepReduction {
     /// The reduction of a full system of `full_unknowns` unknowns (then its constraints)
-    /// whose upper-triangle entries are assembled in the order of `full_pairs`
-    /// (`(row, column)`, `row ≤ column`, duplicates allowed), and the reduced system's
-    /// pairs, each once (column by column, rows ascending). The reduced values are then
-    /// summed straight into their slots ([`NormalStepReduction::reducer`]): the full
-    /// system is never stored (100k-vertex duct: 1.5 M reduced values against 10.8 M
-    /// full ones).
+    /// whose upper-triangle entries, in the order they are assembled, fall on the
+    /// reduced entries `reduced_entries` ([`NormalStepReduction::reduced_entry`] of each
+    /// full `(row, column)`; duplicates allowed), and the reduced system's pairs, each
+    /// once (column by column, rows ascending). The reduced values are then summed
+    /// straight into their slots ([`NormalStepReduction::reducer`]): the full system is
+    /// never stored (100k-vertex duct: 1.5 M reduced values against 10.8 M full ones).
     ///
     /// # Errors
     /// [`FfdError::Solver`] if the system has more than `u32::MAX` entries (the model
     /// size bounds keep it far below: 27 M at 250k vertices).
     pub fn new(
         full_unknowns: usize,
-        full_pairs: &[(usize, usize)],
+        reduced_entries: &[(u32, u32)],
     ) -> Result<(Self, Vec<Pair<usize, usize>>), FfdError> {
-        let too_large = || {
-            FfdError::Solver(format!(
+        if reduced_entries.len() > u32::MAX as usize {
+            return Err(FfdError::Solver(format!(
                 "the restoration's system has {} entries, more than this solver indexes",
-                full_pairs.len()
-            ))
-        };
-        if full_pairs.len() > u32::MAX as usize {
-            return Err(too_large());
+                reduced_entries.len()
+            )));
         }
-        let reduced = Self::reduced_index(full_unknowns);
-        let reduced_pair = |&(row, col): &(usize, usize)| {
-            let (a, b) = (reduced(row), reduced(col));
-            (a.min(b), a.max(b))
-        };
-        let size = full_pairs.iter().map(|p| reduced_pair(p).1 + 1).max().unwrap_or(0);
-        if size > u32::MAX as usize {
-            return Err(too_large());
-        }
+        let size = reduced_entries.iter().map(|&(_, c)| c as usize + 1).max().unwrap_or(0);
         // Bucket the entries by reduced column (a counting sort) as `row << 32 | entry`,
         // then sort each column's few entries and give each distinct row one slot.
         let mut column_start = vec![0usize; size + 1];
-        for p in full_pairs {
-            column_start[reduced_pair(p).1 + 1] += 1;
+        for &(_, c) in reduced_entries {
+            column_start[c as usize + 1] += 1;
         }
         for c in 0..size {
             column_start[c + 1] += column_start[c];
         }
         let mut next = column_start.clone();
-        let mut by_column = vec![0u64; full_pairs.len()];
-        for (i, p) in full_pairs.iter().enumerate() {
-            let (r, c) = reduced_pair(p);
-            by_column[next[c]] = ((r as u64) << 32) | i as u64;
-            next[c] += 1;
+        let mut by_column = vec![0u64; reduced_entries.len()];
+        for (i, &(r, c)) in reduced_entries.iter().enumerate() {
+            by_column[next[c as usize]] = (u64::from(r) << 32) | i as u64;
+            next[c as usize] += 1;
         }
-        let mut slots = vec![0u32; full_pairs.len()];
+        let mut slots = vec![0u32; reduced_entries.len()];
         let mut reduced_pairs = Vec::new();
         for col in 0..size {
             let members = &mut by_column[column_start[col]..column_start[col + 1]];
@@ -113,17 +101,21 @@ impl NormalStepReduction {
         Ok((reduction, reduced_pairs))
     }
 
-    /// Index in the reduced system of index `i` of the full one: a node's three
-    /// parameters become its one unknown, the constraints follow.
-    fn reduced_index(full_unknowns: usize) -> impl Fn(usize) -> usize {
+    /// The reduced system's entry `(row, column)`, upper triangle, of the full system's
+    /// entry `(row, col)`: a node's three parameters become its one unknown, the
+    /// constraints follow. (Indices below `u32::MAX`: models have at most 250k vertices.)
+    pub fn reduced_entry(full_unknowns: usize, row: usize, col: usize) -> (u32, u32) {
         let nodes = full_unknowns / 3;
-        move |i| {
-            if i < full_unknowns {
+        let reduced = |i: usize| {
+            let r = if i < full_unknowns {
                 i / 3
             } else {
                 i - full_unknowns + nodes
-            }
-        }
+            };
+            r as u32
+        };
+        let (a, b) = (reduced(row), reduced(col));
+        (a.min(b), a.max(b))
     }
 
     /// Unknowns of the reduced system.
@@ -267,7 +259,11 @@ mod tests {
         pairs.reverse();
         pairs.rotate_left(7);
         let values: Vec<f64> = pairs.iter().map(|_| random()).collect();
-        let (mut reduction, reduced_pairs) = NormalStepReduction::new(n, &pairs).unwrap();
+        let entries: Vec<(u32, u32)> = pairs
+            .iter()
+            .map(|&(row, col)| NormalStepReduction::reduced_entry(n, row, col))
+            .collect();
+        let (mut reduction, reduced_pairs) = NormalStepReduction::new(n, &entries).unwrap();
         for c in &mut reduction.coefficients {
             *c = random();
         }
