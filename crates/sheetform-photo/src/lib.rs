@@ -74,6 +74,6 @@ pub use symmetric_correspondences::{
 };
 pub use symmetrization::{
     split_at_mirror_nodes, symmetrize, MirrorMap, SymmetrizationInfo, MAX_MIRROR_SEARCH_EVALUATIONS,
-    MAX_SEGMENT_COMPARISONS,
+    MAX_RULING_LOOKUP_WORK, MAX_SEGMENT_COMPARISONS,
 };
 pub use symmetry_plane::SymmetryPlane;

@@ -76,6 +76,18 @@ pub const MAX_SEGMENT_COMPARISONS: usize = 150_000_000;
 /// segments took 2 minutes and 1.6 GB before the bound).
 pub const MAX_MIRROR_SEARCH_EVALUATIONS: usize = 400_000_000;
 
+/// Most chain entries examined by one call of [`symmetrize`] to place the strips'
+/// rulings: which strip's chains hold a mirrored ruling's ends (a segment's entries in
+/// the chain index, one or two per patch whose cycle runs along it) and which sample of
+/// a chain is nearest a ruling end (the samples of the same segment nearest in
+/// parameter, or those within a grid cell of its position). Both are indexed once per
+/// strip, so a ruling costs a few entries: the drawing's at most
+/// [`crate::MAX_STRIP_SAMPLES`] strip samples make some tens of millions. Only coincident
+/// samples (a chain traversing many zero-length segments at one place) could come near;
+/// about 1 s at a few nanoseconds an entry. (Before the index, every ruling scanned its
+/// strip's chains and every other strip's: rulings × strips × chain length.)
+pub const MAX_RULING_LOOKUP_WORK: usize = 300_000_000;
+
 /// Evaluations of one [`cubic::bisect`] that finds a root.
 const BISECTION_EVALUATIONS: usize = 60;
 
@@ -93,13 +105,35 @@ fn charge(
     unit: &str,
     step: impl Fn() -> String,
 ) -> Result<(), PhotoError> {
+    charge_field(
+        spent,
+        cost,
+        limit,
+        unit,
+        (
+            "analysis.symmetrize",
+            "trace the curves with fewer control points or set analysis.symmetrize to false",
+        ),
+        step,
+    )
+}
+
+/// [`charge`] with the error on another field: `refusal` is the field and the advice.
+fn charge_field(
+    spent: &mut usize,
+    cost: usize,
+    limit: usize,
+    unit: &str,
+    refusal: (&str, &str),
+    step: impl Fn() -> String,
+) -> Result<(), PhotoError> {
     let total = spent.saturating_add(cost);
     if total > limit {
+        let (field, advice) = refusal;
         return Err(PhotoError::field(
-            "analysis.symmetrize",
+            field,
             format!(
-                "{} would bring the symmetrisation to {} {unit} (at most {}): trace the curves with fewer \
-                 control points or set analysis.symmetrize to false",
+                "{} would bring the symmetrisation to {} {unit} (at most {}): {advice}",
                 step(),
                 short_number(total as f64),
                 short_number(limit as f64)
@@ -392,6 +426,10 @@ pub fn symmetrize(
         .iter()
         .map(|s| (0..s.rulings.len()).map(|i| s.ends(i)).collect())
         .collect();
+    // Which strips' chains hold each segment, once (the strips' chains do not change
+    // here); every ruling's lookups on it are charged.
+    let index = ChainIndex::new(network.segments.len(), strips);
+    let mut lookups = 0usize;
     let mut partial = vec![false; network.segments.len()];
     for (k, strip) in strips.iter().enumerate() {
         let whole = strip
@@ -399,7 +437,13 @@ pub fn symmetrize(
             .iter()
             .chain(&strip.chain_b)
             .all(|h| mirror_of[h.segment as usize].is_some());
-        if !whole || mirror_strip_of(strips, &old_rulings, &mirror_of, k).is_none() {
+        let mirrored = whole && {
+            let mut cost = 0;
+            let o = index.mirror_strip(&old_rulings, &mirror_of, k, &mut cost);
+            charge_lookups(&mut lookups, cost, k, strip.patch)?;
+            o.is_some()
+        };
+        if !mirrored {
             for h in strip.chain_a.iter().chain(&strip.chain_b) {
                 partial[h.segment as usize] = true;
             }
@@ -561,7 +605,12 @@ pub fn symmetrize(
     }
     let mirror_place = |p: CurvePoint| mirror_place_of(&mirror_of, p);
     let distance = |p: CurvePoint| plane.signed_distance(crate::reconstruction::place_point(network, &y, p));
-    let mirror_strip = |s: usize| mirror_strip_of(strips, &old_rulings, &mirror_of, s);
+    let mut mirror_strips: Vec<Option<usize>> = Vec::with_capacity(strips.len());
+    for (s, strip) in strips.iter().enumerate() {
+        let mut cost = 0;
+        mirror_strips.push(index.mirror_strip(&old_rulings, &mirror_of, s, &mut cost));
+        charge_lookups(&mut lookups, cost, s, strip.patch)?;
+    }
     let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1.0);
     let epsilon = 1e-9 * scale;
     let mut new_rulings: Vec<Option<Vec<[CurvePoint; 2]>>> = vec![None; strips.len()];
@@ -573,7 +622,7 @@ pub fn symmetrize(
             / old_rulings[s].len().max(1) as f64
     };
     for s in 0..strips.len() {
-        let Some(o) = mirror_strip(s) else { continue };
+        let Some(o) = mirror_strips[s] else { continue };
         if o == s {
             let mut out = Vec::new();
             for r in &old_rulings[s] {
@@ -594,7 +643,7 @@ pub fn symmetrize(
             }
             new_rulings[s] = Some(out);
             info.mirrored_strip_count += 1;
-        } else if mean_side(s) > mean_side(o) && mirror_strip(o) == Some(s) {
+        } else if mean_side(s) > mean_side(o) && mirror_strips[o] == Some(s) {
             new_rulings[o] = Some(
                 old_rulings[s]
                     .iter()
@@ -612,18 +661,33 @@ pub fn symmetrize(
         final_rulings.push(rulings.iter().map(|r| r.map(|p| ensure_sample(samples, p))).collect());
     }
     // Resample every strip and index its rulings (ends on either side).
+    let mut sampled: Option<(usize, SampleLookup, SampleLookup)> = None;
     for (s, strip) in strips.iter_mut().enumerate() {
-        let side_a = SampledChain::new(network, samples, &strip.chain_a);
-        let side_b = SampledChain::new(network, samples, &strip.chain_b);
+        // The strips of a group (one patch's runs, listed together) share their chains:
+        // sampled and indexed once.
+        let g = index.group_of[s];
+        if sampled.as_ref().is_none_or(|(cached, _, _)| *cached != g) {
+            sampled = Some((
+                g,
+                SampleLookup::new(SampledChain::new(network, samples, &strip.chain_a)),
+                SampleLookup::new(SampledChain::new(network, samples, &strip.chain_b)),
+            ));
+        }
+        let (_, lookup_a, lookup_b) = sampled.as_ref().expect("sampled above");
         let rulings = &final_rulings[s];
         let mut indexed: Vec<(usize, usize)> = Vec::with_capacity(rulings.len());
+        let mut cost = 0;
         for r in rulings {
-            let (a, b) = if on_chain(&strip.chain_a, r[0]) || !on_chain(&strip.chain_b, r[0]) {
+            let sides = index.sides(r[0].segment, g, &mut cost);
+            let (a, b) = if sides & ON_A != 0 || sides & ON_B == 0 {
                 (r[0], r[1])
             } else {
                 (r[1], r[0])
             };
-            if let (Some(k), Some(l)) = (nearest_sample(network, &side_a, a), nearest_sample(network, &side_b, b)) {
+            if let (Some(k), Some(l)) = (
+                lookup_a.nearest(network, a, &mut cost),
+                lookup_b.nearest(network, b, &mut cost),
+            ) {
                 indexed.push((k, l));
             }
         }
@@ -641,15 +705,16 @@ pub fn symmetrize(
                 .iter()
                 .filter_map(|r| {
                     Some((
-                        nearest_sample(network, &side_a, r[0])?,
-                        nearest_sample(network, &side_b, r[1])?,
+                        lookup_a.nearest(network, r[0], &mut cost)?,
+                        lookup_b.nearest(network, r[1], &mut cost)?,
                     ))
                 })
                 .collect();
         }
+        charge_lookups(&mut lookups, cost, s, strip.patch)?;
         strip.rulings = kept;
-        strip.side_a = side_a;
-        strip.side_b = side_b;
+        strip.side_a = lookup_a.chain.clone();
+        strip.side_b = lookup_b.chain.clone();
     }
     Ok((y, info, map))
 }
@@ -663,32 +728,118 @@ fn mirror_place_of(mirror_of: &[Option<(u32, bool)>], p: CurvePoint) -> Option<C
     })
 }
 
-fn on_chain(chain: &[crate::patch_cycles::HalfEdge], p: CurvePoint) -> bool {
-    chain.iter().any(|h| h.segment == p.segment)
+/// Charges `cost` chain entries examined for ruled strip `s` (of patch `patch`) to
+/// `spent`, against [`MAX_RULING_LOOKUP_WORK`].
+fn charge_lookups(spent: &mut usize, cost: usize, s: usize, patch: usize) -> Result<(), PhotoError> {
+    charge_field(
+        spent,
+        cost,
+        MAX_RULING_LOOKUP_WORK,
+        "chain entries examined",
+        (
+            "analysis.sample_spacing_px",
+            "sample coarser or set analysis.symmetrize to false",
+        ),
+        || format!("placing the rulings of ruled strip {} (patch {})", s + 1, patch + 1),
+    )
 }
 
-/// The strip into which most of strip `s`'s rulings mirror, if more than half do.
-fn mirror_strip_of(
-    strips: &[RuledStrip],
-    rulings: &[Vec<[CurvePoint; 2]>],
-    mirror_of: &[Option<(u32, bool)>],
-    s: usize,
-) -> Option<usize> {
-    let mut votes = vec![0usize; strips.len()];
-    for r in &rulings[s] {
-        let (Some(a), Some(b)) = (mirror_place_of(mirror_of, r[0]), mirror_place_of(mirror_of, r[1])) else {
-            continue;
+/// A segment is on a strip's chain a.
+const ON_A: u8 = 1;
+/// A segment is on a strip's chain b.
+const ON_B: u8 = 2;
+
+/// Which strips' chains hold each segment, built once. Strips with the same two chains
+/// (the runs of rulings of one patch) form one group, so a segment is listed once per
+/// patch whose cycle runs along it, not once per strip.
+struct ChainIndex {
+    /// Per strip, its group.
+    group_of: Vec<usize>,
+    /// Per group, its last strip.
+    last_strip: Vec<usize>,
+    /// Per segment, `(group, ON_A | ON_B)` for each group whose chains hold it, by
+    /// increasing group.
+    on: Vec<Vec<(usize, u8)>>,
+}
+
+impl ChainIndex {
+    fn new(segment_count: usize, strips: &[RuledStrip]) -> Self {
+        type Chain = Vec<(u32, bool)>;
+        let key = |chain: &[crate::patch_cycles::HalfEdge]| -> Chain {
+            chain.iter().map(|h| (h.segment, h.reversed)).collect()
         };
-        for (o, other) in strips.iter().enumerate() {
-            let ab = on_chain(&other.chain_a, a) && on_chain(&other.chain_b, b);
-            let ba = on_chain(&other.chain_a, b) && on_chain(&other.chain_b, a);
-            if ab || ba {
-                votes[o] += 1;
+        let mut groups: std::collections::HashMap<(Chain, Chain), usize> = Default::default();
+        let mut index = Self {
+            group_of: Vec::with_capacity(strips.len()),
+            last_strip: Vec::new(),
+            on: vec![Vec::new(); segment_count],
+        };
+        for (s, strip) in strips.iter().enumerate() {
+            let next = index.last_strip.len();
+            let g = *groups.entry((key(&strip.chain_a), key(&strip.chain_b))).or_insert(next);
+            index.group_of.push(g);
+            if g < next {
+                index.last_strip[g] = s;
+                continue;
+            }
+            index.last_strip.push(s);
+            for (chain, side) in [(&strip.chain_a, ON_A), (&strip.chain_b, ON_B)] {
+                for h in chain {
+                    let Some(list) = index.on.get_mut(h.segment as usize) else {
+                        continue;
+                    };
+                    match list.last_mut() {
+                        Some((last, sides)) if *last == g => *sides |= side,
+                        _ => list.push((g, side)),
+                    }
+                }
             }
         }
+        index
     }
-    let (best, &v) = votes.iter().enumerate().max_by_key(|(_, v)| **v)?;
-    (v * 2 > rulings[s].len()).then_some(best)
+
+    /// The groups whose chains hold segment `segment`.
+    fn groups_on(&self, segment: u32) -> &[(usize, u8)] {
+        self.on.get(segment as usize).map_or(&[], Vec::as_slice)
+    }
+
+    /// On which of group `g`'s chains segment `segment` lies (`ON_A`, `ON_B`); the
+    /// entries examined go to `cost`.
+    fn sides(&self, segment: u32, g: usize, cost: &mut usize) -> u8 {
+        let list = self.groups_on(segment);
+        *cost += 1 + list.len().max(1).ilog2() as usize;
+        list.binary_search_by_key(&g, |&(group, _)| group)
+            .map_or(0, |i| list[i].1)
+    }
+
+    /// The strip into which most of strip `s`'s rulings mirror, if more than half do
+    /// (of strips with equally many, the last). The entries examined go to `cost`.
+    fn mirror_strip(
+        &self,
+        rulings: &[Vec<[CurvePoint; 2]>],
+        mirror_of: &[Option<(u32, bool)>],
+        s: usize,
+        cost: &mut usize,
+    ) -> Option<usize> {
+        // Votes per group: every strip of a group gets the same.
+        let mut votes: std::collections::HashMap<usize, usize> = Default::default();
+        for r in &rulings[s] {
+            *cost += 1;
+            let (Some(a), Some(b)) = (mirror_place_of(mirror_of, r[0]), mirror_place_of(mirror_of, r[1])) else {
+                continue;
+            };
+            for &(g, on_a) in self.groups_on(a.segment) {
+                let on_b = self.sides(b.segment, g, cost);
+                let ab = on_a & ON_A != 0 && on_b & ON_B != 0;
+                let ba = on_b & ON_A != 0 && on_a & ON_B != 0;
+                if ab || ba {
+                    *votes.entry(g).or_default() += 1;
+                }
+            }
+        }
+        let (v, best) = votes.iter().map(|(&g, &v)| (v, self.last_strip[g])).max()?;
+        (v * 2 > rulings[s].len()).then_some(best)
+    }
 }
 
 /// Makes a place a sample of its segment (or moves it onto a sample within 1e-12).
@@ -964,25 +1115,484 @@ fn split_segment(network: &mut CurveNetwork, x: &mut Vec<f64>, s: u32, t: f64) {
     list.insert(at + 1, new);
 }
 
-/// The sample of `chain` at a place: the same segment and parameter, else the nearest
-/// sample of that segment, else (a node reached through another segment) the nearest
-/// by position.
-fn nearest_sample(network: &CurveNetwork, chain: &SampledChain, place: CurvePoint) -> Option<usize> {
-    let same = chain
-        .places
-        .iter()
-        .enumerate()
-        .filter(|(_, p)| p.segment == place.segment)
-        .min_by(|a, b| (a.1.t - place.t).abs().total_cmp(&(b.1.t - place.t).abs()));
-    if let Some((k, _)) = same {
-        return Some(k);
+/// A sampled chain indexed for [`SampleLookup::nearest`]: its samples by segment and
+/// parameter, and by position a grid (built at the first need).
+struct SampleLookup {
+    chain: SampledChain,
+    /// `(segment, t, sample)` by segment, then increasing `t`, then sample.
+    by_place: Vec<(u32, f64, usize)>,
+    grid: std::cell::OnceCell<PositionGrid>,
+}
+
+/// The samples of a chain in square cells of side `cell`, a cell larger than four times
+/// the tolerance of [`SampleLookup::nearest`] at any place that may be within it.
+struct PositionGrid {
+    /// Largest distance of a sample from the origin.
+    radius: f64,
+    cell: f64,
+    /// Per cell, its samples in order.
+    cells: std::collections::HashMap<(i64, i64), Vec<usize>>,
+}
+
+impl PositionGrid {
+    fn cell_of(&self, p: Vector2<f64>) -> (i64, i64) {
+        // (Saturating casts.)
+        ((p.x / self.cell).floor() as i64, (p.y / self.cell).floor() as i64)
     }
-    let q = cubic::point(&network.control_points(place.segment as usize), place.t);
-    let (k, d) = chain
-        .points
-        .iter()
-        .enumerate()
-        .map(|(k, p)| (k, (p - q).norm()))
-        .min_by(|a, b| a.1.total_cmp(&b.1))?;
-    (d <= 1e-6 * (1.0 + q.norm())).then_some(k)
+}
+
+impl SampleLookup {
+    fn new(chain: SampledChain) -> Self {
+        let mut by_place: Vec<(u32, f64, usize)> = chain
+            .places
+            .iter()
+            .enumerate()
+            .map(|(k, p)| (p.segment, p.t, k))
+            .collect();
+        // Stable: equal parameters stay in sample order (and a chain's samples mostly
+        // come sorted already).
+        by_place.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+        Self {
+            chain,
+            by_place,
+            grid: std::cell::OnceCell::new(),
+        }
+    }
+
+    fn grid(&self) -> &PositionGrid {
+        self.grid.get_or_init(|| {
+            let radius = self.chain.points.iter().fold(0.0f64, |m, p| m.max(p.norm()));
+            let mut grid = PositionGrid {
+                radius,
+                cell: 4e-6 * (1.0 + radius),
+                cells: Default::default(),
+            };
+            for (k, &p) in self.chain.points.iter().enumerate() {
+                let c = grid.cell_of(p);
+                grid.cells.entry(c).or_default().push(k);
+            }
+            grid
+        })
+    }
+
+    /// The sample of the chain at a place: the same segment and parameter, else the
+    /// nearest sample of that segment, else (a node reached through another segment) the
+    /// nearest by position, within `1e-6 (1 + |q|)` of the place's position `q`. Of
+    /// equally near samples, the first. The entries examined go to `cost`.
+    fn nearest(&self, network: &CurveNetwork, place: CurvePoint, cost: &mut usize) -> Option<usize> {
+        // Lexicographic minimum of (distance, sample).
+        let better = |d: f64, k: usize, best: Option<(f64, usize)>| {
+            best.is_none_or(|(bd, bk)| d.total_cmp(&bd).then(k.cmp(&bk)) == std::cmp::Ordering::Less)
+        };
+        let from = self.by_place.partition_point(|e| e.0 < place.segment);
+        let to = from + self.by_place[from..].partition_point(|e| e.0 == place.segment);
+        *cost += 2 * (1 + self.by_place.len().max(1).ilog2() as usize);
+        let list = &self.by_place[from..to];
+        if !list.is_empty() {
+            if !place.t.is_finite() {
+                // Every distance is the same (NaN or infinite): the first sample.
+                *cost += list.len();
+                return list.iter().map(|e| e.2).min();
+            }
+            // |t − q| (rounded) does not decrease away from q on either side: the
+            // nearest are the runs of equal distance next to q.
+            let at = list.partition_point(|e| e.1 < place.t);
+            *cost += 1 + list.len().max(1).ilog2() as usize;
+            let mut best: Option<(f64, usize)> = None;
+            for run in [
+                &mut list[at..].iter() as &mut dyn Iterator<Item = &(u32, f64, usize)>,
+                &mut list[..at].iter().rev(),
+            ] {
+                for &(_, t, k) in run {
+                    *cost += 1;
+                    let d = (t - place.t).abs();
+                    if best.is_some_and(|(bd, _)| d.total_cmp(&bd) == std::cmp::Ordering::Greater) {
+                        break;
+                    }
+                    if better(d, k, best) {
+                        best = Some((d, k));
+                    }
+                }
+            }
+            return best.map(|(_, k)| k);
+        }
+        if self.chain.is_empty() {
+            return None;
+        }
+        let q = cubic::point(&network.control_points(place.segment as usize), place.t);
+        let tolerance = 1e-6 * (1.0 + q.norm());
+        if !(q.x.is_finite() && q.y.is_finite()) {
+            // (Not from a finite drawing.) Every sample, as the grid cannot place q.
+            *cost += self.chain.len();
+            let (k, d) = self
+                .chain
+                .points
+                .iter()
+                .enumerate()
+                .map(|(k, p)| (k, (p - q).norm()))
+                .min_by(|a, b| a.1.total_cmp(&b.1))?;
+            return (d <= tolerance).then_some(k);
+        }
+        let grid = self.grid();
+        // Farther than the tolerance from every sample; else the tolerance is
+        // under a quarter of a cell, and every sample within it is in the 3 × 3 cells
+        // round q's.
+        if q.norm() > grid.radius + 2.0 * tolerance {
+            return None;
+        }
+        let (cx, cy) = grid.cell_of(q);
+        let mut best: Option<(f64, usize)> = None;
+        for i in cx.saturating_sub(1)..=cx.saturating_add(1) {
+            for j in cy.saturating_sub(1)..=cy.saturating_add(1) {
+                for &k in grid.cells.get(&(i, j)).map_or(&[][..], Vec::as_slice) {
+                    *cost += 1;
+                    let d = (self.chain.points[k] - q).norm();
+                    if better(d, k, best) {
+                        best = Some((d, k));
+                    }
+                }
+            }
+        }
+        let (k, d) = best.map(|(d, k)| (k, d))?;
+        (d <= tolerance).then_some(k)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::annotation::CurveKind;
+    use crate::curve_network::{NetworkCurve, NetworkSegment};
+    use crate::curve_samples::sample_curves;
+    use crate::patch_cycles::HalfEdge;
+
+    type Vec2 = Vector2<f64>;
+
+    /// The strip lookups before the indices (linear scans), to compare with.
+    fn on_chain_scan(chain: &[HalfEdge], p: CurvePoint) -> bool {
+        chain.iter().any(|h| h.segment == p.segment)
+    }
+
+    fn mirror_strip_scan(
+        strips: &[RuledStrip],
+        rulings: &[Vec<[CurvePoint; 2]>],
+        mirror_of: &[Option<(u32, bool)>],
+        s: usize,
+    ) -> Option<usize> {
+        let mut votes = vec![0usize; strips.len()];
+        for r in &rulings[s] {
+            let (Some(a), Some(b)) = (mirror_place_of(mirror_of, r[0]), mirror_place_of(mirror_of, r[1])) else {
+                continue;
+            };
+            for (o, other) in strips.iter().enumerate() {
+                let ab = on_chain_scan(&other.chain_a, a) && on_chain_scan(&other.chain_b, b);
+                let ba = on_chain_scan(&other.chain_a, b) && on_chain_scan(&other.chain_b, a);
+                if ab || ba {
+                    votes[o] += 1;
+                }
+            }
+        }
+        let (best, &v) = votes.iter().enumerate().max_by_key(|(_, v)| **v)?;
+        (v * 2 > rulings[s].len()).then_some(best)
+    }
+
+    fn nearest_sample_scan(network: &CurveNetwork, chain: &SampledChain, place: CurvePoint) -> Option<usize> {
+        let same = chain
+            .places
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.segment == place.segment)
+            .min_by(|a, b| (a.1.t - place.t).abs().total_cmp(&(b.1.t - place.t).abs()));
+        if let Some((k, _)) = same {
+            return Some(k);
+        }
+        let q = cubic::point(&network.control_points(place.segment as usize), place.t);
+        let (k, d) = chain
+            .points
+            .iter()
+            .enumerate()
+            .map(|(k, p)| (k, (p - q).norm()))
+            .min_by(|a, b| a.1.total_cmp(&b.1))?;
+        (d <= 1e-6 * (1.0 + q.norm())).then_some(k)
+    }
+
+    /// A deterministic pseudo-random stream in [0, 1).
+    fn stream(mut state: u64) -> impl FnMut() -> f64 {
+        move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// Open curves of `n` straight segments each along `x = xs[c]`, `y` from 0 to `n`.
+    fn lines(xs: &[f64], n: usize) -> CurveNetwork {
+        let (mut points, mut segments, mut curves) = (Vec::new(), Vec::new(), Vec::new());
+        for (c, &x) in xs.iter().enumerate() {
+            let base = points.len() as u32;
+            for k in 0..=n {
+                let y = k as f64;
+                points.push(Vec2::new(x, y));
+                if k < n {
+                    points.extend([Vec2::new(x, y + 1.0 / 3.0), Vec2::new(x, y + 2.0 / 3.0)]);
+                }
+            }
+            let first = segments.len() as u32;
+            segments.extend((0..n as u32).map(|k| NetworkSegment {
+                points: [base + 3 * k, base + 3 * k + 1, base + 3 * k + 2, base + 3 * k + 3],
+                curve: c as u32,
+            }));
+            curves.push(NetworkCurve {
+                name: format!("line {c}"),
+                kind: CurveKind::Boundary,
+                segments: (first..first + n as u32).collect(),
+                closed: false,
+            });
+        }
+        CurveNetwork {
+            points,
+            segments,
+            curves,
+            junction_count: 0,
+            occluded_crossing_count: 0,
+        }
+    }
+
+    fn half_edges(segments: impl IntoIterator<Item = u32>, reversed: bool) -> Vec<HalfEdge> {
+        segments
+            .into_iter()
+            .map(|segment| HalfEdge { segment, reversed })
+            .collect()
+    }
+
+    fn strip(patch: usize, chain_a: Vec<HalfEdge>, chain_b: Vec<HalfEdge>) -> RuledStrip {
+        RuledStrip {
+            patch,
+            side_a: SampledChain::default(),
+            side_b: SampledChain::default(),
+            rulings: Vec::new(),
+            chain_a,
+            chain_b,
+        }
+    }
+
+    /// The indexed nearest sample is the scan's, ties (a segment traversed twice, a
+    /// parameter halfway between samples, coincident nodes) and misses included.
+    #[test]
+    fn sample_lookup_matches_the_linear_scan() {
+        let mut network = lines(&[0.0, 5.0], 8);
+        // Curved handles, and a zero-length segment at the end of line 0.
+        network.points[1] = Vec2::new(0.7, 0.1);
+        network.points[5] = Vec2::new(-0.4, 1.9);
+        let end = network.curves[0].segments[7] as usize;
+        let node = network.segments[end].points[3];
+        let q = network.points[node as usize];
+        network.points.extend([q, q, q]);
+        let base = network.points.len() as u32 - 3;
+        network.segments.push(NetworkSegment {
+            points: [node, base, base + 1, base + 2],
+            curve: 0,
+        });
+        let samples = sample_curves(&network, 0.3);
+        let segment_count = network.segments.len() as u32;
+        let chains = [
+            half_edges(0..4, false),
+            // Segment 2 both ways, segment 6 backwards, the zero-length one.
+            [
+                half_edges(1..3, false),
+                half_edges([2, 6], true),
+                half_edges([16], false),
+            ]
+            .concat(),
+            half_edges([8, 9, 10, 3], false),
+            Vec::new(),
+        ];
+        let mut random = stream(7);
+        for chain in &chains {
+            let sampled = SampledChain::new(&network, &samples, chain);
+            let lookup = SampleLookup::new(sampled.clone());
+            let mut places: Vec<CurvePoint> = Vec::new();
+            for segment in 0..segment_count {
+                let params = &samples.parameters[segment as usize];
+                let mut ts: Vec<f64> = params.clone();
+                ts.extend(params.windows(2).map(|w| 0.5 * (w[0] + w[1])));
+                ts.extend(params.iter().map(|t| t + 1e-13));
+                ts.extend((0..5).map(|_| random()));
+                ts.extend([-0.5, 1.5, f64::NAN, f64::INFINITY]);
+                places.extend(ts.into_iter().map(|t| CurvePoint { segment, t }));
+            }
+            let mut found = 0;
+            for place in places {
+                let mut cost = 0;
+                let got = lookup.nearest(&network, place, &mut cost);
+                let expected = nearest_sample_scan(&network, &sampled, place);
+                assert_eq!(got, expected, "{place:?}");
+                found += usize::from(got.is_some());
+            }
+            assert!(chain.is_empty() || found > 0);
+        }
+    }
+
+    /// The chain index gives the scans' sides and mirror strips, over random strips
+    /// (repeated chains, one chain on both sides, empty ones) and random rulings.
+    #[test]
+    fn chain_index_matches_the_scans() {
+        let network = lines(&[-3.0, 3.0], 6);
+        let n = network.segments.len() as u32;
+        let mut random = stream(11);
+        let mut pick = |k: u32| (random() * f64::from(k)) as u32;
+        for _ in 0..300 {
+            let mut strips: Vec<RuledStrip> = Vec::new();
+            let count = 1 + pick(6) as usize;
+            for s in 0..count {
+                let chain_of = |pick: &mut dyn FnMut(u32) -> u32| -> Vec<HalfEdge> {
+                    (0..pick(5))
+                        .map(|_| HalfEdge {
+                            segment: pick(n),
+                            reversed: pick(2) == 1,
+                        })
+                        .collect()
+                };
+                let next = match pick(4) {
+                    0 if s > 0 => strips[pick(s as u32) as usize].clone(),
+                    1 => {
+                        let a = chain_of(&mut pick);
+                        let b = a.iter().rev().map(|h| h.twin()).collect();
+                        strip(s, a, b)
+                    }
+                    _ => strip(s, chain_of(&mut pick), chain_of(&mut pick)),
+                };
+                strips.push(next);
+            }
+            let mirror_of: Vec<Option<(u32, bool)>> = (0..n)
+                .map(|s| (pick(4) > 0).then(|| ((s + n / 2) % n, pick(2) == 1)))
+                .collect();
+            let place = |pick: &mut dyn FnMut(u32) -> u32| CurvePoint {
+                segment: pick(n),
+                t: f64::from(pick(4)) / 3.0,
+            };
+            let rulings: Vec<Vec<[CurvePoint; 2]>> = (0..count)
+                .map(|_| (0..pick(6)).map(|_| [place(&mut pick), place(&mut pick)]).collect())
+                .collect();
+            let index = ChainIndex::new(n as usize, &strips);
+            for s in 0..count {
+                let mut cost = 0;
+                assert_eq!(
+                    index.mirror_strip(&rulings, &mirror_of, s, &mut cost),
+                    mirror_strip_scan(&strips, &rulings, &mirror_of, s)
+                );
+                for segment in 0..n {
+                    let p = CurvePoint { segment, t: 0.5 };
+                    let sides = index.sides(segment, index.group_of[s], &mut cost);
+                    assert_eq!(sides & ON_A != 0, on_chain_scan(&strips[s].chain_a, p));
+                    assert_eq!(sides & ON_B != 0, on_chain_scan(&strips[s].chain_b, p));
+                }
+            }
+        }
+    }
+
+    /// The strip lookups cost a few entries a ruling however long the chains and however
+    /// many strips share them: one patch of two mirror-image lines of 20 000 segments
+    /// (90 000 samples a side) with a ruling at every sample, and 200 strips of 10
+    /// rulings over lines of 2 000 segments (within the strips' sample bound). The
+    /// scans took `rulings × chain length` (8e9 here: 11 s in a release build) and
+    /// `strips² × rulings × chain length` (1.3 s).
+    #[test]
+    fn ruling_lookups_are_linear_in_the_rulings() {
+        let plane = SymmetryPlane {
+            normal: Vec3::new(1.0, 0.0, 0.0),
+            point: Vec3::zeros(),
+        };
+        for (n, strip_count, per_strip) in [(20_000, 1, None), (2_000, 200, Some(10))] {
+            let network = lines(&[10.0, -10.0], n);
+            let x = crate::curve_lifting::image_prior(&network);
+            let mut samples = sample_curves(&network, 0.25);
+            let chain = |c: usize| half_edges(network.curves[c].segments.iter().copied(), false);
+            let sides = [chain(0), chain(1)].map(|c| SampledChain::new(&network, &samples, &c));
+            let len = sides[0].len();
+            let mut strips: Vec<RuledStrip> = (0..strip_count)
+                .map(|s| {
+                    let mut out = strip(0, chain(0), chain(1));
+                    out.side_a = sides[0].clone();
+                    out.side_b = sides[1].clone();
+                    out.rulings = match per_strip {
+                        None => (0..len).map(|k| (k, k)).collect(),
+                        Some(r) => {
+                            let start = s * (len - r) / strip_count;
+                            (start..start + r).map(|k| (k, k)).collect()
+                        }
+                    };
+                    out
+                })
+                .collect();
+            let ruling_count: usize = strips.iter().map(|s| s.rulings.len()).sum();
+            // The lookups symmetrize makes, counted.
+            let old: Vec<Vec<[CurvePoint; 2]>> = strips
+                .iter()
+                .map(|s| (0..s.rulings.len()).map(|i| s.ends(i)).collect())
+                .collect();
+            let mut mirror_of = vec![None; network.segments.len()];
+            for k in 0..n {
+                mirror_of[k] = Some(((k + n) as u32, false));
+                mirror_of[k + n] = Some((k as u32, false));
+            }
+            let index = ChainIndex::new(network.segments.len(), &strips);
+            let lookups = [SampleLookup::new(sides[0].clone()), SampleLookup::new(sides[1].clone())];
+            let mut cost = 0;
+            for s in 0..strips.len() {
+                let o = index.mirror_strip(&old, &mirror_of, s, &mut cost);
+                assert_eq!(o, Some(strips.len() - 1));
+                for r in &old[s] {
+                    index.sides(r[0].segment, index.group_of[s], &mut cost);
+                    for (lookup, &place) in lookups.iter().zip(r) {
+                        assert!(lookup.nearest(&network, place, &mut cost).is_some());
+                    }
+                }
+            }
+            assert!(cost <= 100 * ruling_count, "{cost} entries for {ruling_count} rulings");
+            // And the whole symmetrisation: one strip mirrored onto itself, every
+            // ruling (crossing the plane) kept.
+            let (_, info, _) = symmetrize(&network, &mut samples, &mut strips, &plane, &[[0, 1]], &x).unwrap();
+            assert_eq!(info.mirrored_segment_count, n);
+            assert_eq!(info.mirrored_strip_count, 1);
+            let last = strips.last().unwrap();
+            assert_eq!(last.rulings.len(), per_strip.unwrap_or(len));
+            assert!(last.rulings.iter().all(|&(k, l)| k == l));
+        }
+    }
+
+    /// Coincident samples (a chain of zero-length segments at one node) are the one
+    /// place a lookup examines many entries: charged, and refused naming the spacing.
+    #[test]
+    fn coincident_samples_are_charged() {
+        let mut network = lines(&[0.0], 1);
+        let node = network.segments[0].points[3];
+        let count = 30_000u32;
+        for _ in 0..count {
+            network.segments.push(NetworkSegment {
+                points: [node; 4],
+                curve: 0,
+            });
+        }
+        let samples = sample_curves(&network, 0.3);
+        let chain = SampledChain::new(&network, &samples, &half_edges(1..=count, false));
+        let lookup = SampleLookup::new(chain);
+        // The line's end, through the grid: every coincident sample is examined.
+        let place = CurvePoint { segment: 0, t: 1.0 };
+        let mut cost = 0;
+        assert_eq!(lookup.nearest(&network, place, &mut cost), Some(0));
+        assert!(cost > count as usize);
+        let mut spent = 0;
+        let error = (0..)
+            .find_map(|_| charge_lookups(&mut spent, cost, 2, 4).err())
+            .unwrap()
+            .to_string();
+        assert!(
+            error.contains("analysis.sample_spacing_px")
+                && error.contains("ruled strip 3 (patch 5)")
+                && error.contains(&format!("at most {}", short_number(MAX_RULING_LOOKUP_WORK as f64))),
+            "{error}"
+        );
+    }
 }
