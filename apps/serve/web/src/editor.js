@@ -716,13 +716,17 @@ function showFfdReport(reply) {
 }
 
 /**
- * Runs an FFD scene on the server, showing its progress; `remember` puts the scene it
- * replaces on the undo stack once it is restored. A newer scene cancels the run under
- * way and waits for it to stop; a refused or cancelled run keeps the last result.
+ * Runs an FFD scene on the server, showing its progress. `history` says what the run
+ * does to the undo and redo stacks once the scene is restored, and only then:
+ * `remember` puts the scene it replaces on the undo stack, `undo` and `redo` move the
+ * scene across (the stacks are left alone when the run is refused or cancelled, so an
+ * undo that did not happen leaves nothing to redo), `none` leaves them. A newer scene
+ * cancels the run under way and waits for it to stop; a refused or cancelled run keeps
+ * the last result.
  */
-async function runFfd(scene, remember = true) {
+async function runFfd(scene, history = 'remember') {
   if (state.ffdController) {
-    state.ffdPending = { scene, remember };
+    state.ffdPending = { scene, history };
     state.ffdController.abort();
     return;
   }
@@ -770,9 +774,15 @@ async function runFfd(scene, remember = true) {
       showStatus('refused', `refused (${state.lastError.kind.replace('_', ' ')}): ${state.lastError.message}${kept}`);
       return;
     }
-    if (remember && before) {
+    if (history === 'remember' && before) {
       state.undo.push(JSON.stringify(before));
       state.redo = [];
+    } else if (history === 'undo' && before) {
+      state.undo.pop();
+      state.redo.push(JSON.stringify(before));
+    } else if (history === 'redo' && before) {
+      state.redo.pop();
+      state.undo.push(JSON.stringify(before));
     }
     state.scene = scene;
     state.sceneByMode.ffd = scene;
@@ -805,7 +815,7 @@ async function runFfd(scene, remember = true) {
     // A scene of another mode queued while this ran (after a mode switch) goes now.
     const queued = state.pending;
     state.pending = null;
-    if (next && state.mode === 'ffd') runFfd(next.scene, next.remember);
+    if (next && state.mode === 'ffd') runFfd(next.scene, next.history);
     else if (queued) requestSolve(queued.edit ? state.scene : queued.scene, queued.started, queued.edit);
     else window.dispatchEvent(new Event('sheetform-idle'));
   }
@@ -830,7 +840,7 @@ function updateHistoryButtons() {
 /** Makes `scene` current through the server; `remember` puts the old one on the undo stack. */
 function commit(scene, remember = true) {
   if (state.mode === 'ffd') {
-    runFfd(scene, remember);
+    runFfd(scene, remember ? 'remember' : 'none');
     return;
   }
   if (remember && state.scene) {
@@ -847,12 +857,16 @@ function current() {
 
 function restore(text) {
   if (state.mode === 'mesh') solveMesh(JSON.parse(text));
-  else if (state.mode === 'ffd') runFfd(JSON.parse(text), false);
   else requestSolve(JSON.parse(text));
 }
 
 function undo() {
   if (!state.undo.length) return;
+  // FFD: the stacks move when the restoration of the earlier scene succeeds.
+  if (state.mode === 'ffd') {
+    runFfd(JSON.parse(state.undo[state.undo.length - 1]), 'undo');
+    return;
+  }
   state.redo.push(current());
   restore(state.undo.pop());
   updateHistoryButtons();
@@ -860,6 +874,10 @@ function undo() {
 
 function redo() {
   if (!state.redo.length) return;
+  if (state.mode === 'ffd') {
+    runFfd(JSON.parse(state.redo[state.redo.length - 1]), 'redo');
+    return;
+  }
   state.undo.push(current());
   restore(state.redo.pop());
   updateHistoryButtons();
@@ -1033,7 +1051,7 @@ function load(text, path = null) {
   framed = false;
   updateHistoryButtons();
   showStatus('busy', `solving ${path || 'the scene'}…`);
-  if (mode === 'ffd') runFfd(scene, false);
+  if (mode === 'ffd') runFfd(scene, 'none');
   else requestSolve(scene);
 }
 
@@ -1112,7 +1130,7 @@ for (const button of document.querySelectorAll('#modes .mode')) {
     state.reply = null;
     if (state.mode !== 'mesh') state.scene = state.sceneByMode[state.mode] || null;
     if (state.mode === 'mesh' && state.mesh && state.meshOptions) solveMesh(state.meshOptions);
-    else if (state.mode === 'ffd' && state.scene) runFfd(state.scene, false);
+    else if (state.mode === 'ffd' && state.scene) runFfd(state.scene, 'none');
     else if (state.mode !== 'mesh' && state.scene) requestSolve(state.scene);
     else clearView(state.mode);
   });

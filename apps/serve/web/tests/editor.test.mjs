@@ -10,16 +10,16 @@
 // mouse re-solves the strips (isometric, a gap per strip shown), a typed sheet length is
 // undone exactly, an impossible strip count is refused. In FFD mode: a lattice control
 // point dragged and released is restored (progress shown), undone exactly; a long
-// restoration is cancelled and an edit of a point the lattice lacks refused, the last
-// result kept. In photo mode: a curve's control point dragged over the photograph is
-// reconstructed and undone exactly, a deleted silhouette refused, a curve added with four
-// clicks sent. In mesh mode: a bundled mesh is checked and flattened
-// exactly, a mesh dropped on the 3D view replaces it, a layout change is undone exactly,
-// an impossible layout and a malformed mesh are refused with the last result kept, and
-// the OBJ downloads. The server refuses files outside its directory and hostile
-// requests and keeps serving. Measures an edit's round trip (event → server
-// solve → redraw) on a 1 000-ruling sheet and on the slit chair. Screenshots go to OUTPUT_DIR; the figures
-// are printed as JSON on the last line.
+// restoration is cancelled (an undo too, leaving the history as it was) and an edit of
+// a point the lattice lacks refused, the last result kept. In photo mode: a curve's
+// control point dragged over the photograph is reconstructed and undone exactly, a
+// deleted silhouette refused, a curve added with four clicks sent. In mesh mode: a
+// bundled mesh is checked and flattened exactly, a mesh dropped on the 3D view replaces
+// it, a layout change is undone exactly, an impossible layout and a malformed mesh are
+// refused with the last result kept, and the OBJ downloads. The server refuses files
+// outside its directory and hostile requests and keeps serving. Measures an edit's round
+// trip (event → server solve → redraw) on a 1 000-ruling sheet and on the slit chair.
+// Screenshots go to OUTPUT_DIR; the figures are printed as JSON on the last line.
 
 import { spawn } from 'node:child_process';
 import { createInterface } from 'node:readline';
@@ -319,6 +319,26 @@ try {
   assert.equal(await page.evaluate(() => window.sheetformEditor.state.cancellations), cancelled + 1);
   assert.match(await page.textContent('#status'), /cancelled/);
   assert.equal(await sceneText(), skirt, 'the last result is kept');
+  // An undo whose restoration is cancelled leaves the history as it was: the scene is
+  // still the skirt, the long scene still to undo, nothing new to redo.
+  const historyOf = () => page.evaluate(() => {
+    const s = window.sheetformEditor.state;
+    return { undo: [...s.undo], redo: [...s.redo] };
+  });
+  await page.evaluate((scene) => {
+    window.sheetformEditor.state.undo.push(JSON.stringify(scene));
+    document.getElementById('undo').disabled = false;
+  }, duct);
+  const history = await historyOf();
+  await answered(async () => {
+    await page.click('#undo');
+    await page.waitForFunction(() => window.sheetformEditor.state.progress.some((p) => p.fraction > 0.05));
+    await page.click('#cancel');
+  });
+  assert.match(await page.textContent('#status'), /cancelled/);
+  assert.deepEqual(await historyOf(), history, 'a cancelled undo leaves the undo and redo stacks');
+  assert.equal(await sceneText(), skirt);
+  await page.evaluate(() => window.sheetformEditor.state.undo.pop());
   // A drag of a control point the lattice does not have: refused, the last result kept.
   const squashed = JSON.parse(skirt);
   squashed.deformations.push({ name: 'outside', edits: [{ move: { points: [[9, 9, 9]], by: [5, 0, 0] } }] });
