@@ -548,6 +548,29 @@ fn long_ffd_scene() -> Value {
     scene
 }
 
+/// A server over a copy of the examples that runs one solve at a time.
+fn one_slot_server() -> (tempfile::TempDir, axum::Router) {
+    let (dir, root) = served();
+    let app = router(&ServeOptions {
+        root,
+        max_concurrent_solves: 1,
+        ..Default::default()
+    })
+    .unwrap();
+    (dir, app)
+}
+
+/// The duct example is restored within a minute: an abandoned run held the only slot
+/// no longer.
+async fn assert_the_only_slot_is_free(app: &axum::Router) {
+    let duct = std::fs::read_to_string(repository().join("examples/ffd/duct.json")).unwrap();
+    let next = tokio::time::timeout(std::time::Duration::from_secs(60), send(app, "POST", "/api/ffd", duct))
+        .await
+        .expect("the abandoned run was cancelled and freed its slot");
+    assert_eq!(next.0, StatusCode::OK);
+    assert!(String::from_utf8_lossy(&next.1).contains("\"result\""));
+}
+
 /// A client that leaves an FFD run cancels it: with one solve at a time, a long run (a
 /// 16k-vertex duct deformed 30 times over) abandoned after its first progress line lets
 /// the next request through within a minute, where the run itself would hold the only
@@ -555,13 +578,7 @@ fn long_ffd_scene() -> Value {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_client_that_leaves_cancels_its_ffd_run() {
     use futures_util::StreamExt;
-    let (_dir, root) = served();
-    let app = router(&ServeOptions {
-        root,
-        max_concurrent_solves: 1,
-        ..Default::default()
-    })
-    .unwrap();
+    let (_dir, app) = one_slot_server();
     let long = long_ffd_scene();
     let request = Request::builder()
         .method("POST")
@@ -575,12 +592,7 @@ async fn a_client_that_leaves_cancels_its_ffd_run() {
     assert!(String::from_utf8_lossy(&first).contains("progress"));
     // The client leaves.
     drop(stream);
-    let duct = std::fs::read_to_string(repository().join("examples/ffd/duct.json")).unwrap();
-    let next = tokio::time::timeout(std::time::Duration::from_secs(60), send(&app, "POST", "/api/ffd", duct))
-        .await
-        .expect("the abandoned run was cancelled and freed its slot");
-    assert_eq!(next.0, StatusCode::OK);
-    assert!(String::from_utf8_lossy(&next.1).contains("\"result\""));
+    assert_the_only_slot_is_free(&app).await;
 }
 
 /// On loopback only pages of this machine are answered: a request whose `Host` or
@@ -630,13 +642,7 @@ async fn pages_of_other_machines_are_refused() {
 /// only slot is free again within seconds.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_client_that_leaves_a_download_cancels_its_run() {
-    let (_dir, root) = served();
-    let app = router(&ServeOptions {
-        root,
-        max_concurrent_solves: 1,
-        ..Default::default()
-    })
-    .unwrap();
+    let (_dir, app) = one_slot_server();
     let long = long_ffd_scene();
     let request = Request::builder()
         .method("POST")
@@ -646,10 +652,5 @@ async fn a_client_that_leaves_a_download_cancels_its_run() {
     // The client gives up after half a second.
     let abandoned = tokio::time::timeout(std::time::Duration::from_millis(500), app.clone().oneshot(request)).await;
     assert!(abandoned.is_err(), "the long run cannot have finished");
-    let duct = std::fs::read_to_string(repository().join("examples/ffd/duct.json")).unwrap();
-    let next = tokio::time::timeout(std::time::Duration::from_secs(60), send(&app, "POST", "/api/ffd", duct))
-        .await
-        .expect("the abandoned run was cancelled and freed its slot");
-    assert_eq!(next.0, StatusCode::OK);
-    assert!(String::from_utf8_lossy(&next.1).contains("\"result\""));
+    assert_the_only_slot_is_free(&app).await;
 }

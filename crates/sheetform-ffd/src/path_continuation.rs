@@ -69,7 +69,8 @@ pub fn restore_along_path(
     progress: &mut dyn FnMut(usize, f64),
 ) -> Result<(Vec<Vec3>, RestorationInfo), FfdError> {
     let clock = Instant::now();
-    // No chord steps along the path (see `ConstrainedOptions::chord_steps`).
+    // No chord steps along the path (see `ConstrainedOptions::chord_steps`): the
+    // report's `chord_steps` stays 0.
     let sub_options = ConstrainedOptions {
         chord_steps: 0,
         ..*options
@@ -84,7 +85,6 @@ pub fn restore_along_path(
     let (mut t, mut h) = (0.0f64, 1.0f64);
     let mut iterations = 0;
     let mut sub_steps = 0;
-    let mut chord_steps = 0;
     let mut variable_node_count = 0;
     progress(0, info.angle_defect_max_before_rad);
     loop {
@@ -114,7 +114,6 @@ pub fn restore_along_path(
             }
         })?;
         iterations += sub_info.iterations;
-        chord_steps += sub_info.chord_steps;
         if sub_info.bending_fallback_iteration.is_some() && info.bending_fallback_iteration.is_none() {
             info.bending_fallback_iteration = sub_info.bending_fallback_iteration.map(|i| offset + i);
         }
@@ -143,7 +142,6 @@ pub fn restore_along_path(
             info.spring_energy_after = sub_info.spring_energy_after;
             info.bending_weight = sub_info.bending_weight;
             info.sub_steps = sub_steps;
-            info.chord_steps = chord_steps;
             info.time_ms = clock.elapsed().as_secs_f64() * 1e3;
             return Ok((parameters, info));
         }
