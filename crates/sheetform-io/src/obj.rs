@@ -1,7 +1,8 @@
 use sheetform_mesh::{SheetMesh, UpAxis};
 use std::fmt::Write;
 
-/// Wavefront OBJ text of the bent sheet.
+/// Wavefront OBJ text of a model with its flat pattern (a bent sheet, a slit sheet, FFD
+/// panels, a flattened mesh).
 ///
 /// - `v x y z`: 3D positions in the model unit;
 /// - `vt u v`: the vertex's position on the flat sheet **at 1:1 scale** in the same unit
@@ -15,7 +16,11 @@ use std::fmt::Write;
 /// the header says so; `vt` is the pattern either way.
 pub fn obj_string(mesh: &SheetMesh, name: &str, up: UpAxis) -> String {
     let mut s = String::with_capacity(mesh.positions.len() * 96 + mesh.triangles.len() * 40);
-    let _ = writeln!(s, "# sheetform bent sheet `{}`", comment(name));
+    let _ = writeln!(
+        s,
+        "# sheetform model `{}`: the 3D shape and its flat pattern",
+        comment(name)
+    );
     let _ = writeln!(
         s,
         "# units: {} (3D and flat); vt = flat-sheet coordinates at 1:1 scale",
