@@ -1,8 +1,8 @@
 //! Criterion benchmarks of developability restoration: both solvers (and the constrained
 //! one along the deformation's path, and with steps along the normals) on the examples
 //! at the paper's sizes, and a warm-started drag. The 100k-vertex duct
-//! (`examples/ffd/duct-100k.json`) is not benchmarked here: 13 s a run with its normal
-//! steps, 72 s with every parameter (docs/benchmarks.md gives its timed runs).
+//! (`examples/ffd/duct-100k.json`) is not benchmarked here: 10.5 s a run with its normal
+//! steps, 56 s with every parameter (docs/benchmarks.md gives its timed runs).
 //!
 //! `cargo bench -p sheetform-ffd --bench ffd`
 
@@ -46,6 +46,11 @@ fn restoration(c: &mut Criterion) {
             ("continuation", &continuation),
             ("normal", &normal),
         ] {
+            // Normal steps stall on the trousers' second deformation (nearly flat vertex
+            // stars near the crotch; tests/ffd.rs): nothing to time.
+            if name == "trousers" && label == "normal" {
+                continue;
+            }
             group.bench_function(format!("{name}/{label}"), |b| {
                 b.iter(|| black_box(run_design(s, &mesh).expect("design")))
             });

@@ -43,7 +43,7 @@ fn main() {
     for step in &design.steps {
         let i = &step.info;
         println!(
-            "  {} [{}]: G {:.4e} -> {:.4e}, max defect {:.3e} -> {:.3e} rad, {} iterations ({} sub-steps), converged {}, {:.1} ms, {} variables, {} constraints, deviation {:.3e}, edge change max {:.3e} mean {:.3e}, fold angle {:.3} -> {:.3} rad",
+            "  {} [{}]: G {:.4e} -> {:.4e}, max defect {:.3e} -> {:.3e} rad, {} iterations ({} sub-steps), converged {}, {:.1} ms, {} variables, {} constraints, deviation {:.3e}, edge change max {:.3e} mean {:.3e}, fold angle {:.3} -> {:.3} rad (largest change {:.3})",
             step.name,
             i.solver,
             i.developability_g_before,
@@ -60,7 +60,8 @@ fn main() {
             step.edge_length_change_max_relative,
             step.edge_length_change_mean_relative,
             step.fold_angle_max_before,
-            step.fold_angle_max_after
+            step.fold_angle_max_after,
+            step.fold_angle_change_max
         );
         if scene.solver.method == SolverMethod::Constrained {
             assert!(i.angle_defect_max_after_rad <= 1e-8, "defect not restored");

@@ -1,9 +1,9 @@
 //! A whole FFD run: embed, deform step by step, restore developability.
 
 use crate::{
-    apply_edits, embed_points, fold_angle_max, restore_along_path, restore_constrained_with_progress,
-    restore_paper_with_progress, DevelopabilityProblem, FfdError, FfdScene, NurbsVolume, PanelAssembly, PaperOptions,
-    RestorationInfo, RestorationProgress, SolverMethod,
+    apply_edits, embed_points, fold_angle_change_max, fold_angle_max, restore_along_path,
+    restore_constrained_with_progress, restore_paper_with_progress, DevelopabilityProblem, FfdError, FfdScene,
+    NurbsVolume, PanelAssembly, PaperOptions, RestorationInfo, RestorationProgress, SolverMethod,
 };
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -39,6 +39,10 @@ pub struct DeformationStep {
     /// Largest fold angle after restoration `M*` (radians, panels and seams): far above
     /// `fold_angle_max_before` when the restoration crinkled the panels or creased a seam.
     pub fold_angle_max_after: f64,
+    /// Largest change of one edge's signed fold angle from `M′` to `M*` (radians, panels
+    /// and seams; see [`fold_angle_change_max`]): the crease the restoration added, also
+    /// where `fold_angle_max_before` is a fold the design has on purpose.
+    pub fold_angle_change_max: f64,
 }
 
 /// The result of [`run_design`].
@@ -222,6 +226,12 @@ pub fn run_design_with_cancel(
             .fold(0.0, f64::max);
         let (max, mean) = edge_length_change(&assembly, &deformed, &restored);
         let (fold_angle_max_before, fold_angle_max_after) = (fold_angle(&deformed), fold_angle(&restored));
+        let fold_angle_change_max = fold_angle_change_max(
+            &assembly.node_triangles,
+            &assembly.node_edges,
+            |n| deformed[n as usize],
+            |n| restored[n as usize],
+        );
         steps.push(DeformationStep {
             name: deformation
                 .name
@@ -237,6 +247,7 @@ pub fn run_design_with_cancel(
             edge_length_change_mean_relative: mean,
             fold_angle_max_before,
             fold_angle_max_after,
+            fold_angle_change_max,
         });
         parameters = new_parameters;
     }

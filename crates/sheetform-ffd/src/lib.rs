@@ -17,7 +17,8 @@
 //! - [`restore_along_path`]: the constrained solver along a deformation's path, in
 //!   adaptive sub-steps (continuation);
 //! - [`procedural_panels`]: the examples' developable panel assemblies;
-//! - [`fold_angle_max`]: the fairness of a result (crinkles show as large fold angles);
+//! - [`fold_angle_max`], [`fold_angle_change_max`]: the fairness of a result (crinkles
+//!   show as large fold angles, creases the restoration added as large changes);
 //! - [`scene`], [`ffd_design`]: the scene file and the whole run.
 
 #![warn(missing_docs)]
@@ -51,7 +52,7 @@ pub use developability_problem::{DevelopabilityProblem, Evaluation, ProblemOptio
 pub use embedding::{embed_points, lattice_size, newton_inversion, EMBEDDING_TOLERANCE};
 pub use error::FfdError;
 pub use ffd_design::{run_design, run_design_with_cancel, run_design_with_progress, DeformationStep, FfdDesign};
-pub use fold_angle::fold_angle_max;
+pub use fold_angle::{fold_angle_change_max, fold_angle_max};
 pub use lattice_edit::{apply_edits, ControlPointSelection, IndexRanges, LatticeEdit};
 pub use nurbs_volume::{NurbsVolume, DIRECTION_NAMES};
 pub use panel_assembly::{Panel, PanelAssembly, LINK_TOLERANCE};

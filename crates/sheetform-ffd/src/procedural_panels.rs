@@ -10,7 +10,7 @@ use nalgebra::Vector3;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use sheetform_mesh::TriangleMesh;
-use std::f64::consts::{FRAC_PI_2, TAU};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 type Vec3 = Vector3<f64>;
 
@@ -59,10 +59,14 @@ pub enum ProceduralModel {
         #[serde(default = "default_gore_along")]
         along: usize,
     },
-    /// Trousers: two legs, oblique cone frustums, each of a front and a back panel
-    /// (Fig. 7; default 4 panels × 19 × 20 = 1520 vertices).
+    /// Trousers (Fig. 7): legs joined at the crotch under a waistband. Four panels
+    /// (left and right, front and back), each from the side seam over the waist and
+    /// down the centre seam to the crotch, ruled down to the hem, plus a 40 mm
+    /// waistband (default 4 panels × 21 × 17 + 37 × 3 = 1539 vertices; see
+    /// [`trouser_panels`]).
     Trousers {
-        /// Segments across each panel.
+        /// Segments across each panel, along its top edge (waist and centre seam; at
+        /// least 2).
         #[serde(default = "default_trouser_across")]
         across: usize,
         /// Segments from hem to waist.
@@ -102,10 +106,10 @@ fn default_gore_along() -> usize {
     14
 }
 fn default_trouser_across() -> usize {
-    18
+    20
 }
 fn default_trouser_along() -> usize {
-    19
+    16
 }
 
 /// A panel: `(nu + 1) × (nv + 1)` vertices at `surface(i / nu, j / nv)`; lines of
@@ -171,9 +175,22 @@ impl ProceduralModel {
             }
             Self::TwoPanels { columns, rows } => vec![("columns", columns), ("rows", rows)],
             Self::Skirt { gores, across, along } => vec![("gores", gores), ("across", across), ("along", along)],
-            Self::Trousers { across, along } => vec![("across", across), ("along", along)],
+            Self::Trousers { across, along } => {
+                if across < 2 {
+                    return Err(crate::FfdError::field(
+                        field("across"),
+                        "must be at least 2 (the waist and the centre seam take at least one segment each)",
+                    ));
+                }
+                vec![("across", across), ("along", along)]
+            }
         };
-        let mut vertices: usize = if matches!(self, Self::TwoPanels { .. }) { 2 } else { 1 };
+        let mut vertices: usize = match self {
+            Self::TwoPanels { .. } => 2,
+            // Four panels and a waistband no larger than two of them.
+            Self::Trousers { .. } => 6,
+            _ => 1,
+        };
         for &(name, count) in &counts {
             if count == 0 {
                 return Err(crate::FfdError::field(field(name), "must be at least 1"));
@@ -233,26 +250,200 @@ impl ProceduralModel {
                         .collect(),
                 )
             }
-            Self::Trousers { across, along } => {
-                let length = 1000.0;
-                let mut panels = Vec::new();
-                for (side, sign) in [("left", -1.0), ("right", 1.0)] {
-                    // Oblique cone frustum: hem circle (radius 110) 60 mm further out than
-                    // the top circle (radius 170), joined by straight rulings.
-                    let bottom = Vec3::new(sign * 200.0, 0.0, 0.0);
-                    let top = Vec3::new(sign * 175.0, 0.0, length);
-                    for (half, a0) in [("front", 0.0), ("back", 0.5 * TAU)] {
-                        panels.push(panel(&format!("{side}-{half}"), across, along, |u, v| {
-                            let a = a0 + 0.5 * TAU * u;
-                            let r = 110.0 + 60.0 * v;
-                            bottom + (top - bottom) * v + Vec3::new(r * a.cos(), r * a.sin(), 0.0)
-                        }));
-                    }
-                }
-                combine(panels)
-            }
+            Self::Trousers { across, along } => trouser_panels(across.max(2), along),
         }
     }
+}
+
+/// The trousers of [`ProceduralModel::Trousers`] (mm; z up, the hem at z = 0, the
+/// waist at 1000, the crotch at 740, x across, y from back to front).
+///
+/// Each panel is a *discrete developable*: a strip of planar quads between straight
+/// rulings, every two neighbouring rulings in one plane `Πᵢ`, so every interior vertex
+/// has angle sum 2π to rounding (two straight angles, one in each plane). The left
+/// front panel is built from its top edge `B₀ … Bₙ`: a quarter of the waist ellipse
+/// (half width 180, half depth 130) from the side to the centre front, then the centre
+/// seam in the plane x = 0, a quarter ellipse curving from the belly down and under to
+/// the crotch point, in equal steps of the ellipse's angle (steps shorter near the waist
+/// left the quads at the centre front nearly coplanar, 0.8°–4.6° apart, and the
+/// example's second deformation could not be restored: a flat vertex star's angle sum
+/// has no gradient, so its defect row of the restoration's system vanishes). The first
+/// ruling is the side seam, from the waist's side point to the hem's (x = −350, in the
+/// plane y = 0). Marching along the top edge, ruling `i` lies in the plane `Πᵢ₋₁`
+/// through ruling `i − 1` and the segment `Bᵢ₋₁Bᵢ`, so only its hem point `Hᵢ` on the
+/// line `Πᵢ₋₁ ∩ {z = 0}` is free: under the waist the hem steps 150/180 of the waist's
+/// step (the hem's front is a scaled copy of the waist's), under the centre seam a
+/// fixed fraction of the seam's step (about 0.46, found by bisection so that the last
+/// hem step is as long as the others, not a sliver), and the last ruling (the inseam)
+/// is where `Πₙ₋₁` meets the plane y = 0. The back panel is the front's mirror image in y = 0 (their side seams and
+/// inseams are the same lines), the right leg the left's in x = 0, so the four panels
+/// meet exactly along the side seams, the inseams and the centre seams: the legs part
+/// at the crotch point, where the four panels meet. The fronts (and the backs) meet
+/// smoothly over the belly and at a sharp fold near the crotch, as cloth does. The
+/// waistband is a vertical band on the waist (a generalised cylinder).
+///
+/// Departure from the paper: Wang & Tang's Fig. 7 trousers come from a garment
+/// pattern that is not published; these have its structure (legs joined at the crotch,
+/// a waistband) and size (1 539 vertices against its 1 494 nodes).
+pub fn trouser_panels(across: usize, along: usize) -> TriangleMesh {
+    const WAIST_HEIGHT: f64 = 1000.0;
+    const CROTCH_HEIGHT: f64 = 740.0;
+    const WAIST_HALF_WIDTH: f64 = 180.0;
+    const WAIST_HALF_DEPTH: f64 = 130.0;
+    const HEM_SIDE_X: f64 = -350.0;
+    const HEM_PER_WAIST: f64 = 150.0 / 180.0;
+    const BAND_HEIGHT: f64 = 40.0;
+    const BAND_ROWS: usize = 2;
+    let across = across.max(2);
+    let waist_segments = ((across as f64 * 0.45).round() as usize).clamp(1, across - 1);
+    let seam_segments = across - waist_segments;
+    let mut top = Vec::with_capacity(across + 1);
+    for i in 0..=waist_segments {
+        let angle = PI - FRAC_PI_2 * i as f64 / waist_segments as f64;
+        top.push(Vec3::new(
+            WAIST_HALF_WIDTH * angle.cos(),
+            WAIST_HALF_DEPTH * angle.sin(),
+            WAIST_HEIGHT,
+        ));
+    }
+    // The side point exactly on y = 0 and the centre front on x = 0 (sin π and cos π/2
+    // are not zero in floating point), so that mirrored panels share them exactly.
+    top[0].y = 0.0;
+    top[waist_segments].x = 0.0;
+    for i in 1..=seam_segments {
+        let angle = FRAC_PI_2 * i as f64 / seam_segments as f64;
+        top.push(Vec3::new(
+            0.0,
+            if i == seam_segments {
+                0.0
+            } else {
+                WAIST_HALF_DEPTH * angle.cos()
+            },
+            WAIST_HEIGHT - (WAIST_HEIGHT - CROTCH_HEIGHT) * angle.sin(),
+        ));
+    }
+    // The hem's step under the centre seam, as a fraction of the seam's step: the one
+    // whose last step (to the inseam) is as long as that fraction of the seam's last step,
+    // so the hem has no sliver edge at the inseam. Bisection: a larger fraction brings
+    // the hem to y = 0 sooner; past it the hem would cross y = 0 before the inseam.
+    let last_seam_step = (top[across] - top[across - 1]).norm();
+    let excess = |fraction: f64| {
+        let hem = hem_under(&top, waist_segments, HEM_SIDE_X, HEM_PER_WAIST, fraction);
+        if hem[across - 1].y <= 0.0 {
+            return f64::NEG_INFINITY;
+        }
+        (hem[across] - hem[across - 1]).norm() - fraction * last_seam_step
+    };
+    let (mut low, mut high) = (0.05, 1.0);
+    for _ in 0..60 {
+        let middle = 0.5 * (low + high);
+        if excess(middle) > 0.0 {
+            low = middle;
+        } else {
+            high = middle;
+        }
+    }
+    let hem = hem_under(&top, waist_segments, HEM_SIDE_X, HEM_PER_WAIST, low);
+    let left_front: Vec<Vec<Vec3>> = (0..=across)
+        .map(|i| {
+            (0..=along)
+                .map(|j| hem[i] + (top[i] - hem[i]) * (j as f64 / along as f64))
+                .collect()
+        })
+        .collect();
+    let mirrored = |reverse: bool, flip: Vec3| -> Vec<Vec<Vec3>> {
+        let mut rulings: Vec<Vec<Vec3>> = left_front
+            .iter()
+            .map(|ruling| ruling.iter().map(|p| p.component_mul(&flip)).collect())
+            .collect();
+        if reverse {
+            rulings.reverse();
+        }
+        rulings
+    };
+    let waist: Vec<Vec3> = top[..=waist_segments].to_vec();
+    let flip_y = Vec3::new(1.0, -1.0, 1.0);
+    let flip_x = Vec3::new(-1.0, 1.0, 1.0);
+    // Around the waist: centre back, left side, centre front, right side, centre back.
+    let mut ring: Vec<Vec3> = Vec::with_capacity(4 * waist_segments + 1);
+    ring.extend(
+        waist
+            .iter()
+            .rev()
+            .map(|p| p.component_mul(&flip_y))
+            .take(waist_segments),
+    );
+    ring.extend(waist.iter().copied().take(waist_segments));
+    ring.extend(
+        waist
+            .iter()
+            .rev()
+            .map(|p| p.component_mul(&flip_x))
+            .take(waist_segments),
+    );
+    ring.extend(
+        waist
+            .iter()
+            .map(|p| p.component_mul(&flip_x).component_mul(&flip_y))
+            .take(waist_segments),
+    );
+    ring.push(ring[0]);
+    let band: Vec<Vec<Vec3>> = ring
+        .iter()
+        .map(|p| {
+            (0..=BAND_ROWS)
+                .map(|j| p + Vec3::z() * (BAND_HEIGHT * j as f64 / BAND_ROWS as f64))
+                .collect()
+        })
+        .collect();
+    combine(vec![
+        grid_panel("left-front", &left_front),
+        grid_panel("left-back", &mirrored(true, flip_y)),
+        grid_panel("right-front", &mirrored(true, flip_x)),
+        grid_panel("right-back", &mirrored(false, flip_x.component_mul(&flip_y))),
+        grid_panel("waistband", &band),
+    ])
+}
+
+/// The hem points of a panel ruled from `top` (see [`trouser_panels`]): the first at
+/// `(side_x, 0, 0)`, each next one on the line where the plane of the previous ruling
+/// and the next top segment meets z = 0, `per_waist` (under the first `waist_segments`
+/// segments) or `per_seam` times the top segment's length further on, the last where
+/// that line crosses y = 0.
+fn hem_under(top: &[Vec3], waist_segments: usize, side_x: f64, per_waist: f64, per_seam: f64) -> Vec<Vec3> {
+    let last = top.len() - 1;
+    let mut hem = Vec::with_capacity(top.len());
+    hem.push(Vec3::new(side_x, 0.0, 0.0));
+    for i in 1..=last {
+        let previous = hem[i - 1];
+        let step = top[i] - top[i - 1];
+        let plane_normal = (previous - top[i - 1]).cross(&step);
+        // The hem line of the plane: horizontal, perpendicular to the plane's normal.
+        let mut direction = plane_normal.cross(&Vec3::z()).normalize();
+        let next = if i == last {
+            Vec3::new(previous.x - direction.x * (previous.y / direction.y), 0.0, 0.0)
+        } else if i <= waist_segments {
+            if direction.dot(&step) < 0.0 {
+                direction = -direction;
+            }
+            previous + direction * (per_waist * step.norm())
+        } else {
+            if direction.x < 0.0 {
+                direction = -direction;
+            }
+            previous + direction * (per_seam * step.norm())
+        };
+        hem.push(next);
+    }
+    hem
+}
+
+/// A panel from its rulings' vertices (`rulings[i][j]`, each ruling a column).
+fn grid_panel(name: &str, rulings: &[Vec<Vec3>]) -> TriangleMesh {
+    let (nu, nv) = (rulings.len() - 1, rulings[0].len() - 1);
+    panel(name, nu, nv, |u, v| {
+        rulings[(u * nu as f64).round() as usize][(v * nv as f64).round() as usize]
+    })
 }
 
 #[cfg(test)]
@@ -266,7 +457,7 @@ mod tests {
             (r#"{"kind": "duct"}"#, 328),
             (r#"{"kind": "two_panels"}"#, 162),
             (r#"{"kind": "skirt"}"#, 1170),
-            (r#"{"kind": "trousers"}"#, 1520),
+            (r#"{"kind": "trousers"}"#, 1539),
         ] {
             let model: ProceduralModel = serde_json::from_str(json).unwrap();
             let mesh = model.build();
@@ -275,5 +466,95 @@ mod tests {
             let s = developability_summary(&mesh, &t, &vertex_developability(&mesh, &t), 1e-10);
             assert!(s.angle_defect_max_rad < 1e-12, "{json}: {s:?}");
         }
+    }
+
+    /// The trousers are one garment: welded at their seams, the four panels and the
+    /// waistband make a consistently oriented surface with three openings (the two hems
+    /// and the top of the waistband; Euler characteristic −1, a pair of pants), the legs
+    /// parted at the crotch point where the four leg panels meet, each leg on its own
+    /// side, the hems on the floor. `across` below 2 is refused.
+    #[test]
+    fn the_trousers_are_joined_at_the_crotch_under_a_waistband() {
+        let model: ProceduralModel = serde_json::from_str(r#"{"kind": "trousers"}"#).unwrap();
+        let mesh = model.build();
+        assert_eq!(
+            mesh.groups,
+            ["left-front", "left-back", "right-front", "right-back", "waistband"]
+        );
+        let assembly = crate::PanelAssembly::from_mesh(&mesh).unwrap();
+        let welded = TriangleMesh {
+            positions: assembly.node_positions(),
+            triangles: assembly.node_triangles.clone(),
+            face_groups: vec![0; assembly.node_triangles.len()],
+            groups: vec!["trousers".into()],
+            ..TriangleMesh::default()
+        };
+        let topology = mesh_topology(&welded);
+        assert!(topology.is_clean() && topology.consistently_oriented, "{topology:?}");
+        assert_eq!(topology.component_count, 1);
+        assert_eq!(topology.boundary_loop_count, 3);
+        assert_eq!(topology.euler_characteristic, -1);
+        // The crotch point: one node shared by the four leg panels, nothing below it
+        // between the legs.
+        let crotch = Vec3::new(0.0, 0.0, 740.0);
+        let panels_at_crotch: std::collections::BTreeSet<u32> = mesh
+            .triangles
+            .iter()
+            .zip(&mesh.face_groups)
+            .filter(|(t, _)| t.iter().any(|&v| (mesh.positions[v as usize] - crotch).norm() < 1e-9))
+            .map(|(_, &g)| g)
+            .collect();
+        assert_eq!(panels_at_crotch.into_iter().collect::<Vec<_>>(), [0, 1, 2, 3]);
+        for (t, &g) in mesh.triangles.iter().zip(&mesh.face_groups) {
+            let centre = t.iter().map(|&v| mesh.positions[v as usize]).sum::<Vec3>() / 3.0;
+            match g {
+                0 | 1 => assert!(centre.x < 0.0, "a left panel at {centre:?}"),
+                2 | 3 => assert!(centre.x > 0.0, "a right panel at {centre:?}"),
+                _ => assert!(centre.z > 1000.0, "the waistband at {centre:?}"),
+            }
+        }
+        // Below the crotch the legs are apart, the hems (at least 250 mm apart at the inner points).
+        for p in &mesh.positions {
+            if p.z < 740.0 {
+                assert!(p.x.abs() > 0.0, "between the legs at {p:?}");
+            }
+            if p.z == 0.0 {
+                assert!(p.x.abs() > 125.0, "a hem at {p:?}");
+            }
+        }
+        let lowest = mesh.positions.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
+        assert_eq!(lowest, 0.0);
+        // Every resolution gives clean, developable, joined panels.
+        for across in [2, 3, 5, 8, 13, 40, 90] {
+            for along in [1, 7, 30] {
+                let mesh = trouser_panels(across, along);
+                let label = format!("across {across}, along {along}");
+                assert!(
+                    mesh.positions.iter().all(|p| p.iter().all(|c| c.is_finite())),
+                    "{label}"
+                );
+                let t = mesh_topology(&mesh);
+                assert!(t.is_clean() && t.consistently_oriented, "{label}: {t:?}");
+                let s = developability_summary(&mesh, &t, &vertex_developability(&mesh, &t), 1e-10);
+                assert!(s.angle_defect_max_rad < 1e-12, "{label}: {s:?}");
+                let assembly = crate::PanelAssembly::from_mesh(&mesh).unwrap();
+                let welded = TriangleMesh {
+                    positions: assembly.node_positions(),
+                    triangles: assembly.node_triangles.clone(),
+                    face_groups: vec![0; assembly.node_triangles.len()],
+                    groups: vec!["trousers".into()],
+                    ..TriangleMesh::default()
+                };
+                let t = mesh_topology(&welded);
+                assert!(t.is_clean() && t.consistently_oriented, "{label}: {t:?}");
+                assert_eq!((t.boundary_loop_count, t.euler_characteristic), (3, -1), "{label}");
+            }
+        }
+        let error = serde_json::from_str::<ProceduralModel>(r#"{"kind": "trousers", "across": 1}"#)
+            .unwrap()
+            .validate()
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("model.procedural.across"), "{error}");
     }
 }

@@ -278,6 +278,10 @@ pub struct FfdStepReport {
     /// restoration folded the panels into node-scale zig-zags (crinkles) or creased a
     /// seam.
     pub fold_angle_max_after_rad: f64,
+    /// Largest change of one edge's signed fold angle from the plain FFD to the
+    /// restored shape (panels and seams): the crease the restoration added, also where
+    /// the largest fold is one the design has on purpose (a crotch, a pleat).
+    pub fold_angle_change_max_rad: f64,
     /// Solver time.
     pub time_ms: f64,
 }

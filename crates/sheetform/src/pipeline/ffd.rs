@@ -290,6 +290,7 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
                 edge_length_change_mean_relative: s.edge_length_change_mean_relative,
                 fold_angle_max_before_rad: s.fold_angle_max_before,
                 fold_angle_max_after_rad: s.fold_angle_max_after,
+                fold_angle_change_max_rad: s.fold_angle_change_max,
                 time_ms: s.info.time_ms,
             })
             .collect(),
