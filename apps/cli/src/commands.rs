@@ -420,6 +420,7 @@ pub(crate) fn ffd_command(
             SolverArg::Paper => SolverMethod::Paper,
             SolverArg::None => SolverMethod::None,
         }),
+        warm_start: None,
     };
     let run = with_progress_bar(quiet, |progress| {
         run_ffd(

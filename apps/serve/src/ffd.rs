@@ -10,6 +10,12 @@
 //! {"kind", "message"}, "report"?}`. A client that closes the connection (the editor's
 //! Cancel) cancels the run at its next progress report; one that left before its run
 //! started never starts it.
+//!
+//! The server keeps the last design it restored and resumes the next run from it
+//! (`FfdRunOptions::warm_start`): an editor's drag appends one deformation to the scene,
+//! and only that one is restored; an undo restores nothing. The reply's
+//! `resumed_deformations` says how many were taken over. The result is the same as a
+//! run from scratch.
 
 use crate::api::{pattern_svg, scene_download, ApiBody, ApiError, ApiQuery, MeshArrays, SceneAssets, SceneQuery};
 use crate::AppState;
@@ -83,6 +89,8 @@ struct FfdReply {
     lattice: LatticeArrays,
     pattern_svg: String,
     report: Report,
+    /// Deformations taken over from the server's last design instead of restored again.
+    resumed_deformations: usize,
     /// Server time for parsing, solving and rendering (ms).
     server_ms: f64,
 }
@@ -113,6 +121,12 @@ async fn ffd(
             return;
         }
         let progress_sender = sender.clone();
+        let warm_start = state
+            .last_ffd_design
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .clone();
+        let cache = state.clone();
         let outcome = tokio::task::spawn_blocking(move || -> Result<FfdReply, ApiError> {
             let cancel = AtomicBool::new(false);
             let progress = |stage: &str, fraction: f64| {
@@ -130,9 +144,13 @@ async fn ffd(
                 .with_outputs(OutputSet::Preview)
                 .with_progress(&progress)
                 .with_cancel(&cancel);
-            let run = run_ffd(&scene, &FfdRunOptions::default(), &context)?;
+            let options = FfdRunOptions {
+                warm_start,
+                ..FfdRunOptions::default()
+            };
+            let run = run_ffd(&scene, &options, &context)?;
             let lattice = &run.design.steps.last().expect("a scene has a deformation").volume;
-            Ok(FfdReply {
+            let reply = FfdReply {
                 model: MeshArrays::new(&run.sheet),
                 plain: DefectMesh::new(&run.plain, &run.angle_defects_before_rad),
                 restored: DefectMesh::new(&run.restored, &run.angle_defects_after_rad),
@@ -141,9 +159,15 @@ async fn ffd(
                     control_points: lattice.control_points().iter().flat_map(|p| [p.x, p.y, p.z]).collect(),
                 },
                 pattern_svg: pattern_svg(&run.files),
+                resumed_deformations: run.design.resumed_deformations,
                 report: run.report,
                 server_ms: start.elapsed().as_secs_f64() * 1e3,
-            })
+            };
+            *cache
+                .last_ffd_design
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner) = Some(Arc::new(run.design));
+            Ok(reply)
         })
         .await;
         let last = match outcome {

@@ -99,6 +99,9 @@ pub(crate) struct AppState {
     /// Bounds the solves running at once (a permit stays with its solve until it ends,
     /// also when the client has gone).
     pub solves: Arc<tokio::sync::Semaphore>,
+    /// The last FFD design restored, to resume the next run from (a drag appends a
+    /// deformation: only that one is restored; see `ffd.rs`).
+    pub last_ffd_design: std::sync::Mutex<Option<Arc<sheetform::ffd::FfdDesign>>>,
 }
 
 /// The editor's routes over a served directory (for tests and embedding; [`Server`]
@@ -120,6 +123,7 @@ pub fn router(options: &ServeOptions) -> Result<axum::Router, ServeError> {
     let state = Arc::new(AppState {
         root,
         solves: Arc::new(tokio::sync::Semaphore::new(options.max_concurrent_solves.max(1))),
+        last_ffd_design: std::sync::Mutex::new(None),
     });
     let router = axum::Router::new()
         .merge(assets::routes())

@@ -481,6 +481,57 @@ async fn an_ffd_scene_streams_its_progress_then_the_restored_panels() {
     );
 }
 
+/// The last line of an FFD reply (`result` or `error`).
+async fn ffd_reply(app: &axum::Router, scene: &Value) -> Value {
+    let (status, body) = send(app, "POST", "/api/ffd", scene.to_string()).await;
+    assert_eq!(status, StatusCode::OK);
+    serde_json::from_str(String::from_utf8(body).unwrap().lines().last().unwrap()).unwrap()
+}
+
+/// A drag in the editor appends a deformation: the server resumes from its last design,
+/// restores the new deformation alone and answers with exactly the panels a fresh server
+/// restores from scratch; an undo (the shorter scene again) restores nothing; a failed
+/// run leaves the last good design to resume from.
+#[tokio::test]
+async fn a_drag_is_restored_from_the_last_design() {
+    let (_dir, root) = served();
+    let options = ServeOptions {
+        root,
+        ..Default::default()
+    };
+    let (app, fresh) = (router(&options).unwrap(), router(&options).unwrap());
+    let full: Value =
+        serde_json::from_str(&std::fs::read_to_string(repository().join("examples/ffd/skirt-drag.json")).unwrap())
+            .unwrap();
+    let mut first = full.clone();
+    first["deformations"].as_array_mut().unwrap().truncate(1);
+    let reply = ffd_reply(&app, &first).await;
+    assert_eq!(reply["result"]["resumed_deformations"], 0, "{reply}");
+    // A scene the run refuses changes nothing.
+    let mut broken = full.clone();
+    broken["deformations"][1]["edits"][0]["move"]["points"] = serde_json::json!({"i": [40, 40]});
+    assert!(ffd_reply(&app, &broken).await["error"].is_object());
+    let warm = ffd_reply(&app, &full).await;
+    assert_eq!(warm["result"]["resumed_deformations"], 1, "{warm}");
+    let cold = ffd_reply(&fresh, &full).await;
+    assert_eq!(cold["result"]["resumed_deformations"], 0);
+    for key in ["model", "restored", "plain"] {
+        assert_eq!(warm["result"][key], cold["result"][key], "{key}");
+    }
+    // The report's figures too, but for the solver times.
+    let figures = |reply: &Value| {
+        let mut steps = reply["result"]["report"]["ffd"]["steps"].clone();
+        for step in steps.as_array_mut().unwrap() {
+            step.as_object_mut().unwrap().retain(|key, _| !key.ends_with("time_ms"));
+        }
+        steps
+    };
+    assert_eq!(figures(&warm), figures(&cold));
+    let undo = ffd_reply(&app, &first).await;
+    assert_eq!(undo["result"]["resumed_deformations"], 1);
+    assert_eq!(undo["result"]["report"]["ffd"]["steps"].as_array().unwrap().len(), 1);
+}
+
 /// The photo mode: an annotation's photograph is read relative to `?dir=` (the
 /// annotation's directory inside the served one, never outside it), the reconstruction
 /// answers with a model isometric to its pattern, and the photograph itself opens as an

@@ -60,6 +60,11 @@ pub struct FfdDesign {
     pub embedding_time_ms: f64,
     /// The deformations, in order.
     pub steps: Vec<DeformationStep>,
+    /// The scene this design was run from (its solver as run).
+    pub scene: FfdScene,
+    /// How many of `steps` were taken unchanged from the design the run resumed
+    /// ([`run_design_resuming`]; 0 for a run from scratch).
+    pub resumed_deformations: usize,
 }
 
 impl FfdDesign {
@@ -104,8 +109,59 @@ pub fn run_design_with_cancel(
     progress: &mut dyn FnMut(&RestorationProgress),
     cancel: Option<&std::sync::atomic::AtomicBool>,
 ) -> Result<FfdDesign, FfdError> {
+    run_design_resuming(scene, mesh, None, progress, cancel)
+}
+
+/// [`run_design_with_cancel`] that starts where `previous` (an earlier run) can take it:
+/// when `previous` was run on the same panels (`mesh`) with the same units, model,
+/// lattice, solver and up axis, its embedding is kept and its steps for the leading
+/// deformations the two scenes share are taken as they are; only the deformations after
+/// them are restored, from the last shared step's lattice and parameters. An editor
+/// whose drag appends one deformation restores that one alone (a warm start); undoing
+/// it (the scene one deformation shorter) restores nothing. The result is the same, bit
+/// for bit, as a run from scratch, since each step depends only on the lattice and the
+/// parameters the previous step left. [`FfdDesign::resumed_deformations`] says how many
+/// steps were taken over. Any other `previous` is ignored.
+///
+/// # Errors
+/// As [`run_design_with_cancel`].
+pub fn run_design_resuming(
+    scene: &FfdScene,
+    mesh: &TriangleMesh,
+    previous: Option<&FfdDesign>,
+    progress: &mut dyn FnMut(&RestorationProgress),
+    cancel: Option<&std::sync::atomic::AtomicBool>,
+) -> Result<FfdDesign, FfdError> {
     scene.validate()?;
     let assembly = PanelAssembly::from_mesh(mesh)?;
+    let previous = previous.filter(|p| {
+        let (a, b) = (&p.scene, scene);
+        a.units == b.units
+            && a.model == b.model
+            && a.lattice == b.lattice
+            && a.solver == b.solver
+            && a.up_axis == b.up_axis
+            && p.assembly.mesh == assembly.mesh
+    });
+    if let Some(previous) = previous {
+        let shared = previous
+            .steps
+            .iter()
+            .zip(&previous.scene.deformations)
+            .zip(&scene.deformations)
+            .take_while(|((_, a), b)| a == b)
+            .count();
+        return continue_design(
+            scene,
+            previous.assembly.clone(),
+            previous.lattice.clone(),
+            previous.embedding.clone(),
+            previous.embedding_time_ms,
+            previous.steps[..shared].to_vec(),
+            progress,
+            cancel,
+        );
+    }
     if assembly.node_count > crate::MAX_PROCEDURAL_VERTICES {
         return Err(FfdError::field(
             "model",
@@ -144,15 +200,42 @@ pub fn run_design_with_cancel(
         other => other,
     })?;
     let embedding_time_ms = start.elapsed().as_secs_f64() * 1e3;
+    continue_design(
+        scene,
+        assembly,
+        lattice,
+        embedding,
+        embedding_time_ms,
+        Vec::new(),
+        progress,
+        cancel,
+    )
+}
+
+/// The deformations of `scene` after the `steps` already done, from the last step's
+/// lattice and parameters (or the undeformed lattice and the embedding).
+#[allow(clippy::too_many_arguments)]
+fn continue_design(
+    scene: &FfdScene,
+    assembly: PanelAssembly,
+    lattice: NurbsVolume,
+    embedding: Vec<Vec3>,
+    embedding_time_ms: f64,
+    mut steps: Vec<DeformationStep>,
+    progress: &mut dyn FnMut(&RestorationProgress),
+    cancel: Option<&std::sync::atomic::AtomicBool>,
+) -> Result<FfdDesign, FfdError> {
     let linear_embedding = lattice.affine_map().is_some();
-    let mut volume = lattice.clone();
-    let mut parameters = embedding.clone();
-    let mut steps = Vec::new();
+    let resumed_deformations = steps.len();
+    let (mut volume, mut parameters) = match steps.last() {
+        Some(last) => (last.volume.clone(), last.parameters.clone()),
+        None => (lattice.clone(), embedding.clone()),
+    };
     // Over the welded panels: inside each panel and across the seams.
     let fold_angle =
         |nodes: &[Vec3]| fold_angle_max(&assembly.node_triangles, &assembly.node_edges, |n| nodes[n as usize]);
     let problem_options = scene.solver.problem_options();
-    for (k, deformation) in scene.deformations.iter().enumerate() {
+    for (k, deformation) in scene.deformations.iter().enumerate().skip(resumed_deformations) {
         let previous_volume = volume;
         volume = apply_edits(
             &previous_volume,
@@ -258,6 +341,8 @@ pub fn run_design_with_cancel(
         linear_embedding,
         embedding_time_ms,
         steps,
+        scene: scene.clone(),
+        resumed_deformations,
     })
 }
 

@@ -51,7 +51,9 @@ pub use corner_angle::{corner_angle, corner_angle_gradient, corner_angle_hessian
 pub use developability_problem::{DevelopabilityProblem, Evaluation, ProblemOptions, Spring};
 pub use embedding::{embed_points, lattice_size, newton_inversion, EMBEDDING_TOLERANCE};
 pub use error::FfdError;
-pub use ffd_design::{run_design, run_design_with_cancel, run_design_with_progress, DeformationStep, FfdDesign};
+pub use ffd_design::{
+    run_design, run_design_resuming, run_design_with_cancel, run_design_with_progress, DeformationStep, FfdDesign,
+};
 pub use fold_angle::{fold_angle_change_max, fold_angle_max};
 pub use lattice_edit::{apply_edits, ControlPointSelection, IndexRanges, LatticeEdit};
 pub use nurbs_volume::{NurbsVolume, DIRECTION_NAMES};

@@ -1,7 +1,9 @@
 //! End-to-end properties of the developability-preserving FFD.
 
 use nalgebra::Vector3;
-use sheetform_ffd::{run_design, run_design_with_progress, FfdScene, ModelSource, RestorationProgress, SolverMethod};
+use sheetform_ffd::{
+    run_design, run_design_resuming, run_design_with_progress, FfdScene, ModelSource, RestorationProgress, SolverMethod,
+};
 use sheetform_mesh::{developability_summary, mesh_topology, vertex_developability};
 
 type Vec3 = Vector3<f64>;
@@ -634,4 +636,68 @@ fn a_cancelled_restoration_stops_with_an_error() {
         let error = sheetform_ffd::run_design_with_cancel(&scene, &mesh_of(&scene), &mut |_| {}, Some(&cancelled));
         assert_eq!(error.unwrap_err(), sheetform_ffd::FfdError::Cancelled);
     }
+}
+
+/// The editor's warm start: a design resumed from an earlier run restores only the
+/// deformations after the ones the two scenes share, and lands on exactly the shape a
+/// run from scratch gives; an undo (one deformation fewer) restores nothing; a change of
+/// the lattice, the solver or the panels, or of an earlier deformation, starts over.
+#[test]
+fn a_resumed_design_restores_only_the_new_deformations_and_matches_a_cold_run() {
+    let full = example("skirt-drag");
+    assert_eq!(full.deformations.len(), 2);
+    let mesh = mesh_of(&full);
+    let mut first = full.clone();
+    first.deformations.truncate(1);
+    let before = run_design(&first, &mesh).unwrap();
+    assert_eq!(before.resumed_deformations, 0);
+    let cold = run_design(&full, &mesh).unwrap();
+    let mut restorations = Vec::new();
+    let warm = run_design_resuming(
+        &full,
+        &mesh,
+        Some(&before),
+        &mut |p| restorations.push(p.deformation),
+        None,
+    )
+    .unwrap();
+    assert_eq!(warm.resumed_deformations, 1);
+    // Only the dragged deformation was restored ...
+    assert!(
+        !restorations.is_empty() && restorations.iter().all(|&k| k == 1),
+        "{restorations:?}"
+    );
+    // ... to exactly the shape of the cold run, and the first step is the earlier run's.
+    assert_eq!(warm.steps.len(), 2);
+    assert_eq!(warm.steps[0].restored, before.steps[0].restored);
+    for (a, b) in warm.steps.iter().zip(&cold.steps) {
+        assert_eq!(a.restored, b.restored);
+        assert_eq!(a.parameters, b.parameters);
+        assert_eq!(a.info.iterations, b.info.iterations);
+    }
+    // Undo: the shorter scene is all taken over.
+    let mut undone = Vec::new();
+    let back = run_design_resuming(&first, &mesh, Some(&warm), &mut |p| undone.push(p.deformation), None).unwrap();
+    assert_eq!((back.resumed_deformations, back.steps.len()), (1, 1));
+    assert!(undone.is_empty());
+    assert_eq!(back.steps[0].restored, before.steps[0].restored);
+    // Anything else that changes the result starts over.
+    let mut lattice = full.clone();
+    lattice.lattice.margin *= 2.0;
+    let mut solver = full.clone();
+    solver.solver.tolerance_rad = 1e-9;
+    let mut earlier = full.clone();
+    earlier.deformations[0].name = Some("renamed".into());
+    for (label, scene) in [
+        ("lattice", &lattice),
+        ("solver", &solver),
+        ("first deformation", &earlier),
+    ] {
+        let design = run_design_resuming(scene, &mesh, Some(&warm), &mut |_| {}, None).unwrap();
+        assert_eq!(design.resumed_deformations, 0, "{label}");
+    }
+    let mut other_panels = mesh.clone();
+    other_panels.positions[0].x += 1e-6;
+    let design = run_design_resuming(&full, &other_panels, Some(&warm), &mut |_| {}, None).unwrap();
+    assert_eq!(design.resumed_deformations, 0, "panels");
 }

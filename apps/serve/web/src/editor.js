@@ -562,7 +562,7 @@ function showPhotoReport(reply) {
     `isometry error ${short(r.isometry_error_max_relative, 2)}`,
     `server ${short(reply.server_ms)} ms`,
   ];
-  showStatus(r.status === 'ok' ? 'ok' : 'refused', parts.join(' · '));
+  showStatus(r.status === 'ok' ? 'ok' : 'refused', parts.filter(Boolean).join(' · '));
 }
 
 function showReport(reply, roundTrip) {
@@ -707,12 +707,14 @@ function showFfdReport(reply) {
   const parts = [
     `${r.status}`,
     `${f.steps.length} deformation${f.steps.length === 1 ? '' : 's'}`,
+    // The server resumes from its last design: only the new deformations are restored.
+    reply.resumed_deformations ? `${reply.resumed_deformations} taken from the last result` : null,
     `last: max defect ${short(last.angle_defect_max_before_rad, 2)} → ${short(last.angle_defect_max_after_rad, 2)} rad`,
     `${iterations} iterations`,
     `edges changed ≤ ${short(100 * last.edge_length_change_max_relative, 2)} %`,
     `server ${short(reply.server_ms)} ms`,
   ];
-  showStatus(r.status === 'ok' ? 'ok' : 'refused', parts.join(' · '));
+  showStatus(r.status === 'ok' ? 'ok' : 'refused', parts.filter(Boolean).join(' · '));
 }
 
 /**

@@ -298,13 +298,18 @@ try {
   assert.ok(maxAbs(afterDrag.restored.angle_defects_rad) <= 1e-8, 'restored after the drag');
   assert.ok((await page.evaluate(() => window.sheetformEditor.isometryError())) < 1e-8);
   assert.equal(afterDrag.report.ffd.steps.length, draggedSkirt.deformations.length);
+  // Only the drag was restored: the skirt's own deformation came from the last result.
+  assert.equal(afterDrag.resumed_deformations, JSON.parse(skirt).deformations.length);
+  assert.match(await page.textContent('#status'), /taken from the last result/);
   await page.screenshot({ path: join(outputDir, 'ffd.png') });
   await page.selectOption('#ffd-view', 'before');
   await page.screenshot({ path: join(outputDir, 'ffd-before.png') });
   await page.selectOption('#ffd-view', 'after');
   await answered(() => page.click('#undo'));
   assert.equal(await sceneText(), skirt, 'undo restores the exact previous scene');
-  assert.deepEqual((await meshReply()).restored.positions, ffd.restored.positions);
+  const undoneDrag = await meshReply();
+  assert.deepEqual(undoneDrag.restored.positions, ffd.restored.positions);
+  assert.equal(undoneDrag.resumed_deformations, JSON.parse(skirt).deformations.length, 'an undo restores nothing');
   // A long restoration (a 16k-vertex duct, every parameter a step: seconds), cancelled.
   const duct = JSON.parse(readFileSync(join(repository, 'examples/ffd/duct-100k.json'), 'utf8'));
   duct.model.procedural.around = 160;

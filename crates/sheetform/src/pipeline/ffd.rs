@@ -1,7 +1,7 @@
 //! `sheetform ffd`: system C (Wang & Tang).
 
 use crate::report::{ChartMethod, Command, FfdReport, FfdStepReport, Report, Status, Timings};
-use sheetform_ffd::{run_design_with_cancel, FfdDesign, FfdError, FfdScene, ModelSource, SolverMethod};
+use sheetform_ffd::{run_design_resuming, FfdDesign, FfdError, FfdScene, ModelSource, SolverMethod};
 use sheetform_flatten::Chart;
 use sheetform_flatten::{distortion, exact_unfold, ChartSet, UnfoldOptions};
 use sheetform_io::{glb_bytes, obj_string, stl_bytes};
@@ -25,6 +25,10 @@ pub struct FfdRunOptions {
     pub input: Option<String>,
     /// Overrides the scene's solver (`--solver`).
     pub solver: Option<SolverMethod>,
+    /// An earlier run's design to resume from (an editor's last result): the
+    /// deformations the two scenes share are taken over, only the rest restored
+    /// ([`sheetform_ffd::run_design_resuming`]; the same result as a run from scratch).
+    pub warm_start: Option<std::sync::Arc<FfdDesign>>,
 }
 
 /// A finished FFD run.
@@ -85,9 +89,10 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
     // Restorations take 5 % to 90 % of the bar, in equal shares per deformation.
     let mut shown = 0.05;
     context.progress("restoring", shown);
-    let design = run_design_with_cancel(
+    let design = run_design_resuming(
         &scene,
         &mesh,
+        options.warm_start.as_deref(),
         &mut |p| {
             let fraction = 0.05 + 0.85 * (p.deformation as f64 + p.fraction()) / p.deformation_count as f64;
             shown = fraction.max(shown);
