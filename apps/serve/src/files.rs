@@ -22,6 +22,42 @@ pub(crate) fn routes() -> Router<Arc<AppState>> {
     Router::new()
         .route("/api/files", get(list))
         .route("/api/files/{*path}", get(open).put(save))
+        .route("/api/relocate", axum::routing::post(relocate))
+}
+
+/// `?from=DIR&to=DIR`: a scene file's directory before and after a "save as", both
+/// inside the served one.
+#[derive(Debug, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RelocateQuery {
+    from: String,
+    to: String,
+}
+
+/// `POST /api/relocate?from=…&to=…` with a scene: the asset paths to rewrite so that the
+/// scene, saved in `to`, names the same files it named in `from`
+/// (`pipeline::relocated_scene_assets`). The editor applies them to its scene (keeping
+/// the file's field order) before it saves.
+async fn relocate(
+    crate::api::ApiQuery(query): crate::api::ApiQuery<RelocateQuery>,
+    ApiBody(body): ApiBody<String>,
+) -> Result<Response, ApiError> {
+    for (name, dir) in [("from", &query.from), ("to", &query.to)] {
+        if !dir.is_empty() && !sheetform::io::is_plain_relative(dir) {
+            return Err(ApiError::invalid(format!(
+                "{name}: `{}` is not a directory inside the served one",
+                sheetform::geometry::shortened_message(dir)
+            )));
+        }
+    }
+    let scene: serde_json::Value =
+        serde_json::from_str(&body).map_err(|e| ApiError::invalid(format!("not a JSON document: {e}")))?;
+    let moves = sheetform::pipeline::relocated_scene_assets(
+        &scene,
+        std::path::Path::new(&query.from),
+        std::path::Path::new(&query.to),
+    );
+    Ok(Json(serde_json::json!({ "moves": moves })).into_response())
 }
 
 /// Extensions of the mesh files the mesh mode reads.

@@ -10,7 +10,7 @@
 //! | `POST /api/bend/file/{name}` | one of the files `sheetform bend` writes (OBJ, GLB, STL, SVG, DXF, PDF), for download |
 //! | `POST /api/slit` | a slit scene in, the bent sheet, its pattern and the report (per-strip gaps) out ([`sheetform::pipeline::run_slit`], preview outputs) |
 //! | `POST /api/slit/file/{name}` | one of the files `sheetform slit` writes, for download |
-//! | `POST /api/ffd` | an FFD scene in; progress lines while it runs (closing the connection cancels), then the restored panels, the plain FFD, both angle-defect maps, the deformed lattice, the pattern and the report ([`sheetform::pipeline::run_ffd`], preview outputs), as NDJSON |
+//! | `POST /api/ffd` | an FFD scene in, resumed from the last design the server restored (only the deformations after those the two scenes share are restored); progress lines while it runs (closing the connection cancels), then the restored panels, the plain FFD, both angle-defect maps, the deformed lattice, the pattern and the report ([`sheetform::pipeline::run_ffd`], preview outputs), as NDJSON |
 //! | `POST /api/ffd/file/{name}` | one of the files `sheetform ffd` writes, for download |
 //! | `POST /api/photo?dir=…` | a photo annotation in (its photograph read relative to `dir`), the reconstructed model, its pattern and the report out ([`sheetform::pipeline::run_photo`], preview outputs) |
 //! | `POST /api/photo/file/{name}?dir=…` | one of the files `sheetform photo` writes, for download |
@@ -18,6 +18,7 @@
 //! | `POST /api/mesh/file/{name}?name=…` | one of the files `sheetform flatten` writes, for download |
 //! | `GET /api/files` | the scene files (`*.json`) and the meshes under the served directory |
 //! | `GET /api/files/{path}` / `PUT /api/files/{path}` | open / save a scene file, confined to the served directory |
+//! | `POST /api/relocate?from=…&to=…` | a scene in, the asset paths that name the same files once the scene is saved in `to` instead of `from` out ([`sheetform::pipeline::relocated_scene_assets`]; the editor's "save as") |
 //!
 //! On loopback (the default) a request whose `Host` or `Origin` names another machine is
 //! refused (DNS rebinding, cross-site posts). Every request is bounded ([`ServeOptions::max_request_bytes`]), solves run on a

@@ -481,6 +481,53 @@ async fn an_ffd_scene_streams_its_progress_then_the_restored_panels() {
     );
 }
 
+/// Save as, into another directory: the server says which asset paths name the same
+/// files from there (the editor applies them); directories outside the served one and
+/// bodies that are not JSON are refused.
+#[tokio::test]
+async fn a_scene_moved_to_another_directory_gets_its_asset_paths_rewritten() {
+    let (_dir, root) = served();
+    let app = router(&ServeOptions {
+        root,
+        ..Default::default()
+    })
+    .unwrap();
+    let photo = std::fs::read_to_string(repository().join("examples/photo/coffee-cup.json")).unwrap();
+    let (status, body) = send(
+        &app,
+        "POST",
+        "/api/relocate?from=examples/photo&to=designs/cups",
+        photo.clone(),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let moves = json(&body)["moves"].clone();
+    assert_eq!(
+        moves,
+        serde_json::json!([{"pointer": "/image/path", "field": "image.path", "from": "coffee.png", "to": "../../examples/photo/coffee.png"}])
+    );
+    // Nothing to move within the same directory.
+    let (_, body) = send(
+        &app,
+        "POST",
+        "/api/relocate?from=examples/photo&to=examples/photo",
+        photo.clone(),
+    )
+    .await;
+    assert_eq!(json(&body)["moves"], serde_json::json!([]));
+    for query in ["from=../secret&to=a", "from=a&to=/etc", "from=a"] {
+        let (status, body) = send(&app, "POST", &format!("/api/relocate?{query}"), photo.clone()).await;
+        assert_eq!(
+            status,
+            StatusCode::BAD_REQUEST,
+            "{query}: {}",
+            String::from_utf8_lossy(&body)
+        );
+    }
+    let (status, _) = send(&app, "POST", "/api/relocate?from=a&to=b", "{not json").await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+}
+
 /// The last line of an FFD reply (`result` or `error`).
 async fn ffd_reply(app: &axum::Router, scene: &Value) -> Value {
     let (status, body) = send(app, "POST", "/api/ffd", scene.to_string()).await;

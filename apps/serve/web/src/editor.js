@@ -1313,12 +1313,37 @@ $('save').addEventListener('click', async () => {
   if (!state.scene) return;
   const path = window.prompt('Save the scene as (a path in the served directory):', state.path || 'scene.json');
   if (!path) return;
+  // Saved into another directory, the scene must name its files (texture, mesh, point
+  // cloud, photograph) from there: the server says which paths change, and they are
+  // changed here, so the file keeps its order of fields.
+  const [from, to] = [sceneDirectory(), path.split('/').slice(0, -1).join('/')];
+  let scene = state.scene;
+  const moved = [];
+  if (from !== to) {
+    const query = `from=${encodeURIComponent(from)}&to=${encodeURIComponent(to)}`;
+    const relocation = await fetch(`/api/relocate?${query}`, { method: 'POST', body: JSON.stringify(scene) });
+    const reply = await relocation.json();
+    if (!relocation.ok) {
+      showStatus('error', `not saved: ${reply.error.message}`);
+      return;
+    }
+    if (reply.moves.length > 0) {
+      scene = structuredClone(scene);
+      for (const move of reply.moves) {
+        const keys = move.pointer.split('/').slice(1);
+        const parent = keys.slice(0, -1).reduce((object, key) => object[key], scene);
+        parent[keys.at(-1)] = move.to;
+        moved.push(`${move.field} ${move.from} → ${move.to}`);
+      }
+    }
+  }
   const response = await fetch(`/api/files/${path.split('/').map(encodeURIComponent).join('/')}`, {
-    method: 'PUT', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(state.scene, null, 2),
+    method: 'PUT', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(scene, null, 2),
   });
   if (response.ok) {
     state.path = path;
-    showStatus('ok', `saved ${path}`);
+    state.scene = scene;
+    showStatus('ok', [`saved ${path}`, ...moved].join(' · '));
     listFiles();
   } else {
     showStatus('error', `not saved: ${(await response.json()).error.message}`);

@@ -16,14 +16,15 @@
 // deleted silhouette refused, a curve added with four clicks sent. In mesh mode: a
 // bundled mesh is checked and flattened exactly, a mesh dropped on the 3D view replaces
 // it, a layout change is undone exactly, an impossible layout and a malformed mesh are
-// refused with the last result kept, and the OBJ downloads. The server refuses files
-// outside its directory and hostile requests and keeps serving. Measures an edit's round
+// refused with the last result kept, and the OBJ downloads. A textured scene saved into
+// another directory names its texture from there. The server refuses files outside its
+// directory and hostile requests and keeps serving. Measures an edit's round
 // trip (event → server solve → redraw) on a 1 000-ruling sheet and on the slit chair.
 // Screenshots go to OUTPUT_DIR; the figures are printed as JSON on the last line.
 
 import { spawn } from 'node:child_process';
 import { createInterface } from 'node:readline';
-import { mkdirSync, readFileSync } from 'node:fs';
+import { mkdirSync, readFileSync, rmSync } from 'node:fs';
 import { join } from 'node:path';
 import assert from 'node:assert/strict';
 import { chromium } from 'playwright-core';
@@ -502,6 +503,31 @@ try {
   assert.equal(await page.isVisible('#drag-mode'), true);
   assert.equal(await page.isVisible('#charts'), false);
 
+  // 10b. Save as, into another directory: the texture path is rewritten to name the
+  // same file from there (the rest of the file as it was), and the saved scene bends.
+  {
+    const saved = 'target/editor-test/saved/textured.json';
+    rmSync(join(repository, 'target/editor-test'), { recursive: true, force: true });
+    // (A save goes into a directory that exists, as in any editor.)
+    mkdirSync(join(repository, 'target/editor-test/saved'), { recursive: true });
+    await page.selectOption('#file-list', 'examples/textured-sheet.json');
+    await answered(() => page.click('#open'));
+    const opened = JSON.parse(await sceneText());
+    assert.equal(opened.texture, 'textures/grid-240x120mm.png');
+    page.once('dialog', (dialog) => dialog.accept(saved));
+    await page.click('#save');
+    await page.waitForFunction(() => /saved/.test(document.getElementById('status').textContent));
+    assert.match(await page.textContent('#status'), /texture textures\/grid-240x120mm\.png → \.\.\/\.\.\/\.\.\/examples\/textures\/grid-240x120mm\.png/);
+    const file = JSON.parse(readFileSync(join(repository, saved), 'utf8'));
+    assert.equal(file.texture, '../../../examples/textures/grid-240x120mm.png');
+    assert.deepEqual(Object.keys(file), Object.keys(opened), 'the fields keep their order');
+    assert.deepEqual({ ...file, texture: opened.texture }, opened, 'nothing else changed');
+    assert.deepEqual(JSON.parse(await sceneText()), file, 'the page edits the saved scene');
+    const bent = await fetch(`${url}api/bend?dir=target%2Feditor-test%2Fsaved`, { method: 'POST', body: JSON.stringify(file) });
+    assert.equal(bent.status, 200, 'the saved scene finds its texture');
+    rmSync(join(repository, 'target/editor-test'), { recursive: true, force: true });
+  }
+
   // 11. The server: no file outside its directory, hostile requests answered with an
   // error, and it keeps serving.
   for (const path of ['..%2FCargo.toml', '%2Fetc%2Fpasswd', '..%2F..%2Fetc%2Fpasswd']) {
@@ -510,6 +536,8 @@ try {
   }
   const put = await fetch(`${url}api/files/..%2Foutside.json`, { method: 'PUT', body: '{}' });
   assert.equal(put.status, 400, 'a save outside the directory is refused');
+  const away = await fetch(`${url}api/relocate?from=examples&to=..%2Foutside`, { method: 'POST', body: '{}' });
+  assert.equal(away.status, 400, 'no relocation out of the directory');
   assert.equal((await fetch(`${url}api/bend`, { method: 'POST', body: '{"outline": [' })).status, 400);
   const huge = 'x'.repeat(70 << 20);
   const tooLarge = await fetch(`${url}api/bend`, { method: 'POST', body: huge }).catch(() => ({ status: 413 }));

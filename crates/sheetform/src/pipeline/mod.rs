@@ -1,6 +1,7 @@
 //! The pipelines every front end calls: one module per command, the outputs and report
 //! parts they share.
 
+mod asset_relocation;
 mod bend;
 mod bend_edit;
 mod check;
@@ -13,6 +14,7 @@ mod photo;
 mod sheet_report;
 mod slit;
 
+pub use asset_relocation::*;
 pub use bend::*;
 pub use bend_edit::*;
 pub use check::*;
