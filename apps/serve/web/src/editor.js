@@ -11,8 +11,9 @@
 // moves it; the server restores developability (`sheetform ffd`) while the page shows
 // its progress and can cancel it, then the restored panels and both colour maps.
 // Photo mode: the annotation's curves drawn over its photograph; control points dragged,
-// curves added, marked silhouette or boundary (or self-symmetric) or deleted, and each
-// change reconstructed (`sheetform photo`).
+// curves added, marked silhouette or boundary (or self-symmetric) or deleted; the
+// symmetry frame, the mirror-symmetric points and the true-size segment dragged, the
+// true size typed, the depth flipped; each change reconstructed (`sheetform photo`).
 
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
@@ -385,18 +386,31 @@ function drawPhotoEditor(scene) {
   svgElement('image', { href, x: 0, y: 0, width, height }, photoSvg);
   const unit = Math.max(width, height) / 400;
   const marks = svgElement('g', {}, photoSvg);
+  // The symmetry frame (cyan), the mirror-symmetric points (red squares) and the
+  // true-size segment (green), each end a handle to drag (`data-mark`: which point).
+  const handle = (mark, [x, y], colour, square = false) => {
+    const size = 2.2 * unit;
+    const attributes = { fill: colour, stroke: '#fff', 'stroke-width': unit * 0.4, 'data-mark': mark, class: 'mark' };
+    if (square) svgElement('rect', { x: x - size, y: y - size, width: 2 * size, height: 2 * size, ...attributes }, marks);
+    else svgElement('circle', { cx: x, cy: y, r: size, ...attributes }, marks);
+  };
   const symmetry = scene.symmetry;
   if (symmetry) {
-    for (const [[x1, y1], [x2, y2]] of symmetry.frame || []) {
+    (symmetry.frame || []).forEach(([[x1, y1], [x2, y2]], s) => {
       svgElement('line', { x1, y1, x2, y2, stroke: '#17a2b8', 'stroke-width': unit, 'pointer-events': 'none' }, marks);
-    }
-    for (const [x, y] of symmetry.points || []) {
-      svgElement('rect', { x: x - 2 * unit, y: y - 2 * unit, width: 4 * unit, height: 4 * unit, fill: '#e74c3c', 'pointer-events': 'none' }, marks);
-    }
+      handle(`symmetry.frame.${s}.0`, [x1, y1], '#17a2b8');
+      handle(`symmetry.frame.${s}.1`, [x2, y2], '#17a2b8');
+    });
+    (symmetry.points || []).forEach((point, k) => handle(`symmetry.points.${k}`, point, '#e74c3c', true));
+    $('flip-depth').checked = Boolean(symmetry.flip_depth);
   }
   if (scene.true_size) {
     const { from: [x1, y1], to: [x2, y2] } = scene.true_size;
     svgElement('line', { x1, y1, x2, y2, stroke: '#27ae60', 'stroke-width': unit * 0.7, 'stroke-dasharray': `${4 * unit} ${2 * unit}`, 'pointer-events': 'none' }, marks);
+    handle('true_size.from', [x1, y1], '#27ae60');
+    handle('true_size.to', [x2, y2], '#27ae60');
+    if (document.activeElement !== $('true-size')) $('true-size').value = scene.true_size.length;
+    $('true-size-unit').textContent = scene.units || 'mm';
   }
   scene.curves.forEach((curve, c) => {
     const colour = KIND_COLOURS[curve.kind] || '#555';
@@ -413,6 +427,8 @@ function drawPhotoEditor(scene) {
       }, group);
     });
   });
+  // The marks' handles over the curves (a true-size end lies on a curve).
+  photoSvg.append(marks);
   for (const point of photo.adding || []) {
     svgElement('circle', { cx: point[0], cy: point[1], r: 2 * unit, fill: '#f39c12' }, photoSvg);
   }
@@ -482,15 +498,28 @@ photoSvg.addEventListener('pointerdown', (event) => {
     return;
   }
   const target = event.target;
-  if (target.tagName !== 'circle' || target.dataset.curve === undefined) return;
-  photo.drag = { curve: Number(target.dataset.curve), index: Number(target.dataset.index), moved: false };
+  if (target.dataset.mark !== undefined) {
+    // A symmetry or true-size point: `symmetry.frame.S.E`, `symmetry.points.K`,
+    // `true_size.from` or `true_size.to`, a path into the annotation.
+    photo.drag = { mark: target.dataset.mark.split('.'), moved: false };
+  } else if (target.tagName === 'circle' && target.dataset.curve !== undefined) {
+    photo.drag = { curve: Number(target.dataset.curve), index: Number(target.dataset.index), moved: false };
+  } else {
+    return;
+  }
   photo.working = structuredClone(state.scene);
   photoSvg.setPointerCapture(event.pointerId);
 });
 
 photoSvg.addEventListener('pointermove', (event) => {
   if (!photo.drag) return;
-  photo.working.curves[photo.drag.curve].control_points[photo.drag.index] = photoPoint(event);
+  if (photo.drag.mark) {
+    const keys = photo.drag.mark;
+    const parent = keys.slice(0, -1).reduce((object, key) => object[key], photo.working);
+    parent[keys.at(-1)] = photoPoint(event);
+  } else {
+    photo.working.curves[photo.drag.curve].control_points[photo.drag.index] = photoPoint(event);
+  }
   photo.drag.moved = true;
   drawPhotoEditor(photo.working);
 });
@@ -510,6 +539,18 @@ $('add-curve').addEventListener('click', () => {
   photo.adding = [];
   photoSvg.classList.add('adding');
   showStatus('busy', 'click the new curve\'s four control points on the photo');
+});
+$('true-size').addEventListener('change', (event) => {
+  if (state.mode !== 'photo' || !state.scene) return;
+  const next = structuredClone(state.scene);
+  next.true_size.length = Number(event.target.value);
+  commit(next);
+});
+$('flip-depth').addEventListener('change', (event) => {
+  if (state.mode !== 'photo' || !state.scene) return;
+  const next = structuredClone(state.scene);
+  next.symmetry.flip_depth = event.target.checked;
+  commit(next);
 });
 $('photo-pane').addEventListener('change', (event) => {
   $('photo-editor').hidden = event.target.value !== 'photo';
@@ -1111,7 +1152,7 @@ function setMode(mode) {
   for (const element of document.querySelectorAll('[data-for]')) element.hidden = !element.dataset.for.split(' ').includes(mode);
   if (mode === 'photo') $('photo-editor').hidden = $('photo-pane').value !== 'photo';
   $('model-caption').textContent = {
-    photo: '3D model reconstructed from the photo (the photo view shows the curves: drag their points, add, mark or delete curves).',
+    photo: '3D model reconstructed from the photo (the photo view shows the curves: drag their points or the symmetry and true-size marks, add, mark or delete curves).',
     ffd: '3D model: drag a purple lattice control point and release it: the panels follow and their developability is restored (Cancel stops it); orbit, pan and zoom elsewhere.',
     mesh: '3D model: each piece of the pattern in its own colour (or the angle defect at each vertex); orbit, pan and zoom; drop a mesh file here.',
     slit: '3D model: drag an orange point of the leg curve or a blue point of the seat curve (each in its own plane); orbit, pan and zoom elsewhere.',

@@ -12,8 +12,10 @@
 // point dragged and released is restored (progress shown), undone exactly; a long
 // restoration is cancelled (an undo too, leaving the history as it was) and an edit of
 // a point the lattice lacks refused, the last result kept. In photo mode: a curve's
-// control point dragged over the photograph is reconstructed and undone exactly, a
-// deleted silhouette refused, a curve added with four clicks sent. In mesh mode: a
+// control point dragged over the photograph is reconstructed and undone exactly, the
+// true size typed scales the model, the true-size segment and a symmetry point dragged,
+// the depth flipped, each undone; a deleted silhouette refused, a curve added with four
+// clicks sent. In mesh mode: a
 // bundled mesh is checked and flattened exactly, a mesh dropped on the 3D view replaces
 // it, a layout change is undone exactly, an impossible layout and a malformed mesh are
 // refused with the last result kept, and the OBJ downloads. A textured scene saved into
@@ -404,6 +406,44 @@ try {
   await page.selectOption('#photo-pane', 'photo');
   await answered(() => page.click('#undo'));
   assert.equal(await sceneText(), cupScene, 'undo restores the exact previous annotation');
+  // The true size typed: twice the length, a model twice as large (the same shape).
+  const extent = (positions) => {
+    let largest = 0;
+    for (let a = 0; a < 3; a++) {
+      const values = positions.filter((_, i) => i % 3 === a);
+      largest = Math.max(largest, Math.max(...values) - Math.min(...values));
+    }
+    return largest;
+  };
+  await page.fill('#true-size', String(2 * JSON.parse(cupScene).true_size.length));
+  await answered(() => page.press('#true-size', 'Enter'));
+  assert.equal(JSON.parse(await sceneText()).true_size.length, 2 * JSON.parse(cupScene).true_size.length);
+  const doubled = await meshReply();
+  assert.equal(doubled.report.status, 'ok');
+  assert.ok(Math.abs(extent(doubled.model.positions) / extent(cup.model.positions) - 2) < 1e-6, 'twice the size');
+  await answered(() => page.click('#undo'));
+  assert.equal(await sceneText(), cupScene);
+  // An end of the true-size segment and a mirror-symmetric point dragged on the photo,
+  // the depth flipped: each moves its mark and is reconstructed (or refused), and undone.
+  for (const mark of ['true_size.to', 'symmetry.points.1']) {
+    const box = await page.locator(`#photo-svg [data-mark="${mark}"]`).boundingBox();
+    const [x, y] = [box.x + box.width / 2, box.y + box.height / 2];
+    await page.mouse.move(x, y);
+    await page.mouse.down();
+    for (let step = 1; step <= 4; step++) await page.mouse.move(x - 2 * step, y + step);
+    await answered(() => page.mouse.up());
+    const keys = mark.split('.');
+    const at = (scene) => keys.reduce((object, key) => object[key], scene);
+    const [was, now] = [at(JSON.parse(cupScene)), at(JSON.parse(await sceneText()))];
+    assert.ok(was[0] - now[0] > 2 && now[1] - was[1] > 1, `${mark} moved: ${was} -> ${now}`);
+    assert.equal((await meshReply()).report.status, 'ok', await page.textContent('#status'));
+    await answered(() => page.click('#undo'));
+    assert.equal(await sceneText(), cupScene, `${mark} undone`);
+  }
+  await answered(() => page.click('#flip-depth'));
+  assert.equal(JSON.parse(await sceneText()).symmetry.flip_depth, true);
+  await answered(() => page.click('#undo'));
+  assert.equal(await sceneText(), cupScene);
   // Deleting a silhouette: refused.
   const photoRefusals = await page.evaluate(() => window.sheetformEditor.state.refusals);
   await answered(() => page.click('#curve-list div[data-curve="left-silhouette"] .delete'));
