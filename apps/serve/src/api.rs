@@ -173,6 +173,8 @@ const REGRESSION_REACH: f64 = 1.0;
 #[derive(Debug, Serialize)]
 struct BendReply {
     model: MeshArrays,
+    /// The angle defect at each vertex of `model` (radians; the colour map).
+    angle_defects_rad: Vec<f64>,
     /// The curve of regression where it comes near the sheet: polylines, `x y z` per
     /// point (model units).
     regression_curves: Vec<Vec<f64>>,
@@ -301,6 +303,7 @@ fn preview(
     let run = run_bend(scene, &BendRunOptions::default(), &context)?;
     Ok(BendReply {
         model: MeshArrays::new(&run.sheet.mesh),
+        angle_defects_rad: run.angle_defects_rad,
         regression_curves: run
             .sheet
             .curves_of_regression_near_sheet(REGRESSION_REACH)

@@ -60,6 +60,18 @@ async fn a_solve_answers_with_a_model_isometric_to_its_pattern() {
     // Every edge as long in 3D as in the pattern.
     let worst = isometry_error(model);
     assert!(worst < 1e-9, "isometry error {worst}");
+    // The colour map: the angle defect at every vertex, zero to rounding (its largest
+    // value is the report's).
+    let defects: Vec<f64> = serde_json::from_value(reply["angle_defects_rad"].clone()).unwrap();
+    assert_eq!(defects.len(), vertices);
+    let largest = defects.iter().fold(0.0f64, |m, g| m.max(g.abs()));
+    assert!(largest < 1e-9, "{largest}");
+    assert_eq!(
+        reply["report"]["angle_defects"]["angle_defect_max_rad"]
+            .as_f64()
+            .unwrap(),
+        largest
+    );
     let svg = reply["pattern_svg"].as_str().unwrap();
     assert!(
         svg.starts_with("<?xml") || svg.starts_with("<svg"),

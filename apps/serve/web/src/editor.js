@@ -238,11 +238,21 @@ function drawRegression(curves) {
   }
 }
 
-function drawModel(model) {
+function drawModel(model, angleDefects) {
   const geometry = new THREE.BufferGeometry();
   geometry.setAttribute('position', new THREE.Float32BufferAttribute(model.positions, 3));
   geometry.setIndex(model.triangles);
   geometry.computeVertexNormals();
+  // Bend mode's developability colour map: the angle defect at each vertex.
+  const coloured = state.mode === 'bend' && angleDefects && $('bend-view').value === 'defect';
+  if (coloured) {
+    const colour = new Float32Array(3 * angleDefects.length);
+    angleDefects.forEach((g, v) => {
+      const c = defectColour(g);
+      colour.set([c.r, c.g, c.b], 3 * v);
+    });
+    geometry.setAttribute('color', new THREE.BufferAttribute(colour, 3));
+  }
   sheet.geometry.dispose();
   sheet.geometry = geometry;
   const segments = [];
@@ -257,7 +267,7 @@ function drawModel(model) {
   lines.setAttribute('position', new THREE.Float32BufferAttribute(segments, 3));
   rulings.geometry.dispose();
   rulings.geometry = lines;
-  sheet.material = sheetMaterial;
+  sheet.material = coloured ? colouredMaterial : sheetMaterial;
   frame(geometry);
 }
 
@@ -721,7 +731,7 @@ async function solveNow(scene, started, edit) {
   state.reply = body;
   state.lastError = null;
   if (state.mode === 'slit') fillSlitInputs(scene);
-  drawModel(body.model);
+  drawModel(body.model, body.angle_defects_rad);
   drawRegression(body.regression_curves || []);
   drawHandles(scene);
   drawPattern(body.pattern_svg);
@@ -867,6 +877,11 @@ async function runFfd(scene, history = 'remember') {
 $('cancel').addEventListener('click', () => {
   state.ffdPending = null;
   if (state.ffdController) state.ffdController.abort();
+});
+$('bend-view').addEventListener('change', () => {
+  if (state.mode !== 'bend' || !state.reply) return;
+  drawModel(state.reply.model, state.reply.angle_defects_rad);
+  render();
 });
 $('ffd-view').addEventListener('change', () => {
   if (state.mode === 'ffd' && state.reply) {
@@ -1447,6 +1462,13 @@ window.sheetformEditor = {
     return pageCoordinates(content.localToWorld(new THREE.Vector3(...p)));
   },
   runFfd,
+  /** The drawn sheet's vertex colours (`[r, g, b]` per vertex), or null when plain. */
+  sheetColours() {
+    const colour = sheet.geometry.getAttribute('color');
+    return sheet.material.vertexColors && colour ? Array.from({ length: colour.count }, (_, v) => [colour.getX(v), colour.getY(v), colour.getZ(v)]) : null;
+  },
+  /** The colour of an angle defect on the colour maps of the bend and mesh modes. */
+  defectColour: (g) => defectColour(g).toArray(),
   /** The page coordinates of a slit curve's control point (`leg_curve` or `seat_curve`). */
   slitHandleScreenPosition(curve, index) {
     const { points } = slitCurves(state.scene).find((c) => c.curve === curve);

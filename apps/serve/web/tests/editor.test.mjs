@@ -5,7 +5,7 @@
 //
 // Checks, in bend mode: an example loads; a control point dragged with the mouse changes
 // the model, which stays isometric to its pattern (in the page and in the server's
-// report); undo restores the exact previous scene; an inadmissible drag is refused and
+// report) and developable on its colour map; undo restores the exact previous scene; an inadmissible drag is refused and
 // the last admissible scene kept. In slit mode: the chair's seat curve dragged with the
 // mouse re-solves the strips (isometric, a gap per strip shown), a typed sheet length is
 // undone exactly, an impossible strip count is refused. In FFD mode: a lattice control
@@ -116,6 +116,20 @@ try {
   assert.ok(reply.report.isometry_error_max_relative < 1e-9, 'isometric in the server report');
   assert.deepEqual(reply.model.positions, after, 'the page shows what the server computes for its scene');
   await page.screenshot({ path: join(outputDir, 'bend.png') });
+  // The developability colour map: an angle defect per vertex, zero to rounding on the
+  // bent sheet, so every vertex is drawn in the map's "developable" grey.
+  assert.equal(reply.angle_defects_rad.length, reply.model.positions.length / 3);
+  assert.ok(Math.max(...reply.angle_defects_rad.map(Math.abs)) < 1e-9, 'the bent sheet is developable');
+  assert.equal(await page.evaluate(() => window.sheetformEditor.sheetColours()), null, 'plain by default');
+  await page.selectOption('#bend-view', 'defect');
+  const colours = await page.evaluate(() => window.sheetformEditor.sheetColours());
+  const grey = await page.evaluate(() => window.sheetformEditor.defectColour(0));
+  assert.equal(colours.length, reply.model.positions.length / 3);
+  assert.ok(colours.every((c) => c.every((x, k) => Math.abs(x - grey[k]) < 1e-6)), 'every vertex developable');
+  assert.notDeepEqual(await page.evaluate(() => window.sheetformEditor.defectColour(0.01)), grey, 'a defect would show');
+  await page.screenshot({ path: join(outputDir, 'bend-defects.png') });
+  await page.selectOption('#bend-view', 'sheet');
+  assert.equal(await page.evaluate(() => window.sheetformEditor.sheetColours()), null);
 
   // 3. Undo restores the exact previous scene; redo the drag.
   await page.click('#undo');

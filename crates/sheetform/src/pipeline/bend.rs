@@ -8,7 +8,7 @@ use sheetform_mesh::developability_error;
 use super::context::RunContext;
 use super::error::{Outcome, PipelineError};
 use super::outputs::{output_names, pattern_files, PatternOutputOptions};
-use super::sheet_report::sheet_mesh_report;
+use super::sheet_report::sheet_mesh_report_and_defects;
 use std::time::Instant;
 
 /// Knobs of `sheetform bend`.
@@ -40,6 +40,10 @@ pub struct BendRun {
     pub files: Vec<(String, Vec<u8>)>,
     /// The report (its `outputs` lists `files` and `report.json`).
     pub report: Report,
+    /// The angle defect `2π − Σθ` at each vertex of `sheet.mesh` (radians; 0 on the
+    /// boundary): the developability colour map of a live preview, zero to rounding on
+    /// a sheet bent without stretching.
+    pub angle_defects_rad: Vec<f64>,
     /// How the run ended (always [`Outcome::Ok`]: an inadmissible shape is the error
     /// [`PipelineError::Inadmissible`], with its report).
     pub outcome: Outcome,
@@ -150,7 +154,7 @@ pub fn run_bend(scene: &BendScene, options: &BendRunOptions, context: &RunContex
         context.progress("animating", 0.5 + 0.5 * (i + 1) as f64 / frames as f64);
     }
     let exported = Instant::now();
-    let mut report = bend_report(&model, &sheet, options.input.clone(), &files);
+    let (mut report, angle_defects_rad) = bend_report(&model, &sheet, options.input.clone(), &files);
     report.pattern = Some(pattern_report);
     report.timings = Timings::from_stages(start, parsed, solved, exported);
     context.progress("done", 1.0);
@@ -159,6 +163,7 @@ pub fn run_bend(scene: &BendScene, options: &BendRunOptions, context: &RunContex
         sheet,
         files,
         report,
+        angle_defects_rad,
         outcome: Outcome::Ok,
     })
 }
@@ -168,10 +173,10 @@ pub(crate) fn bend_report(
     sheet: &BentSheet,
     input: Option<String>,
     files: &[(String, Vec<u8>)],
-) -> Report {
+) -> (Report, Vec<f64>) {
     let mm = model.unit.millimetres();
     let mesh = &sheet.mesh;
-    let mut report = sheet_mesh_report(Command::Bend, input, mesh);
+    let (mut report, angle_defects) = sheet_mesh_report_and_defects(Command::Bend, input, mesh);
     report.admissible = Some(true);
     report.ruling_count = Some(sheet.regions.iter().map(|r| r.ruling_count).sum());
     report.developability_error_max_rad = Some(developability_error(mesh).max_radians);
@@ -191,7 +196,7 @@ pub(crate) fn bend_report(
         })
         .collect();
     report.outputs = output_names(files);
-    report
+    (report, angle_defects)
 }
 
 /// The report of a shape refused as inadmissible (no mesh is made).

@@ -48,6 +48,16 @@ pub(crate) fn angle_defects(
 /// The report fields every command that makes a [`SheetMesh`] shares: unit, counts, the
 /// isometry error of its flat pattern, angle defects, areas (mm, mm²), pieces.
 pub(crate) fn sheet_mesh_report(command: Command, input: Option<String>, mesh: &SheetMesh) -> Report {
+    sheet_mesh_report_and_defects(command, input, mesh).0
+}
+
+/// [`sheet_mesh_report`] and the angle defect at each vertex of `mesh` (radians; 0 on
+/// the boundary), the colour map of a live preview.
+pub(crate) fn sheet_mesh_report_and_defects(
+    command: Command,
+    input: Option<String>,
+    mesh: &SheetMesh,
+) -> (Report, Vec<f64>) {
     let mm = mesh.unit.millimetres();
     let iso = isometry_error(mesh);
     let triangle_mesh = mesh.to_triangle_mesh();
@@ -58,11 +68,12 @@ pub(crate) fn sheet_mesh_report(command: Command, input: Option<String>, mesh: &
     report.face_count = mesh.triangles.len();
     report.isometry_error_max_relative = Some(iso.max_relative);
     report.isometry_error_mean_relative = Some(iso.mean_relative);
-    report.angle_defects = Some(angle_defects(&triangle_mesh, &topology, DEFAULT_ANGLE_TOLERANCE, mm).0);
+    let (figures, vertices) = angle_defects(&triangle_mesh, &topology, DEFAULT_ANGLE_TOLERANCE, mm);
+    report.angle_defects = Some(figures);
     report.flat_area_mm2 = Some(mesh.flat_area() * mm * mm);
     report.area_mm2 = mesh.area() * mm * mm;
     report.piece_count = Some(mesh.pieces.len());
-    report
+    (report, vertices.angle_defect)
 }
 
 /// Default tolerance (radians) under which an angle defect counts as zero: 1e-4 rad
