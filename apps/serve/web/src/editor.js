@@ -368,7 +368,10 @@ function drawFfdModel(reply) {
 const SVG = 'http://www.w3.org/2000/svg';
 const photoSvg = $('photo-svg');
 const KIND_COLOURS = { silhouette: '#2b5d8a', boundary: '#c0392b' };
-const photo = { drag: null, working: null, adding: null };
+// `draft`: an annotation started from a photograph that has not been reconstructed yet;
+// until it is, a refused edit is kept (the curves are traced one at a time) instead of
+// the last admissible annotation.
+const photo = { drag: null, working: null, adding: null, draft: false };
 
 function svgElement(name, attributes, parent) {
   const element = document.createElementNS(SVG, name);
@@ -550,6 +553,57 @@ $('add-curve').addEventListener('click', () => {
   photoSvg.classList.add('adding');
   showStatus('busy', 'click the new curve\'s four control points on the photo');
 });
+/** A new annotation on the photograph `path` (`width` × `height` pixels): no curves
+ * yet, the symmetry frame, its mirror-symmetric points and the true-size segment placed
+ * in the middle of the photograph, to be dragged where they belong. */
+function newAnnotation(path, width, height) {
+  const at = (x, y) => [Math.round(x * width * 100) / 100, Math.round(y * height * 100) / 100];
+  return {
+    name: path.split('/').at(-1).replace(/\.[^.]*$/, ''),
+    units: 'mm',
+    image: { path, width, height },
+    curves: [],
+    symmetry: { frame: [[at(0.5, 0.7), at(0.5, 0.3)], [at(0.5, 0.3), at(0.35, 0.55)]], points: [at(0.3, 0.4), at(0.7, 0.42)] },
+    true_size: { from: at(0.3, 0.62), to: at(0.7, 0.62), length: 100 },
+  };
+}
+
+$('new-annotation').addEventListener('click', async () => {
+  const path = window.prompt('The photograph (a PNG or JPEG path in the served directory):', 'examples/photo/coffee.png');
+  if (!path) return;
+  const image = new Image();
+  image.src = `/api/files/${path.split('/').map(encodeURIComponent).join('/')}`;
+  try {
+    await image.decode();
+  } catch {
+    showStatus('error', `${path} is not a PNG or JPEG photograph in the served directory`);
+    return;
+  }
+  if (state.mode !== 'photo') setMode('photo');
+  state.generation += 1;
+  state.path = null;
+  state.pathByMode.photo = null;
+  state.undo = [];
+  state.redo = [];
+  updateHistoryButtons();
+  photo.draft = true;
+  photo.adding = null;
+  state.scene = newAnnotation(path, image.naturalWidth, image.naturalHeight);
+  state.sceneByMode.photo = state.scene;
+  state.reply = null;
+  // Nothing reconstructed yet: no model, no pattern (not the last annotation's).
+  sheet.geometry.dispose();
+  sheet.geometry = new THREE.BufferGeometry();
+  rulings.geometry.dispose();
+  rulings.geometry = new THREE.BufferGeometry();
+  framed = false;
+  drawPattern('');
+  $('photo-pane').value = 'photo';
+  $('photo-editor').hidden = false;
+  drawPhotoEditor(state.scene);
+  showStatus('busy', 'a new annotation: add the curves (Add curve, four clicks each), then drag the symmetry marks (cyan frame, red points) and the true-size segment (green) into place');
+});
+
 $('true-size').addEventListener('change', (event) => {
   if (state.mode !== 'photo' || !state.scene) return;
   const next = structuredClone(state.scene);
@@ -715,6 +769,15 @@ async function solveNow(scene, started, edit) {
   if (!response.ok) {
     state.refusals += 1;
     state.lastError = body.error;
+    if (mode === 'photo' && photo.draft) {
+      // A new annotation is traced curve by curve: each step is kept until the first
+      // reconstruction (and undoable), the reason it does not reconstruct yet shown.
+      state.scene = scene;
+      state.sceneByMode.photo = scene;
+      drawPhotoEditor(scene);
+      showStatus('refused', `not reconstructed yet (${body.error.kind.replace('_', ' ')}): ${body.error.message}`);
+      return false;
+    }
     drawHandles(state.scene || scene);
     if (state.mode === 'slit' && state.scene) fillSlitInputs(state.scene);
     render();
@@ -730,6 +793,7 @@ async function solveNow(scene, started, edit) {
   state.sceneByMode[state.mode] = scene;
   state.reply = body;
   state.lastError = null;
+  if (state.mode === 'photo') photo.draft = false;
   if (state.mode === 'slit') fillSlitInputs(scene);
   drawModel(body.model, body.angle_defects_rad);
   drawRegression(body.regression_curves || []);
@@ -1099,6 +1163,7 @@ function load(text, path = null) {
   }
   if (state.mode !== mode) setMode(mode);
   state.generation += 1;
+  photo.draft = false;
   photo.adding = null;
   photoSvg.classList.remove('adding');
   state.path = path;

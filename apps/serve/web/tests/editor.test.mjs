@@ -15,7 +15,7 @@
 // control point dragged over the photograph is reconstructed and undone exactly, the
 // true size typed scales the model, the true-size segment and a symmetry point dragged,
 // the depth flipped, each undone; a deleted silhouette refused, a curve added with four
-// clicks sent. In mesh mode: a
+// clicks sent; a new annotation started on a photograph, traced curve by curve. In mesh mode: a
 // bundled mesh is checked and flattened exactly, a mesh dropped on the 3D view replaces
 // it, a layout change is undone exactly, an impossible layout and a malformed mesh are
 // refused with the last result kept, and the OBJ downloads. A textured scene saved into
@@ -476,6 +476,29 @@ try {
   }
   const lastSent = await page.evaluate(() => window.sheetformEditor.state.lastError);
   assert.ok(lastSent && /curve-5/.test(lastSent.message), `the new curve was sent and judged: ${JSON.stringify(lastSent)}`);
+  // A new annotation on a photograph: the marks placed in its middle, no curve yet; the
+  // curves traced one by one, each step kept (and undoable) while the annotation cannot
+  // be reconstructed yet, the reason shown.
+  page.once('dialog', (dialog) => dialog.accept('examples/photo/tube.png'));
+  await page.click('#new-annotation');
+  await page.waitForFunction(() => window.sheetformEditor.state.scene && window.sheetformEditor.state.scene.curves.length === 0);
+  const fresh = JSON.parse(await sceneText());
+  assert.deepEqual(fresh.image, { path: 'examples/photo/tube.png', width: 480, height: 360 });
+  assert.equal(await page.locator('#photo-svg [data-mark]').count(), 8, 'frame ends, mirror points, true-size ends');
+  assert.equal(await page.locator('#pattern svg').count(), 0, 'no pattern of the last annotation');
+  assert.ok(await page.evaluate(() => document.querySelector('#photo-svg image').getBBox().width > 0), 'the photograph is shown');
+  await page.click('#add-curve');
+  for (const [x, y] of [[100, 100], [180, 90], [300, 90], [380, 100]]) {
+    const at = await page.evaluate(([px, py]) => window.sheetformEditor.photoPixelScreenPosition(px, py), [x, y]);
+    if (x === 380) await answered(() => page.mouse.click(at.x, at.y));
+    else await page.mouse.click(at.x, at.y);
+  }
+  assert.equal(JSON.parse(await sceneText()).curves.length, 1, 'the traced curve is kept while drafting');
+  assert.equal(await page.getAttribute('#status', 'data-state'), 'refused');
+  assert.match(await page.textContent('#status'), /not reconstructed yet/);
+  await answered(() => page.click('#undo'));
+  assert.equal(await sceneText(), JSON.stringify(fresh), 'undo takes the curve back');
+  await page.screenshot({ path: join(outputDir, 'photo-new.png') });
 
   // 10. Mesh mode: a bundled mesh opens from the list and is checked and flattened; a
   // mesh dropped on the 3D view replaces it; a layout change is undone exactly; a layout
