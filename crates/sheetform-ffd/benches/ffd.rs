@@ -1,7 +1,7 @@
 //! Criterion benchmarks of developability restoration: both solvers (and the constrained
 //! one along the deformation's path, and with steps along the normals) on the examples
 //! at the paper's sizes, and a warm-started drag. The 100k-vertex duct
-//! (`examples/ffd/duct-100k.json`) is not benchmarked here: 10.5 s a run with its normal
+//! (`examples/ffd/duct-100k.json`) is not benchmarked here: 9–10 s a run with its normal
 //! steps, 56 s with every parameter (docs/benchmarks.md gives its timed runs).
 //!
 //! `cargo bench -p sheetform-ffd --bench ffd`
