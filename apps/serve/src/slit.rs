@@ -1,5 +1,5 @@
 //! The slit mode's routes: a slit scene in (the same JSON `sheetform slit` reads), the
-//! bent sheet, its pattern and the report out; and any file `sheetform slit` writes, for
+//! bent sheet, the ridge-line ends an anchor can hold, its pattern and the report out; and any file `sheetform slit` writes, for
 //! download. Both run the library's `run_slit`; nothing of a pipeline is repeated here.
 
 use crate::api::{
@@ -33,6 +33,9 @@ fn slit_scene(body: &str) -> Result<SlitScene, ApiError> {
 #[derive(Debug, Serialize)]
 struct SlitReply {
     model: MeshArrays,
+    /// The ridge-line ends an anchor can hold (`strip`, `ridge`, `side`, `position`:
+    /// an anchor at its place), for the editor to offer (Fig. 12).
+    anchorable_points: Vec<sheetform::slit::AnchorSpec>,
     pattern_svg: String,
     report: Report,
     /// Server time for parsing, solving and rendering (ms).
@@ -52,6 +55,7 @@ async fn slit(
         let run = run_slit(&scene, &SlitRunOptions::default(), &context)?;
         Ok(SlitReply {
             model: MeshArrays::new(&run.mesh),
+            anchorable_points: run.design.anchorable_points(&run.model),
             pattern_svg: pattern_svg(&run.files),
             report: run.report,
             server_ms: start.elapsed().as_secs_f64() * 1e3,

@@ -409,6 +409,10 @@ async fn a_slit_scene_is_solved_with_its_gap_per_strip() {
     let strips = reply["report"]["slit"]["strips"].as_array().unwrap();
     assert_eq!(strips.len(), 6);
     assert!(strips.iter().all(|s| s["gap_mm"].as_f64().unwrap() < 1e-6));
+    // Every ridge line but E0 of every strip, both ends, offered to anchor, as anchors.
+    let offered: Vec<sheetform::slit::AnchorSpec> = serde_json::from_value(reply["anchorable_points"].clone()).unwrap();
+    assert_eq!(offered.len(), 6 * 10 * 2);
+    assert!(offered.iter().all(|a| (1..=10).contains(&a.ridge) && a.strip < 6));
     assert!(reply["pattern_svg"].as_str().unwrap().contains("<svg"));
     let (status, body) = send(&app, "POST", "/api/slit/file/model.obj", chair.clone()).await;
     assert_eq!(status, StatusCode::OK);

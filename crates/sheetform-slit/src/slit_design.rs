@@ -428,6 +428,32 @@ impl SlitDesign {
         design
     }
 
+    /// Where each ridge line an anchor can hold ends, in the model frame: ridge lines
+    /// `1..=quads_per_strip` of every strip (numbered before subdivision, as
+    /// [`AnchorSpec::ridge`]; E0 is fixed by the leg curve), both ends, strip by strip.
+    /// An editor shows these to be anchored (Fig. 12).
+    pub fn anchorable_points(&self, model: &SlitModel) -> Vec<AnchorSpec> {
+        let factor = 1usize << self.level;
+        self.folded(model)
+            .iter()
+            .enumerate()
+            .flat_map(|(strip, folded)| {
+                (1..=model.layout.quads_per_strip).flat_map(move |ridge| {
+                    [
+                        (StripSide::Left, folded.left[ridge * factor]),
+                        (StripSide::Right, folded.right[ridge * factor]),
+                    ]
+                    .map(|(side, p)| AnchorSpec {
+                        strip,
+                        ridge,
+                        side,
+                        position: p.into(),
+                    })
+                })
+            })
+            .collect()
+    }
+
     /// Each strip folded.
     pub fn folded(&self, model: &SlitModel) -> Vec<FoldedStrip> {
         self.states

@@ -329,3 +329,50 @@ fn bad_input_names_the_field() {
         "anchors[0].ridge",
     );
 }
+
+/// The points an editor offers to anchor are the ridge lines' ends on the sheet (mesh
+/// vertices), 2 per ridge line 1..=M of every strip, at every subdivision level; an
+/// anchor at one of them leaves the design where it was, one dragged away pulls its
+/// strip towards it.
+#[test]
+fn anchorable_points_are_ridge_ends_on_the_sheet_and_anchors_pull_them() {
+    for subdivisions in [0, 1] {
+        let mut model = chair();
+        model.solver.subdivisions = subdivisions;
+        let design = solve_design(&model);
+        let points = design.anchorable_points(&model);
+        let (strips, quads) = (model.layout.strip_count, model.layout.quads_per_strip);
+        assert_eq!(points.len(), strips * quads * 2);
+        let mesh = slit_mesh(&model, &design);
+        for p in &points {
+            let position = Vector3::from(p.position);
+            let nearest = mesh
+                .positions
+                .iter()
+                .map(|v| (v - position).norm())
+                .fold(f64::INFINITY, f64::min);
+            // (The last ridge line's ends are snapped onto the symmetry plane in the
+            // mesh, within the strip's gap.)
+            assert!(nearest <= design.gap + 1e-9, "{p:?}: {nearest}");
+        }
+        if subdivisions == 0 {
+            let chosen = points[2 * (quads - 1)];
+            let mut held = model.clone();
+            held.add_anchor(chosen).unwrap();
+            let same = solve_design(&held).anchorable_points(&held);
+            let drift = (Vector3::from(same[2 * (quads - 1)].position) - Vector3::from(chosen.position)).norm();
+            // (Within the solver's stopping point: 0.015 mm.)
+            assert!(drift < 0.05, "{drift}");
+            let mut pulled = model.clone();
+            let target = Vector3::from(chosen.position) + Vector3::new(0.0, 30.0, 0.0);
+            pulled
+                .add_anchor(AnchorSpec {
+                    position: target.into(),
+                    ..chosen
+                })
+                .unwrap();
+            let moved = Vector3::from(solve_design(&pulled).anchorable_points(&pulled)[2 * (quads - 1)].position);
+            assert!((moved - target).norm() < (Vector3::from(chosen.position) - target).norm() - 1.0);
+        }
+    }
+}

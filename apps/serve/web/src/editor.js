@@ -89,6 +89,10 @@ const handleMaterial = new THREE.MeshBasicMaterial({ color: 0xe8731a, depthTest:
 const handleActive = new THREE.MeshBasicMaterial({ color: 0xc0392b, depthTest: false });
 const normalMaterial = new THREE.MeshBasicMaterial({ color: 0x2e8b57, depthTest: false });
 const seatMaterial = new THREE.MeshBasicMaterial({ color: 0x2b5d8a, depthTest: false });
+// Slit anchors: the ridge-line ends that can be anchored (grey, hidden behind the sheet)
+// and the anchors (yellow).
+const anchorableMaterial = new THREE.MeshBasicMaterial({ color: 0x6b6b6b });
+const anchorMaterial = new THREE.MeshBasicMaterial({ color: 0xf1c40f, depthTest: false });
 const latticeMaterial = new THREE.MeshBasicMaterial({ color: 0x7a4fa0, depthTest: false });
 const regressionMaterial = new THREE.LineBasicMaterial({ color: 0xd62728 });
 let handleRadius = 3;
@@ -210,6 +214,23 @@ function drawLattice(lattice) {
 }
 
 function drawSlitHandles(scene) {
+  // Anchors (Tsuruta et al. Fig. 12): each ridge-line end a small grey point to click
+  // (an anchor at its place), each anchor an orange ball to drag (shift-click removes it).
+  for (const point of (state.reply && state.reply.anchorable_points) || []) {
+    const dot = new THREE.Mesh(handleGeometry, anchorableMaterial);
+    dot.position.set(...point.position);
+    dot.scale.setScalar(handleRadius * 0.45);
+    dot.userData = { anchorable: point };
+    handles.add(dot);
+  }
+  (scene.anchors || []).forEach((anchor, index) => {
+    const ball = new THREE.Mesh(handleGeometry, anchorMaterial);
+    ball.position.set(...anchor.position);
+    ball.scale.setScalar(handleRadius * 1.1);
+    ball.userData = { anchor: index };
+    ball.renderOrder = 3;
+    handles.add(ball);
+  });
   for (const { curve, points } of slitCurves(scene)) {
     const material = curve === 'leg_curve' ? handleMaterial : seatMaterial;
     points.forEach((p, index) => {
@@ -1031,12 +1052,29 @@ canvas.addEventListener('pointerdown', (event) => {
   // Handles exist in the bend, slit and FFD modes only.
   if (!state.scene || event.button !== 0 || !['bend', 'slit', 'ffd'].includes(state.mode)) return;
   pointerRay(event);
-  const hit = raycaster.intersectObjects(handles.children, false)[0];
+  // Anchors first (drawn over everything), then the curves' points, then the ridge ends.
+  const hits = raycaster.intersectObjects(handles.children, false);
+  const hit = hits.find((h) => h.object.userData.anchor !== undefined)
+    || hits.find((h) => h.object.userData.anchorable === undefined) || hits[0];
   if (!hit) return;
-  // A bend handle moves in the plane facing the camera; a slit curve's point in the
-  // curve's own plane (the leg's z = 0, the seat's symmetry plane x = 0).
-  const normal = state.mode === 'slit'
-    ? new THREE.Vector3(...(hit.object.userData.curve === 'leg_curve' ? [0, 0, 1] : [1, 0, 0])).applyQuaternion(content.quaternion)
+  const data = hit.object.userData;
+  if (data.anchorable) {
+    // A click on a ridge-line end anchors it where it is.
+    const scene = structuredClone(state.scene);
+    scene.anchors = [...(scene.anchors || []), data.anchorable];
+    commit(scene);
+    return;
+  }
+  if (data.anchor !== undefined && event.shiftKey) {
+    const scene = structuredClone(state.scene);
+    scene.anchors.splice(data.anchor, 1);
+    commit(scene);
+    return;
+  }
+  // A bend handle or a slit anchor moves in the plane facing the camera; a slit curve's
+  // point in the curve's own plane (the leg's z = 0, the seat's symmetry plane x = 0).
+  const normal = state.mode === 'slit' && data.anchor === undefined
+    ? new THREE.Vector3(...(data.curve === 'leg_curve' ? [0, 0, 1] : [1, 0, 0])).applyQuaternion(content.quaternion)
     : camera.getWorldDirection(new THREE.Vector3());
   drag = {
     ...hit.object.userData, handle: hit.object, moved: false, before: JSON.stringify(state.scene),
@@ -1059,7 +1097,8 @@ canvas.addEventListener('pointermove', (event) => {
   drag.moved = true;
   if (state.mode === 'slit') {
     const scene = structuredClone(state.scene);
-    scene[drag.curve].control_points[drag.index] = drag.curve === 'leg_curve' ? [point.x, point.y] : [point.z, point.y];
+    if (drag.anchor !== undefined) scene.anchors[drag.anchor].position = [point.x, point.y, point.z];
+    else scene[drag.curve].control_points[drag.index] = drag.curve === 'leg_curve' ? [point.x, point.y] : [point.z, point.y];
     requestSolve(scene, started);
     return;
   }
@@ -1235,7 +1274,7 @@ function setMode(mode) {
     photo: '3D model reconstructed from the photo (the photo view shows the curves: drag their points or the symmetry and true-size marks, add, mark or delete curves).',
     ffd: '3D model: drag a purple lattice control point and release it: the panels follow and their developability is restored (Cancel stops it); orbit, pan and zoom elsewhere.',
     mesh: '3D model: each piece of the pattern in its own colour (or the angle defect at each vertex); orbit, pan and zoom; drop a mesh file here.',
-    slit: '3D model: drag an orange point of the leg curve or a blue point of the seat curve (each in its own plane); orbit, pan and zoom elsewhere.',
+    slit: '3D model: drag an orange point of the leg curve or a blue point of the seat curve (each in its own plane); click a grey ridge-line end to anchor it, drag the yellow anchor to pull the strip (shift-click removes it); orbit, pan and zoom elsewhere.',
     bend: '3D model: drag an orange control point (in end-handle mode: an end, or a green normal tip); orbit, pan and zoom elsewhere. Red: the curve of regression where it comes near the sheet.',
   }[mode];
   fillSelect($('download'), ['Download…', ...DOWNLOADS[mode]]);
@@ -1534,6 +1573,14 @@ window.sheetformEditor = {
   },
   /** The colour of an angle defect on the colour maps of the bend and mesh modes. */
   defectColour: (g) => defectColour(g).toArray(),
+  /** The page coordinates of a slit ridge-line end the reply offers to anchor, and of
+   * anchor `index` of the scene. */
+  anchorableScreenPosition(k) {
+    return pageCoordinates(content.localToWorld(new THREE.Vector3(...state.reply.anchorable_points[k].position)));
+  },
+  anchorScreenPosition(index) {
+    return pageCoordinates(content.localToWorld(new THREE.Vector3(...state.scene.anchors[index].position)));
+  },
   /** The page coordinates of a slit curve's control point (`leg_curve` or `seat_curve`). */
   slitHandleScreenPosition(curve, index) {
     const { points } = slitCurves(state.scene).find((c) => c.curve === curve);

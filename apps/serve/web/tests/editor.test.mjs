@@ -6,7 +6,8 @@
 // Checks, in bend mode: an example loads; a control point dragged with the mouse changes
 // the model, which stays isometric to its pattern (in the page and in the server's
 // report) and developable on its colour map; undo restores the exact previous scene; an inadmissible drag is refused and
-// the last admissible scene kept. In slit mode: the chair's seat curve dragged with the
+// the last admissible scene kept. In slit mode: an anchor added, dragged and removed;
+// the chair's seat curve dragged with the
 // mouse re-solves the strips (isometric, a gap per strip shown), a typed sheet length is
 // undone exactly, an impossible strip count is refused. In FFD mode: a lattice control
 // point dragged and released is restored (progress shown), undone exactly; a long
@@ -278,6 +279,39 @@ try {
   assert.match(await page.textContent('#status'), /strip_count/);
   assert.equal(await sceneText(), beforeLength, 'the last admissible scene is kept');
   assert.equal(await page.inputValue('#strips'), '6');
+  // Anchors (Fig. 12): a ridge-line end clicked is anchored where it is; the anchor
+  // dragged pulls its strip; shift-click removes it; each step undone exactly.
+  {
+    const offered = (await meshReply()).anchorable_points;
+    const chair = JSON.parse(beforeLength);
+    assert.equal(offered.length, chair.sheet.strip_count * chair.sheet.quads_per_strip * 2);
+    const k = offered.findIndex((p) => p.strip === 2 && p.ridge === 5 && p.side === 'left');
+    const at = await page.evaluate((n) => window.sheetformEditor.anchorableScreenPosition(n), k);
+    await answered(() => page.mouse.click(at.x, at.y));
+    const anchored = JSON.parse(await sceneText());
+    assert.deepEqual(anchored.anchors, [offered[k]], 'the clicked ridge end is anchored where it is');
+    const held = await positions();
+    const start = await page.evaluate(() => window.sheetformEditor.anchorScreenPosition(0));
+    await page.mouse.move(start.x, start.y);
+    await page.mouse.down();
+    for (let step = 1; step <= 5; step++) await page.mouse.move(start.x, start.y - 6 * step);
+    await answered(() => page.mouse.up());
+    const pulled = JSON.parse(await sceneText());
+    const shift = Math.hypot(...pulled.anchors[0].position.map((x, a) => x - offered[k].position[a]));
+    assert.ok(shift > 5, `the anchor moved ${shift} mm`);
+    assert.equal((await meshReply()).report.status, 'ok');
+    assert.notDeepEqual(await positions(), held, 'the strip follows the anchor');
+    await page.screenshot({ path: join(outputDir, 'slit-anchor.png') });
+    const end = await page.evaluate(() => window.sheetformEditor.anchorScreenPosition(0));
+    await page.keyboard.down('Shift');
+    await answered(() => page.mouse.click(end.x, end.y));
+    await page.keyboard.up('Shift');
+    assert.deepEqual(JSON.parse(await sceneText()).anchors, [], 'shift-click removes the anchor');
+    for (const expected of [pulled, anchored, JSON.parse(beforeLength)]) {
+      await answered(() => page.click('#undo'));
+      assert.equal(await sceneText(), JSON.stringify(expected));
+    }
+  }
 
   // 8. FFD mode: the skirt opens from the list and is restored with progress shown; a
   // lattice control point dragged with the mouse and released becomes a deformation of
