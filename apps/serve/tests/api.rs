@@ -570,12 +570,15 @@ async fn a_drag_is_restored_from_the_last_design() {
     first["deformations"].as_array_mut().unwrap().truncate(1);
     let reply = ffd_reply(&app, &first).await;
     assert_eq!(reply["result"]["resumed_deformations"], 0, "{reply}");
-    // A scene the run refuses changes nothing.
+    // A scene the run refuses changes nothing (its first deformation differs, so a
+    // design cached from it would resume nothing below).
     let mut broken = full.clone();
-    broken["deformations"][1]["edits"][0]["move"]["points"] = serde_json::json!({"i": [40, 40]});
+    broken["deformations"][0]["edits"] = serde_json::json!([{"move": {"points": {"i": [40, 40]}, "by": [1, 0, 0]}}]);
     assert!(ffd_reply(&app, &broken).await["error"].is_object());
     let warm = ffd_reply(&app, &full).await;
     assert_eq!(warm["result"]["resumed_deformations"], 1, "{warm}");
+    assert_eq!(warm["result"]["report"]["ffd"]["resumed_deformations"], 1);
+    assert_eq!(warm["result"]["report"]["ffd"]["embedding_time_ms"], 0.0);
     let cold = ffd_reply(&fresh, &full).await;
     assert_eq!(cold["result"]["resumed_deformations"], 0);
     for key in ["model", "restored", "plain"] {

@@ -56,7 +56,8 @@ pub struct FfdDesign {
     pub embedding: Vec<Vec3>,
     /// Whether the embedding was linear (parallelepiped lattice).
     pub linear_embedding: bool,
-    /// Time spent embedding (milliseconds).
+    /// Time spent embedding (milliseconds; 0 when [`run_design_resuming`] took the
+    /// embedding over from an earlier design).
     pub embedding_time_ms: f64,
     /// The deformations, in order.
     pub steps: Vec<DeformationStep>,
@@ -156,7 +157,8 @@ pub fn run_design_resuming(
             previous.assembly.clone(),
             previous.lattice.clone(),
             previous.embedding.clone(),
-            previous.embedding_time_ms,
+            // Taken over, not computed by this run.
+            0.0,
             previous.steps[..shared].to_vec(),
             progress,
             cancel,

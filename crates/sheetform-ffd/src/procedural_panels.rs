@@ -187,8 +187,8 @@ impl ProceduralModel {
         };
         let mut vertices: usize = match self {
             Self::TwoPanels { .. } => 2,
-            // Four panels and a waistband no larger than two of them.
-            Self::Trousers { .. } => 6,
+            // Four panels (the waistband is added below).
+            Self::Trousers { .. } => 4,
             _ => 1,
         };
         for &(name, count) in &counts {
@@ -196,6 +196,10 @@ impl ProceduralModel {
                 return Err(crate::FfdError::field(field(name), "must be at least 1"));
             }
             vertices = vertices.saturating_mul(count.saturating_add(1));
+        }
+        if let Self::Trousers { across, .. } = *self {
+            // The waistband: 3 rows of at most 4 across + 1 vertices.
+            vertices = vertices.saturating_add(across.saturating_mul(4).saturating_add(1).saturating_mul(3));
         }
         if vertices > MAX_PROCEDURAL_VERTICES {
             let names: Vec<&str> = counts.iter().map(|(n, _)| *n).collect();
@@ -294,7 +298,7 @@ pub fn trouser_panels(across: usize, along: usize) -> TriangleMesh {
     const HEM_PER_WAIST: f64 = 150.0 / 180.0;
     const BAND_HEIGHT: f64 = 40.0;
     const BAND_ROWS: usize = 2;
-    let across = across.max(2);
+    let (across, along) = (across.max(2), along.max(1));
     let waist_segments = ((across as f64 * 0.45).round() as usize).clamp(1, across - 1);
     let seam_segments = across - waist_segments;
     let mut top = Vec::with_capacity(across + 1);
@@ -556,5 +560,17 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(error.contains("model.procedural.across"), "{error}");
+        // The waistband counts towards the size bound (4 × 20 001 × 2 + 240 003 > 250k).
+        let error = serde_json::from_str::<ProceduralModel>(r#"{"kind": "trousers", "across": 20000, "along": 1}"#)
+            .unwrap()
+            .validate()
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("vertices"), "{error}");
+        // Called directly with no segment along, one is taken.
+        assert!(trouser_panels(5, 0)
+            .positions
+            .iter()
+            .all(|p| p.iter().all(|c| c.is_finite())));
     }
 }

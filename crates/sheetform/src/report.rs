@@ -210,8 +210,13 @@ pub struct FfdReport {
     pub linked_vertex_gap_max_mm: f64,
     /// Whether the embedding was linear (box lattice) rather than Newton's method.
     pub linear_embedding: bool,
-    /// Time to embed the vertices.
+    /// Time to embed the vertices (0 when the run resumed an earlier design: it kept
+    /// that design's embedding).
     pub embedding_time_ms: f64,
+    /// Deformations taken unchanged from an earlier run's design (the editor's warm
+    /// start, `FfdRunOptions::warm_start`): their `steps` entries, times included, are
+    /// that run's. 0 for a run from scratch (the CLI).
+    pub resumed_deformations: usize,
     /// Control points per direction.
     pub lattice_counts: [usize; 3],
     /// Degrees per direction.

@@ -215,8 +215,10 @@ function drawLattice(lattice) {
 
 function drawSlitHandles(scene) {
   // Anchors (Tsuruta et al. Fig. 12): each ridge-line end a small grey point to click
-  // (an anchor at its place), each anchor an orange ball to drag (shift-click removes it).
+  // (an anchor at its place), each anchor a yellow ball to drag (shift-click removes it).
+  const anchored = new Set((scene.anchors || []).map((a) => `${a.strip}/${a.ridge}/${a.side}`));
   for (const point of (state.reply && state.reply.anchorable_points) || []) {
+    if (anchored.has(`${point.strip}/${point.ridge}/${point.side}`)) continue;
     const dot = new THREE.Mesh(handleGeometry, anchorableMaterial);
     dot.position.set(...point.position);
     dot.scale.setScalar(handleRadius * 0.45);
@@ -389,9 +391,10 @@ function drawFfdModel(reply) {
 const SVG = 'http://www.w3.org/2000/svg';
 const photoSvg = $('photo-svg');
 const KIND_COLOURS = { silhouette: '#2b5d8a', boundary: '#c0392b' };
-// `draft`: an annotation started from a photograph that has not been reconstructed yet;
-// until it is, a refused edit is kept (the curves are traced one at a time) instead of
-// the last admissible annotation.
+// `draft`: the annotation was started from a photograph in the editor. Its steps are
+// kept whether or not they reconstruct (the reason shown), so it can be traced curve by
+// curve and corrected freely, and undo/redo move through those steps; an annotation
+// opened from a file keeps its last admissible state instead.
 const photo = { drag: null, working: null, adding: null, draft: false };
 
 function svgElement(name, attributes, parent) {
@@ -602,6 +605,7 @@ $('new-annotation').addEventListener('click', async () => {
   }
   if (state.mode !== 'photo') setMode('photo');
   state.generation += 1;
+  state.pending = null;
   state.path = null;
   state.pathByMode.photo = null;
   state.undo = [];
@@ -627,8 +631,14 @@ $('new-annotation').addEventListener('click', async () => {
 
 $('true-size').addEventListener('change', (event) => {
   if (state.mode !== 'photo' || !state.scene) return;
+  const length = Number(event.target.value);
+  if (!(Number.isFinite(length) && length > 0) || event.target.value.trim() === '') {
+    showStatus('refused', `the true size must be a positive length, not "${event.target.value}"`);
+    event.target.value = state.scene.true_size.length;
+    return;
+  }
   const next = structuredClone(state.scene);
-  next.true_size.length = Number(event.target.value);
+  next.true_size.length = length;
   commit(next);
 });
 $('flip-depth').addEventListener('change', (event) => {
@@ -796,7 +806,7 @@ async function solveNow(scene, started, edit) {
       state.scene = scene;
       state.sceneByMode.photo = scene;
       drawPhotoEditor(scene);
-      showStatus('refused', `not reconstructed yet (${body.error.kind.replace('_', ' ')}): ${body.error.message}`);
+      showStatus('refused', `not reconstructed (${body.error.kind.replace('_', ' ')}): ${body.error.message}`);
       return false;
     }
     drawHandles(state.scene || scene);
@@ -814,7 +824,6 @@ async function solveNow(scene, started, edit) {
   state.sceneByMode[state.mode] = scene;
   state.reply = body;
   state.lastError = null;
-  if (state.mode === 'photo') photo.draft = false;
   if (state.mode === 'slit') fillSlitInputs(scene);
   drawModel(body.model, body.angle_defects_rad);
   drawRegression(body.regression_curves || []);
@@ -1054,8 +1063,11 @@ canvas.addEventListener('pointerdown', (event) => {
   pointerRay(event);
   // Anchors first (drawn over everything), then the curves' points, then the ridge ends.
   const hits = raycaster.intersectObjects(handles.children, false);
+  // A ridge end counts only where it is seen: not behind the sheet.
+  const sheetHit = raycaster.intersectObject(sheet, false)[0];
+  const seen = (h) => !h.object.userData.anchorable || !sheetHit || h.distance <= sheetHit.distance + 2 * handleRadius;
   const hit = hits.find((h) => h.object.userData.anchor !== undefined)
-    || hits.find((h) => h.object.userData.anchorable === undefined) || hits[0];
+    || hits.find((h) => h.object.userData.anchorable === undefined) || hits.find(seen);
   if (!hit) return;
   const data = hit.object.userData;
   if (data.anchorable) {
@@ -1202,7 +1214,9 @@ function load(text, path = null) {
   }
   if (state.mode !== mode) setMode(mode);
   state.generation += 1;
-  photo.draft = false;
+  // A queued edit of the last scene must not land on this one.
+  state.pending = null;
+  if (mode === 'photo') photo.draft = false;
   photo.adding = null;
   photoSvg.classList.remove('adding');
   state.path = path;
@@ -1477,7 +1491,8 @@ $('save').addEventListener('click', async () => {
   // cloud, photograph) from there: the server says which paths change, and they are
   // changed here, so the file keeps its order of fields.
   const [from, to] = [sceneDirectory(), path.split('/').slice(0, -1).join('/')];
-  let scene = state.scene;
+  const [original, mode] = [state.scene, state.mode];
+  let scene = original;
   const moved = [];
   if (from !== to) {
     const query = `from=${encodeURIComponent(from)}&to=${encodeURIComponent(to)}`;
@@ -1501,8 +1516,25 @@ $('save').addEventListener('click', async () => {
     method: 'PUT', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(scene, null, 2),
   });
   if (response.ok) {
+    // An edit answered meanwhile (or another mode) keeps what it set: the file holds the
+    // scene as it was when saved.
+    if (state.scene !== original || state.mode !== mode) {
+      showStatus('ok', `saved ${path} (as it was before the last edit)`);
+      listFiles();
+      return;
+    }
+    state.generation += 1;
+    state.pending = null;
     state.path = path;
+    state.pathByMode[mode] = path;
     state.scene = scene;
+    state.sceneByMode[mode] = scene;
+    if (moved.length > 0) {
+      // The history's scenes name their files from the old directory.
+      state.undo = [];
+      state.redo = [];
+      updateHistoryButtons();
+    }
     showStatus('ok', [`saved ${path}`, ...moved].join(' · '));
     listFiles();
   } else {

@@ -288,6 +288,7 @@ try {
     const k = offered.findIndex((p) => p.strip === 2 && p.ridge === 5 && p.side === 'left');
     const at = await page.evaluate((n) => window.sheetformEditor.anchorableScreenPosition(n), k);
     await answered(() => page.mouse.click(at.x, at.y));
+    await idle(); // the anchor's ball drawn
     const anchored = JSON.parse(await sceneText());
     assert.deepEqual(anchored.anchors, [offered[k]], 'the clicked ridge end is anchored where it is');
     const held = await positions();
@@ -296,6 +297,7 @@ try {
     await page.mouse.down();
     for (let step = 1; step <= 5; step++) await page.mouse.move(start.x, start.y - 6 * step);
     await answered(() => page.mouse.up());
+    await idle();
     const pulled = JSON.parse(await sceneText());
     const shift = Math.hypot(...pulled.anchors[0].position.map((x, a) => x - offered[k].position[a]));
     assert.ok(shift > 5, `the anchor moved ${shift} mm`);
@@ -471,6 +473,14 @@ try {
   assert.ok(Math.abs(extent(doubled.model.positions) / extent(cup.model.positions) - 2) < 1e-6, 'twice the size');
   await answered(() => page.click('#undo'));
   assert.equal(await sceneText(), cupScene);
+  // A size that is no positive length is refused in the page, nothing sent.
+  const sentBefore = await answers();
+  await page.fill('#true-size', '-5');
+  await page.press('#true-size', 'Enter');
+  assert.equal(await page.getAttribute('#status', 'data-state'), 'refused');
+  assert.equal(await sceneText(), cupScene);
+  assert.equal(await answers(), sentBefore);
+  assert.equal(await page.inputValue('#true-size'), String(JSON.parse(cupScene).true_size.length));
   // An end of the true-size segment and a mirror-symmetric point dragged on the photo,
   // the depth flipped: each moves its mark and is reconstructed (or refused), and undone.
   for (const mark of ['true_size.to', 'symmetry.points.1']) {
@@ -529,7 +539,7 @@ try {
   }
   assert.equal(JSON.parse(await sceneText()).curves.length, 1, 'the traced curve is kept while drafting');
   assert.equal(await page.getAttribute('#status', 'data-state'), 'refused');
-  assert.match(await page.textContent('#status'), /not reconstructed yet/);
+  assert.match(await page.textContent('#status'), /not reconstructed \(/);
   await answered(() => page.click('#undo'));
   assert.equal(await sceneText(), JSON.stringify(fresh), 'undo takes the curve back');
   await page.screenshot({ path: join(outputDir, 'photo-new.png') });

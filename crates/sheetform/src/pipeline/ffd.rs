@@ -266,6 +266,7 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
         linked_vertex_gap_max_mm: linked_gap * mm,
         linear_embedding: design.linear_embedding,
         embedding_time_ms: design.embedding_time_ms,
+        resumed_deformations: design.resumed_deformations,
         lattice_counts: design.lattice.counts(),
         lattice_degrees: design.lattice.degrees(),
         angle_defects_before: before,
