@@ -44,6 +44,7 @@ const state = {
   answers: 0, // server answers (solved or refused), for tests and scripts to wait on
   inFlight: false,
   pending: null, // the newest edit waiting for the one in flight: { scene, started }
+  requested: null, // the newest scene asked for and not answered yet (see latestScene)
   lastError: null,
   lastEdit: null, // what the library's editor said of the last edit
 };
@@ -487,19 +488,19 @@ function drawCurveList(scene) {
     row.querySelector('.kind').value = curve.kind;
     row.querySelector('.self').checked = selfSymmetric.has(curve.name);
     row.querySelector('.kind').addEventListener('change', (event) => {
-      const next = structuredClone(state.scene);
+      const next = structuredClone(latestScene());
       next.curves[c].kind = event.target.value;
       commit(next);
     });
     row.querySelector('.self').addEventListener('change', (event) => {
-      const next = structuredClone(state.scene);
+      const next = structuredClone(latestScene());
       const names = new Set(next.self_symmetric_curves || []);
       if (event.target.checked) names.add(curve.name); else names.delete(curve.name);
       next.self_symmetric_curves = [...names];
       commit(next);
     });
     row.querySelector('.delete').addEventListener('click', () => {
-      const next = structuredClone(state.scene);
+      const next = structuredClone(latestScene());
       next.curves.splice(c, 1);
       const keep = (name) => name !== curve.name;
       if (next.self_symmetric_curves) next.self_symmetric_curves = next.self_symmetric_curves.filter(keep);
@@ -521,7 +522,7 @@ photoSvg.addEventListener('pointerdown', (event) => {
   if (photo.adding) {
     photo.adding.push(photoPoint(event));
     if (photo.adding.length === 4) {
-      const next = structuredClone(state.scene);
+      const next = structuredClone(latestScene());
       const names = new Set(next.curves.map((c) => c.name));
       let n = next.curves.length + 1;
       while (names.has(`curve-${n}`)) n += 1;
@@ -544,7 +545,7 @@ photoSvg.addEventListener('pointerdown', (event) => {
   } else {
     return;
   }
-  photo.working = structuredClone(state.scene);
+  photo.working = structuredClone(latestScene());
   photoSvg.setPointerCapture(event.pointerId);
 });
 
@@ -606,6 +607,7 @@ $('new-annotation').addEventListener('click', async () => {
   if (state.mode !== 'photo') setMode('photo');
   state.generation += 1;
   state.pending = null;
+  state.requested = null;
   state.path = null;
   state.pathByMode.photo = null;
   state.undo = [];
@@ -637,13 +639,13 @@ $('true-size').addEventListener('change', (event) => {
     event.target.value = state.scene.true_size.length;
     return;
   }
-  const next = structuredClone(state.scene);
+  const next = structuredClone(latestScene());
   next.true_size.length = length;
   commit(next);
 });
 $('flip-depth').addEventListener('change', (event) => {
   if (state.mode !== 'photo' || !state.scene) return;
-  const next = structuredClone(state.scene);
+  const next = structuredClone(latestScene());
   next.symmetry.flip_depth = event.target.checked;
   commit(next);
 });
@@ -761,7 +763,16 @@ async function post(url, body) {
  * Sends a scene (or, with `edit`, an edit of the last admissible scene: the library's
  * editor applies it) to the server; the newest request wins while one is in flight.
  */
+/** The newest scene asked for: the one waiting or being solved, else the current one.
+ * A click's edit builds on it, so an edit made while the last one is still being
+ * solved adds to it instead of replacing it. (A drag's moves build on `state.scene`,
+ * the last admissible scene, each move whole.) */
+function latestScene() {
+  return state.requested || state.scene;
+}
+
 function requestSolve(scene, started = performance.now(), edit = null) {
+  state.requested = edit ? null : scene;
   if (state.inFlight) {
     state.pending = { scene, started, edit };
     return;
@@ -771,8 +782,12 @@ function requestSolve(scene, started = performance.now(), edit = null) {
     state.inFlight = false;
     const next = state.pending;
     state.pending = null;
-    if (next) requestSolve(next.edit ? state.scene : next.scene, next.started, next.edit);
-    else window.dispatchEvent(new Event('sheetform-idle'));
+    if (next) {
+      requestSolve(next.edit ? state.scene : next.scene, next.started, next.edit);
+    } else {
+      state.requested = null;
+      window.dispatchEvent(new Event('sheetform-idle'));
+    }
   });
 }
 
@@ -996,7 +1011,7 @@ function commit(scene, remember = true) {
     return;
   }
   if (remember && state.scene) {
-    state.undo.push(JSON.stringify(state.scene));
+    state.undo.push(JSON.stringify(latestScene()));
     state.redo = [];
   }
   updateHistoryButtons();
@@ -1072,13 +1087,13 @@ canvas.addEventListener('pointerdown', (event) => {
   const data = hit.object.userData;
   if (data.anchorable) {
     // A click on a ridge-line end anchors it where it is.
-    const scene = structuredClone(state.scene);
+    const scene = structuredClone(latestScene());
     scene.anchors = [...(scene.anchors || []), data.anchorable];
     commit(scene);
     return;
   }
   if (data.anchor !== undefined && event.shiftKey) {
-    const scene = structuredClone(state.scene);
+    const scene = structuredClone(latestScene());
     scene.anchors.splice(data.anchor, 1);
     commit(scene);
     return;
@@ -1216,6 +1231,7 @@ function load(text, path = null) {
   state.generation += 1;
   // A queued edit of the last scene must not land on this one.
   state.pending = null;
+  state.requested = null;
   if (mode === 'photo') photo.draft = false;
   photo.adding = null;
   photoSvg.classList.remove('adding');
@@ -1346,7 +1362,7 @@ for (const [id, field] of Object.entries(SLIT_INPUTS)) {
       fillSlitInputs(state.scene);
       return;
     }
-    const scene = structuredClone(state.scene);
+    const scene = structuredClone(latestScene());
     scene.sheet[field] = value;
     commit(scene);
   });
@@ -1525,6 +1541,7 @@ $('save').addEventListener('click', async () => {
     }
     state.generation += 1;
     state.pending = null;
+    state.requested = null;
     state.path = path;
     state.pathByMode[mode] = path;
     state.scene = scene;

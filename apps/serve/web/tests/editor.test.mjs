@@ -293,11 +293,14 @@ try {
     assert.deepEqual(anchored.anchors, [offered[k]], 'the clicked ridge end is anchored where it is');
     const held = await positions();
     const start = await page.evaluate(() => window.sheetformEditor.anchorScreenPosition(0));
+    // (Each move is solved as it comes, as for the curves' points; the release adds no solve.)
+    const solvedBefore = await answers();
     await page.mouse.move(start.x, start.y);
     await page.mouse.down();
     for (let step = 1; step <= 5; step++) await page.mouse.move(start.x, start.y - 6 * step);
-    await answered(() => page.mouse.up());
+    await page.mouse.up();
     await idle();
+    assert.ok((await answers()) > solvedBefore, 'the anchor drag was solved');
     const pulled = JSON.parse(await sceneText());
     const shift = Math.hypot(...pulled.anchors[0].position.map((x, a) => x - offered[k].position[a]));
     assert.ok(shift > 5, `the anchor moved ${shift} mm`);
@@ -500,6 +503,18 @@ try {
   }
   await answered(() => page.click('#flip-depth'));
   assert.equal(JSON.parse(await sceneText()).symmetry.flip_depth, true);
+  await answered(() => page.click('#undo'));
+  assert.equal(await sceneText(), cupScene);
+  // Two edits in quick succession, the second made before the first is answered: both
+  // land, and two undos take them back one at a time.
+  await page.fill('#true-size', '70');
+  await page.press('#true-size', 'Enter');
+  await page.click('#flip-depth');
+  await idle();
+  const both = JSON.parse(await sceneText());
+  assert.deepEqual([both.true_size.length, both.symmetry.flip_depth], [70, true], 'the first edit is not lost');
+  await answered(() => page.click('#undo'));
+  assert.deepEqual([JSON.parse(await sceneText()).true_size.length, JSON.parse(await sceneText()).symmetry.flip_depth], [70, false]);
   await answered(() => page.click('#undo'));
   assert.equal(await sceneText(), cupScene);
   // Deleting a silhouette: refused.
