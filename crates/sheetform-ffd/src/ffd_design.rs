@@ -1,9 +1,9 @@
 //! A whole FFD run: embed, deform step by step, restore developability.
 
 use crate::{
-    apply_edits, embed_points, fold_angle_change_max, fold_angle_max, restore_along_path,
-    restore_constrained_with_progress, restore_paper_with_progress, DevelopabilityProblem, FfdError, FfdScene,
-    NurbsVolume, PanelAssembly, PaperOptions, RestorationInfo, RestorationProgress, SolverMethod,
+    apply_edits, embed_points, fold_angle_figures, restore_along_path, restore_constrained_with_progress,
+    restore_paper_with_progress, DevelopabilityProblem, FfdError, FfdScene, NurbsVolume, PanelAssembly, PaperOptions,
+    RestorationInfo, RestorationProgress, SolverMethod,
 };
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -33,14 +33,14 @@ pub struct DeformationStep {
     pub edge_length_change_max_relative: f64,
     /// Mean relative edge-length change.
     pub edge_length_change_mean_relative: f64,
-    /// Largest fold angle of the plain FFD `M′` (radians, see [`fold_angle_max`]), inside
+    /// Largest fold angle of the plain FFD `M′` (radians, see [`crate::fold_angle_max`]), inside
     /// the panels and across their seams.
     pub fold_angle_max_before: f64,
     /// Largest fold angle after restoration `M*` (radians, panels and seams): far above
     /// `fold_angle_max_before` when the restoration crinkled the panels or creased a seam.
     pub fold_angle_max_after: f64,
     /// Largest change of one edge's signed fold angle from `M′` to `M*` (radians, panels
-    /// and seams; see [`fold_angle_change_max`]): the crease the restoration added, also
+    /// and seams; see [`crate::fold_angle_change_max`]): the crease the restoration added, also
     /// where `fold_angle_max_before` is a fold the design has on purpose.
     pub fold_angle_change_max: f64,
 }
@@ -152,17 +152,18 @@ pub fn run_design_resuming(
             .zip(&scene.deformations)
             .take_while(|((_, a), b)| a == b)
             .count();
-        return continue_design(
-            scene,
-            previous.assembly.clone(),
-            previous.lattice.clone(),
-            previous.embedding.clone(),
+        let base = FfdDesign {
+            assembly: previous.assembly.clone(),
+            lattice: previous.lattice.clone(),
+            embedding: previous.embedding.clone(),
+            linear_embedding: previous.linear_embedding,
             // Taken over, not computed by this run.
-            0.0,
-            previous.steps[..shared].to_vec(),
-            progress,
-            cancel,
-        );
+            embedding_time_ms: 0.0,
+            steps: previous.steps[..shared].to_vec(),
+            scene: scene.clone(),
+            resumed_deformations: shared,
+        };
+        return continue_design(base, progress, cancel);
     }
     if assembly.node_count > crate::MAX_PROCEDURAL_VERTICES {
         return Err(FfdError::field(
@@ -201,50 +202,42 @@ pub fn run_design_resuming(
         }
         other => other,
     })?;
-    let embedding_time_ms = start.elapsed().as_secs_f64() * 1e3;
-    continue_design(
-        scene,
+    let base = FfdDesign {
+        embedding_time_ms: start.elapsed().as_secs_f64() * 1e3,
+        linear_embedding: lattice.affine_map().is_some(),
         assembly,
         lattice,
         embedding,
-        embedding_time_ms,
-        Vec::new(),
-        progress,
-        cancel,
-    )
+        steps: Vec::new(),
+        scene: scene.clone(),
+        resumed_deformations: 0,
+    };
+    continue_design(base, progress, cancel)
 }
 
-/// The deformations of `scene` after the `steps` already done, from the last step's
-/// lattice and parameters (or the undeformed lattice and the embedding).
-#[allow(clippy::too_many_arguments)]
+/// `design` with the deformations of `design.scene` after its `steps` (the first
+/// `resumed_deformations`) restored, from the last step's lattice and parameters (or the
+/// undeformed lattice and the embedding).
 fn continue_design(
-    scene: &FfdScene,
-    assembly: PanelAssembly,
-    lattice: NurbsVolume,
-    embedding: Vec<Vec3>,
-    embedding_time_ms: f64,
-    mut steps: Vec<DeformationStep>,
+    mut design: FfdDesign,
     progress: &mut dyn FnMut(&RestorationProgress),
     cancel: Option<&std::sync::atomic::AtomicBool>,
 ) -> Result<FfdDesign, FfdError> {
-    let linear_embedding = lattice.affine_map().is_some();
-    let resumed_deformations = steps.len();
-    let (mut volume, mut parameters) = match steps.last() {
+    let (scene, assembly) = (&design.scene, &design.assembly);
+    let mut steps = Vec::new();
+    let (mut volume, mut parameters) = match design.steps.last() {
         Some(last) => (last.volume.clone(), last.parameters.clone()),
-        None => (lattice.clone(), embedding.clone()),
+        None => (design.lattice.clone(), design.embedding.clone()),
     };
-    // Over the welded panels: inside each panel and across the seams.
-    let fold_angle =
-        |nodes: &[Vec3]| fold_angle_max(&assembly.node_triangles, &assembly.node_edges, |n| nodes[n as usize]);
     let problem_options = scene.solver.problem_options();
-    for (k, deformation) in scene.deformations.iter().enumerate().skip(resumed_deformations) {
+    for (k, deformation) in scene.deformations.iter().enumerate().skip(design.resumed_deformations) {
         let previous_volume = volume;
         volume = apply_edits(
             &previous_volume,
             &deformation.edits,
             &format!("deformations[{k}].edits"),
         )?;
-        let mut problem = DevelopabilityProblem::new(&volume, &assembly, parameters.clone(), &problem_options);
+        let mut problem = DevelopabilityProblem::new(&volume, assembly, parameters.clone(), &problem_options);
         problem.cancel = cancel;
         let deformation_count = scene.deformations.len();
         // The solvers report iteration 0 (the start) first.
@@ -309,9 +302,9 @@ fn continue_design(
             .zip(&restored)
             .map(|(a, b)| (a - b).norm())
             .fold(0.0, f64::max);
-        let (max, mean) = edge_length_change(&assembly, &deformed, &restored);
-        let (fold_angle_max_before, fold_angle_max_after) = (fold_angle(&deformed), fold_angle(&restored));
-        let fold_angle_change_max = fold_angle_change_max(
+        let (max, mean) = edge_length_change(assembly, &deformed, &restored);
+        // Over the welded panels: inside each panel and across the seams.
+        let folds = fold_angle_figures(
             &assembly.node_triangles,
             &assembly.node_edges,
             |n| deformed[n as usize],
@@ -330,22 +323,14 @@ fn continue_design(
             deviation_max,
             edge_length_change_max_relative: max,
             edge_length_change_mean_relative: mean,
-            fold_angle_max_before,
-            fold_angle_max_after,
-            fold_angle_change_max,
+            fold_angle_max_before: folds.max_before,
+            fold_angle_max_after: folds.max_after,
+            fold_angle_change_max: folds.change_max,
         });
         parameters = new_parameters;
     }
-    Ok(FfdDesign {
-        assembly,
-        lattice,
-        embedding,
-        linear_embedding,
-        embedding_time_ms,
-        steps,
-        scene: scene.clone(),
-        resumed_deformations,
-    })
+    design.steps.extend(steps);
+    Ok(design)
 }
 
 /// `(max, mean)` of `|l_b − l_a| / l_a` over the mesh edges.

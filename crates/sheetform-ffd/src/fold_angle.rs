@@ -51,16 +51,43 @@ pub fn fold_angle_change_max(
     before: impl Fn(u32) -> Vec3,
     after: impl Fn(u32) -> Vec3,
 ) -> f64 {
+    fold_angle_figures(triangles, edges, before, after).change_max
+}
+
+/// The fold-angle figures of a restoration, each shape's fold angles computed once.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FoldAngleFigures {
+    /// [`fold_angle_max`] of the first shape.
+    pub max_before: f64,
+    /// [`fold_angle_max`] of the second shape.
+    pub max_after: f64,
+    /// [`fold_angle_change_max`] from the first shape to the second.
+    pub change_max: f64,
+}
+
+/// [`fold_angle_max`] of two shapes of the same mesh and [`fold_angle_change_max`]
+/// between them (radians).
+pub fn fold_angle_figures(
+    triangles: &[[u32; 3]],
+    edges: &EdgeTable,
+    before: impl Fn(u32) -> Vec3,
+    after: impl Fn(u32) -> Vec3,
+) -> FoldAngleFigures {
     let before = signed_fold_angles(triangles, edges, before);
     let after = signed_fold_angles(triangles, edges, after);
-    before
-        .iter()
-        .zip(&after)
-        .filter_map(|(&b, &a)| {
-            let change = (a? - b?).rem_euclid(std::f64::consts::TAU);
-            Some(change.min(std::f64::consts::TAU - change))
-        })
-        .fold(0.0, f64::max)
+    let largest = |angles: &[Option<f64>]| angles.iter().flatten().map(|a| a.abs()).fold(0.0, f64::max);
+    FoldAngleFigures {
+        max_before: largest(&before),
+        max_after: largest(&after),
+        change_max: before
+            .iter()
+            .zip(&after)
+            .filter_map(|(&b, &a)| {
+                let change = (a? - b?).rem_euclid(std::f64::consts::TAU);
+                Some(change.min(std::f64::consts::TAU - change))
+            })
+            .fold(0.0, f64::max),
+    }
 }
 
 /// The signed fold angle of each edge (see [`fold_angle_change_max`]); `None` on
@@ -132,6 +159,15 @@ mod tests {
             fold_angle_change_max(&triangles, &edges, |i| a[i as usize], |i| b[i as usize])
         };
         assert!(change(0.3, 0.3) < 1e-15);
+        // The figures of both shapes at once: each shape's largest fold as alone.
+        let (a, b) = (lifted(0.3), lifted(-1.2));
+        let figures = fold_angle_figures(&triangles, &edges, |i| a[i as usize], |i| b[i as usize]);
+        assert_eq!(
+            figures.max_before,
+            fold_angle_max(&triangles, &edges, |i| a[i as usize])
+        );
+        assert_eq!(figures.max_after, fold_angle_max(&triangles, &edges, |i| b[i as usize]));
+        assert!((figures.change_max - 1.5).abs() < 1e-12);
         assert!((change(0.3, 0.5) - 0.2).abs() < 1e-12);
         // Mountain to valley by the same angle: unsigned it would not change at all.
         assert!((change(0.3, -0.3) - 0.6).abs() < 1e-12, "{}", change(0.3, -0.3));

@@ -54,7 +54,7 @@ pub use error::FfdError;
 pub use ffd_design::{
     run_design, run_design_resuming, run_design_with_cancel, run_design_with_progress, DeformationStep, FfdDesign,
 };
-pub use fold_angle::{fold_angle_change_max, fold_angle_max};
+pub use fold_angle::{fold_angle_change_max, fold_angle_figures, fold_angle_max, FoldAngleFigures};
 pub use lattice_edit::{apply_edits, ControlPointSelection, IndexRanges, LatticeEdit};
 pub use nurbs_volume::{NurbsVolume, DIRECTION_NAMES};
 pub use panel_assembly::{Panel, PanelAssembly, LINK_TOLERANCE};

@@ -472,6 +472,18 @@ mod tests {
         }
     }
 
+    /// The panels of `mesh` welded at their seams (one vertex per node).
+    fn welded(mesh: &TriangleMesh) -> TriangleMesh {
+        let assembly = crate::PanelAssembly::from_mesh(mesh).unwrap();
+        TriangleMesh {
+            positions: assembly.node_positions(),
+            face_groups: vec![0; assembly.node_triangles.len()],
+            triangles: assembly.node_triangles,
+            groups: vec!["welded".into()],
+            ..TriangleMesh::default()
+        }
+    }
+
     /// The trousers are one garment: welded at their seams, the four panels and the
     /// waistband make a consistently oriented surface with three openings (the two hems
     /// and the top of the waistband; Euler characteristic −1, a pair of pants), the legs
@@ -485,15 +497,7 @@ mod tests {
             mesh.groups,
             ["left-front", "left-back", "right-front", "right-back", "waistband"]
         );
-        let assembly = crate::PanelAssembly::from_mesh(&mesh).unwrap();
-        let welded = TriangleMesh {
-            positions: assembly.node_positions(),
-            triangles: assembly.node_triangles.clone(),
-            face_groups: vec![0; assembly.node_triangles.len()],
-            groups: vec!["trousers".into()],
-            ..TriangleMesh::default()
-        };
-        let topology = mesh_topology(&welded);
+        let topology = mesh_topology(&welded(&mesh));
         assert!(topology.is_clean() && topology.consistently_oriented, "{topology:?}");
         assert_eq!(topology.component_count, 1);
         assert_eq!(topology.boundary_loop_count, 3);
@@ -541,15 +545,7 @@ mod tests {
                 assert!(t.is_clean() && t.consistently_oriented, "{label}: {t:?}");
                 let s = developability_summary(&mesh, &t, &vertex_developability(&mesh, &t), 1e-10);
                 assert!(s.angle_defect_max_rad < 1e-12, "{label}: {s:?}");
-                let assembly = crate::PanelAssembly::from_mesh(&mesh).unwrap();
-                let welded = TriangleMesh {
-                    positions: assembly.node_positions(),
-                    triangles: assembly.node_triangles.clone(),
-                    face_groups: vec![0; assembly.node_triangles.len()],
-                    groups: vec!["trousers".into()],
-                    ..TriangleMesh::default()
-                };
-                let t = mesh_topology(&welded);
+                let t = mesh_topology(&welded(&mesh));
                 assert!(t.is_clean() && t.consistently_oriented, "{label}: {t:?}");
                 assert_eq!((t.boundary_loop_count, t.euler_characteristic), (3, -1), "{label}");
             }

@@ -511,6 +511,11 @@ function drawCurveList(scene) {
   });
 }
 
+/** Sets the field at the path `keys` (e.g. `['true_size', 'to']`) of `object`. */
+function setAt(object, keys, value) {
+  keys.slice(0, -1).reduce((inner, key) => inner[key], object)[keys.at(-1)] = value;
+}
+
 /** A pointer event's position in the photograph's pixels. */
 function photoPoint(event) {
   const point = new DOMPoint(event.clientX, event.clientY).matrixTransform(photoSvg.getScreenCTM().inverse());
@@ -552,9 +557,7 @@ photoSvg.addEventListener('pointerdown', (event) => {
 photoSvg.addEventListener('pointermove', (event) => {
   if (!photo.drag) return;
   if (photo.drag.mark) {
-    const keys = photo.drag.mark;
-    const parent = keys.slice(0, -1).reduce((object, key) => object[key], photo.working);
-    parent[keys.at(-1)] = photoPoint(event);
+    setAt(photo.working, photo.drag.mark, photoPoint(event));
   } else {
     photo.working.curves[photo.drag.curve].control_points[photo.drag.index] = photoPoint(event);
   }
@@ -1521,9 +1524,7 @@ $('save').addEventListener('click', async () => {
     if (reply.moves.length > 0) {
       scene = structuredClone(scene);
       for (const move of reply.moves) {
-        const keys = move.pointer.split('/').slice(1);
-        const parent = keys.slice(0, -1).reduce((object, key) => object[key], scene);
-        parent[keys.at(-1)] = move.to;
+        setAt(scene, move.pointer.split('/').slice(1), move.to);
         moved.push(`${move.field} ${move.from} → ${move.to}`);
       }
     }
