@@ -9,13 +9,13 @@ use sheetform::flatten::ChartOptions;
 use sheetform::io::read_mesh;
 use sheetform::pattern::{TabOptions, TabSides};
 use sheetform::pipeline::{
-    run_bend, run_check, run_ffd, run_flatten, run_photo, run_slit, write_outputs, BendRunOptions, ChartMode,
-    CheckOptions, FfdRunOptions, FlattenMethod, FlattenOptions, Outcome, PhotoInput, PhotoRunOptions, PipelineError,
-    RunContext, SlitRunOptions,
+    read_scene_file, run_bend, run_check, run_ffd, run_flatten, run_photo, run_slit, scene_directory, write_outputs,
+    BendRunOptions, ChartMode, CheckOptions, FfdRunOptions, FlattenMethod, FlattenOptions, Outcome, PhotoInput,
+    PhotoRunOptions, PipelineError, RunContext, SlitRunOptions,
 };
 use sheetform::slit::SlitScene;
 use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
@@ -36,7 +36,11 @@ pub(crate) fn check_command(
     };
     let model = read_mesh(&mesh)?;
     let run = with_progress_bar(quiet, |progress| {
-        run_check(model, &options, &run_context(scene_dir(&mesh)).with_progress(progress))
+        run_check(
+            model,
+            &options,
+            &run_context(scene_directory(&mesh)).with_progress(progress),
+        )
     })?;
     write_set(&output, &run.files, &run.report)?;
     if !quiet {
@@ -114,7 +118,11 @@ pub(crate) fn flatten_command(
     };
     let model = read_mesh(&mesh)?;
     let run = with_progress_bar(quiet, |progress| {
-        run_flatten(model, &options, &run_context(scene_dir(&mesh)).with_progress(progress))
+        run_flatten(
+            model,
+            &options,
+            &run_context(scene_directory(&mesh)).with_progress(progress),
+        )
     })?;
     write_set(&output, &run.files, &run.report)?;
     let d = &run.distortion;
@@ -228,28 +236,6 @@ fn write_set(
     write_outputs(output, files, report)
 }
 
-/// The directory a scene file's assets are read from (its own).
-pub(crate) fn scene_dir(scene: &Path) -> PathBuf {
-    match scene.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
-        _ => PathBuf::from("."),
-    }
-}
-
-/// The scene file's text, or an error naming it.
-pub(crate) fn read_scene(scene: &Path) -> Result<String, PipelineError> {
-    let bytes = sheetform::io::read_bounded(scene, sheetform::io::MAX_SCENE_FILE_BYTES).map_err(|source| {
-        PipelineError::Read {
-            path: scene.display().to_string(),
-            source,
-        }
-    })?;
-    String::from_utf8(bytes).map_err(|_| PipelineError::Read {
-        path: scene.display().to_string(),
-        source: std::io::Error::new(std::io::ErrorKind::InvalidData, "not UTF-8 text"),
-    })
-}
-
 pub(crate) fn bend_command(
     scene: PathBuf,
     output: PathBuf,
@@ -257,7 +243,7 @@ pub(crate) fn bend_command(
     pattern: PatternArgs,
     quiet: bool,
 ) -> Result<ExitCode, PipelineError> {
-    let parsed = BendScene::from_json(&read_scene(&scene)?)?;
+    let parsed = BendScene::from_json(&read_scene_file(&scene)?)?;
     let options = BendRunOptions {
         pattern: pattern.into(),
         animate_frames: animate,
@@ -267,7 +253,7 @@ pub(crate) fn bend_command(
         run_bend(
             &parsed,
             &options,
-            &run_context(scene_dir(&scene)).with_progress(progress),
+            &run_context(scene_directory(&scene)).with_progress(progress),
         )
     });
     match result {
@@ -309,7 +295,7 @@ pub(crate) fn slit_command(
     pattern: PatternArgs,
     quiet: bool,
 ) -> Result<ExitCode, PipelineError> {
-    let parsed = SlitScene::from_json(&read_scene(&scene)?)?;
+    let parsed = SlitScene::from_json(&read_scene_file(&scene)?)?;
     let options = SlitRunOptions {
         pattern: pattern.into(),
         input: Some(scene.display().to_string()),
@@ -318,7 +304,7 @@ pub(crate) fn slit_command(
         run_slit(
             &parsed,
             &options,
-            &run_context(scene_dir(&scene)).with_progress(progress),
+            &run_context(scene_directory(&scene)).with_progress(progress),
         )
     })?;
     write_set(&output, &run.files, &run.report)?;
@@ -348,7 +334,7 @@ pub(crate) fn photo_command(
     pattern: PatternArgs,
     quiet: bool,
 ) -> Result<ExitCode, PipelineError> {
-    let input = PhotoInput::from_text(&read_scene(&annotation)?)?;
+    let input = PhotoInput::from_text(&read_scene_file(&annotation)?)?;
     let options = PhotoRunOptions {
         pattern: pattern.into(),
         input: Some(annotation.display().to_string()),
@@ -357,7 +343,7 @@ pub(crate) fn photo_command(
         run_photo(
             &input,
             &options,
-            &run_context(scene_dir(&annotation)).with_progress(progress),
+            &run_context(scene_directory(&annotation)).with_progress(progress),
         )
     })?;
     write_set(&output, &run.files, &run.report)?;
@@ -411,7 +397,7 @@ pub(crate) fn ffd_command(
     quiet: bool,
 ) -> Result<ExitCode, PipelineError> {
     use sheetform::ffd::SolverMethod;
-    let parsed = sheetform::ffd::FfdScene::from_json(&read_scene(&scene)?)?;
+    let parsed = sheetform::ffd::FfdScene::from_json(&read_scene_file(&scene)?)?;
     let options = FfdRunOptions {
         pattern: pattern.into(),
         input: Some(scene.display().to_string()),
@@ -426,7 +412,7 @@ pub(crate) fn ffd_command(
         run_ffd(
             &parsed,
             &options,
-            &run_context(scene_dir(&scene)).with_progress(progress),
+            &run_context(scene_directory(&scene)).with_progress(progress),
         )
     })?;
     write_set(&output, &run.files, &run.report)?;

@@ -1,7 +1,7 @@
 //! The user's seams (OBJ `l` polylines): checked against the mesh, and opened.
 
 use crate::FlattenError;
-use sheetform_mesh::{cut_along_edges, EdgeTable, TriangleMesh};
+use sheetform_mesh::{cut_along_edges, CutMesh, EdgeTable, TriangleMesh};
 
 /// The edge-table index of every user seam edge (`mesh.seam_edges`).
 ///
@@ -23,15 +23,15 @@ pub fn user_seam_edges(mesh: &TriangleMesh, table: &EdgeTable) -> Result<Vec<usi
         .collect()
 }
 
-/// `mesh` cut open along the user's seams (see [`cut_along_edges`]); `None` when it has
-/// none.
+/// `mesh` cut open along the user's seams (see [`cut_along_edges`]), with the input vertex
+/// each of its vertices is a copy of; `None` when it has none.
 ///
 /// # Errors
 /// As [`user_seam_edges`].
-pub fn open_user_seams(mesh: &TriangleMesh) -> Result<Option<TriangleMesh>, FlattenError> {
+pub fn open_user_seams(mesh: &TriangleMesh) -> Result<Option<CutMesh>, FlattenError> {
     if mesh.seam_edges.is_empty() {
         return Ok(None);
     }
     user_seam_edges(mesh, &EdgeTable::new(&mesh.triangles, mesh.positions.len()))?;
-    Ok(Some(cut_along_edges(mesh, &mesh.seam_edges).mesh))
+    Ok(Some(cut_along_edges(mesh, &mesh.seam_edges)))
 }

@@ -102,6 +102,9 @@ impl Default for FlattenOptions {
 pub struct FlattenRun {
     /// The mesh with its pattern.
     pub sheet: SheetMesh,
+    /// The vertex of the input mesh (after welding, when asked) that each vertex of
+    /// `sheet` is a copy of: a vertex on a seam between charts has a copy in each.
+    pub source_vertices: Vec<u32>,
     /// Distortion and overlaps.
     pub distortion: Distortion,
     /// Rendered outputs.
@@ -204,7 +207,7 @@ pub fn run_flatten(
     }
     // Room between charts for glue tabs (model units).
     let tab_room = pattern_options.room_between_pieces(mm);
-    let (sheet, solved) = match layout {
+    let (sheet, source_vertices, solved) = match layout {
         Layout::Charts => {
             let set = match chart_set.take() {
                 Some(set) => set,
@@ -226,7 +229,7 @@ pub fn run_flatten(
             });
             report.charts = charts_report(&sheet, &set.charts);
             report.solver = Some(sum_solvers(&set.charts));
-            (sheet, solved)
+            (sheet, chart_vertex_sources(&set.charts), solved)
         }
         Layout::Net => {
             let net = net.take().expect("a net layout was unfolded above");
@@ -243,12 +246,15 @@ pub fn run_flatten(
                 budget_cut_count: net.budget_cut_count,
             });
             report.charts = charts_report(&sheet, &net.pieces);
-            (sheet, solved)
+            (sheet, chart_vertex_sources(&net.pieces), solved)
         }
         Layout::Whole => {
             // The user's seams are opened first (the mesh then has to be a disk).
             let opened = open_user_seams(&mesh)?;
-            let whole = opened.as_ref().unwrap_or(&mesh);
+            let whole = opened.as_ref().map_or(&mesh, |cut| &cut.mesh);
+            let sources = opened
+                .as_ref()
+                .map_or_else(|| (0..mesh.positions.len() as u32).collect(), |cut| cut.origin.clone());
             let unfolding = match options.method {
                 FlattenMethod::Exact => exact_unfold(whole, &UnfoldOptions::default())?,
                 FlattenMethod::Lscm => lscm(whole)?,
@@ -269,7 +275,7 @@ pub fn run_flatten(
                 unit: options.unit,
             };
             report.solver = Some(unfolding.solver);
-            (sheet, solved)
+            (sheet, sources, solved)
         }
     };
     let use_charts = layout != Layout::Whole;
@@ -334,6 +340,7 @@ pub fn run_flatten(
     report.timings = Timings::from_stages(start, parsed, solved, exported);
     Ok(FlattenRun {
         sheet,
+        source_vertices,
         outcome: if !d.is_overlap_free() {
             Outcome::Overlapping
         } else if !within {
@@ -345,6 +352,11 @@ pub fn run_flatten(
         files,
         report,
     })
+}
+
+/// The mesh vertex each vertex of [`sheet_from_charts`]'s sheet is a copy of.
+fn chart_vertex_sources(charts: &[Chart]) -> Vec<u32> {
+    charts.iter().flat_map(|c| c.vertices.iter().copied()).collect()
 }
 
 /// One report entry per chart (exact unfolding), named as the sheet's pieces.

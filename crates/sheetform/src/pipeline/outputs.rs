@@ -271,6 +271,34 @@ pub(crate) fn pattern_files(
     Ok((files, report))
 }
 
+/// The pattern files of a mesh that already carries its flat pattern (arrays handed over
+/// by a binding, [`super::sheet_mesh_from_arrays`]): `pattern.svg`, and with every output
+/// `pattern.dxf` and `pattern.pdf` (and one file per sheet when packed), rendered as every
+/// command renders them, with the report of the pattern. Folds under
+/// [`SMOOTH_PANEL_BEND_DEGREES`] are drawn as bending guides unless
+/// `options.smooth_bend_degrees` says otherwise (as for the smooth charts of `flatten`).
+///
+/// # Errors
+/// [`PipelineError::InvalidResult`] for a mesh that is not valid (a non-finite coordinate,
+/// an index out of range), [`PipelineError::Pattern`] when a file cannot be made (a PDF
+/// of more pages than allowed).
+pub fn render_pattern(
+    mesh: &SheetMesh,
+    title: &str,
+    options: &PatternOutputOptions,
+    outputs: OutputSet,
+) -> Result<(RenderedFiles, PatternReport), PipelineError> {
+    pattern_files(
+        mesh,
+        title,
+        options,
+        outputs,
+        None,
+        UpAxis::Y,
+        SMOOTH_PANEL_BEND_DEGREES,
+    )
+}
+
 /// Writes rendered files and the report into `dir` (created if missing) as one set.
 ///
 /// The set replaces the previous run's as a unit ([`sheetform_io::replace_file_set`]):

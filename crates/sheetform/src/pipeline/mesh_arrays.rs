@@ -1,0 +1,231 @@
+//! Meshes handed over as flat arrays (a binding's numpy arrays, a mesh built in memory):
+//! checked once here, with errors that name the array and the row, before any pipeline
+//! step sees them.
+
+use super::error::PipelineError;
+use sheetform_geometry::{Vec2, Vec3};
+use sheetform_mesh::{LengthUnit, Piece, PieceKind, SheetMesh, TriangleMesh};
+
+/// Most vertices or faces an array mesh may have: indices are 32-bit.
+pub const MAX_ARRAY_MESH_ELEMENTS: usize = u32::MAX as usize;
+
+fn invalid(array: &'static str, message: String) -> PipelineError {
+    PipelineError::Option { option: array, message }
+}
+
+fn positions_from(vertices: &[f64]) -> Result<Vec<Vec3>, PipelineError> {
+    if vertices.len() % 3 != 0 {
+        return Err(invalid(
+            "vertices",
+            format!("{} numbers do not make rows of 3 coordinates", vertices.len()),
+        ));
+    }
+    if vertices.len() / 3 > MAX_ARRAY_MESH_ELEMENTS {
+        return Err(invalid(
+            "vertices",
+            format!("more than {MAX_ARRAY_MESH_ELEMENTS} vertices"),
+        ));
+    }
+    vertices
+        .chunks_exact(3)
+        .enumerate()
+        .map(|(i, c)| {
+            if c.iter().all(|x| x.is_finite()) {
+                Ok(Vec3::new(c[0], c[1], c[2]))
+            } else {
+                Err(invalid(
+                    "vertices",
+                    format!("row {i} has a non-finite coordinate {c:?}"),
+                ))
+            }
+        })
+        .collect()
+}
+
+fn triangles_from<I: Copy + TryInto<i64> + std::fmt::Display>(
+    faces: &[I],
+    vertex_count: usize,
+) -> Result<Vec<[u32; 3]>, PipelineError> {
+    if faces.len() % 3 != 0 {
+        return Err(invalid(
+            "faces",
+            format!("{} indices do not make rows of 3 (triangles only)", faces.len()),
+        ));
+    }
+    if faces.len() / 3 > MAX_ARRAY_MESH_ELEMENTS {
+        return Err(invalid("faces", format!("more than {MAX_ARRAY_MESH_ELEMENTS} faces")));
+    }
+    faces
+        .chunks_exact(3)
+        .enumerate()
+        .map(|(f, c)| {
+            let mut triangle = [0u32; 3];
+            for (k, &index) in c.iter().enumerate() {
+                let v: i64 = index.try_into().unwrap_or(i64::MAX);
+                if v < 0 || v as u64 >= vertex_count as u64 {
+                    return Err(invalid(
+                        "faces",
+                        format!(
+                            "row {f} names vertex {index}, but the vertices are numbered 0 to {}",
+                            vertex_count as i64 - 1
+                        ),
+                    ));
+                }
+                triangle[k] = v as u32;
+            }
+            Ok(triangle)
+        })
+        .collect()
+}
+
+/// A triangle mesh from `vertices` (`n × 3` coordinates, row-major) and `faces` (`m × 3`
+/// vertex indices of any integer type, row-major), one group named `name`.
+///
+/// # Errors
+/// [`PipelineError::Option`] naming `vertices` or `faces` and the row: a length that is
+/// not a multiple of 3, a non-finite coordinate, an index out of range, more than
+/// [`MAX_ARRAY_MESH_ELEMENTS`] rows.
+pub fn mesh_from_arrays<I: Copy + TryInto<i64> + std::fmt::Display>(
+    vertices: &[f64],
+    faces: &[I],
+    name: &str,
+) -> Result<TriangleMesh, PipelineError> {
+    let positions = positions_from(vertices)?;
+    let triangles = triangles_from(faces, positions.len())?;
+    Ok(TriangleMesh {
+        face_groups: vec![0; triangles.len()],
+        groups: vec![name.to_string()],
+        positions,
+        triangles,
+        corner_uvs: None,
+        seam_edges: Vec::new(),
+    })
+}
+
+/// A mesh with its flat pattern from arrays: `vertices` (`n × 3`), `faces` (`m × 3`),
+/// `uv` (`n × 2`, the flat position of each vertex at 1:1 in `unit`), and optionally the
+/// piece of each face (`face_pieces`, `m` labels from 0) with the pieces' names (by
+/// default `name-1`, `name-2`, …).
+///
+/// # Errors
+/// [`PipelineError::Option`] naming the array and the row, as [`mesh_from_arrays`], and
+/// for `uv` rows that do not match the vertices, piece labels that do not match the faces
+/// or name no piece.
+pub fn sheet_mesh_from_arrays<I: Copy + TryInto<i64> + std::fmt::Display>(
+    vertices: &[f64],
+    faces: &[I],
+    uv: &[f64],
+    face_pieces: Option<&[i64]>,
+    piece_names: Option<&[String]>,
+    name: &str,
+    unit: LengthUnit,
+) -> Result<SheetMesh, PipelineError> {
+    let positions = positions_from(vertices)?;
+    let triangles = triangles_from(faces, positions.len())?;
+    if uv.len() != 2 * positions.len() {
+        return Err(invalid(
+            "uv",
+            format!(
+                "{} numbers, but {} vertices need {} (one row of 2 per vertex)",
+                uv.len(),
+                positions.len(),
+                2 * positions.len()
+            ),
+        ));
+    }
+    let flat = uv
+        .chunks_exact(2)
+        .enumerate()
+        .map(|(i, c)| {
+            if c.iter().all(|x| x.is_finite()) {
+                Ok(Vec2::new(c[0], c[1]))
+            } else {
+                Err(invalid("uv", format!("row {i} has a non-finite coordinate {c:?}")))
+            }
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let labels: Vec<u32> = match face_pieces {
+        None => vec![0; triangles.len()],
+        Some(labels) => {
+            if labels.len() != triangles.len() {
+                return Err(invalid(
+                    "face_pieces",
+                    format!("{} labels for {} faces", labels.len(), triangles.len()),
+                ));
+            }
+            labels
+                .iter()
+                .enumerate()
+                .map(|(f, &l)| {
+                    u32::try_from(l)
+                        .map_err(|_| invalid("face_pieces", format!("row {f} is {l}, not a piece number from 0")))
+                })
+                .collect::<Result<_, _>>()?
+        }
+    };
+    let piece_count = labels.iter().map(|&l| l as usize + 1).max().unwrap_or(1);
+    let pieces = match piece_names {
+        Some(names) => {
+            if names.len() < piece_count {
+                return Err(invalid(
+                    "piece_names",
+                    format!("{} names, but the faces name {piece_count} pieces", names.len()),
+                ));
+            }
+            names.to_vec()
+        }
+        None if piece_count == 1 => vec![name.to_string()],
+        None => (1..=piece_count).map(|p| format!("{name}-{p}")).collect(),
+    };
+    let mesh = SheetMesh {
+        positions,
+        flat,
+        triangles,
+        face_pieces: labels,
+        pieces: pieces
+            .into_iter()
+            .map(|name| Piece {
+                name,
+                kind: PieceKind::Chart,
+            })
+            .collect(),
+        rulings: vec![],
+        smooth_edges: vec![],
+        unit,
+    };
+    mesh.validate().map_err(|e| invalid("uv", e.to_string()))?;
+    Ok(mesh)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn arrays_make_the_mesh_they_describe() {
+        let mesh = mesh_from_arrays(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0], &[0, 1, 2], "m").unwrap();
+        assert_eq!(mesh.positions[1], Vec3::x());
+        assert_eq!(mesh.triangles, vec![[0, 1, 2]]);
+        assert_eq!(mesh.face_groups, vec![0]);
+    }
+
+    #[test]
+    fn bad_arrays_are_refused_naming_the_array_and_row() {
+        let v = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+        let message = |e: PipelineError| e.to_string();
+        assert!(message(mesh_from_arrays(&v[..8], &[0, 1, 2], "m").unwrap_err()).contains("vertices"));
+        let mut nan = v;
+        nan[4] = f64::NAN;
+        assert!(message(mesh_from_arrays(&nan, &[0, 1, 2], "m").unwrap_err()).contains("row 1 has a non-finite"));
+        let e = message(mesh_from_arrays(&v, &[0, 1, 3], "m").unwrap_err());
+        assert!(e.contains("faces") && e.contains("row 0 names vertex 3"), "{e}");
+        assert!(message(mesh_from_arrays(&v, &[0, -1, 2], "m").unwrap_err()).contains("vertex -1"));
+        let e =
+            message(sheet_mesh_from_arrays(&v, &[0, 1, 2], &[0.0; 4], None, None, "m", LengthUnit::Mm).unwrap_err());
+        assert!(e.contains("uv") && e.contains("3 vertices need 6"), "{e}");
+        let e = message(
+            sheet_mesh_from_arrays(&v, &[0, 1, 2], &[0.0; 6], Some(&[-2]), None, "m", LengthUnit::Mm).unwrap_err(),
+        );
+        assert!(e.contains("face_pieces") && e.contains("row 0 is -2"), "{e}");
+    }
+}
