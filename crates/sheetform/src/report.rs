@@ -25,6 +25,9 @@ pub enum Command {
     Check,
     /// Any mesh laid out in the plane.
     Flatten,
+    /// The printable pattern of a mesh that already has its flat layout (the bindings'
+    /// `pattern`).
+    Pattern,
 }
 
 /// How a run ended, in one word per case (the process exit code follows from it).

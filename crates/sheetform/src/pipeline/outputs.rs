@@ -271,32 +271,63 @@ pub(crate) fn pattern_files(
     Ok((files, report))
 }
 
-/// The pattern files of a mesh that already carries its flat pattern (arrays handed over
-/// by a binding, [`super::sheet_mesh_from_arrays`]): `pattern.svg`, and with every output
-/// `pattern.dxf` and `pattern.pdf` (and one file per sheet when packed), rendered as every
-/// command renders them, with the report of the pattern. Folds under
-/// [`SMOOTH_PANEL_BEND_DEGREES`] are drawn as bending guides unless
+/// The printable pattern of a mesh that already carries its flat layout (arrays handed
+/// over by a binding, [`super::sheet_mesh_from_arrays`]): `pattern.svg`, and with every
+/// output `pattern.dxf` and `pattern.pdf` (and one file per sheet when packed), rendered
+/// as every command renders them, and the report (command `pattern`: the pattern's
+/// figures, the isometry error of the layout against the 3D edges, whether pieces
+/// overlap; status `overlapping` when they do, as for `flatten`). Folds under [`SMOOTH_PANEL_BEND_DEGREES`] are drawn as bending guides unless
 /// `options.smooth_bend_degrees` says otherwise (as for the smooth charts of `flatten`).
 ///
 /// # Errors
 /// [`PipelineError::InvalidResult`] for a mesh that is not valid (a non-finite coordinate,
 /// an index out of range), [`PipelineError::Pattern`] when a file cannot be made (a PDF
-/// of more pages than allowed).
-pub fn render_pattern(
+/// of more pages than allowed), [`PipelineError::Cancelled`].
+pub fn run_pattern(
     mesh: &SheetMesh,
     title: &str,
     options: &PatternOutputOptions,
-    outputs: OutputSet,
-) -> Result<(RenderedFiles, PatternReport), PipelineError> {
-    pattern_files(
+    context: &super::RunContext,
+) -> Result<(RenderedFiles, Report, super::Outcome), PipelineError> {
+    let start = std::time::Instant::now();
+    context.check_cancelled()?;
+    mesh.validate().map_err(PipelineError::InvalidResult)?;
+    let d = sheetform_flatten::distortion(&mesh.to_triangle_mesh(), &mesh.flat);
+    let measured = std::time::Instant::now();
+    context.progress("rendering the pattern", 0.1);
+    let (files, pattern) = pattern_files(
         mesh,
         title,
         options,
-        outputs,
+        context.outputs,
         None,
         UpAxis::Y,
         SMOOTH_PANEL_BEND_DEGREES,
-    )
+    )?;
+    let done = std::time::Instant::now();
+    let mut report = Report::new(crate::report::Command::Pattern, None);
+    report.model_unit = mesh.unit;
+    report.vertex_count = mesh.positions.len();
+    report.face_count = mesh.triangles.len();
+    report.area_mm2 = mesh.area() * mesh.unit.millimetres().powi(2);
+    report.flat_area_mm2 = Some(mesh.flat_area() * mesh.unit.millimetres().powi(2));
+    report.isometry_error_max_relative = Some(d.edge_length_max_relative);
+    report.isometry_error_mean_relative = Some(d.edge_length_mean_relative);
+    let outcome = if d.is_overlap_free() {
+        super::Outcome::Ok
+    } else {
+        super::Outcome::Overlapping
+    };
+    report.status = if d.is_overlap_free() {
+        crate::report::Status::Ok
+    } else {
+        crate::report::Status::Overlapping
+    };
+    report.pattern = Some(pattern);
+    report.outputs = output_names(&files);
+    report.timings = crate::report::Timings::from_stages(start, start, measured, done);
+    context.progress("done", 1.0);
+    Ok((files, report, outcome))
 }
 
 /// Writes rendered files and the report into `dir` (created if missing) as one set.

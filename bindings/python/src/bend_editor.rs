@@ -1,0 +1,209 @@
+//! The bend editor as a Python class, for interactive use in a notebook: the edits of the
+//! web editor (Bo & Wang 2007, §4.1) through the library's
+//! [`sheetform::pipeline::edit_bend_scene`], refused (with the reason) when the shape
+//! would not be admissible, the last admissible scene kept.
+
+use crate::convert::{scene_argument, to_python, SceneArgument};
+use crate::errors::{invalid_argument, python_error};
+use crate::run::{output_set, run_interruptibly, Run, RunParts};
+use numpy::PyArray2;
+use pyo3::prelude::*;
+use sheetform::bend::{BendModel, BendScene, CurveSpec};
+use sheetform::pipeline::{
+    edit_bend_scene, run_bend, BendEdit, BendRunOptions, EndHandleSpec, LengthMethod, RunContext,
+};
+use std::path::PathBuf;
+
+/// Most edits kept for `undo`.
+const MAX_UNDO: usize = 1_000;
+
+/// An editable bend scene: move a control point, drag keeping the curve's length, drag
+/// the end handles; each edit returns what it did (a dict: `applied`,
+/// `rejected_because`, `curve_length_before`, `curve_length_after`, `solver`). An edit
+/// that would make the shape inadmissible is refused and the scene kept, as in the web
+/// editor.
+///
+/// `BendEditor(scene, root=None)`: `scene` as a dict or the path of its file.
+#[pyclass(module = "sheetform")]
+pub struct BendEditor {
+    scene: BendScene,
+    root: PathBuf,
+    history: Vec<BendScene>,
+}
+
+fn point(argument: &str, p: Vec<f64>) -> PyResult<[f64; 3]> {
+    match p.as_slice() {
+        [x, y, z] if p.iter().all(|c| c.is_finite()) => Ok([*x, *y, *z]),
+        _ => Err(invalid_argument(
+            argument,
+            format!("three finite numbers expected, got {p:?}"),
+        )),
+    }
+}
+
+impl BendEditor {
+    fn apply(&mut self, py: Python<'_>, edit: BendEdit) -> PyResult<Py<PyAny>> {
+        let scene = &self.scene;
+        let result = py
+            .detach(|| edit_bend_scene(scene, &edit))
+            .map_err(|e| python_error(py, e))?;
+        if result.info.applied {
+            self.history.push(std::mem::replace(&mut self.scene, result.scene));
+            if self.history.len() > MAX_UNDO {
+                self.history.remove(0);
+            }
+        }
+        Ok(to_python(py, &result.info)?.unbind())
+    }
+}
+
+#[pymethods]
+impl BendEditor {
+    #[new]
+    #[pyo3(signature = (scene, *, root=None))]
+    fn new(py: Python<'_>, scene: &Bound<'_, PyAny>, root: Option<PathBuf>) -> PyResult<Self> {
+        let SceneArgument { text, root, .. } = scene_argument(py, scene, root)?;
+        let scene = BendScene::from_json(&text).map_err(|e| python_error(py, e.into()))?;
+        BendModel::from_scene(&scene).map_err(|e| python_error(py, e.into()))?;
+        Ok(Self {
+            scene,
+            root,
+            history: Vec::new(),
+        })
+    }
+
+    /// The current scene as a dict (the JSON `sheetform bend` reads).
+    #[getter]
+    fn scene(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        Ok(to_python(py, &self.scene)?.unbind())
+    }
+
+    /// The Bézier control points of `region`'s curve, `(k, 3)`.
+    fn control_points<'py>(&self, py: Python<'py>, region: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let spec = self.scene.regions.get(region).ok_or_else(|| {
+            invalid_argument(
+                "region",
+                format!("no region {region} (the scene has {})", self.scene.regions.len()),
+            )
+        })?;
+        match &spec.curve {
+            CurveSpec::Bezier { control_points } => {
+                let points: Vec<_> = control_points
+                    .iter()
+                    .map(|p| sheetform::geometry::Vec3::new(p[0], p[1], p[2]))
+                    .collect();
+                crate::convert::points3(py, &points)
+            }
+            _ => Err(invalid_argument(
+                "region",
+                format!("region {region}: not a Bézier control curve"),
+            )),
+        }
+    }
+
+    /// Moves one control point of `region`'s curve to `position` (§4.1.1); the curve's
+    /// length changes with it.
+    fn move_control_point(
+        &mut self,
+        py: Python<'_>,
+        region: usize,
+        index: usize,
+        position: Vec<f64>,
+    ) -> PyResult<Py<PyAny>> {
+        let position = point("position", position)?;
+        self.apply(
+            py,
+            BendEdit::MoveControlPoint {
+                region,
+                index,
+                position,
+            },
+        )
+    }
+
+    /// Moves one control point and restores the curve's length (§4.1.3): `method="trim"`
+    /// cuts or extends the curve at its old arc length (the paper's), `"scale"` scales it
+    /// about the dragged point.
+    #[pyo3(signature = (region, index, position, method="trim"))]
+    fn drag_preserving_length(
+        &mut self,
+        py: Python<'_>,
+        region: usize,
+        index: usize,
+        position: Vec<f64>,
+        method: &str,
+    ) -> PyResult<Py<PyAny>> {
+        let position = point("position", position)?;
+        let method = match method {
+            "trim" => LengthMethod::Trim,
+            "scale" => LengthMethod::Scale,
+            other => {
+                return Err(invalid_argument(
+                    "method",
+                    format!("`{other}`: one of \"trim\", \"scale\""),
+                ))
+            }
+        };
+        self.apply(
+            py,
+            BendEdit::DragPreservingLength {
+                region,
+                index,
+                position,
+                method,
+            },
+        )
+    }
+
+    /// Drags the end handles (§4.1.2): the curve's end points and the surface normals
+    /// wanted there (each optional); the interior control points follow.
+    #[pyo3(signature = (region, *, start_position=None, start_normal=None, end_position=None, end_normal=None))]
+    fn drag_end_handles(
+        &mut self,
+        py: Python<'_>,
+        region: usize,
+        start_position: Option<Vec<f64>>,
+        start_normal: Option<Vec<f64>>,
+        end_position: Option<Vec<f64>>,
+        end_normal: Option<Vec<f64>>,
+    ) -> PyResult<Py<PyAny>> {
+        let start = EndHandleSpec {
+            position: start_position.map(|p| point("start_position", p)).transpose()?,
+            normal: start_normal.map(|p| point("start_normal", p)).transpose()?,
+        };
+        let end = EndHandleSpec {
+            position: end_position.map(|p| point("end_position", p)).transpose()?,
+            normal: end_normal.map(|p| point("end_normal", p)).transpose()?,
+        };
+        self.apply(py, BendEdit::DragEndHandles { region, start, end })
+    }
+
+    /// Takes the last applied edit back; `False` when there is none.
+    fn undo(&mut self) -> bool {
+        match self.history.pop() {
+            Some(scene) => {
+                self.scene = scene;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Bends the current scene, as `sheetform.bend` (by default only the preview files:
+    /// GLB, SVG and the report).
+    #[pyo3(signature = (*, outputs="preview"))]
+    fn bend(&self, py: Python<'_>, outputs: &str) -> PyResult<Run> {
+        let outputs = output_set(outputs)?;
+        let (scene, root) = (&self.scene, self.root.clone());
+        let (run, seconds) = run_interruptibly(py, |cancel| {
+            run_bend(
+                scene,
+                &BendRunOptions::default(),
+                &RunContext::new(root).with_cancel(cancel).with_outputs(outputs),
+            )
+        })?;
+        let mut parts = RunParts::of_sheet(&run.sheet.mesh, run.files, run.report, run.outcome, seconds);
+        parts.angle_defects_rad = Some(run.angle_defects_rad);
+        Run::new(py, parts)
+    }
+}

@@ -1,0 +1,93 @@
+//! One Python exception class per [`ErrorKind`] of the library, so that a notebook can
+//! tell a bad scene from a shape that cannot be made or a solver that did not converge;
+//! the message is the library's, which names the field or place.
+
+use crate::convert::json_to_python;
+use pyo3::exceptions::{PyException, PyRuntimeError};
+use pyo3::prelude::*;
+use sheetform::pipeline::{ErrorKind, PipelineError};
+
+pyo3::create_exception!(
+    _native,
+    SheetformError,
+    PyException,
+    "Base class of every error sheetform raises."
+);
+pyo3::create_exception!(
+    _native,
+    InvalidInputError,
+    SheetformError,
+    "The input is malformed, out of range or unreadable (a scene, an array, an option, a file); the message names the field or place."
+);
+pyo3::create_exception!(
+    _native,
+    InadmissibleError,
+    SheetformError,
+    "The input is valid but the shape cannot be made (a bent sheet whose curve of regression enters it); `.report` says where."
+);
+pyo3::create_exception!(
+    _native,
+    NotConvergedError,
+    SheetformError,
+    "A solver or a construction failed on valid input."
+);
+pyo3::create_exception!(
+    _native,
+    OutputError,
+    SheetformError,
+    "The outputs cannot be written (the directory, the disk)."
+);
+pyo3::create_exception!(
+    _native,
+    CancelledError,
+    SheetformError,
+    "The run was cancelled (Ctrl-C, a notebook's interrupt)."
+);
+
+/// The Python exception for a pipeline error; an inadmissible shape's carries its report
+/// as `.report` (a dict, the `report.json` the CLI writes).
+pub(crate) fn python_error(py: Python<'_>, error: PipelineError) -> PyErr {
+    let message = error.to_string();
+    let exception = match error.kind() {
+        ErrorKind::InvalidInput => InvalidInputError::new_err(message),
+        ErrorKind::Inadmissible => InadmissibleError::new_err(message),
+        ErrorKind::Failed => NotConvergedError::new_err(message),
+        ErrorKind::Output => OutputError::new_err(message),
+        ErrorKind::Cancelled => CancelledError::new_err(message),
+    };
+    if let Some(report) = error.report() {
+        let value = serde_json::to_value(report).expect("a report serialises");
+        let attached = json_to_python(py, &value).and_then(|dict| exception.value(py).setattr("report", dict));
+        if let Err(e) = attached {
+            return e;
+        }
+    }
+    exception
+}
+
+/// An invalid argument of a binding function (not a scene field), named.
+pub(crate) fn invalid_argument(argument: &str, message: impl std::fmt::Display) -> PyErr {
+    InvalidInputError::new_err(format!("{argument}: {message}"))
+}
+
+/// A panic inside a run (a bug): raised as an error rather than ending the interpreter.
+pub(crate) fn internal_error(payload: Box<dyn std::any::Any + Send>) -> PyErr {
+    let what = payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".into());
+    PyRuntimeError::new_err(format!("sheetform internal error (please report it): {what}"))
+}
+
+/// Registers the exception classes.
+pub(crate) fn register(module: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = module.py();
+    module.add("SheetformError", py.get_type::<SheetformError>())?;
+    module.add("InvalidInputError", py.get_type::<InvalidInputError>())?;
+    module.add("InadmissibleError", py.get_type::<InadmissibleError>())?;
+    module.add("NotConvergedError", py.get_type::<NotConvergedError>())?;
+    module.add("OutputError", py.get_type::<OutputError>())?;
+    module.add("CancelledError", py.get_type::<CancelledError>())?;
+    Ok(())
+}

@@ -1,0 +1,224 @@
+//! Functions on any mesh given as numpy arrays (from trimesh, libigl, Open3D, …), without
+//! files: `check`, `flatten` (whole, in smooth charts or as a net) and `pattern`.
+
+use crate::convert::{float_rows, index_list, index_rows};
+use crate::errors::invalid_argument;
+use crate::run::{output_set, run_interruptibly, Run, RunParts};
+use crate::systems::pattern_options;
+use pyo3::prelude::*;
+use sheetform::flatten::ChartOptions;
+use sheetform::mesh::LengthUnit;
+use sheetform::pattern::TabOptions;
+use sheetform::pipeline::{
+    mesh_from_arrays, run_check, run_flatten, run_pattern, sheet_mesh_from_arrays, ChartMode, CheckOptions,
+    FlattenMethod, FlattenOptions, RunContext, DEFAULT_ANGLE_TOLERANCE,
+};
+
+fn length_unit(unit: &str) -> PyResult<LengthUnit> {
+    match unit {
+        "mm" => Ok(LengthUnit::Mm),
+        "cm" => Ok(LengthUnit::Cm),
+        "m" => Ok(LengthUnit::M),
+        "in" => Ok(LengthUnit::In),
+        other => Err(invalid_argument(
+            "unit",
+            format!("`{other}`: one of \"mm\", \"cm\", \"m\", \"in\""),
+        )),
+    }
+}
+
+/// Measures the developability of a triangle mesh, as `sheetform check`: topology
+/// (non-manifold edges and vertices, degenerate faces, boundary loops), the angle defect
+/// `2π − Σθ` at every vertex, `D[M]` and `G[X]` (Wang & Tang 2004).
+///
+/// `vertices`: `(n, 3)` numbers; `faces`: `(m, 3)` integer indices (any integer dtype).
+/// `weld`: merge vertices closer than this first (model units). `tolerance`: defects up
+/// to this (radians) count as developable. `unit`: the mesh's length unit.
+///
+/// Returns a `Run` with `uv = None` and `angle_defects_rad` per vertex; the report's
+/// `status` is `"developable"` or `"not_developable"`.
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, *, weld=None, tolerance=DEFAULT_ANGLE_TOLERANCE, unit="mm", name="mesh", outputs="all"))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn check(
+    py: Python<'_>,
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+    weld: Option<f64>,
+    tolerance: f64,
+    unit: &str,
+    name: &str,
+    outputs: &str,
+) -> PyResult<Run> {
+    let v = float_rows("vertices", vertices, 3)?;
+    let f = index_rows("faces", faces, 3)?;
+    let outputs = output_set(outputs)?;
+    let options = CheckOptions {
+        weld,
+        tolerance,
+        unit: length_unit(unit)?,
+        input: Some(format!("{name}.mesh")),
+    };
+    let (v, f) = (v.as_slice()?, f.as_slice()?);
+    let (run, seconds) = run_interruptibly(py, |cancel| {
+        let mesh = mesh_from_arrays(v, f, name)?;
+        run_check(
+            mesh,
+            &options,
+            &RunContext::new(".").with_cancel(cancel).with_outputs(outputs),
+        )
+    })?;
+    let defects: Vec<f64> = run.vertices.angle_defect.clone();
+    Run::new(
+        py,
+        RunParts {
+            positions: &run.mesh.positions,
+            triangles: &run.mesh.triangles,
+            flat: None,
+            face_pieces: Some(&run.mesh.face_groups),
+            pieces: run.mesh.groups.clone(),
+            angle_defects_rad: Some(defects),
+            source_vertices: None,
+            files: run.files,
+            report: run.report,
+            outcome: run.outcome,
+            pipeline_seconds: seconds,
+        },
+    )
+}
+
+/// Lays a mesh out flat, as `sheetform flatten`: the exact unfolding of a developable
+/// mesh, or cut into charts (or a net) when it cannot be flattened whole.
+///
+/// `method`: `"exact"` (from the edge lengths), `"lscm"` or `"arap"` for a mesh flattened
+/// whole. `charts`: `"auto"` (what a maker would expect: a developable disk whole, a
+/// faceted model as a net, a curved surface in smooth charts), `"smooth"`, `"net"` or
+/// `"never"`. `crease_angle` (degrees) and `max_distortion` (relative edge-length change
+/// allowed in a chart) steer the cut. A net gets glue tabs unless `net_tabs=False`.
+///
+/// Returns a `Run`: `uv` is the pattern at 1:1, `face_pieces` the chart of each face,
+/// `source_vertices` the input vertex each output vertex copies (a vertex on a seam has
+/// one copy per chart). `outcome` is `"overlapping"` when the pattern overlaps itself and
+/// `"out_of_tolerance"` when an edge stretches more than `max_distortion`.
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, *, method="exact", charts="auto", crease_angle=None, max_distortion=None, net_tabs=true, weld=None, unit="mm", name="mesh", outputs="all", scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn flatten(
+    py: Python<'_>,
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+    method: &str,
+    charts: &str,
+    crease_angle: Option<f64>,
+    max_distortion: Option<f64>,
+    net_tabs: bool,
+    weld: Option<f64>,
+    unit: &str,
+    name: &str,
+    outputs: &str,
+    scale: f64,
+    page: &str,
+    pattern_units: &str,
+    tabs: &str,
+    seam_allowance_mm: f64,
+) -> PyResult<Run> {
+    let v = float_rows("vertices", vertices, 3)?;
+    let f = index_rows("faces", faces, 3)?;
+    let outputs = output_set(outputs)?;
+    let defaults = ChartOptions::default();
+    let options = FlattenOptions {
+        method: match method {
+            "exact" => FlattenMethod::Exact,
+            "lscm" => FlattenMethod::Lscm,
+            "arap" => FlattenMethod::Arap,
+            other => {
+                return Err(invalid_argument(
+                    "method",
+                    format!("`{other}`: one of \"exact\", \"lscm\", \"arap\""),
+                ))
+            }
+        },
+        charts: match charts {
+            "auto" => ChartMode::Auto,
+            "smooth" => ChartMode::Smooth,
+            "net" => ChartMode::Net,
+            "never" => ChartMode::Never,
+            other => {
+                return Err(invalid_argument(
+                    "charts",
+                    format!("`{other}`: one of \"auto\", \"smooth\", \"net\", \"never\""),
+                ))
+            }
+        },
+        chart_options: ChartOptions {
+            crease_angle_degrees: crease_angle.unwrap_or(defaults.crease_angle_degrees),
+            max_edge_distortion: max_distortion.unwrap_or(defaults.max_edge_distortion),
+            ..defaults
+        },
+        net_options: Default::default(),
+        net_tabs: net_tabs.then(TabOptions::default),
+        pattern: pattern_options(scale, page, pattern_units, tabs, seam_allowance_mm)?,
+        weld,
+        unit: length_unit(unit)?,
+        input: Some(format!("{name}.mesh")),
+    };
+    let (v, f) = (v.as_slice()?, f.as_slice()?);
+    let (run, seconds) = run_interruptibly(py, |cancel| {
+        let mesh = mesh_from_arrays(v, f, name)?;
+        run_flatten(
+            mesh,
+            &options,
+            &RunContext::new(".").with_cancel(cancel).with_outputs(outputs),
+        )
+    })?;
+    let mut parts = RunParts::of_sheet(&run.sheet, run.files, run.report, run.outcome, seconds);
+    parts.source_vertices = Some(&run.source_vertices);
+    Run::new(py, parts)
+}
+
+/// The printable pattern of a mesh that already has its flat layout (`uv`, `(n, 2)` at
+/// 1:1 in `unit`): `pattern.svg` (cut, mountain, valley and guide layers), and with
+/// `outputs="all"` `pattern.dxf` and the tiled true-scale `pattern.pdf`, as every command
+/// renders them. `face_pieces` (`(m,)`, from 0) and `piece_names` split it into pieces.
+///
+/// Returns a `Run` whose `files` are the pattern files and whose report has the
+/// pattern's figures.
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, uv, *, face_pieces=None, piece_names=None, unit="mm", name="pattern", outputs="all", scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn pattern(
+    py: Python<'_>,
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+    uv: &Bound<'_, PyAny>,
+    face_pieces: Option<&Bound<'_, PyAny>>,
+    piece_names: Option<Vec<String>>,
+    unit: &str,
+    name: &str,
+    outputs: &str,
+    scale: f64,
+    page: &str,
+    pattern_units: &str,
+    tabs: &str,
+    seam_allowance_mm: f64,
+) -> PyResult<Run> {
+    let v = float_rows("vertices", vertices, 3)?;
+    let f = index_rows("faces", faces, 3)?;
+    let flat = float_rows("uv", uv, 2)?;
+    let labels = face_pieces.map(|l| index_list("face_pieces", l)).transpose()?;
+    let outputs = output_set(outputs)?;
+    let unit = length_unit(unit)?;
+    let options = pattern_options(scale, page, pattern_units, tabs, seam_allowance_mm)?;
+    let (v, f, flat) = (v.as_slice()?, f.as_slice()?, flat.as_slice()?);
+    let ((sheet, (files, report, outcome)), seconds) = run_interruptibly(py, |cancel| {
+        let sheet = sheet_mesh_from_arrays(v, f, flat, labels.as_deref(), piece_names.as_deref(), name, unit)?;
+        let run = run_pattern(
+            &sheet,
+            name,
+            &options,
+            &RunContext::new(".").with_cancel(cancel).with_outputs(outputs),
+        )?;
+        Ok((sheet, run))
+    })?;
+    Run::new(py, RunParts::of_sheet(&sheet, files, report, outcome, seconds))
+}

@@ -1,0 +1,241 @@
+//! [`Run`], what every system and mesh function returns, and running a library pipeline
+//! off the interpreter's lock so that Ctrl-C (a notebook's interrupt) cancels it.
+
+use crate::convert::{labels, points2, points3, to_python, triangles};
+use crate::errors::{internal_error, python_error};
+use numpy::{PyArray1, PyArray2};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+use sheetform::mesh::SheetMesh;
+use sheetform::pipeline::{write_outputs, Outcome, PipelineError, RenderedFiles};
+use sheetform::report::Report;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+/// Stack of the thread a run goes on (deep recursions in solvers need more than the
+/// default 2 MiB of a spawned thread).
+const RUN_STACK_BYTES: usize = 64 << 20;
+
+/// How often a waiting call looks for Ctrl-C.
+const SIGNAL_CHECK: Duration = Duration::from_millis(50);
+
+/// Runs `job` on its own thread without the interpreter's lock (other Python threads go
+/// on), checking for Ctrl-C as it waits: an interrupt sets the run's cancellation flag,
+/// waits for the run to stop at its next stage and raises `KeyboardInterrupt`. A panic in
+/// the run is raised as a `RuntimeError`, never a crash of the interpreter. Returns the
+/// job's value and the seconds it took.
+pub(crate) fn run_interruptibly<T: Send>(
+    py: Python<'_>,
+    job: impl FnOnce(&AtomicBool) -> Result<T, PipelineError> + Send,
+) -> PyResult<(T, f64)> {
+    let cancel = AtomicBool::new(false);
+    let (sender, receiver) = mpsc::channel();
+    // (Waiting happens without the interpreter's lock, which needs a `Sync` receiver.)
+    let receiver = std::sync::Mutex::new(receiver);
+    std::thread::scope(|scope| {
+        let cancel = &cancel;
+        let handle = std::thread::Builder::new()
+            .name("sheetform-run".into())
+            .stack_size(RUN_STACK_BYTES)
+            .spawn_scoped(scope, move || {
+                let start = Instant::now();
+                let result = job(cancel);
+                let _ = sender.send((result, start.elapsed().as_secs_f64()));
+            })
+            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(format!("cannot start a run: {e}")))?;
+        loop {
+            match py.detach(|| {
+                receiver
+                    .lock()
+                    .expect("only this thread waits")
+                    .recv_timeout(SIGNAL_CHECK)
+            }) {
+                Ok((result, seconds)) => {
+                    let _ = handle.join();
+                    return result.map(|value| (value, seconds)).map_err(|e| python_error(py, e));
+                }
+                Err(mpsc::RecvTimeoutError::Disconnected) => {
+                    // The job panicked before sending.
+                    return Err(match handle.join() {
+                        Err(payload) => internal_error(payload),
+                        Ok(()) => pyo3::exceptions::PyRuntimeError::new_err("the run ended without a result"),
+                    });
+                }
+                Err(mpsc::RecvTimeoutError::Timeout) => {
+                    if let Err(interrupt) = py.check_signals() {
+                        cancel.store(true, Ordering::SeqCst);
+                        let _ = py.detach(|| handle.join());
+                        return Err(interrupt);
+                    }
+                }
+            }
+        }
+    })
+}
+
+/// The result of a system (`bend`, `slit`, `ffd`, `photo`) or a mesh function
+/// (`check`, `flatten`, `pattern`): the mesh with its flat pattern as numpy arrays, the
+/// report as a dict, and the files the CLI would write, in memory.
+///
+/// Every array is made once, when the run ends (one copy of the library's data), and
+/// returned as it is on every access.
+#[pyclass(module = "sheetform", frozen)]
+pub struct Run {
+    /// `(n, 3)` float64: vertex positions (model units). Vertices on a seam between
+    /// pieces have one copy per piece, with the same position.
+    #[pyo3(get)]
+    vertices: Py<PyArray2<f64>>,
+    /// `(m, 3)` int64: triangles, indices into `vertices`.
+    #[pyo3(get)]
+    faces: Py<PyArray2<i64>>,
+    /// `(n, 2)` float64: each vertex's position on the flat pattern at 1:1 (model units),
+    /// or `None` when the run makes no pattern (`check`).
+    #[pyo3(get)]
+    uv: Option<Py<PyArray2<f64>>>,
+    /// `(m,)` int64: the piece (index into `pieces`) of each face.
+    #[pyo3(get)]
+    face_pieces: Option<Py<PyArray1<i64>>>,
+    /// The pieces' names, as in the OBJ groups and on the pattern.
+    #[pyo3(get)]
+    pieces: Vec<String>,
+    /// `(n,)` float64: the angle defect `2π − Σθ` at each vertex (radians; 0 on the
+    /// boundary), when the run measures it (`bend`, `check`).
+    #[pyo3(get)]
+    angle_defects_rad: Option<Py<PyArray1<f64>>>,
+    /// `(n,)` int64: the input vertex each vertex is a copy of (`flatten`), else `None`.
+    #[pyo3(get)]
+    source_vertices: Option<Py<PyArray1<i64>>>,
+    /// The report: the `report.json` the CLI writes, as a dict.
+    #[pyo3(get)]
+    report: Py<PyAny>,
+    /// How the run ended: `"ok"`, `"overlapping"` (the pattern overlaps itself) or
+    /// `"out_of_tolerance"` (a bound the report states is missed).
+    #[pyo3(get)]
+    outcome: &'static str,
+    /// Seconds the library's pipeline took (without the conversion to Python).
+    #[pyo3(get)]
+    pipeline_seconds: f64,
+    files: RenderedFiles,
+    report_value: Report,
+    files_dict: std::sync::OnceLock<Py<PyDict>>,
+}
+
+/// What a [`Run`] is made of, before the conversion.
+pub(crate) struct RunParts<'a> {
+    pub(crate) positions: &'a [sheetform::geometry::Vec3],
+    pub(crate) triangles: &'a [[u32; 3]],
+    pub(crate) flat: Option<&'a [sheetform::geometry::Vec2]>,
+    pub(crate) face_pieces: Option<&'a [u32]>,
+    pub(crate) pieces: Vec<String>,
+    pub(crate) angle_defects_rad: Option<Vec<f64>>,
+    pub(crate) source_vertices: Option<&'a [u32]>,
+    pub(crate) files: RenderedFiles,
+    pub(crate) report: Report,
+    pub(crate) outcome: Outcome,
+    pub(crate) pipeline_seconds: f64,
+}
+
+impl<'a> RunParts<'a> {
+    /// The parts of a run whose model is a [`SheetMesh`].
+    pub(crate) fn of_sheet(
+        sheet: &'a SheetMesh,
+        files: RenderedFiles,
+        report: Report,
+        outcome: Outcome,
+        pipeline_seconds: f64,
+    ) -> Self {
+        Self {
+            positions: &sheet.positions,
+            triangles: &sheet.triangles,
+            flat: Some(&sheet.flat),
+            face_pieces: Some(&sheet.face_pieces),
+            pieces: sheet.pieces.iter().map(|p| p.name.clone()).collect(),
+            angle_defects_rad: None,
+            source_vertices: None,
+            files,
+            report,
+            outcome,
+            pipeline_seconds,
+        }
+    }
+}
+
+impl Run {
+    pub(crate) fn new(py: Python<'_>, parts: RunParts<'_>) -> PyResult<Self> {
+        Ok(Self {
+            vertices: points3(py, parts.positions)?.unbind(),
+            faces: triangles(py, parts.triangles)?.unbind(),
+            uv: parts.flat.map(|f| points2(py, f)).transpose()?.map(Bound::unbind),
+            face_pieces: parts.face_pieces.map(|l| labels(py, l).unbind()),
+            pieces: parts.pieces,
+            angle_defects_rad: parts.angle_defects_rad.map(|d| PyArray1::from_vec(py, d).unbind()),
+            source_vertices: parts.source_vertices.map(|l| labels(py, l).unbind()),
+            report: to_python(py, &parts.report)?.unbind(),
+            outcome: match parts.outcome {
+                Outcome::Ok => "ok",
+                Outcome::Overlapping => "overlapping",
+                Outcome::OutOfTolerance => "out_of_tolerance",
+            },
+            pipeline_seconds: parts.pipeline_seconds,
+            files: parts.files,
+            report_value: parts.report,
+            files_dict: std::sync::OnceLock::new(),
+        })
+    }
+}
+
+#[pymethods]
+impl Run {
+    /// The rendered files the CLI would write, `{name: bytes}` (`model.obj`, `model.glb`,
+    /// `pattern.svg`, `pattern.dxf`, `pattern.pdf`, …; without `report.json`, which is
+    /// `report`). Made on first access.
+    #[getter]
+    fn files(&self, py: Python<'_>) -> PyResult<Py<PyDict>> {
+        if let Some(dict) = self.files_dict.get() {
+            return Ok(dict.clone_ref(py));
+        }
+        let dict = PyDict::new(py);
+        for (name, bytes) in &self.files {
+            dict.set_item(name, PyBytes::new(py, bytes))?;
+        }
+        let dict = dict.unbind();
+        let _ = self.files_dict.set(dict.clone_ref(py));
+        Ok(dict)
+    }
+
+    /// Writes the files and `report.json` into `directory` (created if missing) as one
+    /// set, exactly as the CLI does: the previous run's files there are replaced as a
+    /// unit, and nothing is left half-written.
+    ///
+    /// Raises `OutputError` when the directory cannot be used or a write fails.
+    fn write(&self, py: Python<'_>, directory: PathBuf) -> PyResult<()> {
+        let (files, report) = (&self.files, &self.report_value);
+        py.detach(|| write_outputs(&directory, files, report))
+            .map_err(|e| python_error(py, e))
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> String {
+        use numpy::PyUntypedArrayMethods;
+        let n = self.vertices.bind(py).shape()[0];
+        let m = self.faces.bind(py).shape()[0];
+        format!(
+            "<sheetform.Run {}: {n} vertices, {m} faces, {} pieces>",
+            self.outcome,
+            self.pieces.len()
+        )
+    }
+}
+
+/// `"all"` (every file the CLI writes) or `"preview"` (GLB, SVG and the report only).
+pub(crate) fn output_set(outputs: &str) -> PyResult<sheetform::pipeline::OutputSet> {
+    match outputs {
+        "all" => Ok(sheetform::pipeline::OutputSet::All),
+        "preview" => Ok(sheetform::pipeline::OutputSet::Preview),
+        other => Err(crate::errors::invalid_argument(
+            "outputs",
+            format!("`{other}`: one of \"all\", \"preview\""),
+        )),
+    }
+}

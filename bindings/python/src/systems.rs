@@ -1,0 +1,271 @@
+//! The four systems, each a function taking a scene (a dict or a path) and returning a
+//! [`Run`]: the same library pipelines the CLI runs, with the same scene parsing.
+
+use crate::convert::{scene_argument, SceneArgument};
+use crate::errors::{invalid_argument, python_error};
+use crate::run::{output_set, run_interruptibly, Run, RunParts};
+use pyo3::prelude::*;
+use sheetform::bend::BendScene;
+use sheetform::ffd::{FfdScene, SolverMethod};
+use sheetform::pattern::{DxfUnit, PageSize, TabOptions, TabSides};
+use sheetform::pipeline::{
+    run_bend, run_ffd, run_photo, run_slit, BendRunOptions, FfdRunOptions, PatternOutputOptions, PhotoInput,
+    PhotoRunOptions, RunContext, SlitRunOptions,
+};
+use sheetform::slit::SlitScene;
+use std::path::PathBuf;
+
+/// The pattern keywords every function takes, as the library's options (the CLI's
+/// `--scale`, `--page`, `--pattern-units`, `--tabs`, `--seam-allowance`).
+pub(crate) fn pattern_options(
+    scale: f64,
+    page: &str,
+    pattern_units: &str,
+    tabs: &str,
+    seam_allowance_mm: f64,
+) -> PyResult<PatternOutputOptions> {
+    let mut options = PatternOutputOptions::default();
+    if !(scale.is_finite() && scale > 0.0 && scale <= 1e6) {
+        return Err(invalid_argument(
+            "scale",
+            format!("must be a positive factor up to 1e6, got {scale}"),
+        ));
+    }
+    options.scale = scale;
+    options.page = match page {
+        "a4" => PageSize::A4,
+        "letter" => PageSize::Letter,
+        other => {
+            return Err(invalid_argument(
+                "page",
+                format!("`{other}`: one of \"a4\", \"letter\""),
+            ))
+        }
+    };
+    options.dxf_unit = match pattern_units {
+        "mm" => DxfUnit::Mm,
+        "cm" => DxfUnit::Cm,
+        "in" => DxfUnit::In,
+        other => {
+            return Err(invalid_argument(
+                "pattern_units",
+                format!("`{other}`: one of \"mm\", \"cm\", \"in\""),
+            ))
+        }
+    };
+    options.tabs = match tabs {
+        "none" => None,
+        "one" => Some(TabOptions {
+            sides: TabSides::One,
+            ..TabOptions::default()
+        }),
+        "alternate" => Some(TabOptions {
+            sides: TabSides::Alternate,
+            ..TabOptions::default()
+        }),
+        other => {
+            return Err(invalid_argument(
+                "tabs",
+                format!("`{other}`: one of \"none\", \"one\", \"alternate\""),
+            ))
+        }
+    };
+    if !(seam_allowance_mm.is_finite() && (0.0..=1000.0).contains(&seam_allowance_mm)) {
+        return Err(invalid_argument(
+            "seam_allowance_mm",
+            format!("must be from 0 to 1000 mm, got {seam_allowance_mm}"),
+        ));
+    }
+    options.allowance.seam_allowance_mm = seam_allowance_mm;
+    Ok(options)
+}
+
+fn parsed<T>(py: Python<'_>, parse: Result<T, impl Into<sheetform::pipeline::PipelineError>>) -> PyResult<T> {
+    parse.map_err(|e| python_error(py, e.into()))
+}
+
+/// Bends a sheet along 3D control curves (system A, Bo & Wang 2007), as `sheetform bend`.
+///
+/// `scene` is a bend scene as a dict (the JSON of `sheetform schema bend`) or the path of
+/// its file. Files the scene names (a texture) are read relative to `root`: by default the
+/// scene file's directory, or the current directory for a dict.
+///
+/// Returns a `Run` whose `uv` is the flat sheet at 1:1 and `angle_defects_rad` the
+/// developability colour map (zero to rounding).
+///
+/// Raises `InvalidInputError` for an invalid scene (the message names the field),
+/// `InadmissibleError` for a shape that cannot be made (its `.report` says where).
+#[pyfunction]
+#[pyo3(signature = (scene, *, root=None, outputs="all", animate_frames=0, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn bend(
+    py: Python<'_>,
+    scene: &Bound<'_, PyAny>,
+    root: Option<PathBuf>,
+    outputs: &str,
+    animate_frames: usize,
+    scale: f64,
+    page: &str,
+    pattern_units: &str,
+    tabs: &str,
+    seam_allowance_mm: f64,
+) -> PyResult<Run> {
+    let SceneArgument { text, root, input } = scene_argument(py, scene, root)?;
+    let outputs = output_set(outputs)?;
+    let options = BendRunOptions {
+        pattern: pattern_options(scale, page, pattern_units, tabs, seam_allowance_mm)?,
+        animate_frames,
+        input,
+    };
+    let scene = parsed(py, BendScene::from_json(&text))?;
+    let (run, seconds) = run_interruptibly(py, |cancel| {
+        run_bend(
+            &scene,
+            &options,
+            &RunContext::new(root).with_cancel(cancel).with_outputs(outputs),
+        )
+    })?;
+    let mut parts = RunParts::of_sheet(&run.sheet.mesh, run.files, run.report, run.outcome, seconds);
+    parts.angle_defects_rad = Some(run.angle_defects_rad);
+    Run::new(py, parts)
+}
+
+/// Solves a slit sheet (system B, Tsuruta et al.), as `sheetform slit`: the strips of a
+/// sheet with parallel slits bent over a chair's or a bench's curves.
+///
+/// `scene`: a slit scene as a dict or the path of its file; a scan it names is read
+/// relative to `root` (default: the file's directory, or the current directory).
+#[pyfunction]
+#[pyo3(signature = (scene, *, root=None, outputs="all", scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn slit(
+    py: Python<'_>,
+    scene: &Bound<'_, PyAny>,
+    root: Option<PathBuf>,
+    outputs: &str,
+    scale: f64,
+    page: &str,
+    pattern_units: &str,
+    tabs: &str,
+    seam_allowance_mm: f64,
+) -> PyResult<Run> {
+    let SceneArgument { text, root, input } = scene_argument(py, scene, root)?;
+    let outputs = output_set(outputs)?;
+    let options = SlitRunOptions {
+        pattern: pattern_options(scale, page, pattern_units, tabs, seam_allowance_mm)?,
+        input,
+    };
+    let scene = parsed(py, SlitScene::from_json(&text))?;
+    let (run, seconds) = run_interruptibly(py, |cancel| {
+        run_slit(
+            &scene,
+            &options,
+            &RunContext::new(root).with_cancel(cancel).with_outputs(outputs),
+        )
+    })?;
+    Run::new(
+        py,
+        RunParts::of_sheet(&run.mesh, run.files, run.report, run.outcome, seconds),
+    )
+}
+
+/// Deforms sheet-metal or cloth panels in a lattice and restores their developability
+/// (system C, Wang & Tang 2004), as `sheetform ffd`.
+///
+/// `scene`: an FFD scene as a dict or the path of its file; a mesh it names is read
+/// relative to `root`. `solver` overrides the scene's (`"constrained"`, `"paper"` or
+/// `"none"`, as the CLI's `--solver`).
+///
+/// Returns a `Run` with the restored panels, each with its exact flat pattern (pieces =
+/// panels). Raises `InvalidInputError` for invalid scenes and `NotConvergedError` when
+/// the restoration fails.
+#[pyfunction]
+#[pyo3(signature = (scene, *, root=None, outputs="all", solver=None, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn ffd(
+    py: Python<'_>,
+    scene: &Bound<'_, PyAny>,
+    root: Option<PathBuf>,
+    outputs: &str,
+    solver: Option<&str>,
+    scale: f64,
+    page: &str,
+    pattern_units: &str,
+    tabs: &str,
+    seam_allowance_mm: f64,
+) -> PyResult<Run> {
+    let SceneArgument { text, root, input } = scene_argument(py, scene, root)?;
+    let outputs = output_set(outputs)?;
+    let solver = match solver {
+        None => None,
+        Some("constrained") => Some(SolverMethod::Constrained),
+        Some("paper") => Some(SolverMethod::Paper),
+        Some("none") => Some(SolverMethod::None),
+        Some(other) => {
+            return Err(invalid_argument(
+                "solver",
+                format!("`{other}`: one of \"constrained\", \"paper\", \"none\""),
+            ))
+        }
+    };
+    let options = FfdRunOptions {
+        pattern: pattern_options(scale, page, pattern_units, tabs, seam_allowance_mm)?,
+        input,
+        solver,
+        warm_start: None,
+    };
+    let scene = parsed(py, FfdScene::from_json(&text))?;
+    let (run, seconds) = run_interruptibly(py, |cancel| {
+        run_ffd(
+            &scene,
+            &options,
+            &RunContext::new(root).with_cancel(cancel).with_outputs(outputs),
+        )
+    })?;
+    Run::new(
+        py,
+        RunParts::of_sheet(&run.sheet, run.files, run.report, run.outcome, seconds),
+    )
+}
+
+/// Reconstructs a developable model and its pattern from an annotated photograph
+/// (system D, Fondevilla et al.), as `sheetform photo`.
+///
+/// `annotation`: a photo annotation as a dict, or the path of its JSON file or of an SVG
+/// drawing made over the photo. The photo it names is read relative to `root`.
+///
+/// Returns a `Run` (pieces = patches); `outcome` is `"out_of_tolerance"` when the model is
+/// not developable to the refinement's bound or a depth is not fixed by the drawing.
+#[pyfunction]
+#[pyo3(signature = (annotation, *, root=None, outputs="all", scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn photo(
+    py: Python<'_>,
+    annotation: &Bound<'_, PyAny>,
+    root: Option<PathBuf>,
+    outputs: &str,
+    scale: f64,
+    page: &str,
+    pattern_units: &str,
+    tabs: &str,
+    seam_allowance_mm: f64,
+) -> PyResult<Run> {
+    let SceneArgument { text, root, input } = scene_argument(py, annotation, root)?;
+    let outputs = output_set(outputs)?;
+    let options = PhotoRunOptions {
+        pattern: pattern_options(scale, page, pattern_units, tabs, seam_allowance_mm)?,
+        input,
+    };
+    let input = parsed(py, PhotoInput::from_text(&text))?;
+    let (run, seconds) = run_interruptibly(py, |cancel| {
+        run_photo(
+            &input,
+            &options,
+            &RunContext::new(root).with_cancel(cancel).with_outputs(outputs),
+        )
+    })?;
+    Run::new(
+        py,
+        RunParts::of_sheet(&run.sheet, run.files, run.report, run.outcome, seconds),
+    )
+}
