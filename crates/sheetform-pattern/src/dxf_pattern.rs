@@ -26,6 +26,10 @@ impl DxfUnit {
     }
 }
 
+/// The header GUID of every pattern (`$FINGERPRINTGUID`, `$VERSIONGUID`): fixed, so that
+/// the file depends only on the pattern.
+const PATTERN_GUID: u128 = 0x5348_4545_5446_4f52_4d00_0000_0000_0001;
+
 /// The pattern as DXF (AutoCAD R2000, so that LWPOLYLINE entities are kept), coordinates
 /// in `unit` with `$INSUNITS` and `$MEASUREMENT` set accordingly and `$EXTMIN`/`$EXTMAX`
 /// around the pattern. Layers: `CUT` (closed LWPOLYLINEs, glue tabs included, red),
@@ -51,6 +55,21 @@ pub fn dxf_bytes(pattern: &Pattern, unit: DxfUnit) -> Result<Vec<u8>, PatternErr
         DxfUnit::In => DrawingUnits::English,
         DxfUnit::Mm | DxfUnit::Cm => DrawingUnits::Metric,
     };
+    // The same pattern gives the same bytes (a cutter's job files can be compared, a run
+    // repeated): the header's dates and GUIDs, the time of writing and random numbers by
+    // default, are fixed. The GUID names sheetform's patterns; the dates are 2000-01-01.
+    let fixed_date = chrono::NaiveDate::from_ymd_opt(2000, 1, 1)
+        .and_then(|d| d.and_hms_opt(0, 0, 0))
+        .expect("a valid date");
+    if let Some(local) = chrono::TimeZone::from_local_datetime(&chrono::Local, &fixed_date).earliest() {
+        drawing.header.creation_date = local;
+        drawing.header.update_date = local;
+    }
+    let utc = chrono::TimeZone::from_utc_datetime(&chrono::Utc, &fixed_date);
+    drawing.header.creation_date_universal = utc;
+    drawing.header.update_date_universal = utc;
+    drawing.header.fingerprint_guid = uuid::Uuid::from_u128(PATTERN_GUID);
+    drawing.header.version_guid = uuid::Uuid::from_u128(PATTERN_GUID);
     let (lo, hi) = pattern.bounds();
     if lo.x.is_finite() && hi.x.is_finite() {
         drawing.header.minimum_drawing_extents = Point::new(lo.x * k, lo.y * k, 0.0);

@@ -1,0 +1,93 @@
+"""The four systems from Python give what the CLI gives on the same scenes: positions,
+flat pattern and faces of the model, every report figure to 1e-12, and the same files."""
+
+import json
+
+import numpy as np
+import pytest
+
+import sheetform
+from conftest import REPO, assert_close, read_obj, read_report, without_timings, y_up
+
+# (function, CLI command, scene path relative to the repository, up axis of its OBJ)
+SCENES = [
+    (sheetform.bend, "bend", "examples/desk.json", "z"),
+    (sheetform.bend, "bend", "examples/textured-sheet.json", "z"),
+    (sheetform.slit, "slit", "examples/slit/chair.json", "y"),
+    (sheetform.ffd, "ffd", "examples/ffd/two-panels.json", "z"),
+    (sheetform.photo, "photo", "examples/photo/tube.json", "y"),
+]
+
+
+@pytest.fixture(scope="module")
+def cli_outputs(cli, tmp_path_factory):
+    """Each scene run once by the CLI, into its own directory."""
+    outputs = {}
+    for _, command, scene, _ in SCENES:
+        out = tmp_path_factory.mktemp(command)
+        done = cli(command, scene, "-o", out)
+        assert done.returncode == 0, done.stderr
+        outputs[scene] = out
+    return outputs
+
+
+@pytest.mark.parametrize("function,command,scene,up_axis", SCENES, ids=[s[2] for s in SCENES])
+def test_a_system_from_python_equals_the_cli(function, command, scene, up_axis, cli_outputs, monkeypatch):
+    monkeypatch.chdir(REPO)
+    run = function(scene)
+    out = cli_outputs[scene]
+    # The report: every figure, the same status and outputs.
+    assert_close(without_timings(run.report), without_timings(read_report(out)))
+    assert run.outcome == "ok"
+    assert run.report["status"] == "ok"
+    # The model: positions, faces and the flat pattern at 1:1, as in the CLI's OBJ.
+    v, vt, f = read_obj(out / "model.obj")
+    np.testing.assert_allclose(y_up(run.vertices, up_axis), v, rtol=0, atol=1e-12 * max(1.0, np.abs(v).max()))
+    np.testing.assert_allclose(run.uv, vt, rtol=0, atol=1e-12 * max(1.0, np.abs(vt).max()))
+    # (The OBJ lists the faces piece by piece, each piece's in their order.)
+    np.testing.assert_array_equal(run.faces[np.argsort(run.face_pieces, kind="stable")], f)
+    assert run.vertices.shape == (len(v), 3) and run.uv.shape == (len(v), 2)
+    assert run.faces.dtype == np.int64 and run.vertices.dtype == np.float64
+    assert run.face_pieces.shape == (len(f),)
+    assert run.face_pieces.max() == len(run.pieces) - 1
+    # The files the CLI wrote, byte for byte (the PDF carries no date either).
+    for name, data in run.files.items():
+        assert data == (out / name).read_bytes(), name
+    assert sorted([*run.files, "report.json"]) == sorted(run.report["outputs"])
+
+
+def test_a_scene_as_a_dict_gives_the_same_model_as_its_file(monkeypatch):
+    monkeypatch.chdir(REPO)
+    scene = json.loads((REPO / "examples/desk.json").read_text())
+    from_dict = sheetform.bend(scene)
+    from_file = sheetform.bend(REPO / "examples/desk.json")
+    np.testing.assert_array_equal(from_dict.vertices, from_file.vertices)
+    np.testing.assert_array_equal(from_dict.uv, from_file.uv)
+    assert from_dict.report["input"] is None
+    assert from_file.report["input"].endswith("desk.json")
+
+
+def test_the_flat_pattern_is_an_isometry_of_the_bent_sheet():
+    run = sheetform.bend(REPO / "examples/bent-rectangle.json", outputs="preview")
+    edges = np.concatenate([run.faces[:, [0, 1]], run.faces[:, [1, 2]], run.faces[:, [2, 0]]])
+    length_3d = np.linalg.norm(run.vertices[edges[:, 0]] - run.vertices[edges[:, 1]], axis=1)
+    length_flat = np.linalg.norm(run.uv[edges[:, 0]] - run.uv[edges[:, 1]], axis=1)
+    assert np.abs(length_3d - length_flat).max() < 1e-9 * length_3d.max()
+    assert np.abs(run.angle_defects_rad).max() < 1e-9
+    assert sorted(run.files) == ["model.glb", "pattern.svg"]
+
+
+def test_write_puts_the_cli_files_into_a_directory(tmp_path):
+    run = sheetform.slit(REPO / "examples/slit/chair.json", outputs="preview")
+    run.write(tmp_path / "chair")
+    written = sorted(p.name for p in (tmp_path / "chair").iterdir())
+    assert written == sorted(run.report["outputs"])
+    assert json.loads((tmp_path / "chair" / "report.json").read_text()) == run.report
+
+
+def test_arrays_are_made_once_and_owned_by_numpy():
+    run = sheetform.bend(REPO / "examples/bent-rectangle.json", outputs="preview")
+    assert run.vertices is run.vertices, "the same array on every access"
+    assert run.files is run.files
+    for array in (run.vertices, run.faces, run.uv, run.face_pieces, run.angle_defects_rad):
+        assert array.flags["C_CONTIGUOUS"]
