@@ -142,7 +142,8 @@ impl PipelineError {
                 sheetform_flatten::FlattenError::Topology { .. } | sheetform_flatten::FlattenError::NotADisk { .. },
             ) => ErrorKind::InvalidInput,
             Self::Flatten(_) | Self::InvalidResult(_) => ErrorKind::Failed,
-            Self::Photo(PhotoError::Solver(_)) => ErrorKind::Failed,
+            Self::Photo(PhotoError::Solver(_)) | Self::Ffd(FfdError::Solver(_)) => ErrorKind::Failed,
+            Self::Ffd(FfdError::Cancelled) => ErrorKind::Cancelled,
             Self::Read { .. }
             | Self::Bend(_)
             | Self::MeshRead(_)

@@ -1,0 +1,93 @@
+"""The bend editor class: the web editor's edits (Bo & Wang 2007, §4.1), an inadmissible
+edit refused with the scene kept, the edited scene bent as `bend` bends it."""
+
+import json
+
+import numpy as np
+import pytest
+
+import sheetform
+from conftest import REPO
+
+TORSION = {
+    "outline": [[0, -60], [240, -60], [240, 60], [0, 60]],
+    "regions": [
+        {
+            "flat_start": [0, 0],
+            "flat_direction": [1, 0],
+            "curve": {"type": "bezier", "control_points": [[0, 0, 0], [80, 10, 0], [150, -10, 60], [170, 10, 120]]},
+        }
+    ],
+}
+
+
+def curve_length(points, samples=20_000):
+    t = np.linspace(0.0, 1.0, samples)[:, None]
+    n = len(points) - 1
+    from math import comb
+
+    basis = np.hstack([comb(n, k) * t**k * (1 - t) ** (n - k) for k in range(n + 1)])
+    curve = basis @ points
+    return np.linalg.norm(np.diff(curve, axis=0), axis=1).sum()
+
+
+def test_an_inadmissible_edit_is_refused_and_the_scene_kept():
+    editor = sheetform.BendEditor(TORSION)
+    before = editor.control_points(0).copy()
+    info = editor.move_control_point(0, 2, [150.0, -20.0, 60.0])
+    assert info["applied"] is False
+    assert "regression" in info["rejected_because"]
+    np.testing.assert_array_equal(editor.control_points(0), before)
+    assert editor.scene == json.loads(json.dumps(editor.scene))
+    assert editor.undo() is False, "nothing was applied"
+    # A small move of the same point is admissible, and undone.
+    info = editor.move_control_point(0, 2, [148.0, -8.0, 62.0])
+    assert info["applied"] is True and info["rejected_because"] is None
+    np.testing.assert_array_equal(editor.control_points(0)[2], [148.0, -8.0, 62.0])
+    assert editor.undo() is True
+    np.testing.assert_array_equal(editor.control_points(0), before)
+
+
+def test_a_length_preserving_drag_keeps_the_length_and_bends_as_the_cli_would():
+    editor = sheetform.BendEditor(REPO / "examples/bent-rectangle.json")
+    start = curve_length(editor.control_points(0))
+    info = editor.drag_preserving_length(0, 2, [150.0, 20.0, 70.0])
+    assert info["applied"], info["rejected_because"]
+    assert abs(info["curve_length_after"] - info["curve_length_before"]) < 1e-9
+    assert np.isclose(curve_length(editor.control_points(0)), start, rtol=1e-6)
+    np.testing.assert_array_equal(editor.control_points(0)[2], [150.0, 20.0, 70.0])
+    # The edited scene is a scene `bend` reads: bent through the editor or as a dict, the same.
+    run = editor.bend()
+    again = sheetform.bend(editor.scene, root=REPO / "examples", outputs="preview")
+    np.testing.assert_array_equal(run.vertices, again.vertices)
+    assert np.isclose(run.report["regions"][0]["curve_length_mm"], start, rtol=1e-6)
+    assert run.report["isometry_error_max_relative"] < 1e-9
+    # Scaled rather than trimmed: the length is kept too.
+    info = editor.drag_preserving_length(0, 2, [141.0, 8.0, 61.0], method="scale")
+    assert info["applied"] and abs(info["curve_length_after"] - info["curve_length_before"]) < 1e-9
+
+
+def test_end_handles_turn_the_start_normal():
+    editor = sheetform.BendEditor(REPO / "examples/bent-rectangle.json")
+    info = editor.drag_end_handles(0, start_normal=[0.0, 0.2, 1.0])
+    assert info["applied"], info["rejected_because"]
+    assert info["solver"]["converged"]
+    p = editor.control_points(0)
+    d = p[1] - p[0]
+    normal = np.cross(np.cross(d, p[2] - 2 * p[1] + p[0]), d)
+    wanted = np.array([0.0, 0.2, 1.0])
+    assert normal @ wanted / np.linalg.norm(normal) / np.linalg.norm(wanted) > 0.99
+
+
+def test_bad_edits_raise_invalid_input():
+    editor = sheetform.BendEditor(REPO / "examples/bent-rectangle.json")
+    with pytest.raises(sheetform.InvalidInputError, match="no region 5"):
+        editor.move_control_point(5, 0, [0.0, 0.0, 0.0])
+    with pytest.raises(sheetform.InvalidInputError, match="position"):
+        editor.move_control_point(0, 1, [0.0, float("nan"), 0.0])
+    with pytest.raises(sheetform.InvalidInputError, match="position"):
+        editor.move_control_point(0, 1, [0.0, 0.0])
+    with pytest.raises(sheetform.InvalidInputError, match="method"):
+        editor.drag_preserving_length(0, 1, [0.0, 0.0, 0.0], method="stretch")
+    with pytest.raises(sheetform.InvalidInputError):
+        sheetform.BendEditor({"outline": [[0, 0], [1, 0], [0, 1]]})

@@ -1,0 +1,164 @@
+"""Mesh functions over numpy arrays: the same results as the CLI on the same mesh, meshes
+from trimesh flattened and brought back, patterns of a given layout."""
+
+import io
+
+import numpy as np
+import pytest
+import trimesh
+
+import sheetform
+from conftest import REPO, assert_close, read_obj, read_report, without_timings
+
+
+def edge_lengths(vertices, faces):
+    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    return np.linalg.norm(vertices[edges[:, 0]] - vertices[edges[:, 1]], axis=1)
+
+
+@pytest.mark.parametrize("mesh", ["lamp-shade", "gift-box"])
+def test_flatten_of_arrays_equals_the_cli_on_the_same_mesh(mesh, cli, tmp_path):
+    path = REPO / "examples/meshes" / f"{mesh}.obj"
+    vertices, _, faces = read_obj(path)
+    out = tmp_path / "out"
+    done = cli("flatten", path.relative_to(REPO), "-o", out)
+    assert done.returncode == 0, done.stderr
+    run = sheetform.flatten(vertices, faces, name=mesh)
+    expected = without_timings(read_report(out))
+    actual = without_timings(run.report)
+    # The one difference: the CLI records the file it read.
+    assert actual.pop("input") == f"{mesh}.mesh" and expected.pop("input") == str(path.relative_to(REPO))
+    assert_close(actual, expected)
+    v, vt, _ = read_obj(out / "model.obj")
+    np.testing.assert_allclose(run.vertices, v, rtol=0, atol=1e-12 * np.abs(v).max())
+    np.testing.assert_allclose(run.uv, vt, rtol=0, atol=1e-12 * np.abs(vt).max())
+    for name in ("pattern.svg", "pattern.dxf", "pattern.pdf", "model.obj", "model.glb"):
+        assert run.files[name] == (out / name).read_bytes(), name
+    # Every output vertex is a copy of the input vertex it names.
+    np.testing.assert_array_equal(run.vertices, vertices[run.source_vertices])
+
+
+def test_check_of_arrays_equals_the_cli(cli, tmp_path):
+    path = REPO / "examples/meshes/lamp-shade.obj"
+    vertices, _, faces = read_obj(path)
+    out = tmp_path / "out"
+    done = cli("check", path.relative_to(REPO), "-o", out)
+    assert done.returncode == 0, done.stderr
+    run = sheetform.check(vertices, faces, name="lamp-shade")
+    expected = without_timings(read_report(out))
+    actual = without_timings(run.report)
+    actual.pop("input"), expected.pop("input")
+    # (The CLI also measures the flattening stored in the file's `vt`; arrays have none.)
+    for key in ("isometry_error_max_relative", "isometry_error_mean_relative", "flat_area_mm2"):
+        expected.pop(key, None), actual.pop(key, None)
+    assert_close(actual, expected)
+    assert run.report["status"] == "developable"
+    assert run.uv is None
+    assert run.angle_defects_rad.shape == (len(vertices),)
+    assert np.abs(run.angle_defects_rad).max() < 1e-4
+
+
+def test_a_trimesh_box_unfolds_exactly_into_a_net_and_comes_back():
+    box = trimesh.creation.box(extents=(40.0, 30.0, 20.0))
+    checked = sheetform.check(box.vertices, box.faces)
+    assert checked.report["status"] == "not developable"
+    # A box corner has an angle defect of π/2.
+    np.testing.assert_allclose(np.abs(checked.angle_defects_rad), np.pi / 2, atol=1e-12)
+
+    run = sheetform.flatten(box.vertices, box.faces)
+    assert run.report["layout"] == "net"
+    assert run.outcome == "ok"
+    # Exact unfolding: every edge keeps its length on the pattern.
+    np.testing.assert_allclose(edge_lengths(run.vertices, run.faces), edge_lengths(np.column_stack([run.uv, np.zeros(len(run.uv))]), run.faces), atol=1e-9)
+    np.testing.assert_array_equal(run.vertices, box.vertices[run.source_vertices])
+    # Back into trimesh with the pattern as texture coordinates, through an OBJ file.
+    mesh = trimesh.Trimesh(
+        vertices=run.vertices,
+        faces=run.faces,
+        visual=trimesh.visual.TextureVisuals(uv=run.uv),
+        process=False,
+    )
+    assert np.isclose(mesh.area, box.area)
+    text = trimesh.exchange.obj.export_obj(mesh, include_texture=True, digits=15)
+    back = trimesh.load(io.BytesIO(text.encode()), file_type="obj", process=False, maintain_order=True)
+    np.testing.assert_allclose(back.vertices, run.vertices, atol=1e-9)
+    np.testing.assert_allclose(back.visual.uv, run.uv, atol=1e-9)
+    np.testing.assert_array_equal(back.faces, run.faces)
+    assert sum(1 for _ in trimesh.graph.connected_components(back.face_adjacency)) <= len(run.pieces)
+
+
+def test_a_developable_cone_from_trimesh_is_flattened_whole_to_its_exact_sector():
+    # An open cone (no cap), cut along one ruling so that it is a disk.
+    n, height, radius = 64, 80.0, 50.0
+    angles = np.linspace(0.0, 2.0 * np.pi, n + 1)
+    rim = np.column_stack([radius * np.cos(angles), radius * np.sin(angles), np.zeros(n + 1)])
+    vertices = np.vstack([[0.0, 0.0, height], rim])
+    faces = np.array([[0, 1 + i, 2 + i] for i in range(n)])
+    run = sheetform.flatten(vertices, faces, name="cone")
+    assert run.report["layout"] == "whole" and run.outcome == "ok"
+    slant = np.hypot(height, radius)
+    apex_flat = run.uv[0]
+    distances = np.linalg.norm(run.uv[1:] - apex_flat, axis=1)
+    np.testing.assert_allclose(distances, slant, rtol=1e-12)
+    # The sector's opening is the sum of the triangles' apex angles, n · 2 asin(c / 2s)
+    # with c the rim's chord.
+    chord = 2.0 * radius * np.sin(np.pi / n)
+    around = np.unwrap(np.arctan2(*(run.uv[1:] - apex_flat).T[::-1]))
+    assert np.isclose(abs(around[-1] - around[0]), n * 2.0 * np.arcsin(chord / (2.0 * slant)), rtol=1e-12)
+
+
+def test_a_sphere_is_cut_into_charts_within_the_distortion_bound():
+    sphere = trimesh.creation.icosphere(subdivisions=3, radius=50.0)
+    run = sheetform.flatten(sphere.vertices, sphere.faces, charts="smooth", max_distortion=0.02, outputs="preview")
+    assert run.report["layout"] == "charts"
+    assert len(run.pieces) > 1
+    assert run.report["isometry_error_max_relative"] <= 0.02
+    assert run.outcome == "ok"
+    assert run.face_pieces.min() == 0 and run.face_pieces.max() == len(run.pieces) - 1
+
+
+def test_methods_and_arrays_of_other_types_are_taken():
+    # float32 vertices and int32 faces (Open3D, libigl), a list of lists.
+    n, height, radius = 32, 40.0, 20.0
+    angles = np.linspace(0.0, np.pi, n + 1)
+    ring = lambda z: np.column_stack([radius * np.cos(angles), radius * np.sin(angles), np.full(n + 1, z)])
+    vertices = np.vstack([ring(0.0), ring(height)]).astype(np.float32)
+    faces = np.array(
+        [[i, i + 1, n + 2 + i] for i in range(n)] + [[i, n + 2 + i, n + 1 + i] for i in range(n)], dtype=np.int32
+    )
+    for method in ("exact", "lscm", "arap"):
+        run = sheetform.flatten(vertices, faces.tolist(), method=method, outputs="preview")
+        assert run.report["layout"] == "whole", method
+        assert run.report["isometry_error_max_relative"] < (1e-6 if method != "lscm" else 0.05), method
+
+
+def test_pattern_of_a_given_layout_renders_the_files_and_measures_it():
+    # A half cylinder and its exact development.
+    n, height, radius = 16, 30.0, 20.0
+    angles = np.linspace(0.0, np.pi, n + 1)
+    vertices = np.vstack(
+        [np.column_stack([radius * np.cos(angles), radius * np.sin(angles), np.full(n + 1, z)]) for z in (0.0, height)]
+    )
+    # Developed exactly: the flat rim is as long as the polygon's.
+    chord = 2.0 * radius * np.sin(np.pi / (2 * n))
+    along = chord * np.arange(n + 1)
+    uv = np.vstack([np.column_stack([along, np.full(n + 1, z)]) for z in (0.0, height)])
+    faces = np.array([[i, i + 1, n + 2 + i] for i in range(n)] + [[i, n + 2 + i, n + 1 + i] for i in range(n)])
+    run = sheetform.pattern(vertices, faces, uv, name="half-cylinder")
+    assert sorted(run.files) == ["pattern.dxf", "pattern.pdf", "pattern.svg"]
+    assert run.report["command"] == "pattern"
+    assert run.report["isometry_error_max_relative"] < 1e-12
+    assert run.outcome == "ok"
+    assert np.isclose(run.report["pattern"]["width_mm"], n * chord, rtol=1e-9)
+    assert np.isclose(run.report["pattern"]["height_mm"], height, rtol=1e-9)
+    assert run.files["pattern.svg"].startswith(b"<?xml") or b"<svg" in run.files["pattern.svg"][:400]
+    # Two pieces by label, named.
+    labels = np.array([0] * n + [1] * n)
+    two = sheetform.pattern(vertices, faces, uv, face_pieces=labels, piece_names=["front", "back"], outputs="preview")
+    assert two.pieces == ["front", "back"]
+    assert b"front" in two.files["pattern.svg"]
+    # A layout folded over itself is reported as overlapping.
+    folded = uv.copy()
+    folded[:, 0] = np.abs(folded[:, 0] - n * chord / 2)
+    over = sheetform.pattern(vertices, faces, folded, outputs="preview")
+    assert over.outcome == "overlapping" and over.report["status"] == "overlapping"
