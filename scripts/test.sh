@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The test command (README, CI): installs the outside checkers the end-to-end tests use
-# (Khronos glTF validator, ezdxf, pdftoppm), then runs every test of the workspace (unit, oracle, property, CLI, doc tests).
+# (Khronos glTF validator, ezdxf, pdftoppm), then runs every test of the workspace (unit,
+# oracle, property, CLI, doc tests) and of the Python package (pytest).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 npm ci --prefix tools/gltf-validate --no-audit --no-fund --loglevel=error
@@ -27,3 +28,9 @@ done
 for name in two-panels duct skirt trousers; do
   cargo run --quiet -p sheetform-ffd --example run_scene -- "examples/ffd/$name.json"
 done
+# The Python package (bindings/python, issue 21): built and installed by pip through
+# maturin, as a user installs it, then its tests (pytest): results against the CLI built
+# above, trimesh round trips, errors, the editor, the stubs (mypy's stubtest), the example.
+python3 -m pip install --quiet --disable-pip-version-check pytest trimesh matplotlib mypy
+python3 -m pip install --quiet --disable-pip-version-check ./bindings/python
+SHEETFORM_CLI="$PWD/target/debug/sheetform" python3 -m pytest -q bindings/python/tests

@@ -9,9 +9,7 @@ use crate::run::{output_set, run_interruptibly, Run, RunParts};
 use numpy::PyArray2;
 use pyo3::prelude::*;
 use sheetform::bend::{BendModel, BendScene, CurveSpec};
-use sheetform::pipeline::{
-    edit_bend_scene, run_bend, BendEdit, BendRunOptions, EndHandleSpec, LengthMethod, RunContext,
-};
+use sheetform::pipeline::{edit_bend_scene, run_bend, BendEdit, BendRunOptions, EndHandleSpec, LengthMethod};
 use std::path::PathBuf;
 
 /// Most edits kept for `undo`.
@@ -195,12 +193,8 @@ impl BendEditor {
     fn bend(&self, py: Python<'_>, outputs: &str) -> PyResult<Run> {
         let outputs = output_set(outputs)?;
         let (scene, root) = (&self.scene, self.root.clone());
-        let (run, seconds) = run_interruptibly(py, |cancel| {
-            run_bend(
-                scene,
-                &BendRunOptions::default(),
-                &RunContext::new(root).with_cancel(cancel).with_outputs(outputs),
-            )
+        let (run, seconds) = run_interruptibly(py, None, |controls| {
+            run_bend(scene, &BendRunOptions::default(), &controls.context(root, outputs))
         })?;
         let mut parts = RunParts::of_sheet(&run.sheet.mesh, run.files, run.report, run.outcome, seconds);
         parts.angle_defects_rad = Some(run.angle_defects_rad);

@@ -2,7 +2,7 @@
 //! files: `check`, `flatten` (whole, in smooth charts or as a net) and `pattern`.
 
 use crate::convert::{float_rows, index_list, index_rows};
-use crate::errors::invalid_argument;
+use crate::errors::{invalid_argument, python_error};
 use crate::run::{output_set, run_interruptibly, Run, RunParts};
 use crate::systems::pattern_options;
 use pyo3::prelude::*;
@@ -11,7 +11,7 @@ use sheetform::mesh::LengthUnit;
 use sheetform::pattern::TabOptions;
 use sheetform::pipeline::{
     mesh_from_arrays, run_check, run_flatten, run_pattern, sheet_mesh_from_arrays, ChartMode, CheckOptions,
-    FlattenMethod, FlattenOptions, RunContext, DEFAULT_ANGLE_TOLERANCE,
+    FlattenMethod, FlattenOptions, DEFAULT_ANGLE_TOLERANCE,
 };
 
 fn length_unit(unit: &str) -> PyResult<LengthUnit> {
@@ -33,40 +33,39 @@ fn length_unit(unit: &str) -> PyResult<LengthUnit> {
 ///
 /// `vertices`: `(n, 3)` numbers; `faces`: `(m, 3)` integer indices (any integer dtype).
 /// `weld`: merge vertices closer than this first (model units). `tolerance`: defects up
-/// to this (radians) count as developable. `unit`: the mesh's length unit.
+/// to this (radians, default 1e-4) count as developable. `unit`: the mesh's length unit.
 ///
 /// Returns a `Run` with `uv = None` and `angle_defects_rad` per vertex; the report's
 /// `status` is `"developable"` or `"not_developable"`.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, *, weld=None, tolerance=DEFAULT_ANGLE_TOLERANCE, unit="mm", name="mesh", outputs="all"))]
+#[pyo3(signature = (vertices, faces, *, weld=None, tolerance=None, unit="mm", name="mesh", outputs="all", progress=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn check(
     py: Python<'_>,
     vertices: &Bound<'_, PyAny>,
     faces: &Bound<'_, PyAny>,
     weld: Option<f64>,
-    tolerance: f64,
+    tolerance: Option<f64>,
     unit: &str,
     name: &str,
     outputs: &str,
+    progress: Option<Py<PyAny>>,
 ) -> PyResult<Run> {
     let v = float_rows("vertices", vertices, 3)?;
     let f = index_rows("faces", faces, 3)?;
     let outputs = output_set(outputs)?;
     let options = CheckOptions {
         weld,
-        tolerance,
+        tolerance: tolerance.unwrap_or(DEFAULT_ANGLE_TOLERANCE),
         unit: length_unit(unit)?,
         input: Some(format!("{name}.mesh")),
     };
     let (v, f) = (v.as_slice()?, f.as_slice()?);
-    let (run, seconds) = run_interruptibly(py, |cancel| {
-        let mesh = mesh_from_arrays(v, f, name)?;
-        run_check(
-            mesh,
-            &options,
-            &RunContext::new(".").with_cancel(cancel).with_outputs(outputs),
-        )
+    let mesh = py
+        .detach(|| mesh_from_arrays(v, f, name))
+        .map_err(|e| python_error(py, e))?;
+    let (run, seconds) = run_interruptibly(py, progress, |controls| {
+        run_check(mesh, &options, &controls.context(".", outputs))
     })?;
     let defects: Vec<f64> = run.vertices.angle_defect.clone();
     Run::new(
@@ -101,7 +100,7 @@ pub(crate) fn check(
 /// one copy per chart). `outcome` is `"overlapping"` when the pattern overlaps itself and
 /// `"out_of_tolerance"` when an edge stretches more than `max_distortion`.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, *, method="exact", charts="auto", crease_angle=None, max_distortion=None, net_tabs=true, weld=None, unit="mm", name="mesh", outputs="all", scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[pyo3(signature = (vertices, faces, *, method="exact", charts="auto", crease_angle=None, max_distortion=None, net_tabs=true, weld=None, unit="mm", name="mesh", outputs="all", progress=None, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn flatten(
     py: Python<'_>,
@@ -116,6 +115,7 @@ pub(crate) fn flatten(
     unit: &str,
     name: &str,
     outputs: &str,
+    progress: Option<Py<PyAny>>,
     scale: f64,
     page: &str,
     pattern_units: &str,
@@ -163,13 +163,11 @@ pub(crate) fn flatten(
         input: Some(format!("{name}.mesh")),
     };
     let (v, f) = (v.as_slice()?, f.as_slice()?);
-    let (run, seconds) = run_interruptibly(py, |cancel| {
-        let mesh = mesh_from_arrays(v, f, name)?;
-        run_flatten(
-            mesh,
-            &options,
-            &RunContext::new(".").with_cancel(cancel).with_outputs(outputs),
-        )
+    let mesh = py
+        .detach(|| mesh_from_arrays(v, f, name))
+        .map_err(|e| python_error(py, e))?;
+    let (run, seconds) = run_interruptibly(py, progress, |controls| {
+        run_flatten(mesh, &options, &controls.context(".", outputs))
     })?;
     let mut parts = RunParts::of_sheet(&run.sheet, run.files, run.report, run.outcome, seconds);
     parts.source_vertices = Some(&run.source_vertices);
@@ -184,7 +182,7 @@ pub(crate) fn flatten(
 /// Returns a `Run` whose `files` are the pattern files and whose report has the
 /// pattern's figures.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, uv, *, face_pieces=None, piece_names=None, unit="mm", name="pattern", outputs="all", scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[pyo3(signature = (vertices, faces, uv, *, face_pieces=None, piece_names=None, unit="mm", name="pattern", outputs="all", progress=None, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn pattern(
     py: Python<'_>,
@@ -196,6 +194,7 @@ pub(crate) fn pattern(
     unit: &str,
     name: &str,
     outputs: &str,
+    progress: Option<Py<PyAny>>,
     scale: f64,
     page: &str,
     pattern_units: &str,
@@ -210,15 +209,11 @@ pub(crate) fn pattern(
     let unit = length_unit(unit)?;
     let options = pattern_options(scale, page, pattern_units, tabs, seam_allowance_mm)?;
     let (v, f, flat) = (v.as_slice()?, f.as_slice()?, flat.as_slice()?);
-    let ((sheet, (files, report, outcome)), seconds) = run_interruptibly(py, |cancel| {
-        let sheet = sheet_mesh_from_arrays(v, f, flat, labels.as_deref(), piece_names.as_deref(), name, unit)?;
-        let run = run_pattern(
-            &sheet,
-            name,
-            &options,
-            &RunContext::new(".").with_cancel(cancel).with_outputs(outputs),
-        )?;
-        Ok((sheet, run))
+    let sheet = py
+        .detach(|| sheet_mesh_from_arrays(v, f, flat, labels.as_deref(), piece_names.as_deref(), name, unit))
+        .map_err(|e| python_error(py, e))?;
+    let ((files, report, outcome), seconds) = run_interruptibly(py, progress, |controls| {
+        run_pattern(&sheet, name, &options, &controls.context(".", outputs))
     })?;
     Run::new(py, RunParts::of_sheet(&sheet, files, report, outcome, seconds))
 }

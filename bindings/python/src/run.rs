@@ -7,72 +7,79 @@ use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 use sheetform::mesh::SheetMesh;
-use sheetform::pipeline::{write_outputs, Outcome, PipelineError, RenderedFiles};
+use sheetform::pipeline::{write_outputs, Outcome, OutputSet, PipelineError, RenderedFiles, RunContext};
 use sheetform::report::Report;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
-use std::time::{Duration, Instant};
+use std::sync::Mutex;
+use std::time::Instant;
 
-/// Stack of the thread a run goes on (deep recursions in solvers need more than the
-/// default 2 MiB of a spawned thread).
-const RUN_STACK_BYTES: usize = 64 << 20;
+/// What a running pipeline is given besides its scene: the cancellation flag and the
+/// progress callback that looks for Ctrl-C (and calls the user's `progress`).
+pub(crate) struct Controls<'a> {
+    cancel: &'a AtomicBool,
+    progress: &'a (dyn Fn(&str, f64) + Sync),
+}
 
-/// How often a waiting call looks for Ctrl-C.
-const SIGNAL_CHECK: Duration = Duration::from_millis(50);
+impl<'a> Controls<'a> {
+    /// The library's run context: assets under `root`, these controls, `outputs`.
+    pub(crate) fn context(&self, root: impl Into<PathBuf>, outputs: OutputSet) -> RunContext<'a> {
+        RunContext::new(root)
+            .with_cancel(self.cancel)
+            .with_progress(self.progress)
+            .with_outputs(outputs)
+    }
+}
 
-/// Runs `job` on its own thread without the interpreter's lock (other Python threads go
-/// on), checking for Ctrl-C as it waits: an interrupt sets the run's cancellation flag,
-/// waits for the run to stop at its next stage and raises `KeyboardInterrupt`. A panic in
-/// the run is raised as a `RuntimeError`, never a crash of the interpreter. Returns the
-/// job's value and the seconds it took.
+/// Runs `job` without the interpreter's lock (other Python threads go on). At every
+/// progress report of the pipeline (each stage; each iteration of an FFD restoration) it
+/// takes the lock back for a moment to look for Ctrl-C (a notebook's interrupt) and to
+/// call `progress(stage, fraction)` when given: an interrupt, or an exception raised by
+/// `progress`, cancels the run at its next stage and is raised once it has stopped. A
+/// panic in the run is raised as a `RuntimeError`, never a crash of the interpreter.
+/// Returns the job's value and the seconds it took.
+///
+/// The job runs on the calling thread: a thread of its own cost 0.15–0.19 ms per call
+/// (measured, `docs/benchmarks.md`), more than the rest of the binding on a small mesh.
 pub(crate) fn run_interruptibly<T: Send>(
     py: Python<'_>,
-    job: impl FnOnce(&AtomicBool) -> Result<T, PipelineError> + Send,
+    progress: Option<Py<PyAny>>,
+    job: impl FnOnce(&Controls<'_>) -> Result<T, PipelineError> + Send,
 ) -> PyResult<(T, f64)> {
     let cancel = AtomicBool::new(false);
-    let (sender, receiver) = mpsc::channel();
-    // (Waiting happens without the interpreter's lock, which needs a `Sync` receiver.)
-    let receiver = std::sync::Mutex::new(receiver);
-    std::thread::scope(|scope| {
-        let cancel = &cancel;
-        let handle = std::thread::Builder::new()
-            .name("sheetform-run".into())
-            .stack_size(RUN_STACK_BYTES)
-            .spawn_scoped(scope, move || {
-                let start = Instant::now();
-                let result = job(cancel);
-                let _ = sender.send((result, start.elapsed().as_secs_f64()));
-            })
-            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(format!("cannot start a run: {e}")))?;
-        loop {
-            match py.detach(|| {
-                receiver
-                    .lock()
-                    .expect("only this thread waits")
-                    .recv_timeout(SIGNAL_CHECK)
-            }) {
-                Ok((result, seconds)) => {
-                    let _ = handle.join();
-                    return result.map(|value| (value, seconds)).map_err(|e| python_error(py, e));
-                }
-                Err(mpsc::RecvTimeoutError::Disconnected) => {
-                    // The job panicked before sending.
-                    return Err(match handle.join() {
-                        Err(payload) => internal_error(payload),
-                        Ok(()) => pyo3::exceptions::PyRuntimeError::new_err("the run ended without a result"),
-                    });
-                }
-                Err(mpsc::RecvTimeoutError::Timeout) => {
-                    if let Err(interrupt) = py.check_signals() {
-                        cancel.store(true, Ordering::SeqCst);
-                        let _ = py.detach(|| handle.join());
-                        return Err(interrupt);
-                    }
-                }
-            }
+    let stopped_by: Mutex<Option<PyErr>> = Mutex::new(None);
+    let report = |stage: &str, fraction: f64| {
+        if cancel.load(Ordering::SeqCst) {
+            return;
         }
-    })
+        Python::attach(|py| {
+            let checked = py.check_signals().and_then(|()| match &progress {
+                Some(callback) => callback.call1(py, (stage, fraction)).map(drop),
+                None => Ok(()),
+            });
+            if let Err(error) = checked {
+                *stopped_by.lock().expect("not poisoned") = Some(error);
+                cancel.store(true, Ordering::SeqCst);
+            }
+        });
+    };
+    let controls = Controls {
+        cancel: &cancel,
+        progress: &report,
+    };
+    let (result, seconds) = py.detach(|| {
+        let start = Instant::now();
+        let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job(&controls)));
+        (result, start.elapsed().as_secs_f64())
+    });
+    if let Some(error) = stopped_by.into_inner().expect("not poisoned") {
+        return Err(error);
+    }
+    match result {
+        Ok(Ok(value)) => Ok((value, seconds)),
+        Ok(Err(error)) => Err(python_error(py, error)),
+        Err(payload) => Err(internal_error(payload)),
+    }
 }
 
 /// The result of a system (`bend`, `slit`, `ffd`, `photo`) or a mesh function
@@ -229,10 +236,10 @@ impl Run {
 }
 
 /// `"all"` (every file the CLI writes) or `"preview"` (GLB, SVG and the report only).
-pub(crate) fn output_set(outputs: &str) -> PyResult<sheetform::pipeline::OutputSet> {
+pub(crate) fn output_set(outputs: &str) -> PyResult<OutputSet> {
     match outputs {
-        "all" => Ok(sheetform::pipeline::OutputSet::All),
-        "preview" => Ok(sheetform::pipeline::OutputSet::Preview),
+        "all" => Ok(OutputSet::All),
+        "preview" => Ok(OutputSet::Preview),
         other => Err(crate::errors::invalid_argument(
             "outputs",
             format!("`{other}`: one of \"all\", \"preview\""),

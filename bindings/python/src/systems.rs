@@ -10,7 +10,7 @@ use sheetform::ffd::{FfdScene, SolverMethod};
 use sheetform::pattern::{DxfUnit, PageSize, TabOptions, TabSides};
 use sheetform::pipeline::{
     run_bend, run_ffd, run_photo, run_slit, BendRunOptions, FfdRunOptions, PatternOutputOptions, PhotoInput,
-    PhotoRunOptions, RunContext, SlitRunOptions,
+    PhotoRunOptions, SlitRunOptions,
 };
 use sheetform::slit::SlitScene;
 use std::path::PathBuf;
@@ -96,13 +96,14 @@ fn parsed<T>(py: Python<'_>, parse: Result<T, impl Into<sheetform::pipeline::Pip
 /// Raises `InvalidInputError` for an invalid scene (the message names the field),
 /// `InadmissibleError` for a shape that cannot be made (its `.report` says where).
 #[pyfunction]
-#[pyo3(signature = (scene, *, root=None, outputs="all", animate_frames=0, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[pyo3(signature = (scene, *, root=None, outputs="all", progress=None, animate_frames=0, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn bend(
     py: Python<'_>,
     scene: &Bound<'_, PyAny>,
     root: Option<PathBuf>,
     outputs: &str,
+    progress: Option<Py<PyAny>>,
     animate_frames: usize,
     scale: f64,
     page: &str,
@@ -118,12 +119,8 @@ pub(crate) fn bend(
         input,
     };
     let scene = parsed(py, BendScene::from_json(&text))?;
-    let (run, seconds) = run_interruptibly(py, |cancel| {
-        run_bend(
-            &scene,
-            &options,
-            &RunContext::new(root).with_cancel(cancel).with_outputs(outputs),
-        )
+    let (run, seconds) = run_interruptibly(py, progress, |controls| {
+        run_bend(&scene, &options, &controls.context(root, outputs))
     })?;
     let mut parts = RunParts::of_sheet(&run.sheet.mesh, run.files, run.report, run.outcome, seconds);
     parts.angle_defects_rad = Some(run.angle_defects_rad);
@@ -136,13 +133,14 @@ pub(crate) fn bend(
 /// `scene`: a slit scene as a dict or the path of its file; a scan it names is read
 /// relative to `root` (default: the file's directory, or the current directory).
 #[pyfunction]
-#[pyo3(signature = (scene, *, root=None, outputs="all", scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[pyo3(signature = (scene, *, root=None, outputs="all", progress=None, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn slit(
     py: Python<'_>,
     scene: &Bound<'_, PyAny>,
     root: Option<PathBuf>,
     outputs: &str,
+    progress: Option<Py<PyAny>>,
     scale: f64,
     page: &str,
     pattern_units: &str,
@@ -156,12 +154,8 @@ pub(crate) fn slit(
         input,
     };
     let scene = parsed(py, SlitScene::from_json(&text))?;
-    let (run, seconds) = run_interruptibly(py, |cancel| {
-        run_slit(
-            &scene,
-            &options,
-            &RunContext::new(root).with_cancel(cancel).with_outputs(outputs),
-        )
+    let (run, seconds) = run_interruptibly(py, progress, |controls| {
+        run_slit(&scene, &options, &controls.context(root, outputs))
     })?;
     Run::new(
         py,
@@ -180,13 +174,14 @@ pub(crate) fn slit(
 /// panels). Raises `InvalidInputError` for invalid scenes and `NotConvergedError` when
 /// the restoration fails.
 #[pyfunction]
-#[pyo3(signature = (scene, *, root=None, outputs="all", solver=None, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[pyo3(signature = (scene, *, root=None, outputs="all", progress=None, solver=None, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn ffd(
     py: Python<'_>,
     scene: &Bound<'_, PyAny>,
     root: Option<PathBuf>,
     outputs: &str,
+    progress: Option<Py<PyAny>>,
     solver: Option<&str>,
     scale: f64,
     page: &str,
@@ -215,12 +210,8 @@ pub(crate) fn ffd(
         warm_start: None,
     };
     let scene = parsed(py, FfdScene::from_json(&text))?;
-    let (run, seconds) = run_interruptibly(py, |cancel| {
-        run_ffd(
-            &scene,
-            &options,
-            &RunContext::new(root).with_cancel(cancel).with_outputs(outputs),
-        )
+    let (run, seconds) = run_interruptibly(py, progress, |controls| {
+        run_ffd(&scene, &options, &controls.context(root, outputs))
     })?;
     Run::new(
         py,
@@ -237,13 +228,14 @@ pub(crate) fn ffd(
 /// Returns a `Run` (pieces = patches); `outcome` is `"out_of_tolerance"` when the model is
 /// not developable to the refinement's bound or a depth is not fixed by the drawing.
 #[pyfunction]
-#[pyo3(signature = (annotation, *, root=None, outputs="all", scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[pyo3(signature = (annotation, *, root=None, outputs="all", progress=None, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn photo(
     py: Python<'_>,
     annotation: &Bound<'_, PyAny>,
     root: Option<PathBuf>,
     outputs: &str,
+    progress: Option<Py<PyAny>>,
     scale: f64,
     page: &str,
     pattern_units: &str,
@@ -257,12 +249,8 @@ pub(crate) fn photo(
         input,
     };
     let input = parsed(py, PhotoInput::from_text(&text))?;
-    let (run, seconds) = run_interruptibly(py, |cancel| {
-        run_photo(
-            &input,
-            &options,
-            &RunContext::new(root).with_cancel(cancel).with_outputs(outputs),
-        )
+    let (run, seconds) = run_interruptibly(py, progress, |controls| {
+        run_photo(&input, &options, &controls.context(root, outputs))
     })?;
     Run::new(
         py,

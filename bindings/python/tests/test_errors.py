@@ -178,3 +178,39 @@ def test_a_restoration_that_does_not_converge_says_so_in_its_outcome():
     run = sheetform.ffd(scene, outputs="preview")
     assert run.report["status"] == "not converged"
     assert run.outcome == "out_of_tolerance"
+
+
+def test_progress_is_reported_and_an_exception_in_it_stops_the_run():
+    seen = []
+    run = sheetform.ffd(REPO / "examples/ffd/two-panels.json", outputs="preview", progress=lambda s, f: seen.append((s, f)))
+    assert run.outcome == "ok"
+    fractions = [f for _, f in seen]
+    assert fractions == sorted(fractions) and fractions[0] == 0.0 and fractions[-1] == 1.0
+    assert any("iteration" in stage for stage, _ in seen), seen
+
+    class Stop(Exception):
+        pass
+
+    def stop(stage, fraction):
+        raise Stop(stage)
+
+    with pytest.raises(Stop):
+        sheetform.ffd(REPO / "examples/ffd/two-panels.json", progress=stop)
+
+
+def test_ctrl_c_cancels_a_run_and_the_interpreter_goes_on():
+    import os
+    import signal
+
+    calls = []
+
+    def interrupt_once(stage, fraction):
+        calls.append(stage)
+        if len(calls) == 1:
+            os.kill(os.getpid(), signal.SIGINT)
+
+    with pytest.raises(KeyboardInterrupt):
+        sheetform.ffd(REPO / "examples/ffd/two-panels.json", progress=interrupt_once)
+    # It stopped at the next report, not at the end.
+    assert len(calls) == 1, calls
+    assert sheetform.ffd(REPO / "examples/ffd/two-panels.json", outputs="preview").outcome == "ok"

@@ -15,6 +15,11 @@ Every function returns a ``Run``: ``vertices`` (n, 3), ``faces`` (m, 3), ``uv`` 
 flat pattern at 1:1, ``face_pieces``, ``pieces``, ``report`` (the CLI's ``report.json`` as a
 dict), ``files`` (the files the CLI writes, as bytes) and ``write(directory)``.
 
+Every run takes ``outputs="preview"`` (only the GLB, the SVG and the report: faster) and
+``progress``, called as ``progress(stage, fraction)`` as the run advances; Ctrl-C (a
+notebook's interrupt) or an exception raised in ``progress`` stops the run at its next
+stage and is raised.
+
 Errors are ``SheetformError`` subclasses: ``InvalidInputError`` (the message names the
 field), ``InadmissibleError`` (``.report`` says where), ``NotConvergedError``,
 ``OutputError``, ``CancelledError``.

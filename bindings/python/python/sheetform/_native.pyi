@@ -1,0 +1,239 @@
+"""Type stubs of sheetform's native module (PyO3). See the package docstring."""
+
+from os import PathLike
+from typing import Any, Callable, Literal, Optional, Sequence, Union, final
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+__all__ = [
+    "__version__",
+    "bend",
+    "slit",
+    "ffd",
+    "photo",
+    "check",
+    "flatten",
+    "pattern",
+    "Run",
+    "BendEditor",
+    "SheetformError",
+    "InvalidInputError",
+    "InadmissibleError",
+    "NotConvergedError",
+    "OutputError",
+    "CancelledError",
+]
+
+_Scene = Union[dict[str, Any], str, PathLike[str]]
+"""A scene as a dict (the JSON the CLI reads) or the path of its file."""
+_Outputs = Literal["all", "preview"]
+_Page = Literal["a4", "letter"]
+_PatternUnits = Literal["mm", "cm", "in"]
+_Tabs = Literal["none", "one", "alternate"]
+_Unit = Literal["mm", "cm", "m", "in"]
+_Point = Sequence[float]
+
+class SheetformError(Exception):
+    """Base class of every error sheetform raises."""
+
+class InvalidInputError(SheetformError):
+    """The input is malformed, out of range or unreadable; the message names the field or place."""
+
+class InadmissibleError(SheetformError):
+    """The input is valid but the shape cannot be made; ``report`` says where."""
+
+    report: dict[str, Any]
+
+class NotConvergedError(SheetformError):
+    """A solver or a construction failed on valid input."""
+
+class OutputError(SheetformError):
+    """The outputs cannot be written."""
+
+class CancelledError(SheetformError):
+    """The run was cancelled."""
+
+@final
+class Run:
+    """A mesh with its flat pattern, the report and the files the CLI would write."""
+
+    @property
+    def vertices(self) -> npt.NDArray[np.float64]:
+        """``(n, 3)`` vertex positions (model units)."""
+    @property
+    def faces(self) -> npt.NDArray[np.int64]:
+        """``(m, 3)`` triangles, indices into ``vertices``."""
+    @property
+    def uv(self) -> Optional[npt.NDArray[np.float64]]:
+        """``(n, 2)`` flat pattern at 1:1 (model units); ``None`` for ``check``."""
+    @property
+    def face_pieces(self) -> Optional[npt.NDArray[np.int64]]:
+        """``(m,)`` piece of each face (index into ``pieces``)."""
+    @property
+    def pieces(self) -> list[str]:
+        """The pieces' names."""
+    @property
+    def angle_defects_rad(self) -> Optional[npt.NDArray[np.float64]]:
+        """``(n,)`` angle defect at each vertex (``bend``, ``check``)."""
+    @property
+    def source_vertices(self) -> Optional[npt.NDArray[np.int64]]:
+        """``(n,)`` input vertex each vertex copies (``flatten``)."""
+    @property
+    def report(self) -> dict[str, Any]:
+        """The ``report.json`` the CLI writes, as a dict."""
+    @property
+    def outcome(self) -> Literal["ok", "overlapping", "out_of_tolerance"]:
+        """How the run ended."""
+    @property
+    def pipeline_seconds(self) -> float:
+        """Seconds the library's pipeline took."""
+    @property
+    def files(self) -> dict[str, bytes]:
+        """The rendered files, ``{name: bytes}``, without ``report.json``."""
+    def write(self, directory: Union[str, PathLike[str]]) -> None:
+        """Writes the files and ``report.json`` into ``directory`` as one set."""
+
+def bend(
+    scene: _Scene,
+    *,
+    root: Optional[Union[str, PathLike[str]]] = None,
+    outputs: _Outputs = "all",
+    progress: Optional[Callable[[str, float], Any]] = None,
+    animate_frames: int = 0,
+    scale: float = 1.0,
+    page: _Page = "a4",
+    pattern_units: _PatternUnits = "mm",
+    tabs: _Tabs = "none",
+    seam_allowance_mm: float = 0.0,
+) -> Run:
+    """Bends a sheet along 3D control curves (system A, Bo & Wang 2007)."""
+
+def slit(
+    scene: _Scene,
+    *,
+    root: Optional[Union[str, PathLike[str]]] = None,
+    outputs: _Outputs = "all",
+    progress: Optional[Callable[[str, float], Any]] = None,
+    scale: float = 1.0,
+    page: _Page = "a4",
+    pattern_units: _PatternUnits = "mm",
+    tabs: _Tabs = "none",
+    seam_allowance_mm: float = 0.0,
+) -> Run:
+    """Solves a slit sheet (system B, Tsuruta et al.)."""
+
+def ffd(
+    scene: _Scene,
+    *,
+    root: Optional[Union[str, PathLike[str]]] = None,
+    outputs: _Outputs = "all",
+    progress: Optional[Callable[[str, float], Any]] = None,
+    solver: Optional[Literal["constrained", "paper", "none"]] = None,
+    scale: float = 1.0,
+    page: _Page = "a4",
+    pattern_units: _PatternUnits = "mm",
+    tabs: _Tabs = "none",
+    seam_allowance_mm: float = 0.0,
+) -> Run:
+    """Deforms panels in a lattice and restores their developability (system C, Wang & Tang 2004)."""
+
+def photo(
+    annotation: _Scene,
+    *,
+    root: Optional[Union[str, PathLike[str]]] = None,
+    outputs: _Outputs = "all",
+    progress: Optional[Callable[[str, float], Any]] = None,
+    scale: float = 1.0,
+    page: _Page = "a4",
+    pattern_units: _PatternUnits = "mm",
+    tabs: _Tabs = "none",
+    seam_allowance_mm: float = 0.0,
+) -> Run:
+    """Reconstructs a developable model and its pattern from an annotated photograph (system D)."""
+
+def check(
+    vertices: npt.ArrayLike,
+    faces: npt.ArrayLike,
+    *,
+    weld: Optional[float] = None,
+    tolerance: Optional[float] = None,
+    unit: _Unit = "mm",
+    name: str = "mesh",
+    outputs: _Outputs = "all",
+    progress: Optional[Callable[[str, float], Any]] = None,
+) -> Run:
+    """Measures the developability of a triangle mesh, as ``sheetform check``."""
+
+def flatten(
+    vertices: npt.ArrayLike,
+    faces: npt.ArrayLike,
+    *,
+    method: Literal["exact", "lscm", "arap"] = "exact",
+    charts: Literal["auto", "smooth", "net", "never"] = "auto",
+    crease_angle: Optional[float] = None,
+    max_distortion: Optional[float] = None,
+    net_tabs: bool = True,
+    weld: Optional[float] = None,
+    unit: _Unit = "mm",
+    name: str = "mesh",
+    outputs: _Outputs = "all",
+    progress: Optional[Callable[[str, float], Any]] = None,
+    scale: float = 1.0,
+    page: _Page = "a4",
+    pattern_units: _PatternUnits = "mm",
+    tabs: _Tabs = "none",
+    seam_allowance_mm: float = 0.0,
+) -> Run:
+    """Lays a mesh out flat, as ``sheetform flatten``."""
+
+def pattern(
+    vertices: npt.ArrayLike,
+    faces: npt.ArrayLike,
+    uv: npt.ArrayLike,
+    *,
+    face_pieces: Optional[npt.ArrayLike] = None,
+    piece_names: Optional[Sequence[str]] = None,
+    unit: _Unit = "mm",
+    name: str = "pattern",
+    outputs: _Outputs = "all",
+    progress: Optional[Callable[[str, float], Any]] = None,
+    scale: float = 1.0,
+    page: _Page = "a4",
+    pattern_units: _PatternUnits = "mm",
+    tabs: _Tabs = "none",
+    seam_allowance_mm: float = 0.0,
+) -> Run:
+    """The printable pattern of a mesh that already has its flat layout."""
+
+@final
+class BendEditor:
+    """An editable bend scene (Bo & Wang 2007, §4.1)."""
+
+    def __new__(cls, scene: _Scene, *, root: Optional[Union[str, PathLike[str]]] = None) -> BendEditor: ...
+    @property
+    def scene(self) -> dict[str, Any]:
+        """The current scene as a dict."""
+    def control_points(self, region: int) -> npt.NDArray[np.float64]:
+        """The Bézier control points of ``region``'s curve, ``(k, 3)``."""
+    def move_control_point(self, region: int, index: int, position: _Point) -> dict[str, Any]:
+        """Moves one control point (§4.1.1); returns the edit info."""
+    def drag_preserving_length(
+        self, region: int, index: int, position: _Point, method: Literal["trim", "scale"] = "trim"
+    ) -> dict[str, Any]:
+        """Moves one control point and restores the curve's length (§4.1.3)."""
+    def drag_end_handles(
+        self,
+        region: int,
+        *,
+        start_position: Optional[_Point] = None,
+        start_normal: Optional[_Point] = None,
+        end_position: Optional[_Point] = None,
+        end_normal: Optional[_Point] = None,
+    ) -> dict[str, Any]:
+        """Drags the end handles (§4.1.2)."""
+    def undo(self) -> bool:
+        """Takes the last applied edit back; ``False`` when there is none."""
+    def bend(self, *, outputs: _Outputs = "preview") -> Run:
+        """Bends the current scene."""

@@ -1,0 +1,39 @@
+"""The type stubs (`sheetform/_native.pyi`) describe the module as built: mypy's stubtest
+compares every name, signature and default with the runtime's."""
+
+import os
+import subprocess
+import sys
+
+from conftest import REPO
+
+
+def test_the_stubs_match_the_native_module():
+    environment = {**os.environ, "MYPYPATH": str(REPO / "bindings/python/python")}
+    done = subprocess.run(
+        [sys.executable, "-m", "mypy.stubtest", "sheetform._native", "--concise"],
+        capture_output=True,
+        text=True,
+        env=environment,
+        check=False,
+    )
+    assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_the_example_type_checks_against_the_stubs():
+    environment = {**os.environ, "MYPYPATH": str(REPO / "bindings/python/python")}
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "mypy",
+            "--ignore-missing-imports",
+            "--follow-imports=silent",
+            str(REPO / "examples/python/bend_and_flatten.py"),
+        ],
+        capture_output=True,
+        text=True,
+        env=environment,
+        check=False,
+    )
+    assert done.returncode == 0, done.stdout + done.stderr
