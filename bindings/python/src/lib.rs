@@ -31,6 +31,7 @@ fn native_module(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(mesh_functions::flatten, module)?)?;
     module.add_function(wrap_pyfunction!(mesh_functions::pattern, module)?)?;
     module.add_class::<run::Run>()?;
+    module.add_class::<run::Mesh>()?;
     module.add_class::<bend_editor::BendEditor>()?;
     errors::register(module)?;
     Ok(())

@@ -10,8 +10,8 @@ use sheetform::flatten::ChartOptions;
 use sheetform::mesh::LengthUnit;
 use sheetform::pattern::TabOptions;
 use sheetform::pipeline::{
-    mesh_from_arrays, run_check, run_flatten, run_pattern, sheet_mesh_from_arrays, ChartMode, CheckOptions,
-    FlattenMethod, FlattenOptions, DEFAULT_ANGLE_TOLERANCE,
+    mesh_from_arrays, run_check, run_flatten, run_pattern, seam_edges_from_array, sheet_mesh_from_arrays, ChartMode,
+    CheckOptions, FlattenMethod, FlattenOptions, DEFAULT_ANGLE_TOLERANCE,
 };
 
 fn length_unit(unit: &str) -> PyResult<LengthUnit> {
@@ -82,6 +82,8 @@ pub(crate) fn check(
             report: run.report,
             outcome: run.outcome,
             pipeline_seconds: seconds,
+            meshes: Vec::new(),
+            ffd_design: None,
         },
     )
 }
@@ -89,6 +91,8 @@ pub(crate) fn check(
 /// Lays a mesh out flat, as `sheetform flatten`: the exact unfolding of a developable
 /// mesh, or cut into charts (or a net) when it cannot be flattened whole.
 ///
+/// `seams`: `(k, 2)` vertex pairs, edges the mesh is cut open along first (as an OBJ's
+/// `l` lines; chart borders when it is cut into charts).
 /// `method`: `"exact"` (from the edge lengths), `"lscm"` or `"arap"` for a mesh flattened
 /// whole. `charts`: `"auto"` (what a maker would expect: a developable disk whole, a
 /// faceted model as a net, a curved surface in smooth charts), `"smooth"`, `"net"` or
@@ -100,12 +104,13 @@ pub(crate) fn check(
 /// one copy per chart). `outcome` is `"overlapping"` when the pattern overlaps itself and
 /// `"out_of_tolerance"` when an edge stretches more than `max_distortion`.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, *, method="exact", charts="auto", crease_angle=None, max_distortion=None, net_tabs=true, weld=None, unit="mm", name="mesh", outputs="all", progress=None, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[pyo3(signature = (vertices, faces, *, seams=None, method="exact", charts="auto", crease_angle=None, max_distortion=None, net_tabs=true, weld=None, unit="mm", name="mesh", outputs="all", progress=None, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn flatten(
     py: Python<'_>,
     vertices: &Bound<'_, PyAny>,
     faces: &Bound<'_, PyAny>,
+    seams: Option<&Bound<'_, PyAny>>,
     method: &str,
     charts: &str,
     crease_angle: Option<f64>,
@@ -163,8 +168,16 @@ pub(crate) fn flatten(
         input: Some(format!("{name}.mesh")),
     };
     let (v, f) = (v.as_slice()?, f.as_slice()?);
+    let seams = seams.map(|s| index_rows("seams", s, 2)).transpose()?;
+    let seams = seams.as_ref().map(|s| s.as_slice()).transpose()?;
     let mesh = py
-        .detach(|| mesh_from_arrays(v, f, name))
+        .detach(|| {
+            let mut mesh = mesh_from_arrays(v, f, name)?;
+            if let Some(seams) = seams {
+                mesh.seam_edges = seam_edges_from_array(&mesh, seams)?;
+            }
+            Ok(mesh)
+        })
         .map_err(|e| python_error(py, e))?;
     let (run, seconds) = run_interruptibly(py, progress, |controls| {
         run_flatten(mesh, &options, &controls.context(".", outputs))

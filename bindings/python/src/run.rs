@@ -82,6 +82,34 @@ pub(crate) fn run_interruptibly<T: Send>(
     }
 }
 
+/// A mesh beside a run's model, as numpy arrays (an FFD run's panels welded at their
+/// seams before and after the restoration).
+#[pyclass(module = "sheetform", frozen)]
+pub struct Mesh {
+    /// `(n, 3)` float64: vertex positions (model units).
+    #[pyo3(get)]
+    vertices: Py<PyArray2<f64>>,
+    /// `(m, 3)` int64: triangles.
+    #[pyo3(get)]
+    faces: Py<PyArray2<i64>>,
+    /// `(n,)` float64: the angle defect `2π − Σθ` at each vertex (radians; 0 on the
+    /// boundary).
+    #[pyo3(get)]
+    angle_defects_rad: Py<PyArray1<f64>>,
+}
+
+#[pymethods]
+impl Mesh {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        use numpy::PyUntypedArrayMethods;
+        format!(
+            "<sheetform.Mesh: {} vertices, {} faces>",
+            self.vertices.bind(py).shape()[0],
+            self.faces.bind(py).shape()[0]
+        )
+    }
+}
+
 /// The result of a system (`bend`, `slit`, `ffd`, `photo`) or a mesh function
 /// (`check`, `flatten`, `pattern`): the mesh with its flat pattern as numpy arrays, the
 /// report as a dict, and the files the CLI would write, in memory.
@@ -121,12 +149,20 @@ pub struct Run {
     /// `"out_of_tolerance"` (a bound the report states is missed).
     #[pyo3(get)]
     outcome: &'static str,
-    /// Seconds the library's pipeline took (without the conversion to Python).
+    /// Meshes beside the model, by name: for `ffd`, `"plain"` (the panels after the last
+    /// plain FFD) and `"restored"` (after the last restoration), welded at the seams, each
+    /// with its angle defects; empty for the other functions.
+    #[pyo3(get)]
+    meshes: Py<PyDict>,
+    /// Seconds the library's pipeline call took (`run_bend`, `run_flatten`, …): without
+    /// the checks and copies of the arrays going in, the arrays and the report coming out.
     #[pyo3(get)]
     pipeline_seconds: f64,
     files: RenderedFiles,
     report_value: Report,
     files_dict: std::sync::OnceLock<Py<PyDict>>,
+    /// An FFD run's design, to resume the next run from (`ffd(..., warm_start=run)`).
+    pub(crate) ffd_design: Option<std::sync::Arc<sheetform::ffd::FfdDesign>>,
 }
 
 /// What a [`Run`] is made of, before the conversion.
@@ -142,6 +178,8 @@ pub(crate) struct RunParts<'a> {
     pub(crate) report: Report,
     pub(crate) outcome: Outcome,
     pub(crate) pipeline_seconds: f64,
+    pub(crate) meshes: Vec<(&'static str, &'a sheetform::mesh::TriangleMesh, Vec<f64>)>,
+    pub(crate) ffd_design: Option<std::sync::Arc<sheetform::ffd::FfdDesign>>,
 }
 
 impl<'a> RunParts<'a> {
@@ -165,13 +203,26 @@ impl<'a> RunParts<'a> {
             report,
             outcome,
             pipeline_seconds,
+            meshes: Vec::new(),
+            ffd_design: None,
         }
     }
 }
 
 impl Run {
     pub(crate) fn new(py: Python<'_>, parts: RunParts<'_>) -> PyResult<Self> {
+        let meshes = PyDict::new(py);
+        for (name, mesh, defects) in parts.meshes {
+            let mesh = Mesh {
+                vertices: points3(py, &mesh.positions)?.unbind(),
+                faces: triangles(py, &mesh.triangles)?.unbind(),
+                angle_defects_rad: PyArray1::from_vec(py, defects).unbind(),
+            };
+            meshes.set_item(name, Py::new(py, mesh)?)?;
+        }
         Ok(Self {
+            meshes: meshes.unbind(),
+            ffd_design: parts.ffd_design,
             vertices: points3(py, parts.positions)?.unbind(),
             faces: triangles(py, parts.triangles)?.unbind(),
             uv: parts.flat.map(|f| points2(py, f)).transpose()?.map(Bound::unbind),

@@ -170,11 +170,17 @@ pub(crate) fn slit(
 /// relative to `root`. `solver` overrides the scene's (`"constrained"`, `"paper"` or
 /// `"none"`, as the CLI's `--solver`).
 ///
+/// `warm_start`: an earlier `ffd` run whose scene shares its first deformations with
+/// this one (an interactive drag adds one): those are taken over and only the rest is
+/// restored, with the same result as a run from scratch (the report's
+/// `ffd.resumed_deformations` says how many).
+///
 /// Returns a `Run` with the restored panels, each with its exact flat pattern (pieces =
-/// panels). Raises `InvalidInputError` for invalid scenes and `NotConvergedError` when
+/// panels), and `meshes["plain"]` / `meshes["restored"]`: the welded panels before and
+/// after the last restoration with their angle defects. Raises `InvalidInputError` for invalid scenes and `NotConvergedError` when
 /// the restoration fails.
 #[pyfunction]
-#[pyo3(signature = (scene, *, root=None, outputs="all", progress=None, solver=None, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[pyo3(signature = (scene, *, root=None, outputs="all", progress=None, solver=None, warm_start=None, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn ffd(
     py: Python<'_>,
@@ -183,6 +189,7 @@ pub(crate) fn ffd(
     outputs: &str,
     progress: Option<Py<PyAny>>,
     solver: Option<&str>,
+    warm_start: Option<PyRef<'_, Run>>,
     scale: f64,
     page: &str,
     pattern_units: &str,
@@ -207,16 +214,27 @@ pub(crate) fn ffd(
         pattern: pattern_options(scale, page, pattern_units, tabs, seam_allowance_mm)?,
         input,
         solver,
-        warm_start: None,
+        warm_start: match &warm_start {
+            None => None,
+            Some(run) => Some(
+                run.ffd_design
+                    .clone()
+                    .ok_or_else(|| invalid_argument("warm_start", "not the result of an ffd run"))?,
+            ),
+        },
     };
+    drop(warm_start);
     let scene = parsed(py, FfdScene::from_json(&text))?;
     let (run, seconds) = run_interruptibly(py, progress, |controls| {
         run_ffd(&scene, &options, &controls.context(root, outputs))
     })?;
-    Run::new(
-        py,
-        RunParts::of_sheet(&run.sheet, run.files, run.report, run.outcome, seconds),
-    )
+    let mut parts = RunParts::of_sheet(&run.sheet, run.files, run.report, run.outcome, seconds);
+    parts.meshes = vec![
+        ("plain", &run.plain, run.angle_defects_before_rad),
+        ("restored", &run.restored, run.angle_defects_after_rad),
+    ];
+    parts.ffd_design = Some(std::sync::Arc::new(run.design));
+    Run::new(py, parts)
 }
 
 /// Reconstructs a developable model and its pattern from an annotated photograph

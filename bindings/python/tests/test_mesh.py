@@ -162,3 +162,24 @@ def test_pattern_of_a_given_layout_renders_the_files_and_measures_it():
     folded[:, 0] = np.abs(folded[:, 0] - n * chord / 2)
     over = sheetform.pattern(vertices, faces, folded, outputs="preview")
     assert over.outcome == "overlapping" and over.report["status"] == "overlapping"
+
+
+def test_seams_given_as_arrays_open_the_mesh_before_it_is_flattened():
+    # A closed band (a cylinder without caps) is not a disk; one seam along a ruling
+    # opens it into a rectangle, flattened whole and exactly.
+    n, height, radius = 24, 50.0, 20.0
+    angles = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+    ring = lambda z: np.column_stack([radius * np.cos(angles), radius * np.sin(angles), np.full(n, z)])
+    vertices = np.vstack([ring(0.0), ring(height)])
+    faces = np.array([[i, (i + 1) % n, n + (i + 1) % n] for i in range(n)] + [[i, n + (i + 1) % n, n + i] for i in range(n)])
+    with pytest.raises(sheetform.InvalidInputError):
+        sheetform.flatten(vertices, faces, charts="never")
+    run = sheetform.flatten(vertices, faces, seams=[[0, n]], charts="never", outputs="preview")
+    assert run.report["layout"] == "whole" and run.outcome == "ok"
+    assert len(run.vertices) == len(vertices) + 2, "the seam's two vertices are doubled"
+    np.testing.assert_array_equal(run.vertices, vertices[run.source_vertices])
+    chord = 2.0 * radius * np.sin(np.pi / n)
+    width = np.ptp(run.uv @ np.linalg.svd(run.uv - run.uv.mean(0))[2].T, axis=0)
+    np.testing.assert_allclose(sorted(width), sorted([height, n * chord]), rtol=1e-9)
+    with pytest.raises(sheetform.InvalidInputError, match=r"seams.*row 0 \(0, 5\) is not an edge"):
+        sheetform.flatten(vertices, faces, seams=[[0, 5]])

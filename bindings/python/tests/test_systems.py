@@ -91,3 +91,30 @@ def test_arrays_are_made_once_and_owned_by_numpy():
     assert run.files is run.files
     for array in (run.vertices, run.faces, run.uv, run.face_pieces, run.angle_defects_rad):
         assert array.flags["C_CONTIGUOUS"]
+
+
+def test_an_ffd_run_has_its_welded_panels_before_and_after_the_restoration():
+    run = sheetform.ffd(REPO / "examples/ffd/skirt.json", outputs="preview")
+    plain, restored = run.meshes["plain"], run.meshes["restored"]
+    assert plain.vertices.shape == restored.vertices.shape
+    np.testing.assert_array_equal(plain.faces, restored.faces)
+    after = run.report["ffd"]["angle_defects_after"]["angle_defect_max_rad"]
+    before = run.report["ffd"]["angle_defects_before"]["angle_defect_max_rad"]
+    assert np.isclose(np.abs(restored.angle_defects_rad).max(), after, rtol=1e-12, atol=1e-15)
+    assert np.isclose(np.abs(plain.angle_defects_rad).max(), before, rtol=1e-12)
+    assert after < 1e-8 < before
+    assert sheetform.bend(REPO / "examples/bent-rectangle.json", outputs="preview").meshes == {}
+
+
+def test_a_warm_started_ffd_run_restores_only_the_new_deformation_with_the_same_result():
+    two = json.loads((REPO / "examples/ffd/skirt-drag.json").read_text())
+    one = {**two, "deformations": two["deformations"][:1]}
+    first = sheetform.ffd(one, root=REPO / "examples/ffd", outputs="preview")
+    warm = sheetform.ffd(two, root=REPO / "examples/ffd", outputs="preview", warm_start=first)
+    cold = sheetform.ffd(two, root=REPO / "examples/ffd", outputs="preview")
+    assert warm.report["ffd"]["resumed_deformations"] == 1
+    assert cold.report["ffd"]["resumed_deformations"] == 0
+    np.testing.assert_array_equal(warm.vertices, cold.vertices)
+    np.testing.assert_array_equal(warm.uv, cold.uv)
+    with pytest.raises(sheetform.InvalidInputError, match="warm_start"):
+        sheetform.ffd(two, root=REPO / "examples/ffd", warm_start=sheetform.bend(REPO / "examples/bent-rectangle.json"))

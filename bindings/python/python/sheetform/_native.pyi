@@ -17,6 +17,7 @@ __all__ = [
     "flatten",
     "pattern",
     "Run",
+    "Mesh",
     "BendEditor",
     "SheetformError",
     "InvalidInputError",
@@ -56,6 +57,20 @@ class CancelledError(SheetformError):
     """The run was cancelled."""
 
 @final
+class Mesh:
+    """A mesh beside a run's model (an FFD run's welded panels)."""
+
+    @property
+    def vertices(self) -> npt.NDArray[np.float64]:
+        """``(n, 3)`` vertex positions."""
+    @property
+    def faces(self) -> npt.NDArray[np.int64]:
+        """``(m, 3)`` triangles."""
+    @property
+    def angle_defects_rad(self) -> npt.NDArray[np.float64]:
+        """``(n,)`` angle defect at each vertex."""
+
+@final
 class Run:
     """A mesh with its flat pattern, the report and the files the CLI would write."""
 
@@ -86,6 +101,9 @@ class Run:
     @property
     def outcome(self) -> Literal["ok", "overlapping", "out_of_tolerance"]:
         """How the run ended."""
+    @property
+    def meshes(self) -> dict[str, Mesh]:
+        """Meshes beside the model (``ffd``: ``"plain"``, ``"restored"``)."""
     @property
     def pipeline_seconds(self) -> float:
         """Seconds the library's pipeline took."""
@@ -131,6 +149,7 @@ def ffd(
     outputs: _Outputs = "all",
     progress: Optional[Callable[[str, float], Any]] = None,
     solver: Optional[Literal["constrained", "paper", "none"]] = None,
+    warm_start: Optional[Run] = None,
     scale: float = 1.0,
     page: _Page = "a4",
     pattern_units: _PatternUnits = "mm",
@@ -170,6 +189,7 @@ def flatten(
     vertices: npt.ArrayLike,
     faces: npt.ArrayLike,
     *,
+    seams: Optional[npt.ArrayLike] = None,
     method: Literal["exact", "lscm", "arap"] = "exact",
     charts: Literal["auto", "smooth", "net", "never"] = "auto",
     crease_angle: Optional[float] = None,

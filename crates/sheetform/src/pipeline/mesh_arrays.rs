@@ -102,6 +102,52 @@ pub fn mesh_from_arrays<I: Copy + TryInto<i64> + std::fmt::Display>(
     })
 }
 
+/// The seams a user marked on a mesh (`seams`: `k × 2` vertex indices, row-major, each
+/// row an edge of `mesh`), to be cut open when it is flattened (as an OBJ's `l` lines).
+///
+/// # Errors
+/// [`PipelineError::Option`] naming `seams` and the row: a length that is not a multiple
+/// of 2, an index out of range, a pair of vertices that is not an edge of the mesh.
+pub fn seam_edges_from_array<I: Copy + TryInto<i64> + std::fmt::Display>(
+    mesh: &TriangleMesh,
+    seams: &[I],
+) -> Result<Vec<[u32; 2]>, PipelineError> {
+    if seams.len() % 2 != 0 {
+        return Err(invalid(
+            "seams",
+            format!("{} indices do not make rows of 2 (one edge per row)", seams.len()),
+        ));
+    }
+    let table = sheetform_mesh::EdgeTable::new(&mesh.triangles, mesh.positions.len());
+    seams
+        .chunks_exact(2)
+        .enumerate()
+        .map(|(row, pair)| {
+            let mut edge = [0u32; 2];
+            for (k, &index) in pair.iter().enumerate() {
+                let v: i64 = index.try_into().unwrap_or(i64::MAX);
+                if v < 0 || v as u64 >= mesh.positions.len() as u64 {
+                    return Err(invalid(
+                        "seams",
+                        format!(
+                            "row {row} names vertex {index}, but the vertices are numbered 0 to {}",
+                            mesh.positions.len() as i64 - 1
+                        ),
+                    ));
+                }
+                edge[k] = v as u32;
+            }
+            match table.find(edge[0], edge[1]) {
+                Some(_) => Ok(edge),
+                None => Err(invalid(
+                    "seams",
+                    format!("row {row} ({}, {}) is not an edge of the mesh", edge[0], edge[1]),
+                )),
+            }
+        })
+        .collect()
+}
+
 /// A mesh with its flat pattern from arrays: `vertices` (`n × 3`), `faces` (`m × 3`),
 /// `uv` (`n × 2`, the flat position of each vertex at 1:1 in `unit`), and optionally the
 /// piece of each face (`face_pieces`, `m` labels from 0) with the pieces' names (by
@@ -227,5 +273,11 @@ mod tests {
             sheet_mesh_from_arrays(&v, &[0, 1, 2], &[0.0; 6], Some(&[-2]), None, "m", LengthUnit::Mm).unwrap_err(),
         );
         assert!(e.contains("face_pieces") && e.contains("row 0 is -2"), "{e}");
+        let mesh = mesh_from_arrays(&v, &[0, 1, 2], "m").unwrap();
+        assert_eq!(seam_edges_from_array(&mesh, &[2, 1]).unwrap(), vec![[2, 1]]);
+        let e = message(seam_edges_from_array(&mesh, &[0, 1, 1, 3]).unwrap_err());
+        assert!(e.contains("seams") && e.contains("row 1 names vertex 3"), "{e}");
+        let e = message(seam_edges_from_array(&mesh, &[0, 0]).unwrap_err());
+        assert!(e.contains("row 0 (0, 0) is not an edge"), "{e}");
     }
 }
