@@ -189,3 +189,32 @@ impl Outcome {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A solver that fails on valid input is `Failed` (the binding's `NotConvergedError`,
+    /// exit code 1), not the input's fault; a cancelled FFD restoration is `Cancelled`.
+    #[test]
+    fn solver_failures_are_failed_and_scene_errors_invalid_input() {
+        assert_eq!(
+            PipelineError::Ffd(FfdError::Solver("singular".into())).kind(),
+            ErrorKind::Failed
+        );
+        assert_eq!(
+            PipelineError::Photo(PhotoError::Solver("singular".into())).kind(),
+            ErrorKind::Failed
+        );
+        assert_eq!(PipelineError::Ffd(FfdError::Cancelled).kind(), ErrorKind::Cancelled);
+        assert_eq!(ErrorKind::Cancelled.exit_code(), 130);
+        assert_eq!(
+            PipelineError::Ffd(FfdError::Panel {
+                panel: "p".into(),
+                message: "m".into()
+            })
+            .kind(),
+            ErrorKind::InvalidInput
+        );
+    }
+}
