@@ -118,6 +118,12 @@ pub(crate) fn index_rows<'py>(
             format!("integer vertex indices expected, got an array of {dtype}"),
         ));
     }
+    if kind == "u" && !is_empty && array.call_method0("max")?.gt(i64::MAX)? {
+        return Err(invalid_argument(
+            argument,
+            format!("an index over {} (the largest a mesh may have)", i64::MAX),
+        ));
+    }
     let kwargs = PyDict::new(py);
     kwargs.set_item("dtype", numpy.getattr("int64")?)?;
     let array = numpy.call_method("ascontiguousarray", (array,), Some(&kwargs))?;

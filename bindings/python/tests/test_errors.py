@@ -120,6 +120,11 @@ def test_an_inadmissible_shape_raises_with_the_report_saying_where():
         ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0.0, 1.0, 2.0]], "faces", "integer vertex indices"),
         ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2, 0]], "faces", "(n, 3)"),
         ([["a", "b", "c"]], [[0, 0, 0]], "vertices", "not an array of numbers"),
+        ([], [], "faces", "the mesh has no faces"),
+        (np.eye(3), np.zeros((0, 3), dtype=np.int64), "faces", "the mesh has no faces"),
+        (np.eye(3), np.array([[0, 1, 2**63 + 5]], dtype=np.uint64), "faces", "an index over"),
+        (np.eye(3), np.array([[True, False, True]]), "faces", "integer vertex indices"),
+        (np.zeros((2, 3, 3)), [[0, 1, 2]], "vertices", "(n, 3)"),
     ],
 )
 def test_bad_arrays_raise_invalid_input_naming_the_array(vertices, faces, argument, expected):

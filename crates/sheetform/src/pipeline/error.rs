@@ -57,6 +57,15 @@ pub enum PipelineError {
         /// What is wrong.
         message: String,
     },
+    /// An array handed over by a binding is not a mesh (a shape, a non-finite coordinate,
+    /// an index out of range; [`super::mesh_from_arrays`]).
+    #[error("{array}: {message}")]
+    InvalidArray {
+        /// The array, by its argument's name (`vertices`, `faces`, `uv`, …).
+        array: &'static str,
+        /// What is wrong, naming the row.
+        message: String,
+    },
     /// The slit-sheet model is invalid or cannot be built.
     #[error(transparent)]
     Slit(#[from] SlitError),
@@ -148,6 +157,7 @@ impl PipelineError {
             | Self::Bend(_)
             | Self::MeshRead(_)
             | Self::Option { .. }
+            | Self::InvalidArray { .. }
             | Self::Slit(_)
             | Self::Ffd(_)
             | Self::Pattern(_)

@@ -10,7 +10,7 @@ use sheetform_mesh::{LengthUnit, Piece, PieceKind, SheetMesh, TriangleMesh};
 pub const MAX_ARRAY_MESH_ELEMENTS: usize = u32::MAX as usize;
 
 fn invalid(array: &'static str, message: String) -> PipelineError {
-    PipelineError::Option { option: array, message }
+    PipelineError::InvalidArray { array, message }
 }
 
 fn positions_from(vertices: &[f64]) -> Result<Vec<Vec3>, PipelineError> {
@@ -55,6 +55,10 @@ fn triangles_from<I: Copy + TryInto<i64> + std::fmt::Display>(
     if faces.len() / 3 > MAX_ARRAY_MESH_ELEMENTS {
         return Err(invalid("faces", format!("more than {MAX_ARRAY_MESH_ELEMENTS} faces")));
     }
+    if faces.is_empty() {
+        // (As the mesh readers say of a file without faces.)
+        return Err(invalid("faces", "the mesh has no faces".into()));
+    }
     faces
         .chunks_exact(3)
         .enumerate()
@@ -82,9 +86,9 @@ fn triangles_from<I: Copy + TryInto<i64> + std::fmt::Display>(
 /// vertex indices of any integer type, row-major), one group named `name`.
 ///
 /// # Errors
-/// [`PipelineError::Option`] naming `vertices` or `faces` and the row: a length that is
-/// not a multiple of 3, a non-finite coordinate, an index out of range, more than
-/// [`MAX_ARRAY_MESH_ELEMENTS`] rows.
+/// [`PipelineError::InvalidArray`] naming `vertices` or `faces` and the row: a length
+/// that is not a multiple of 3, a non-finite coordinate, an index out of range, no faces,
+/// more than [`MAX_ARRAY_MESH_ELEMENTS`] rows.
 pub fn mesh_from_arrays<I: Copy + TryInto<i64> + std::fmt::Display>(
     vertices: &[f64],
     faces: &[I],
@@ -106,7 +110,7 @@ pub fn mesh_from_arrays<I: Copy + TryInto<i64> + std::fmt::Display>(
 /// row an edge of `mesh`), to be cut open when it is flattened (as an OBJ's `l` lines).
 ///
 /// # Errors
-/// [`PipelineError::Option`] naming `seams` and the row: a length that is not a multiple
+/// [`PipelineError::InvalidArray`] naming `seams` and the row: a length that is not a multiple
 /// of 2, an index out of range, a pair of vertices that is not an edge of the mesh.
 pub fn seam_edges_from_array<I: Copy + TryInto<i64> + std::fmt::Display>(
     mesh: &TriangleMesh,
@@ -154,7 +158,7 @@ pub fn seam_edges_from_array<I: Copy + TryInto<i64> + std::fmt::Display>(
 /// default `name-1`, `name-2`, …).
 ///
 /// # Errors
-/// [`PipelineError::Option`] naming the array and the row, as [`mesh_from_arrays`], and
+/// [`PipelineError::InvalidArray`] naming the array and the row, as [`mesh_from_arrays`], and
 /// for `uv` rows that do not match the vertices, piece labels that do not match the faces
 /// or name no piece.
 pub fn sheet_mesh_from_arrays<I: Copy + TryInto<i64> + std::fmt::Display>(
@@ -266,6 +270,10 @@ mod tests {
         let e = message(mesh_from_arrays(&v, &[0, 1, 3], "m").unwrap_err());
         assert!(e.contains("faces") && e.contains("row 0 names vertex 3"), "{e}");
         assert!(message(mesh_from_arrays(&v, &[0, -1, 2], "m").unwrap_err()).contains("vertex -1"));
+        assert_eq!(
+            message(mesh_from_arrays::<i64>(&v, &[], "m").unwrap_err()),
+            "faces: the mesh has no faces"
+        );
         let e =
             message(sheet_mesh_from_arrays(&v, &[0, 1, 2], &[0.0; 4], None, None, "m", LengthUnit::Mm).unwrap_err());
         assert!(e.contains("uv") && e.contains("3 vertices need 6"), "{e}");
