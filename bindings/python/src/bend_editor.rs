@@ -21,12 +21,20 @@ const MAX_UNDO: usize = 1_000;
 /// that would make the shape inadmissible is refused and the scene kept, as in the web
 /// editor.
 ///
-/// `BendEditor(scene, root=None)`: `scene` as a dict or the path of its file.
+/// `BendEditor(scene, root=None)`: `scene` as a dict or the path of its file. Regions and
+/// control points are numbered from 0; negative numbers count from the end, as Python
+/// indexes.
 #[pyclass(module = "sheetform")]
 pub struct BendEditor {
     scene: BendScene,
     root: PathBuf,
     history: Vec<BendScene>,
+}
+
+/// `index` in `0..count`, or counted from the end when negative.
+fn from_end(index: i64, count: usize) -> Option<usize> {
+    let index = if index < 0 { index + count as i64 } else { index };
+    (0..count as i64).contains(&index).then_some(index as usize)
 }
 
 fn point(argument: &str, p: Vec<f64>) -> PyResult<[f64; 3]> {
@@ -40,11 +48,35 @@ fn point(argument: &str, p: Vec<f64>) -> PyResult<[f64; 3]> {
 }
 
 impl BendEditor {
+    /// A region number, negative ones counted from the end as Python indexes.
+    fn region(&self, region: i64) -> PyResult<usize> {
+        let count = self.scene.regions.len();
+        from_end(region, count)
+            .ok_or_else(|| invalid_argument("region", format!("no region {region} (the scene has {count})")))
+    }
+
+    /// A control point of `region`'s curve, negative numbers counted from the end.
+    fn control_point_index(&self, region: usize, index: i64) -> PyResult<usize> {
+        let count = match &self.scene.regions[region].curve {
+            CurveSpec::Bezier { control_points } => control_points.len(),
+            _ => {
+                return Err(invalid_argument(
+                    "region",
+                    format!("region {region}: not a Bézier control curve"),
+                ))
+            }
+        };
+        from_end(index, count).ok_or_else(|| {
+            invalid_argument(
+                "index",
+                format!("no control point {index} (region {region}'s curve has {count})"),
+            )
+        })
+    }
+
     fn apply(&mut self, py: Python<'_>, edit: BendEdit) -> PyResult<Py<PyAny>> {
         let scene = &self.scene;
-        let result = py
-            .detach(|| edit_bend_scene(scene, &edit))
-            .map_err(|e| python_error(py, e))?;
+        let result = crate::errors::detached(py, || edit_bend_scene(scene, &edit))?.map_err(|e| python_error(py, e))?;
         if result.info.applied {
             self.history.push(std::mem::replace(&mut self.scene, result.scene));
             if self.history.len() > MAX_UNDO {
@@ -63,6 +95,10 @@ impl BendEditor {
         let SceneArgument { text, root, .. } = scene_argument(py, scene, root)?;
         let scene = BendScene::from_json(&text).map_err(|e| python_error(py, e.into()))?;
         BendModel::from_scene(&scene).map_err(|e| python_error(py, e.into()))?;
+        // (Made absolute now: a later change of the working directory does not change
+        // which files the scene reads.)
+        let root =
+            std::path::absolute(&root).map_err(|e| invalid_argument("root", format!("{}: {e}", root.display())))?;
         Ok(Self {
             scene,
             root,
@@ -77,13 +113,9 @@ impl BendEditor {
     }
 
     /// The Bézier control points of `region`'s curve, `(k, 3)`.
-    fn control_points<'py>(&self, py: Python<'py>, region: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let spec = self.scene.regions.get(region).ok_or_else(|| {
-            invalid_argument(
-                "region",
-                format!("no region {region} (the scene has {})", self.scene.regions.len()),
-            )
-        })?;
+    fn control_points<'py>(&self, py: Python<'py>, region: i64) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let region = self.region(region)?;
+        let spec = &self.scene.regions[region];
         match &spec.curve {
             CurveSpec::Bezier { control_points } => {
                 let points: Vec<_> = control_points
@@ -104,10 +136,12 @@ impl BendEditor {
     fn move_control_point(
         &mut self,
         py: Python<'_>,
-        region: usize,
-        index: usize,
+        region: i64,
+        index: i64,
         position: Vec<f64>,
     ) -> PyResult<Py<PyAny>> {
+        let region = self.region(region)?;
+        let index = self.control_point_index(region, index)?;
         let position = point("position", position)?;
         self.apply(
             py,
@@ -126,11 +160,13 @@ impl BendEditor {
     fn drag_preserving_length(
         &mut self,
         py: Python<'_>,
-        region: usize,
-        index: usize,
+        region: i64,
+        index: i64,
         position: Vec<f64>,
         method: &str,
     ) -> PyResult<Py<PyAny>> {
+        let region = self.region(region)?;
+        let index = self.control_point_index(region, index)?;
         let position = point("position", position)?;
         let method = match method {
             "trim" => LengthMethod::Trim,
@@ -159,12 +195,13 @@ impl BendEditor {
     fn drag_end_handles(
         &mut self,
         py: Python<'_>,
-        region: usize,
+        region: i64,
         start_position: Option<Vec<f64>>,
         start_normal: Option<Vec<f64>>,
         end_position: Option<Vec<f64>>,
         end_normal: Option<Vec<f64>>,
     ) -> PyResult<Py<PyAny>> {
+        let region = self.region(region)?;
         let start = EndHandleSpec {
             position: start_position.map(|p| point("start_position", p)).transpose()?,
             normal: start_normal.map(|p| point("start_normal", p)).transpose()?,

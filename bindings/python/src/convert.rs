@@ -44,8 +44,9 @@ pub(crate) fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> 
     json_to_python(py, &value)
 }
 
-/// A scene given as a dict (or any JSON-like value) or as the path of its file: its JSON
-/// text, the directory its assets are read from (`root`, else the file's directory, else
+/// A scene given as a dict (or any JSON-like value; numpy numbers and arrays in it are
+/// taken as the numbers and lists they hold), as its JSON (or SVG) text, or as the path of
+/// its file: its text, the directory its assets are read from (`root`, else the file's directory, else
 /// the current one) and the path to record in the report.
 pub(crate) struct SceneArgument {
     pub(crate) text: String,
@@ -58,6 +59,16 @@ pub(crate) fn scene_argument(
     scene: &Bound<'_, PyAny>,
     root: Option<PathBuf>,
 ) -> PyResult<SceneArgument> {
+    // A string that opens like JSON or SVG is the scene's text, not a path.
+    if let Ok(text) = scene.extract::<String>() {
+        if matches!(text.trim_start().chars().next(), Some('{' | '<')) {
+            return Ok(SceneArgument {
+                text,
+                root: root.unwrap_or_else(|| PathBuf::from(".")),
+                input: None,
+            });
+        }
+    }
     if let Ok(path) = scene.extract::<PathBuf>() {
         let text = sheetform::pipeline::read_scene_file(&path).map_err(|e| crate::errors::python_error(py, e))?;
         return Ok(SceneArgument {
@@ -69,6 +80,8 @@ pub(crate) fn scene_argument(
     let json = py.import("json")?;
     let kwargs = PyDict::new(py);
     kwargs.set_item("allow_nan", false)?;
+    // numpy numbers and arrays in a scene are written as the numbers and lists they hold.
+    kwargs.set_item("default", py.eval(c"lambda value: value.tolist()", None, None)?)?;
     let text: String = json
         .call_method("dumps", (scene,), Some(&kwargs))
         .map_err(|e| invalid_argument("scene", format!("not a JSON scene (a dict) or a path: {e}")))?
@@ -168,6 +181,9 @@ pub(crate) fn index_list<'py>(argument: &str, value: &Bound<'py, PyAny>) -> PyRe
             argument,
             format!("a one-dimensional array of integers expected, got shape {shape:?}"),
         ));
+    }
+    if kind == "u" && shape != [0] && array.call_method0("max")?.gt(i64::MAX)? {
+        return Err(invalid_argument(argument, format!("a value over {}", i64::MAX)));
     }
     let kwargs = PyDict::new(py);
     kwargs.set_item("dtype", numpy.getattr("int64")?)?;

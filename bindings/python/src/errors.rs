@@ -47,7 +47,12 @@ pyo3::create_exception!(
 /// The Python exception for a pipeline error; an inadmissible shape's carries its report
 /// as `.report` (a dict, the `report.json` the CLI writes).
 pub(crate) fn python_error(py: Python<'_>, error: PipelineError) -> PyErr {
-    let message = error.to_string();
+    let message = match &error {
+        // The library names its options as the CLI spells them (`--weld`); here they are
+        // keyword arguments (`weld`).
+        PipelineError::Option { option, message } => format!("{}: {message}", keyword_of(option)),
+        other => other.to_string(),
+    };
     let exception = match error.kind() {
         ErrorKind::InvalidInput => InvalidInputError::new_err(message),
         ErrorKind::Inadmissible => InadmissibleError::new_err(message),
@@ -65,9 +70,24 @@ pub(crate) fn python_error(py: Python<'_>, error: PipelineError) -> PyErr {
     exception
 }
 
+/// The keyword argument of a library option named as the CLI spells it.
+fn keyword_of(option: &str) -> String {
+    match option {
+        "animate" => "animate_frames".into(),
+        other => other.trim_start_matches("--").replace('-', "_"),
+    }
+}
+
 /// An invalid argument of a binding function (not a scene field), named.
 pub(crate) fn invalid_argument(argument: &str, message: impl std::fmt::Display) -> PyErr {
     InvalidInputError::new_err(format!("{argument}: {message}"))
+}
+
+/// Runs `job` without the interpreter's lock; a panic in it (a bug) is raised as a
+/// `RuntimeError` instead of unwinding into the interpreter.
+pub(crate) fn detached<T: Send>(py: Python<'_>, job: impl FnOnce() -> T + Send) -> PyResult<T> {
+    py.detach(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(job)))
+        .map_err(internal_error)
 }
 
 /// A panic inside a run (a bug): raised as an error rather than ending the interpreter.

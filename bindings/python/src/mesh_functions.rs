@@ -35,8 +35,9 @@ fn length_unit(unit: &str) -> PyResult<LengthUnit> {
 /// `weld`: merge vertices closer than this first (model units). `tolerance`: defects up
 /// to this (radians, default 1e-4) count as developable. `unit`: the mesh's length unit.
 ///
-/// Returns a `Run` with `uv = None` and `angle_defects_rad` per vertex; the report's
-/// `status` is `"developable"` or `"not_developable"`.
+/// Returns a `Run` with `uv = None`, `angle_defects_rad` per vertex and
+/// `source_vertices` (the input vertex each vertex is; after `weld`, the first of those
+/// merged); the report's `status` is `"developable"` or `"not developable"`.
 #[pyfunction]
 #[pyo3(signature = (vertices, faces, *, weld=None, tolerance=None, unit="mm", name="mesh", outputs="all", progress=None))]
 #[allow(clippy::too_many_arguments)]
@@ -58,12 +59,12 @@ pub(crate) fn check(
         weld,
         tolerance: tolerance.unwrap_or(DEFAULT_ANGLE_TOLERANCE),
         unit: length_unit(unit)?,
-        input: Some(format!("{name}.mesh")),
+        input: Some(name.to_string()),
     };
     let (v, f) = (v.as_slice()?, f.as_slice()?);
-    let mesh = py
-        .detach(|| mesh_from_arrays(v, f, name))
-        .map_err(|e| python_error(py, e))?;
+    // (Read with the interpreter's lock held: the arrays are the caller's, which another
+    // Python thread could write to; this is their one copy.)
+    let mesh = mesh_from_arrays(v, f, name).map_err(|e| python_error(py, e))?;
     let (run, seconds) = run_interruptibly(py, progress, |controls| {
         run_check(mesh, &options, &controls.context(".", outputs))
     })?;
@@ -77,7 +78,7 @@ pub(crate) fn check(
             face_pieces: Some(&run.mesh.face_groups),
             pieces: run.mesh.groups.clone(),
             angle_defects_rad: Some(defects),
-            source_vertices: None,
+            source_vertices: Some(&run.source_vertices),
             files: run.files,
             report: run.report,
             outcome: run.outcome,
@@ -101,7 +102,7 @@ pub(crate) fn check(
 ///
 /// Returns a `Run`: `uv` is the pattern at 1:1, `face_pieces` the chart of each face,
 /// `source_vertices` the input vertex each output vertex copies (a vertex on a seam has
-/// one copy per chart). `outcome` is `"overlapping"` when the pattern overlaps itself and
+/// one copy per chart; after `weld`, the first of the input vertices merged into it). `outcome` is `"overlapping"` when the pattern overlaps itself and
 /// `"out_of_tolerance"` when an edge stretches more than `max_distortion`.
 #[pyfunction]
 #[pyo3(signature = (vertices, faces, *, seams=None, method="exact", charts="auto", crease_angle=None, max_distortion=None, net_tabs=true, weld=None, unit="mm", name="mesh", outputs="all", progress=None, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
@@ -165,14 +166,14 @@ pub(crate) fn flatten(
         pattern: pattern_options(scale, page, pattern_units, tabs, seam_allowance_mm)?,
         weld,
         unit: length_unit(unit)?,
-        input: Some(format!("{name}.mesh")),
+        input: Some(name.to_string()),
     };
     let (v, f) = (v.as_slice()?, f.as_slice()?);
     let seams = seams.map(|s| index_rows("seams", s, 2)).transpose()?;
     let seams = seams.as_ref().map(|s| s.as_slice()).transpose()?;
-    let mesh = py
-        .detach(|| {
-            let mut mesh = mesh_from_arrays(v, f, name)?;
+    // (Read with the interpreter's lock held, as in `check`.)
+    let mesh = mesh_from_arrays(v, f, name)
+        .and_then(|mut mesh| {
             if let Some(seams) = seams {
                 mesh.seam_edges = seam_edges_from_array(&mesh, seams)?;
             }
@@ -222,8 +223,8 @@ pub(crate) fn pattern(
     let unit = length_unit(unit)?;
     let options = pattern_options(scale, page, pattern_units, tabs, seam_allowance_mm)?;
     let (v, f, flat) = (v.as_slice()?, f.as_slice()?, flat.as_slice()?);
-    let sheet = py
-        .detach(|| sheet_mesh_from_arrays(v, f, flat, labels.as_deref(), piece_names.as_deref(), name, unit))
+    // (Read with the interpreter's lock held, as in `check`.)
+    let sheet = sheet_mesh_from_arrays(v, f, flat, labels.as_deref(), piece_names.as_deref(), name, unit)
         .map_err(|e| python_error(py, e))?;
     let ((files, report, outcome), seconds) = run_interruptibly(py, progress, |controls| {
         run_pattern(&sheet, name, &options, &controls.context(".", outputs))

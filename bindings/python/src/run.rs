@@ -115,7 +115,8 @@ impl Mesh {
 /// report as a dict, and the files the CLI would write, in memory.
 ///
 /// Every array is made once, when the run ends (one copy of the library's data), and
-/// returned as it is on every access.
+/// returned as it is on every access: changing one changes it for every later access,
+/// but not the rendered `files` nor what `write` writes.
 #[pyclass(module = "sheetform", frozen)]
 pub struct Run {
     /// `(n, 3)` float64: vertex positions (model units). Vertices on a seam between
@@ -270,8 +271,7 @@ impl Run {
     /// Raises `OutputError` when the directory cannot be used or a write fails.
     fn write(&self, py: Python<'_>, directory: PathBuf) -> PyResult<()> {
         let (files, report) = (&self.files, &self.report_value);
-        py.detach(|| write_outputs(&directory, files, report))
-            .map_err(|e| python_error(py, e))
+        crate::errors::detached(py, || write_outputs(&directory, files, report))?.map_err(|e| python_error(py, e))
     }
 
     fn __repr__(&self, py: Python<'_>) -> String {

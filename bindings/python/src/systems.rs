@@ -16,7 +16,8 @@ use sheetform::slit::SlitScene;
 use std::path::PathBuf;
 
 /// The pattern keywords every function takes, as the library's options (the CLI's
-/// `--scale`, `--page`, `--pattern-units`, `--tabs`, `--seam-allowance`).
+/// `--scale`, `--page`, `--pattern-units`, `--tabs`, `--seam-allowance`); their values
+/// are checked by the library, as the CLI's.
 pub(crate) fn pattern_options(
     scale: f64,
     page: &str,
@@ -24,15 +25,7 @@ pub(crate) fn pattern_options(
     tabs: &str,
     seam_allowance_mm: f64,
 ) -> PyResult<PatternOutputOptions> {
-    let mut options = PatternOutputOptions::default();
-    if !(scale.is_finite() && scale > 0.0 && scale <= 1e6) {
-        return Err(invalid_argument(
-            "scale",
-            format!("must be a positive factor up to 1e6, got {scale}"),
-        ));
-    }
-    options.scale = scale;
-    options.page = match page {
+    let page = match page {
         "a4" => PageSize::A4,
         "letter" => PageSize::Letter,
         other => {
@@ -42,7 +35,7 @@ pub(crate) fn pattern_options(
             ))
         }
     };
-    options.dxf_unit = match pattern_units {
+    let dxf_unit = match pattern_units {
         "mm" => DxfUnit::Mm,
         "cm" => DxfUnit::Cm,
         "in" => DxfUnit::In,
@@ -53,7 +46,7 @@ pub(crate) fn pattern_options(
             ))
         }
     };
-    options.tabs = match tabs {
+    let tabs = match tabs {
         "none" => None,
         "one" => Some(TabOptions {
             sides: TabSides::One,
@@ -70,14 +63,18 @@ pub(crate) fn pattern_options(
             ))
         }
     };
-    if !(seam_allowance_mm.is_finite() && (0.0..=1000.0).contains(&seam_allowance_mm)) {
-        return Err(invalid_argument(
-            "seam_allowance_mm",
-            format!("must be from 0 to 1000 mm, got {seam_allowance_mm}"),
-        ));
-    }
-    options.allowance.seam_allowance_mm = seam_allowance_mm;
-    Ok(options)
+    let defaults = PatternOutputOptions::default();
+    Ok(PatternOutputOptions {
+        scale,
+        page,
+        dxf_unit,
+        tabs,
+        allowance: sheetform::pattern::MaterialAllowance {
+            seam_allowance_mm,
+            ..defaults.allowance
+        },
+        ..defaults
+    })
 }
 
 fn parsed<T>(py: Python<'_>, parse: Result<T, impl Into<sheetform::pipeline::PipelineError>>) -> PyResult<T> {

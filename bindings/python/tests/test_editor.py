@@ -91,3 +91,24 @@ def test_bad_edits_raise_invalid_input():
         editor.drag_preserving_length(0, 1, [0.0, 0.0, 0.0], method="stretch")
     with pytest.raises(sheetform.InvalidInputError):
         sheetform.BendEditor({"outline": [[0, 0], [1, 0], [0, 1]]})
+
+
+def test_negative_numbers_count_from_the_end_as_python_indexes():
+    editor = sheetform.BendEditor(REPO / "examples/bent-rectangle.json")
+    last = editor.control_points(-1)[-1]
+    np.testing.assert_array_equal(editor.control_points(0)[3], last)
+    info = editor.move_control_point(-1, -2, [141.0, 8.0, 61.0])
+    assert info["applied"], info["rejected_because"]
+    np.testing.assert_array_equal(editor.control_points(0)[2], [141.0, 8.0, 61.0])
+    with pytest.raises(sheetform.InvalidInputError, match="no control point -5"):
+        editor.move_control_point(0, -5, [0.0, 0.0, 0.0])
+    with pytest.raises(sheetform.InvalidInputError, match="no region -2"):
+        editor.control_points(-2)
+
+
+def test_the_editor_reads_its_files_from_where_it_was_opened(tmp_path, monkeypatch):
+    # A textured scene opened by a relative root keeps reading from there after a chdir.
+    monkeypatch.chdir(REPO)
+    editor = sheetform.BendEditor(json.loads((REPO / "examples/textured-sheet.json").read_text()), root="examples")
+    monkeypatch.chdir(tmp_path)
+    assert editor.bend().outcome == "ok"

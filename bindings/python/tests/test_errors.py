@@ -142,12 +142,19 @@ def test_bad_options_raise_invalid_input_naming_the_option():
         (lambda: sheetform.flatten(v, f, charts="some"), "charts"),
         (lambda: sheetform.flatten(v, f, unit="furlong"), "unit"),
         (lambda: sheetform.flatten(v, f, outputs="everything"), "outputs"),
-        (lambda: sheetform.flatten(v, f, crease_angle=400.0), "--crease-angle"),
-        (lambda: sheetform.flatten(v, f, max_distortion=float("nan")), "--max-distortion"),
+        (lambda: sheetform.flatten(v, f, crease_angle=400.0), "crease_angle: must be an angle"),
+        (lambda: sheetform.flatten(v, f, max_distortion=float("nan")), "max_distortion: must be"),
         (lambda: sheetform.flatten(v, f, scale=-1.0), "scale"),
         (lambda: sheetform.flatten(v, f, page="a0"), "page"),
-        (lambda: sheetform.check(v, f, weld=-1.0), "--weld"),
-        (lambda: sheetform.check(v, f, tolerance=float("inf")), "--tolerance"),
+        (lambda: sheetform.check(v, f, weld=-1.0), "weld: must be a non-negative distance"),
+        (lambda: sheetform.check(v, f, tolerance=float("inf")), "tolerance: must be"),
+        (lambda: sheetform.flatten(v, f, seam_allowance_mm=-1.0), "seam_allowance_mm"),
+        (lambda: sheetform.flatten(v, f, scale=0.0), "scale"),
+        (lambda: sheetform.flatten(v, f, seams=[[0, 1, 2]]), "seams"),
+        (lambda: sheetform.flatten(v, f, seams=[[0, -1]]), "seams: row 0 names vertex -1"),
+        (lambda: sheetform.pattern(v, f, [[0, 0], [1, 0], [0, 1]], face_pieces=[4_000_000_000]), "face_pieces: row 0 is 4000000000"),
+        (lambda: sheetform.pattern(v, f, [[0, 0], [1, 0], [0, 1]], face_pieces=[0], piece_names=["a", "b"]), "piece_names: 2 names"),
+        (lambda: sheetform.pattern(v, f, [[0, 0], [1, 0], [0, 1]], face_pieces=np.array([2**64 - 1], dtype=np.uint64)), "face_pieces: a value over"),
         (lambda: sheetform.pattern(v, f, [[0, 0], [1, 0]]), "uv"),
         (lambda: sheetform.pattern(v, f, [[0, 0], [1, 0], [0, 1]], face_pieces=[-1]), "face_pieces"),
         (lambda: sheetform.ffd(REPO / "examples/ffd/two-panels.json", solver="fastest"), "solver"),
@@ -156,6 +163,7 @@ def test_bad_options_raise_invalid_input_naming_the_option():
         with pytest.raises(sheetform.InvalidInputError) as error:
             call()
         assert name in str(error.value), str(error.value)
+        assert "--" not in str(error.value), f"a CLI flag rather than the keyword: {error.value}"
 
 
 def test_a_closed_mesh_flattened_without_charts_is_refused_with_the_reason():

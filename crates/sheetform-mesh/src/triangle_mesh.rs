@@ -107,13 +107,24 @@ impl TriangleMesh {
     /// the first; drops faces that become degenerate. Returns the number of vertices
     /// merged away. Grid hashing: expected linear time.
     pub fn weld(&mut self, tolerance: f64) -> usize {
+        let before = self.positions.len();
+        self.weld_keeping_origins(tolerance);
+        before - self.positions.len()
+    }
+
+    /// [`Self::weld`], returning for each vertex kept the input vertex it is (the first of
+    /// those merged into it).
+    pub fn weld_keeping_origins(&mut self, tolerance: f64) -> Vec<u32> {
         let remap = coincident_vertices(&self.positions, tolerance);
         let kept_count = remap.iter().map(|&i| i as usize + 1).max().unwrap_or(0);
         let mut kept = vec![Vec3::zeros(); kept_count];
         for (p, &i) in self.positions.iter().zip(&remap).rev() {
             kept[i as usize] = *p;
         }
-        let merged = self.positions.len() - kept.len();
+        let mut origins = vec![u32::MAX; kept.len()];
+        for (input, &i) in remap.iter().enumerate().rev() {
+            origins[i as usize] = input as u32;
+        }
         self.positions = kept;
         for e in &mut self.seam_edges {
             *e = e.map(|i| remap[i as usize]);
@@ -141,7 +152,7 @@ impl TriangleMesh {
                 keep[i - 1]
             });
         }
-        merged
+        origins
     }
 }
 

@@ -58,16 +58,17 @@ pub fn dxf_bytes(pattern: &Pattern, unit: DxfUnit) -> Result<Vec<u8>, PatternErr
     // The same pattern gives the same bytes (a cutter's job files can be compared, a run
     // repeated): the header's dates and GUIDs, the time of writing and random numbers by
     // default, are fixed. The GUID names sheetform's patterns; the dates are 2000-01-01.
-    let fixed_date = chrono::NaiveDate::from_ymd_opt(2000, 1, 1)
-        .and_then(|d| d.and_hms_opt(0, 0, 0))
-        .expect("a valid date");
-    if let Some(local) = chrono::TimeZone::from_local_datetime(&chrono::Local, &fixed_date).earliest() {
-        drawing.header.creation_date = local;
-        drawing.header.update_date = local;
+    // The writer counts local dates in days from the local 1900-01-01: a date that far
+    // from that epoch is written the same in every time zone.
+    let days = chrono::TimeDelta::days(36_524);
+    if let Some(local) = chrono::TimeZone::with_ymd_and_hms(&chrono::Local, 1900, 1, 1, 0, 0, 0).earliest() {
+        drawing.header.creation_date = local + days;
+        drawing.header.update_date = local + days;
     }
-    let utc = chrono::TimeZone::from_utc_datetime(&chrono::Utc, &fixed_date);
-    drawing.header.creation_date_universal = utc;
-    drawing.header.update_date_universal = utc;
+    if let Some(utc) = chrono::TimeZone::with_ymd_and_hms(&chrono::Utc, 1900, 1, 1, 0, 0, 0).earliest() {
+        drawing.header.creation_date_universal = utc + days;
+        drawing.header.update_date_universal = utc + days;
+    }
     drawing.header.fingerprint_guid = uuid::Uuid::from_u128(PATTERN_GUID);
     drawing.header.version_guid = uuid::Uuid::from_u128(PATTERN_GUID);
     let (lo, hi) = pattern.bounds();

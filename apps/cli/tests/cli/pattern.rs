@@ -298,3 +298,30 @@ fn seam_allowance_notches_grain_and_kerf_are_where_they_belong() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("seam_allowance_mm"));
     assert!(!out.exists());
 }
+
+/// The same scene gives the same pattern files, byte for byte, whenever and wherever it
+/// runs: the DXF header's dates and GUIDs (the time of writing and random numbers by
+/// default) are fixed, the same in every time zone.
+#[test]
+fn the_pattern_files_are_the_same_bytes_in_every_time_zone() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = repo().join("examples/bent-rectangle.json");
+    let run = |tz: &str| {
+        let out = tmp.path().join(tz.replace('/', "-"));
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_sheetform"))
+            .args(["bend", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "--quiet"])
+            .env("TZ", tz)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        ["pattern.dxf", "pattern.pdf", "pattern.svg"].map(|name| std::fs::read(out.join(name)).unwrap())
+    };
+    let utc = run("UTC");
+    std::thread::sleep(std::time::Duration::from_millis(1100));
+    for tz in ["Australia/Sydney", "America/New_York", "Asia/Kolkata"] {
+        let other = run(tz);
+        for (k, name) in ["pattern.dxf", "pattern.pdf", "pattern.svg"].iter().enumerate() {
+            assert!(other[k] == utc[k], "{name} differs between UTC and {tz}");
+        }
+    }
+}

@@ -41,6 +41,9 @@ impl Default for CheckOptions {
 pub struct CheckRun {
     /// The mesh as read (and welded).
     pub mesh: TriangleMesh,
+    /// The input vertex each vertex of `mesh` is (after welding: the first of those
+    /// merged into it).
+    pub source_vertices: Vec<u32>,
     /// Its topology.
     pub topology: MeshTopology,
     /// Per-vertex angle defects and curvature.
@@ -53,8 +56,12 @@ pub struct CheckRun {
     pub outcome: Outcome,
 }
 
-/// Welds vertices closer than `weld` (model units), if asked; returns how many merged.
-pub(crate) fn weld_input(mesh: &mut TriangleMesh, weld: Option<f64>) -> Result<Option<usize>, PipelineError> {
+/// Welds vertices closer than `weld` (model units), if asked; returns how many merged and
+/// the input vertex each vertex now is (all of them when nothing is welded).
+pub(crate) fn weld_input(
+    mesh: &mut TriangleMesh,
+    weld: Option<f64>,
+) -> Result<(Option<usize>, Vec<u32>), PipelineError> {
     if let Some(w) = weld {
         if !(w.is_finite() && w >= 0.0) {
             return Err(PipelineError::Option {
@@ -64,7 +71,12 @@ pub(crate) fn weld_input(mesh: &mut TriangleMesh, weld: Option<f64>) -> Result<O
         }
     }
     let faces = mesh.triangles.len();
-    let merged = weld.map(|tolerance| mesh.weld(tolerance));
+    let before = mesh.positions.len();
+    let origins = match weld {
+        Some(tolerance) => mesh.weld_keeping_origins(tolerance),
+        None => (0..before as u32).collect(),
+    };
+    let merged = weld.map(|_| before - mesh.positions.len());
     if let Some(w) = weld {
         if mesh.triangles.is_empty() && faces > 0 {
             return Err(PipelineError::Option {
@@ -77,7 +89,7 @@ pub(crate) fn weld_input(mesh: &mut TriangleMesh, weld: Option<f64>) -> Result<O
             });
         }
     }
-    Ok(merged)
+    Ok((merged, origins))
 }
 
 /// The name of a mesh for its outputs: the input file's stem, or `mesh`.
@@ -109,7 +121,7 @@ pub fn run_check(mesh: TriangleMesh, options: &CheckOptions, context: &RunContex
         });
     }
     let mut mesh = mesh;
-    let welded = weld_input(&mut mesh, options.weld)?;
+    let (welded, source_vertices) = weld_input(&mut mesh, options.weld)?;
     let parsed = Instant::now();
     context.progress("measuring", 0.1);
     let mm = options.unit.millimetres();
@@ -152,6 +164,7 @@ pub fn run_check(mesh: TriangleMesh, options: &CheckOptions, context: &RunContex
     report.timings = Timings::from_stages(start, parsed, solved, exported);
     Ok(CheckRun {
         mesh,
+        source_vertices,
         topology,
         vertices,
         files,

@@ -102,8 +102,9 @@ impl Default for FlattenOptions {
 pub struct FlattenRun {
     /// The mesh with its pattern.
     pub sheet: SheetMesh,
-    /// The vertex of the input mesh (after welding, when asked) that each vertex of
-    /// `sheet` is a copy of: a vertex on a seam between charts has a copy in each.
+    /// The vertex of the input mesh that each vertex of `sheet` is a copy of: a vertex on
+    /// a seam between charts has a copy in each; after welding, the first of the input
+    /// vertices merged into it.
     pub source_vertices: Vec<u32>,
     /// Distortion and overlaps.
     pub distortion: Distortion,
@@ -147,7 +148,7 @@ pub fn run_flatten(
         });
     }
     let mut mesh = mesh;
-    let welded = weld_input(&mut mesh, options.weld)?;
+    let (welded, welded_origins) = weld_input(&mut mesh, options.weld)?;
     let parsed = Instant::now();
     context.progress("flattening", 0.1);
     let topology = mesh_topology(&mesh);
@@ -338,6 +339,10 @@ pub fn run_flatten(
     report.pattern = Some(pattern_report);
     report.outputs = output_names(&files);
     report.timings = Timings::from_stages(start, parsed, solved, exported);
+    let source_vertices = source_vertices
+        .into_iter()
+        .map(|v| welded_origins[v as usize])
+        .collect();
     Ok(FlattenRun {
         sheet,
         source_vertices,

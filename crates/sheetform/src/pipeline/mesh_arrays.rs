@@ -206,9 +206,16 @@ pub fn sheet_mesh_from_arrays<I: Copy + TryInto<i64> + std::fmt::Display>(
             labels
                 .iter()
                 .enumerate()
-                .map(|(f, &l)| {
-                    u32::try_from(l)
-                        .map_err(|_| invalid("face_pieces", format!("row {f} is {l}, not a piece number from 0")))
+                .map(|(f, &l)| match u32::try_from(l) {
+                    // (At most one piece per face: a label is not a count to allocate for.)
+                    Ok(piece) if (piece as usize) < labels.len() => Ok(piece),
+                    _ => Err(invalid(
+                        "face_pieces",
+                        format!(
+                            "row {f} is {l}, not a piece number from 0 to {} (at most one piece per face)",
+                            labels.len() - 1
+                        ),
+                    )),
                 })
                 .collect::<Result<_, _>>()?
         }
@@ -216,7 +223,7 @@ pub fn sheet_mesh_from_arrays<I: Copy + TryInto<i64> + std::fmt::Display>(
     let piece_count = labels.iter().map(|&l| l as usize + 1).max().unwrap_or(1);
     let pieces = match piece_names {
         Some(names) => {
-            if names.len() < piece_count {
+            if names.len() != piece_count {
                 return Err(invalid(
                     "piece_names",
                     format!("{} names, but the faces name {piece_count} pieces", names.len()),
@@ -281,6 +288,20 @@ mod tests {
             sheet_mesh_from_arrays(&v, &[0, 1, 2], &[0.0; 6], Some(&[-2]), None, "m", LengthUnit::Mm).unwrap_err(),
         );
         assert!(e.contains("face_pieces") && e.contains("row 0 is -2"), "{e}");
+        // A label past the faces is refused before any piece is made for it.
+        let e = message(
+            sheet_mesh_from_arrays(
+                &v,
+                &[0, 1, 2],
+                &[0.0; 6],
+                Some(&[4_000_000_000]),
+                None,
+                "m",
+                LengthUnit::Mm,
+            )
+            .unwrap_err(),
+        );
+        assert!(e.contains("not a piece number from 0 to 0"), "{e}");
         let mesh = mesh_from_arrays(&v, &[0, 1, 2], "m").unwrap();
         assert_eq!(seam_edges_from_array(&mesh, &[2, 1]).unwrap(), vec![[2, 1]]);
         let e = message(seam_edges_from_array(&mesh, &[0, 1, 1, 3]).unwrap_err());
