@@ -235,23 +235,7 @@ pub(crate) struct PatternArgs {
 }
 
 pub(crate) fn parse_sheet(text: &str) -> Result<(f64, f64), String> {
-    match text.to_ascii_lowercase().as_str() {
-        "a4" => return Ok((210.0, 297.0)),
-        "a3" => return Ok((297.0, 420.0)),
-        "letter" => return Ok((215.9, 279.4)),
-        _ => {}
-    }
-    let (w, h) = text
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("`{text}`: expected WIDTHxHEIGHT in mm, e.g. 600x400"))?;
-    let number = |s: &str| {
-        s.trim()
-            .parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite() && *v > 0.0)
-            .ok_or_else(|| format!("`{s}` in `{text}` is not a positive number of millimetres"))
-    };
-    Ok((number(w)?, number(h)?))
+    sheetform::pattern::sheet_size_from_text(text)
 }
 
 #[derive(Clone, Copy, PartialEq, clap::ValueEnum)]

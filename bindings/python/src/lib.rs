@@ -10,6 +10,7 @@ mod bend_editor;
 mod convert;
 mod errors;
 mod mesh_functions;
+mod pattern_options;
 mod run;
 mod systems;
 
@@ -32,6 +33,7 @@ fn native_module(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(mesh_functions::pattern, module)?)?;
     module.add_class::<run::Run>()?;
     module.add_class::<run::Mesh>()?;
+    module.add_class::<pattern_options::PatternOptions>()?;
     module.add_class::<bend_editor::BendEditor>()?;
     errors::register(module)?;
     Ok(())

@@ -3,8 +3,8 @@
 
 use crate::convert::{float_rows, index_list, index_rows};
 use crate::errors::{invalid_argument, python_error};
+use crate::pattern_options::pattern_argument;
 use crate::run::{output_set, run_interruptibly, Run, RunParts};
-use crate::systems::pattern_options;
 use pyo3::prelude::*;
 use sheetform::flatten::ChartOptions;
 use sheetform::mesh::LengthUnit;
@@ -105,7 +105,7 @@ pub(crate) fn check(
 /// one copy per chart; after `weld`, the first of the input vertices merged into it). `outcome` is `"overlapping"` when the pattern overlaps itself and
 /// `"out_of_tolerance"` when an edge stretches more than `max_distortion`.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, *, seams=None, method="exact", charts="auto", crease_angle=None, max_distortion=None, net_tabs=true, weld=None, unit="mm", name="mesh", outputs="all", progress=None, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[pyo3(signature = (vertices, faces, *, seams=None, method="exact", charts="auto", crease_angle=None, max_distortion=None, net_tabs=true, weld=None, unit="mm", name="mesh", outputs="all", progress=None, pattern=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn flatten(
     py: Python<'_>,
@@ -122,11 +122,7 @@ pub(crate) fn flatten(
     name: &str,
     outputs: &str,
     progress: Option<Py<PyAny>>,
-    scale: f64,
-    page: &str,
-    pattern_units: &str,
-    tabs: &str,
-    seam_allowance_mm: f64,
+    pattern: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Run> {
     let v = float_rows("vertices", vertices, 3)?;
     let f = index_rows("faces", faces, 3)?;
@@ -163,7 +159,7 @@ pub(crate) fn flatten(
         },
         net_options: Default::default(),
         net_tabs: net_tabs.then(TabOptions::default),
-        pattern: pattern_options(scale, page, pattern_units, tabs, seam_allowance_mm)?,
+        pattern: pattern_argument(pattern)?,
         weld,
         unit: length_unit(unit)?,
         input: Some(name.to_string()),
@@ -196,7 +192,7 @@ pub(crate) fn flatten(
 /// Returns a `Run` whose `files` are the pattern files and whose report has the
 /// pattern's figures.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, uv, *, face_pieces=None, piece_names=None, unit="mm", name="pattern", outputs="all", progress=None, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[pyo3(signature = (vertices, faces, uv, *, face_pieces=None, piece_names=None, unit="mm", name="pattern", outputs="all", progress=None, pattern=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn pattern(
     py: Python<'_>,
@@ -209,11 +205,7 @@ pub(crate) fn pattern(
     name: &str,
     outputs: &str,
     progress: Option<Py<PyAny>>,
-    scale: f64,
-    page: &str,
-    pattern_units: &str,
-    tabs: &str,
-    seam_allowance_mm: f64,
+    pattern: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Run> {
     let v = float_rows("vertices", vertices, 3)?;
     let f = index_rows("faces", faces, 3)?;
@@ -221,7 +213,7 @@ pub(crate) fn pattern(
     let labels = face_pieces.map(|l| index_list("face_pieces", l)).transpose()?;
     let outputs = output_set(outputs)?;
     let unit = length_unit(unit)?;
-    let options = pattern_options(scale, page, pattern_units, tabs, seam_allowance_mm)?;
+    let options = pattern_argument(pattern)?;
     let (v, f, flat) = (v.as_slice()?, f.as_slice()?, flat.as_slice()?);
     // (Read with the interpreter's lock held, as in `check`.)
     let sheet = sheet_mesh_from_arrays(v, f, flat, labels.as_deref(), piece_names.as_deref(), name, unit)

@@ -3,79 +3,16 @@
 
 use crate::convert::{scene_argument, SceneArgument};
 use crate::errors::{invalid_argument, python_error};
+use crate::pattern_options::pattern_argument;
 use crate::run::{output_set, run_interruptibly, Run, RunParts};
 use pyo3::prelude::*;
 use sheetform::bend::BendScene;
 use sheetform::ffd::{FfdScene, SolverMethod};
-use sheetform::pattern::{DxfUnit, PageSize, TabOptions, TabSides};
 use sheetform::pipeline::{
-    run_bend, run_ffd, run_photo, run_slit, BendRunOptions, FfdRunOptions, PatternOutputOptions, PhotoInput,
-    PhotoRunOptions, SlitRunOptions,
+    run_bend, run_ffd, run_photo, run_slit, BendRunOptions, FfdRunOptions, PhotoInput, PhotoRunOptions, SlitRunOptions,
 };
 use sheetform::slit::SlitScene;
 use std::path::PathBuf;
-
-/// The pattern keywords every function takes, as the library's options (the CLI's
-/// `--scale`, `--page`, `--pattern-units`, `--tabs`, `--seam-allowance`); their values
-/// are checked by the library, as the CLI's.
-pub(crate) fn pattern_options(
-    scale: f64,
-    page: &str,
-    pattern_units: &str,
-    tabs: &str,
-    seam_allowance_mm: f64,
-) -> PyResult<PatternOutputOptions> {
-    let page = match page {
-        "a4" => PageSize::A4,
-        "letter" => PageSize::Letter,
-        other => {
-            return Err(invalid_argument(
-                "page",
-                format!("`{other}`: one of \"a4\", \"letter\""),
-            ))
-        }
-    };
-    let dxf_unit = match pattern_units {
-        "mm" => DxfUnit::Mm,
-        "cm" => DxfUnit::Cm,
-        "in" => DxfUnit::In,
-        other => {
-            return Err(invalid_argument(
-                "pattern_units",
-                format!("`{other}`: one of \"mm\", \"cm\", \"in\""),
-            ))
-        }
-    };
-    let tabs = match tabs {
-        "none" => None,
-        "one" => Some(TabOptions {
-            sides: TabSides::One,
-            ..TabOptions::default()
-        }),
-        "alternate" => Some(TabOptions {
-            sides: TabSides::Alternate,
-            ..TabOptions::default()
-        }),
-        other => {
-            return Err(invalid_argument(
-                "tabs",
-                format!("`{other}`: one of \"none\", \"one\", \"alternate\""),
-            ))
-        }
-    };
-    let defaults = PatternOutputOptions::default();
-    Ok(PatternOutputOptions {
-        scale,
-        page,
-        dxf_unit,
-        tabs,
-        allowance: sheetform::pattern::MaterialAllowance {
-            seam_allowance_mm,
-            ..defaults.allowance
-        },
-        ..defaults
-    })
-}
 
 fn parsed<T>(py: Python<'_>, parse: Result<T, impl Into<sheetform::pipeline::PipelineError>>) -> PyResult<T> {
     parse.map_err(|e| python_error(py, e.into()))
@@ -93,7 +30,7 @@ fn parsed<T>(py: Python<'_>, parse: Result<T, impl Into<sheetform::pipeline::Pip
 /// Raises `InvalidInputError` for an invalid scene (the message names the field),
 /// `InadmissibleError` for a shape that cannot be made (its `.report` says where).
 #[pyfunction]
-#[pyo3(signature = (scene, *, root=None, outputs="all", progress=None, animate_frames=0, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[pyo3(signature = (scene, *, root=None, outputs="all", progress=None, animate_frames=0, pattern=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn bend(
     py: Python<'_>,
@@ -102,16 +39,12 @@ pub(crate) fn bend(
     outputs: &str,
     progress: Option<Py<PyAny>>,
     animate_frames: usize,
-    scale: f64,
-    page: &str,
-    pattern_units: &str,
-    tabs: &str,
-    seam_allowance_mm: f64,
+    pattern: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Run> {
     let SceneArgument { text, root, input } = scene_argument(py, scene, root)?;
     let outputs = output_set(outputs)?;
     let options = BendRunOptions {
-        pattern: pattern_options(scale, page, pattern_units, tabs, seam_allowance_mm)?,
+        pattern: pattern_argument(pattern)?,
         animate_frames,
         input,
     };
@@ -130,7 +63,7 @@ pub(crate) fn bend(
 /// `scene`: a slit scene as a dict or the path of its file; a scan it names is read
 /// relative to `root` (default: the file's directory, or the current directory).
 #[pyfunction]
-#[pyo3(signature = (scene, *, root=None, outputs="all", progress=None, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[pyo3(signature = (scene, *, root=None, outputs="all", progress=None, pattern=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn slit(
     py: Python<'_>,
@@ -138,16 +71,12 @@ pub(crate) fn slit(
     root: Option<PathBuf>,
     outputs: &str,
     progress: Option<Py<PyAny>>,
-    scale: f64,
-    page: &str,
-    pattern_units: &str,
-    tabs: &str,
-    seam_allowance_mm: f64,
+    pattern: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Run> {
     let SceneArgument { text, root, input } = scene_argument(py, scene, root)?;
     let outputs = output_set(outputs)?;
     let options = SlitRunOptions {
-        pattern: pattern_options(scale, page, pattern_units, tabs, seam_allowance_mm)?,
+        pattern: pattern_argument(pattern)?,
         input,
     };
     let scene = parsed(py, SlitScene::from_json(&text))?;
@@ -177,7 +106,7 @@ pub(crate) fn slit(
 /// after the last restoration with their angle defects. Raises `InvalidInputError` for invalid scenes and `NotConvergedError` when
 /// the restoration fails.
 #[pyfunction]
-#[pyo3(signature = (scene, *, root=None, outputs="all", progress=None, solver=None, warm_start=None, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[pyo3(signature = (scene, *, root=None, outputs="all", progress=None, solver=None, warm_start=None, pattern=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn ffd(
     py: Python<'_>,
@@ -187,11 +116,7 @@ pub(crate) fn ffd(
     progress: Option<Py<PyAny>>,
     solver: Option<&str>,
     warm_start: Option<PyRef<'_, Run>>,
-    scale: f64,
-    page: &str,
-    pattern_units: &str,
-    tabs: &str,
-    seam_allowance_mm: f64,
+    pattern: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Run> {
     let SceneArgument { text, root, input } = scene_argument(py, scene, root)?;
     let outputs = output_set(outputs)?;
@@ -208,7 +133,7 @@ pub(crate) fn ffd(
         }
     };
     let options = FfdRunOptions {
-        pattern: pattern_options(scale, page, pattern_units, tabs, seam_allowance_mm)?,
+        pattern: pattern_argument(pattern)?,
         input,
         solver,
         warm_start: match &warm_start {
@@ -243,7 +168,7 @@ pub(crate) fn ffd(
 /// Returns a `Run` (pieces = patches); `outcome` is `"out_of_tolerance"` when the model is
 /// not developable to the refinement's bound or a depth is not fixed by the drawing.
 #[pyfunction]
-#[pyo3(signature = (annotation, *, root=None, outputs="all", progress=None, scale=1.0, page="a4", pattern_units="mm", tabs="none", seam_allowance_mm=0.0))]
+#[pyo3(signature = (annotation, *, root=None, outputs="all", progress=None, pattern=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn photo(
     py: Python<'_>,
@@ -251,16 +176,12 @@ pub(crate) fn photo(
     root: Option<PathBuf>,
     outputs: &str,
     progress: Option<Py<PyAny>>,
-    scale: f64,
-    page: &str,
-    pattern_units: &str,
-    tabs: &str,
-    seam_allowance_mm: f64,
+    pattern: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Run> {
     let SceneArgument { text, root, input } = scene_argument(py, annotation, root)?;
     let outputs = output_set(outputs)?;
     let options = PhotoRunOptions {
-        pattern: pattern_options(scale, page, pattern_units, tabs, seam_allowance_mm)?,
+        pattern: pattern_argument(pattern)?,
         input,
     };
     let input = parsed(py, PhotoInput::from_text(&text))?;

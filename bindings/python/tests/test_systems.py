@@ -118,3 +118,24 @@ def test_a_warm_started_ffd_run_restores_only_the_new_deformation_with_the_same_
     np.testing.assert_array_equal(warm.uv, cold.uv)
     with pytest.raises(sheetform.InvalidInputError, match="warm_start"):
         sheetform.ffd(two, root=REPO / "examples/ffd", warm_start=sheetform.bend(REPO / "examples/bent-rectangle.json"))
+
+
+@pytest.mark.parametrize(
+    "flags,options",
+    [
+        (["--scale", "0.5", "--page", "letter", "--pattern-units", "in"], {"scale": 0.5, "page": "letter", "units": "in"}),
+        (["--tabs", "alternate", "--tab-width", "7", "--sheet", "900x1200", "--kerf", "0.2"], {"tabs": "alternate", "tab_width_mm": 7.0, "sheet": (900, 1200), "kerf_mm": 0.2}),
+        (["--thickness", "1.5", "--k-factor", "0.33", "--grain-lines"], {"thickness_mm": 1.5, "k_factor": 0.33, "grain_lines": True}),
+    ],
+    ids=["scale-page-units", "tabs-sheet-kerf", "thickness"],
+)
+def test_pattern_options_give_the_cli_flags_files(flags, options, cli, tmp_path, monkeypatch):
+    monkeypatch.chdir(REPO)
+    out = tmp_path / "out"
+    done = cli("bend", "examples/desk.json", "-o", out, *flags)
+    assert done.returncode == 0, done.stderr
+    for pattern in (options, sheetform.PatternOptions(**options)):
+        run = sheetform.bend("examples/desk.json", pattern=pattern)
+        assert_close(without_timings(run.report), without_timings(read_report(out)))
+        for name, data in run.files.items():
+            assert data == (out / name).read_bytes(), name

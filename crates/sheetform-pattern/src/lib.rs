@@ -28,7 +28,8 @@ pub use pattern::{
 pub use pdf_tiles::{pdf_tiled, PageSize, PdfOptions, TiledPdf, DEFAULT_MAX_PAGES, MAX_PAGES, MAX_TEXTURE_PIXELS};
 pub use seam_matching::{match_seams, SeamRun};
 pub use sheet_packing::{
-    arrange_in_rows, pack_pieces, rotated, smallest_bounding_rotation, SheetOptions, MAX_SHEET_GAP_MM,
+    arrange_in_rows, pack_pieces, rotated, sheet_size_from_text, smallest_bounding_rotation, SheetOptions,
+    MAX_SHEET_GAP_MM,
 };
 pub use svg_pattern::svg_bytes;
 

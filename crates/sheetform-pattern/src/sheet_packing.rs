@@ -3,6 +3,31 @@
 use crate::{Pattern, PatternError, Vec2};
 use sheetform_geometry::short_number;
 
+/// A sheet size as a user writes it: `a4`, `a3`, `letter` (portrait), or `WIDTHxHEIGHT`
+/// in millimetres (`600x400`).
+///
+/// # Errors
+/// The text is neither, or a size is not a positive finite number; the message quotes it.
+pub fn sheet_size_from_text(text: &str) -> Result<(f64, f64), String> {
+    match text.to_ascii_lowercase().as_str() {
+        "a4" => return Ok((210.0, 297.0)),
+        "a3" => return Ok((297.0, 420.0)),
+        "letter" => return Ok((215.9, 279.4)),
+        _ => {}
+    }
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("`{text}`: expected WIDTHxHEIGHT in mm, e.g. 600x400"))?;
+    let number = |s: &str| {
+        s.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite() && *v > 0.0)
+            .ok_or_else(|| format!("`{s}` in `{text}` is not a positive number of millimetres"))
+    };
+    Ok((number(w)?, number(h)?))
+}
+
 /// Sheet size and spacing for [`pack_pieces`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SheetOptions {

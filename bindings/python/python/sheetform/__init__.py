@@ -15,7 +15,9 @@ Every function returns a ``Run``: ``vertices`` (n, 3), ``faces`` (m, 3), ``uv`` 
 flat pattern at 1:1, ``face_pieces``, ``pieces``, ``report`` (the CLI's ``report.json`` as a
 dict), ``files`` (the files the CLI writes, as bytes) and ``write(directory)``.
 
-Every run takes ``outputs="preview"`` (only the GLB, the SVG and the report: faster) and
+Every run takes ``pattern=PatternOptions(...)`` (or a dict of its keywords: scale, paper,
+glue tabs, sheet packing, seam allowance, kerf, sheet thickness, ... as the CLI's pattern
+flags), ``outputs="preview"`` (only the GLB, the SVG and the report: faster) and
 ``progress``, called as ``progress(stage, fraction)`` as the run advances; Ctrl-C (a
 notebook's interrupt) or an exception raised in ``progress`` stops the run at its next
 stage and is raised.
@@ -33,6 +35,7 @@ from ._native import (
     Mesh,
     NotConvergedError,
     OutputError,
+    PatternOptions,
     Run,
     SheetformError,
     __version__,
@@ -53,6 +56,7 @@ __all__ = [
     "Mesh",
     "NotConvergedError",
     "OutputError",
+    "PatternOptions",
     "Run",
     "SheetformError",
     "__version__",

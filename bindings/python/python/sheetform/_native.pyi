@@ -18,6 +18,7 @@ __all__ = [
     "pattern",
     "Run",
     "Mesh",
+    "PatternOptions",
     "BendEditor",
     "SheetformError",
     "InvalidInputError",
@@ -55,6 +56,35 @@ class OutputError(SheetformError):
 
 class CancelledError(SheetformError):
     """The run was cancelled."""
+
+@final
+class PatternOptions:
+    """How the printable pattern is made, as the CLI's pattern flags."""
+
+    def __new__(
+        cls,
+        *,
+        scale: float = 1.0,
+        page: _Page = "a4",
+        units: _PatternUnits = "mm",
+        min_fold_angle_degrees: float = 1.0,
+        seam_labels: bool = True,
+        tabs: _Tabs = "none",
+        tab_width_mm: float = 5.0,
+        tab_angle_degrees: float = 45.0,
+        sheet: Optional[Union[str, tuple[float, float]]] = None,
+        sheet_gap_mm: float = 5.0,
+        max_pages: Optional[int] = None,
+        seam_allowance_mm: float = 0.0,
+        notches: bool = True,
+        kerf_mm: float = 0.0,
+        grain_lines: bool = False,
+        thickness_mm: Optional[float] = None,
+        bend_radius_mm: Optional[float] = None,
+        k_factor: float = 0.44,
+        material_side: Literal["behind", "centred", "in-front"] = "behind",
+        smooth_folds_degrees: Optional[float] = None,
+    ) -> PatternOptions: ...
 
 @final
 class Mesh:
@@ -120,11 +150,7 @@ def bend(
     outputs: _Outputs = "all",
     progress: Optional[Callable[[str, float], Any]] = None,
     animate_frames: int = 0,
-    scale: float = 1.0,
-    page: _Page = "a4",
-    pattern_units: _PatternUnits = "mm",
-    tabs: _Tabs = "none",
-    seam_allowance_mm: float = 0.0,
+    pattern: Optional[Union[PatternOptions, dict[str, Any]]] = None,
 ) -> Run:
     """Bends a sheet along 3D control curves (system A, Bo & Wang 2007)."""
 
@@ -134,11 +160,7 @@ def slit(
     root: Optional[Union[str, PathLike[str]]] = None,
     outputs: _Outputs = "all",
     progress: Optional[Callable[[str, float], Any]] = None,
-    scale: float = 1.0,
-    page: _Page = "a4",
-    pattern_units: _PatternUnits = "mm",
-    tabs: _Tabs = "none",
-    seam_allowance_mm: float = 0.0,
+    pattern: Optional[Union[PatternOptions, dict[str, Any]]] = None,
 ) -> Run:
     """Solves a slit sheet (system B, Tsuruta et al.)."""
 
@@ -150,11 +172,7 @@ def ffd(
     progress: Optional[Callable[[str, float], Any]] = None,
     solver: Optional[Literal["constrained", "paper", "none"]] = None,
     warm_start: Optional[Run] = None,
-    scale: float = 1.0,
-    page: _Page = "a4",
-    pattern_units: _PatternUnits = "mm",
-    tabs: _Tabs = "none",
-    seam_allowance_mm: float = 0.0,
+    pattern: Optional[Union[PatternOptions, dict[str, Any]]] = None,
 ) -> Run:
     """Deforms panels in a lattice and restores their developability (system C, Wang & Tang 2004)."""
 
@@ -164,11 +182,7 @@ def photo(
     root: Optional[Union[str, PathLike[str]]] = None,
     outputs: _Outputs = "all",
     progress: Optional[Callable[[str, float], Any]] = None,
-    scale: float = 1.0,
-    page: _Page = "a4",
-    pattern_units: _PatternUnits = "mm",
-    tabs: _Tabs = "none",
-    seam_allowance_mm: float = 0.0,
+    pattern: Optional[Union[PatternOptions, dict[str, Any]]] = None,
 ) -> Run:
     """Reconstructs a developable model and its pattern from an annotated photograph (system D)."""
 
@@ -200,11 +214,7 @@ def flatten(
     name: str = "mesh",
     outputs: _Outputs = "all",
     progress: Optional[Callable[[str, float], Any]] = None,
-    scale: float = 1.0,
-    page: _Page = "a4",
-    pattern_units: _PatternUnits = "mm",
-    tabs: _Tabs = "none",
-    seam_allowance_mm: float = 0.0,
+    pattern: Optional[Union[PatternOptions, dict[str, Any]]] = None,
 ) -> Run:
     """Lays a mesh out flat, as ``sheetform flatten``."""
 
@@ -219,11 +229,7 @@ def pattern(
     name: str = "pattern",
     outputs: _Outputs = "all",
     progress: Optional[Callable[[str, float], Any]] = None,
-    scale: float = 1.0,
-    page: _Page = "a4",
-    pattern_units: _PatternUnits = "mm",
-    tabs: _Tabs = "none",
-    seam_allowance_mm: float = 0.0,
+    pattern: Optional[Union[PatternOptions, dict[str, Any]]] = None,
 ) -> Run:
     """The printable pattern of a mesh that already has its flat layout."""
 

@@ -1,0 +1,170 @@
+//! The printable pattern's options as a Python class, [`PatternOptions`]: every option
+//! the CLI's pattern flags set (`--scale`, `--tabs`, `--sheet`, `--seam-allowance`,
+//! `--kerf`, `--thickness`, …), under the same names in words, with the same defaults;
+//! the library checks their values.
+
+use crate::errors::invalid_argument;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use sheetform::pattern::{
+    sheet_size_from_text, BendAllowance, DxfUnit, MaterialAllowance, MaterialSide, PageSize, SheetOptions, TabOptions,
+    TabSides, DEFAULT_MAX_PAGES,
+};
+use sheetform::pipeline::PatternOutputOptions;
+
+/// How the printable pattern (`pattern.svg`, `.dxf`, `.pdf`) is made, as the CLI's
+/// pattern flags: pass one (or a dict of the same keywords) as `pattern=` to any function.
+///
+/// `scale` (1 = true size); `page` (`"a4"`, `"letter"`: the tiled PDF's paper);
+/// `units` (`"mm"`, `"cm"`, `"in"`: the DXF's); `min_fold_angle_degrees` (smaller folds
+/// are not drawn); `seam_labels` (matching IDs on both sides of every seam); `tabs`
+/// (`"none"`, `"one"`: glue tabs on one side of every seam, `"alternate"`),
+/// `tab_width_mm`, `tab_angle_degrees`; `sheet` (pack the pieces onto sheets: `"a4"`,
+/// `"a3"`, `"letter"`, `"600x400"` or `(width_mm, height_mm)`), `sheet_gap_mm`;
+/// `max_pages` (a PDF that needs more is refused; default 100); `seam_allowance_mm` (fabric, leather:
+/// the outline becomes a stitch line) with `notches`; `kerf_mm` (laser cutting);
+/// `grain_lines`; `thickness_mm` (sheet metal, greyboard, plywood: folds become bend zones,
+/// K-factor rule) with `bend_radius_mm` (default: the thickness), `k_factor`,
+/// `material_side` (`"behind"`, `"centred"`, `"in-front"`); `smooth_folds_degrees` (folds
+/// under it are drawn as bending guides; default: the function's choice).
+#[pyclass(module = "sheetform", frozen)]
+#[derive(Clone)]
+pub struct PatternOptions {
+    pub(crate) options: PatternOutputOptions,
+}
+
+#[pymethods]
+impl PatternOptions {
+    #[new]
+    #[pyo3(signature = (*, scale=1.0, page="a4", units="mm", min_fold_angle_degrees=1.0, seam_labels=true, tabs="none", tab_width_mm=5.0, tab_angle_degrees=45.0, sheet=None, sheet_gap_mm=5.0, max_pages=None, seam_allowance_mm=0.0, notches=true, kerf_mm=0.0, grain_lines=false, thickness_mm=None, bend_radius_mm=None, k_factor=0.44, material_side="behind", smooth_folds_degrees=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        scale: f64,
+        page: &str,
+        units: &str,
+        min_fold_angle_degrees: f64,
+        seam_labels: bool,
+        tabs: &str,
+        tab_width_mm: f64,
+        tab_angle_degrees: f64,
+        sheet: Option<&Bound<'_, PyAny>>,
+        sheet_gap_mm: f64,
+        max_pages: Option<usize>,
+        seam_allowance_mm: f64,
+        notches: bool,
+        kerf_mm: f64,
+        grain_lines: bool,
+        thickness_mm: Option<f64>,
+        bend_radius_mm: Option<f64>,
+        k_factor: f64,
+        material_side: &str,
+        smooth_folds_degrees: Option<f64>,
+    ) -> PyResult<Self> {
+        let one_of = |argument: &str, value: &str, choices: &str| {
+            invalid_argument(argument, format!("`{value}`: one of {choices}"))
+        };
+        let page = match page {
+            "a4" => PageSize::A4,
+            "letter" => PageSize::Letter,
+            other => return Err(one_of("page", other, "\"a4\", \"letter\"")),
+        };
+        let dxf_unit = match units {
+            "mm" => DxfUnit::Mm,
+            "cm" => DxfUnit::Cm,
+            "in" => DxfUnit::In,
+            other => return Err(one_of("units", other, "\"mm\", \"cm\", \"in\"")),
+        };
+        let sides = match tabs {
+            "none" => None,
+            "one" => Some(TabSides::One),
+            "alternate" => Some(TabSides::Alternate),
+            other => return Err(one_of("tabs", other, "\"none\", \"one\", \"alternate\"")),
+        };
+        let material_side = match material_side {
+            "behind" => MaterialSide::Behind,
+            "centred" => MaterialSide::Centred,
+            "in-front" => MaterialSide::InFront,
+            other => return Err(one_of("material_side", other, "\"behind\", \"centred\", \"in-front\"")),
+        };
+        let sheet = match sheet {
+            None => None,
+            Some(value) => {
+                let (width_mm, height_mm) = match value.extract::<String>() {
+                    Ok(text) => sheet_size_from_text(&text).map_err(|e| invalid_argument("sheet", e))?,
+                    Err(_) => value
+                        .extract::<(f64, f64)>()
+                        .ok()
+                        .filter(|(w, h)| [w, h].iter().all(|v| v.is_finite() && **v > 0.0))
+                        .ok_or_else(|| {
+                            invalid_argument(
+                                "sheet",
+                                "a size such as \"a4\", \"600x400\" or (width_mm, height_mm), both positive",
+                            )
+                        })?,
+                };
+                Some(SheetOptions {
+                    width_mm,
+                    height_mm,
+                    gap_mm: sheet_gap_mm,
+                })
+            }
+        };
+        Ok(Self {
+            options: PatternOutputOptions {
+                scale,
+                page,
+                dxf_unit,
+                min_fold_angle_degrees,
+                seam_labels,
+                tabs: sides.map(|sides| TabOptions {
+                    width_mm: tab_width_mm,
+                    angle_degrees: tab_angle_degrees,
+                    sides,
+                }),
+                sheet,
+                max_pdf_pages: max_pages.unwrap_or(DEFAULT_MAX_PAGES),
+                allowance: MaterialAllowance {
+                    seam_allowance_mm,
+                    notches,
+                    kerf_mm,
+                    grain_lines,
+                    bend: thickness_mm.map(|thickness_mm| BendAllowance {
+                        thickness_mm,
+                        inner_radius_mm: bend_radius_mm.unwrap_or(thickness_mm),
+                        k_factor,
+                        material_side,
+                    }),
+                },
+                smooth_bend_degrees: smooth_folds_degrees,
+            },
+        })
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<sheetform.PatternOptions {:?}>", self.options)
+    }
+}
+
+/// The `pattern=` argument: `None` (the defaults), a [`PatternOptions`] or a dict of its
+/// keywords.
+pub(crate) fn pattern_argument(pattern: Option<&Bound<'_, PyAny>>) -> PyResult<PatternOutputOptions> {
+    let Some(value) = pattern else {
+        return Ok(PatternOutputOptions::default());
+    };
+    if let Ok(options) = value.cast::<PatternOptions>() {
+        return Ok(options.get().options);
+    }
+    let dict = value
+        .cast::<PyDict>()
+        .map_err(|_| invalid_argument("pattern", "a sheetform.PatternOptions or a dict of its keywords"))?;
+    let class = value.py().get_type::<PatternOptions>();
+    let options = class.call((), Some(dict)).map_err(|e| {
+        // (An option's own error names it; an unknown keyword is named by Python's.)
+        if e.is_instance_of::<crate::errors::InvalidInputError>(value.py()) {
+            e
+        } else {
+            invalid_argument("pattern", e.value(value.py()))
+        }
+    })?;
+    Ok(options.cast::<PatternOptions>()?.get().options)
+}
