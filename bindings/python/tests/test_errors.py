@@ -233,3 +233,43 @@ def test_ctrl_c_cancels_a_run_and_the_interpreter_goes_on():
     # It stopped at the next report, not at the end.
     assert len(calls) == 1, calls
     assert sheetform.ffd(REPO / "examples/ffd/two-panels.json", outputs="preview").outcome == "ok"
+
+
+def test_the_ffd_photo_and_slit_bad_inputs_of_the_cli_tests(tmp_path):
+    # A non-manifold panel in a mesh file: three faces on one edge.
+    (tmp_path / "fan.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\ng fan\nf 1 2 3\nf 2 1 4\nf 1 2 5\n")
+    duct = {"model": {"procedural": {"kind": "duct"}}}
+    cases = [
+        ({"model": {"mesh": "fan.obj"}, "deformations": [{"edits": []}]}, "non-manifold"),
+        ({**duct, "lattice": {"degrees": [3, 3, 3], "counts": [3, 4, 4]}, "deformations": [{"edits": []}]}, "lattice.counts[0]"),
+        (
+            {**duct, "lattice": {"box_min": [-100, -100, 0], "box_max": [50, 100, 300]}, "deformations": [{"edits": []}]},
+            "outside the lattice volume",
+        ),
+        (
+            {**duct, "deformations": [{"edits": [{"move": {"points": [[9, 0, 0]], "by": [1, 0, 0]}}]}]},
+            "deformations[0].edits[0].move.points[0]",
+        ),
+        ({**duct, "deformations": [{"edits": []}], "model": {"mesh": "../fan.obj"}}, "model"),
+    ]
+    for scene, expected in cases:
+        with pytest.raises(sheetform.InvalidInputError) as error:
+            sheetform.ffd(scene, root=tmp_path)
+        assert expected in str(error.value), str(error.value)
+
+    good = example("examples/photo/synthetic/cone-ortho.json")
+    for change, expected in [
+        ({"image": {**good["image"], "width": 481}}, "480 × 480"),
+        ({"true_size": {**good["true_size"], "length": 0}}, "true_size.length"),
+        ({"self_symmetric_curves": ["rim", "bottom", "rim"]}, "self_symmetric_curves"),
+    ]:
+        with pytest.raises(sheetform.InvalidInputError) as error:
+            sheetform.photo({**good, **change}, root=REPO / "examples/photo/synthetic")
+        assert expected in str(error.value), str(error.value)
+
+    bench = example("examples/slit/bench.json")
+    joint = copy.deepcopy(bench)
+    joint["sheet"].update(strip_count=60, l4_slit_width=1)
+    joint["solver"] = {"mode": "joint"}
+    with pytest.raises(sheetform.InvalidInputError, match="joint mode"):
+        sheetform.slit(joint)
