@@ -33,6 +33,7 @@ pub(crate) fn check_command(
         tolerance,
         unit: units.into(),
         input: Some(mesh.display().to_string()),
+        name: None,
     };
     let model = read_mesh(&mesh)?;
     let run = with_progress_bar(quiet, |progress| {
@@ -115,6 +116,7 @@ pub(crate) fn flatten_command(
             ..Default::default()
         },
         input: Some(mesh.display().to_string()),
+        name: None,
     };
     let model = read_mesh(&mesh)?;
     let run = with_progress_bar(quiet, |progress| {

@@ -81,7 +81,14 @@ pub(crate) fn scene_argument(
     let kwargs = PyDict::new(py);
     kwargs.set_item("allow_nan", false)?;
     // numpy numbers and arrays in a scene are written as the numbers and lists they hold.
-    kwargs.set_item("default", py.eval(c"lambda value: value.tolist()", None, None)?)?;
+    kwargs.set_item(
+        "default",
+        py.eval(
+            c"lambda value: value.tolist() if hasattr(value, 'tolist') else (_ for _ in ()).throw(TypeError(f'a {type(value).__name__} is not a JSON value'))",
+            None,
+            None,
+        )?,
+    )?;
     let text: String = json
         .call_method("dumps", (scene,), Some(&kwargs))
         .map_err(|e| invalid_argument("scene", format!("not a JSON scene (a dict) or a path: {e}")))?

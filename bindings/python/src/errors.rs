@@ -49,8 +49,13 @@ pyo3::create_exception!(
 pub(crate) fn python_error(py: Python<'_>, error: PipelineError) -> PyErr {
     let message = match &error {
         // The library names its options as the CLI spells them (`--weld`); here they are
-        // keyword arguments (`weld`).
+        // keyword arguments (`weld`, `tab_width_mm`).
         PipelineError::Option { option, message } => format!("{}: {message}", keyword_of(option)),
+        PipelineError::Pattern(sheetform::pattern::PatternError::Option { option, message }) => format!(
+            "pattern option {}: {}",
+            keyword_of(option),
+            message.replace(" (--sheet-gap)", "")
+        ),
         other => other.to_string(),
     };
     let exception = match error.kind() {
@@ -74,6 +79,12 @@ pub(crate) fn python_error(py: Python<'_>, error: PipelineError) -> PyErr {
 fn keyword_of(option: &str) -> String {
     match option {
         "animate" => "animate_frames".into(),
+        // The pattern library's names for what `PatternOptions` calls otherwise.
+        "tab width" => "tab_width_mm".into(),
+        "tab angle" => "tab_angle_degrees".into(),
+        "sheet_gap" => "sheet_gap_mm".into(),
+        "smooth_bend_degrees" => "smooth_folds_degrees".into(),
+        "inner_radius_mm" => "bend_radius_mm".into(),
         other => other.trim_start_matches("--").replace('-', "_"),
     }
 }

@@ -8,7 +8,6 @@ use crate::run::{output_set, run_interruptibly, Run, RunParts};
 use pyo3::prelude::*;
 use sheetform::flatten::ChartOptions;
 use sheetform::mesh::LengthUnit;
-use sheetform::pattern::TabOptions;
 use sheetform::pipeline::{
     mesh_from_arrays, run_check, run_flatten, run_pattern, seam_edges_from_array, sheet_mesh_from_arrays, ChartMode,
     CheckOptions, FlattenMethod, FlattenOptions, DEFAULT_ANGLE_TOLERANCE,
@@ -59,7 +58,8 @@ pub(crate) fn check(
         weld,
         tolerance: tolerance.unwrap_or(DEFAULT_ANGLE_TOLERANCE),
         unit: length_unit(unit)?,
-        input: Some(name.to_string()),
+        input: None,
+        name: Some(name.to_string()),
     };
     let (v, f) = (v.as_slice()?, f.as_slice()?);
     // (Read with the interpreter's lock held: the arrays are the caller's, which another
@@ -98,14 +98,15 @@ pub(crate) fn check(
 /// whole. `charts`: `"auto"` (what a maker would expect: a developable disk whole, a
 /// faceted model as a net, a curved surface in smooth charts), `"smooth"`, `"net"` or
 /// `"never"`. `crease_angle` (degrees) and `max_distortion` (relative edge-length change
-/// allowed in a chart) steer the cut. A net gets glue tabs unless `net_tabs=False`.
+/// allowed in a chart) steer the cut. A net gets glue tabs on one side of every seam
+/// unless `pattern` says otherwise (`tabs="none"`, or other tabs).
 ///
 /// Returns a `Run`: `uv` is the pattern at 1:1, `face_pieces` the chart of each face,
 /// `source_vertices` the input vertex each output vertex copies (a vertex on a seam has
 /// one copy per chart; after `weld`, the first of the input vertices merged into it). `outcome` is `"overlapping"` when the pattern overlaps itself and
 /// `"out_of_tolerance"` when an edge stretches more than `max_distortion`.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, *, seams=None, method="exact", charts="auto", crease_angle=None, max_distortion=None, net_tabs=true, weld=None, unit="mm", name="mesh", outputs="all", progress=None, pattern=None))]
+#[pyo3(signature = (vertices, faces, *, seams=None, method="exact", charts="auto", crease_angle=None, max_distortion=None, weld=None, unit="mm", name="mesh", outputs="all", progress=None, pattern=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn flatten(
     py: Python<'_>,
@@ -116,7 +117,6 @@ pub(crate) fn flatten(
     charts: &str,
     crease_angle: Option<f64>,
     max_distortion: Option<f64>,
-    net_tabs: bool,
     weld: Option<f64>,
     unit: &str,
     name: &str,
@@ -127,6 +127,7 @@ pub(crate) fn flatten(
     let v = float_rows("vertices", vertices, 3)?;
     let f = index_rows("faces", faces, 3)?;
     let outputs = output_set(outputs)?;
+    let pattern = pattern_argument(pattern)?;
     let defaults = ChartOptions::default();
     let options = FlattenOptions {
         method: match method {
@@ -158,11 +159,12 @@ pub(crate) fn flatten(
             ..defaults
         },
         net_options: Default::default(),
-        net_tabs: net_tabs.then(TabOptions::default),
-        pattern: pattern_argument(pattern)?,
+        net_tabs: pattern.net_tabs,
+        pattern: pattern.options,
         weld,
         unit: length_unit(unit)?,
-        input: Some(name.to_string()),
+        input: None,
+        name: Some(name.to_string()),
     };
     let (v, f) = (v.as_slice()?, f.as_slice()?);
     let seams = seams.map(|s| index_rows("seams", s, 2)).transpose()?;
@@ -213,7 +215,7 @@ pub(crate) fn pattern(
     let labels = face_pieces.map(|l| index_list("face_pieces", l)).transpose()?;
     let outputs = output_set(outputs)?;
     let unit = length_unit(unit)?;
-    let options = pattern_argument(pattern)?;
+    let options = pattern_argument(pattern)?.options;
     let (v, f, flat) = (v.as_slice()?, f.as_slice()?, flat.as_slice()?);
     // (Read with the interpreter's lock held, as in `check`.)
     let sheet = sheet_mesh_from_arrays(v, f, flat, labels.as_deref(), piece_names.as_deref(), name, unit)

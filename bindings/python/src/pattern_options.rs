@@ -18,25 +18,28 @@ use sheetform::pipeline::PatternOutputOptions;
 /// `scale` (1 = true size); `page` (`"a4"`, `"letter"`: the tiled PDF's paper);
 /// `units` (`"mm"`, `"cm"`, `"in"`: the DXF's); `min_fold_angle_degrees` (smaller folds
 /// are not drawn); `seam_labels` (matching IDs on both sides of every seam); `tabs`
-/// (`"none"`, `"one"`: glue tabs on one side of every seam, `"alternate"`),
+/// (`"auto"`: on one side of every seam of a net made by `flatten`, none otherwise;
+/// `"none"`; `"one"`: on one side of every seam; `"alternate"`),
 /// `tab_width_mm`, `tab_angle_degrees`; `sheet` (pack the pieces onto sheets: `"a4"`,
 /// `"a3"`, `"letter"`, `"600x400"` or `(width_mm, height_mm)`), `sheet_gap_mm`;
 /// `max_pages` (a PDF that needs more is refused; default 100); `seam_allowance_mm` (fabric, leather:
 /// the outline becomes a stitch line) with `notches`; `kerf_mm` (laser cutting);
 /// `grain_lines`; `thickness_mm` (sheet metal, greyboard, plywood: folds become bend zones,
-/// K-factor rule) with `bend_radius_mm` (default: the thickness), `k_factor`,
-/// `material_side` (`"behind"`, `"centred"`, `"in-front"`); `smooth_folds_degrees` (folds
+/// K-factor rule) with `bend_radius_mm` (default: the thickness), `k_factor` (default
+/// 0.44), `material_side` (`"behind"`, the default, `"centred"`, `"in-front"`); `smooth_folds_degrees` (folds
 /// under it are drawn as bending guides; default: the function's choice).
 #[pyclass(module = "sheetform", frozen)]
 #[derive(Clone)]
 pub struct PatternOptions {
     pub(crate) options: PatternOutputOptions,
+    /// The glue tabs a net gets when `tabs="auto"` (`flatten`; as the CLI's `--tabs auto`).
+    pub(crate) net_tabs: Option<TabOptions>,
 }
 
 #[pymethods]
 impl PatternOptions {
     #[new]
-    #[pyo3(signature = (*, scale=1.0, page="a4", units="mm", min_fold_angle_degrees=1.0, seam_labels=true, tabs="none", tab_width_mm=5.0, tab_angle_degrees=45.0, sheet=None, sheet_gap_mm=5.0, max_pages=None, seam_allowance_mm=0.0, notches=true, kerf_mm=0.0, grain_lines=false, thickness_mm=None, bend_radius_mm=None, k_factor=0.44, material_side="behind", smooth_folds_degrees=None))]
+    #[pyo3(signature = (*, scale=1.0, page="a4", units="mm", min_fold_angle_degrees=1.0, seam_labels=true, tabs="auto", tab_width_mm=5.0, tab_angle_degrees=45.0, sheet=None, sheet_gap_mm=5.0, max_pages=None, seam_allowance_mm=0.0, notches=true, kerf_mm=0.0, grain_lines=false, thickness_mm=None, bend_radius_mm=None, k_factor=None, material_side=None, smooth_folds_degrees=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         scale: f64,
@@ -49,15 +52,15 @@ impl PatternOptions {
         tab_angle_degrees: f64,
         sheet: Option<&Bound<'_, PyAny>>,
         sheet_gap_mm: f64,
-        max_pages: Option<usize>,
+        max_pages: Option<i64>,
         seam_allowance_mm: f64,
         notches: bool,
         kerf_mm: f64,
         grain_lines: bool,
         thickness_mm: Option<f64>,
         bend_radius_mm: Option<f64>,
-        k_factor: f64,
-        material_side: &str,
+        k_factor: Option<f64>,
+        material_side: Option<&str>,
         smooth_folds_degrees: Option<f64>,
     ) -> PyResult<Self> {
         let one_of = |argument: &str, value: &str, choices: &str| {
@@ -74,13 +77,40 @@ impl PatternOptions {
             "in" => DxfUnit::In,
             other => return Err(one_of("units", other, "\"mm\", \"cm\", \"in\"")),
         };
-        let sides = match tabs {
-            "none" => None,
-            "one" => Some(TabSides::One),
-            "alternate" => Some(TabSides::Alternate),
-            other => return Err(one_of("tabs", other, "\"none\", \"one\", \"alternate\"")),
+        let tab = |sides| TabOptions {
+            width_mm: tab_width_mm,
+            angle_degrees: tab_angle_degrees,
+            sides,
         };
-        let material_side = match material_side {
+        let (tabs, net_tabs) = match tabs {
+            "auto" => (None, Some(tab(TabSides::One))),
+            "none" => (None, None),
+            "one" => (Some(tab(TabSides::One)), None),
+            "alternate" => (Some(tab(TabSides::Alternate)), None),
+            other => return Err(one_of("tabs", other, "\"auto\", \"none\", \"one\", \"alternate\"")),
+        };
+        // (As the CLI's flags, which require `--thickness`.)
+        if thickness_mm.is_none() {
+            for (given, name) in [
+                (bend_radius_mm.is_some(), "bend_radius_mm"),
+                (k_factor.is_some(), "k_factor"),
+                (material_side.is_some(), "material_side"),
+            ] {
+                if given {
+                    return Err(invalid_argument(
+                        name,
+                        "goes with thickness_mm (a sheet's thickness), not given",
+                    ));
+                }
+            }
+        }
+        let max_pdf_pages = match max_pages {
+            None => DEFAULT_MAX_PAGES,
+            Some(pages) => usize::try_from(pages).ok().filter(|&p| p > 0).ok_or_else(|| {
+                invalid_argument("max_pages", format!("must be a positive number of pages, got {pages}"))
+            })?,
+        };
+        let material_side = match material_side.unwrap_or("behind") {
             "behind" => MaterialSide::Behind,
             "centred" => MaterialSide::Centred,
             "in-front" => MaterialSide::InFront,
@@ -116,13 +146,9 @@ impl PatternOptions {
                 dxf_unit,
                 min_fold_angle_degrees,
                 seam_labels,
-                tabs: sides.map(|sides| TabOptions {
-                    width_mm: tab_width_mm,
-                    angle_degrees: tab_angle_degrees,
-                    sides,
-                }),
+                tabs,
                 sheet,
-                max_pdf_pages: max_pages.unwrap_or(DEFAULT_MAX_PAGES),
+                max_pdf_pages,
                 allowance: MaterialAllowance {
                     seam_allowance_mm,
                     notches,
@@ -131,12 +157,13 @@ impl PatternOptions {
                     bend: thickness_mm.map(|thickness_mm| BendAllowance {
                         thickness_mm,
                         inner_radius_mm: bend_radius_mm.unwrap_or(thickness_mm),
-                        k_factor,
+                        k_factor: k_factor.unwrap_or(BendAllowance::default().k_factor),
                         material_side,
                     }),
                 },
                 smooth_bend_degrees: smooth_folds_degrees,
             },
+            net_tabs,
         })
     }
 
@@ -147,12 +174,15 @@ impl PatternOptions {
 
 /// The `pattern=` argument: `None` (the defaults), a [`PatternOptions`] or a dict of its
 /// keywords.
-pub(crate) fn pattern_argument(pattern: Option<&Bound<'_, PyAny>>) -> PyResult<PatternOutputOptions> {
+pub(crate) fn pattern_argument(pattern: Option<&Bound<'_, PyAny>>) -> PyResult<PatternOptions> {
     let Some(value) = pattern else {
-        return Ok(PatternOutputOptions::default());
+        return Ok(PatternOptions {
+            options: PatternOutputOptions::default(),
+            net_tabs: Some(TabOptions::default()),
+        });
     };
     if let Ok(options) = value.cast::<PatternOptions>() {
-        return Ok(options.get().options);
+        return Ok(options.get().clone());
     }
     let dict = value
         .cast::<PyDict>()
@@ -166,5 +196,5 @@ pub(crate) fn pattern_argument(pattern: Option<&Bound<'_, PyAny>>) -> PyResult<P
             invalid_argument("pattern", e.value(value.py()))
         }
     })?;
-    Ok(options.cast::<PatternOptions>()?.get().options)
+    Ok(options.cast::<PatternOptions>()?.get().clone())
 }

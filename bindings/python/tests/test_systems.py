@@ -2,6 +2,7 @@
 flat pattern and faces of the model, every report figure to 1e-12, and the same files."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -121,21 +122,36 @@ def test_a_warm_started_ffd_run_restores_only_the_new_deformation_with_the_same_
 
 
 @pytest.mark.parametrize(
-    "flags,options",
+    "command,source,flags,options",
     [
-        (["--scale", "0.5", "--page", "letter", "--pattern-units", "in"], {"scale": 0.5, "page": "letter", "units": "in"}),
-        (["--tabs", "alternate", "--tab-width", "7", "--sheet", "900x1200", "--kerf", "0.2"], {"tabs": "alternate", "tab_width_mm": 7.0, "sheet": (900, 1200), "kerf_mm": 0.2}),
-        (["--thickness", "1.5", "--k-factor", "0.33", "--grain-lines"], {"thickness_mm": 1.5, "k_factor": 0.33, "grain_lines": True}),
+        ("bend", "examples/desk.json", ["--scale", "0.5", "--page", "letter", "--pattern-units", "in"], {"scale": 0.5, "page": "letter", "units": "in"}),
+        # tube.json has a seam (tabs, seam allowance) and folds (thickness).
+        ("bend", "examples/tube.json", ["--tabs", "alternate", "--tab-width", "7", "--tab-angle", "60", "--sheet", "900x1200", "--kerf", "0.2"], {"tabs": "alternate", "tab_width_mm": 7.0, "tab_angle_degrees": 60.0, "sheet": (900, 1200), "kerf_mm": 0.2}),
+        ("bend", "examples/tube.json", ["--seam-allowance", "10", "--no-notches", "--grain-lines"], {"seam_allowance_mm": 10.0, "notches": False, "grain_lines": True}),
+        ("flatten", "examples/meshes/gift-box.obj", ["--thickness", "1.5", "--k-factor", "0.33", "--bend-radius", "2", "--tabs", "none"], {"thickness_mm": 1.5, "k_factor": 0.33, "bend_radius_mm": 2.0, "tabs": "none"}),
+        ("flatten", "examples/meshes/gift-box.obj", ["--tab-width", "8", "--tab-angle", "80"], {"tab_width_mm": 8.0, "tab_angle_degrees": 80.0}),
+        ("flatten", "examples/meshes/gift-box.obj", ["--tabs", "none"], {"tabs": "none"}),
     ],
-    ids=["scale-page-units", "tabs-sheet-kerf", "thickness"],
+    ids=["scale-page-units", "tabs-sheet-kerf", "allowance-grain", "thickness", "net-tab-size", "net-without-tabs"],
 )
-def test_pattern_options_give_the_cli_flags_files(flags, options, cli, tmp_path, monkeypatch):
+def test_pattern_options_give_the_cli_flags_files(command, source, flags, options, cli, tmp_path, monkeypatch):
     monkeypatch.chdir(REPO)
     out = tmp_path / "out"
-    done = cli("bend", "examples/desk.json", "-o", out, *flags)
+    done = cli(command, source, "-o", out, *flags)
     assert done.returncode == 0, done.stderr
+    expected = read_report(out)
+    written = sorted(name for name in expected["outputs"] if name != "report.json")
     for pattern in (options, sheetform.PatternOptions(**options)):
-        run = sheetform.bend("examples/desk.json", pattern=pattern)
-        assert_close(without_timings(run.report), without_timings(read_report(out)))
+        if command == "bend":
+            run = sheetform.bend(source, pattern=pattern)
+        else:
+            vertices, _, faces = read_obj(REPO / source)
+            run = sheetform.flatten(vertices, faces, name=Path(source).stem, pattern=pattern)
+            run.report.pop("input"), expected.pop("input", None)
+        assert_close(without_timings(run.report), without_timings({k: v for k, v in expected.items()}))
+        assert sorted(run.files) == written
         for name, data in run.files.items():
             assert data == (out / name).read_bytes(), name
+    # The options change the pattern: the same scene without them gives other files.
+    plain = sheetform.bend(source) if command == "bend" else sheetform.flatten(vertices, faces, name=Path(source).stem)
+    assert plain.files["pattern.svg"] != run.files["pattern.svg"]

@@ -29,11 +29,11 @@ __all__ = [
 ]
 
 _Scene = Union[dict[str, Any], str, PathLike[str]]
-"""A scene as a dict (the JSON the CLI reads) or the path of its file."""
+"""A scene as a dict (the JSON the CLI reads; numpy values allowed), its JSON (or SVG) text, or the path of its file."""
 _Outputs = Literal["all", "preview"]
 _Page = Literal["a4", "letter"]
 _PatternUnits = Literal["mm", "cm", "in"]
-_Tabs = Literal["none", "one", "alternate"]
+_Tabs = Literal["auto", "none", "one", "alternate"]
 _Unit = Literal["mm", "cm", "m", "in"]
 _Point = Sequence[float]
 
@@ -69,7 +69,7 @@ class PatternOptions:
         units: _PatternUnits = "mm",
         min_fold_angle_degrees: float = 1.0,
         seam_labels: bool = True,
-        tabs: _Tabs = "none",
+        tabs: _Tabs = "auto",
         tab_width_mm: float = 5.0,
         tab_angle_degrees: float = 45.0,
         sheet: Optional[Union[str, tuple[float, float]]] = None,
@@ -81,8 +81,8 @@ class PatternOptions:
         grain_lines: bool = False,
         thickness_mm: Optional[float] = None,
         bend_radius_mm: Optional[float] = None,
-        k_factor: float = 0.44,
-        material_side: Literal["behind", "centred", "in-front"] = "behind",
+        k_factor: Optional[float] = None,
+        material_side: Optional[Literal["behind", "centred", "in-front"]] = None,
         smooth_folds_degrees: Optional[float] = None,
     ) -> PatternOptions: ...
 
@@ -124,7 +124,7 @@ class Run:
         """``(n,)`` angle defect at each vertex (``bend``, ``check``)."""
     @property
     def source_vertices(self) -> Optional[npt.NDArray[np.int64]]:
-        """``(n,)`` input vertex each vertex copies (``flatten``)."""
+        """``(n,)`` input row each vertex copies (``flatten``, ``check``; after ``weld``, the first merged)."""
     @property
     def report(self) -> dict[str, Any]:
         """The ``report.json`` the CLI writes, as a dict."""
@@ -208,7 +208,6 @@ def flatten(
     charts: Literal["auto", "smooth", "net", "never"] = "auto",
     crease_angle: Optional[float] = None,
     max_distortion: Optional[float] = None,
-    net_tabs: bool = True,
     weld: Optional[float] = None,
     unit: _Unit = "mm",
     name: str = "mesh",

@@ -23,6 +23,8 @@ pub struct CheckOptions {
     pub unit: LengthUnit,
     /// Where the mesh came from (recorded in the report; its file stem names the GLB).
     pub input: Option<String>,
+    /// The mesh's name in the outputs (default: the input's file stem, or `mesh`).
+    pub name: Option<String>,
 }
 
 impl Default for CheckOptions {
@@ -32,6 +34,7 @@ impl Default for CheckOptions {
             tolerance: DEFAULT_ANGLE_TOLERANCE,
             unit: LengthUnit::Mm,
             input: None,
+            name: None,
         }
     }
 }
@@ -92,8 +95,12 @@ pub(crate) fn weld_input(
     Ok((merged, origins))
 }
 
-/// The name of a mesh for its outputs: the input file's stem, or `mesh`.
-pub(crate) fn mesh_name(input: Option<&str>) -> String {
+/// The name of a mesh for its outputs: the one given, else the input file's stem, else
+/// `mesh`.
+pub(crate) fn mesh_name(name: Option<&str>, input: Option<&str>) -> String {
+    if let Some(name) = name {
+        return name.to_string();
+    }
     input
         .and_then(|i| Path::new(i).file_stem())
         .map(|s| s.to_string_lossy().into_owned())
@@ -131,7 +138,7 @@ pub fn run_check(mesh: TriangleMesh, options: &CheckOptions, context: &RunContex
     let solved = Instant::now();
     context.check_cancelled()?;
     let colours = defect_colours(&vertices.angle_defect, options.tolerance, defects.angle_defect_max_rad);
-    let name = mesh_name(options.input.as_deref());
+    let name = mesh_name(options.name.as_deref(), options.input.as_deref());
     let mut files = Vec::new();
     if context.renders_all() {
         files.push((

@@ -79,6 +79,8 @@ pub struct FlattenOptions {
     pub unit: LengthUnit,
     /// Where the mesh came from (recorded in the report; its file stem names the pieces).
     pub input: Option<String>,
+    /// The name the pieces are named after (default: the input's file stem, or `mesh`).
+    pub name: Option<String>,
 }
 
 impl Default for FlattenOptions {
@@ -93,6 +95,7 @@ impl Default for FlattenOptions {
             weld: None,
             unit: LengthUnit::default(),
             input: None,
+            name: None,
         }
     }
 }
@@ -192,7 +195,7 @@ pub fn run_flatten(
         }
     }
     let mm = options.unit.millimetres();
-    let name = mesh_name(options.input.as_deref());
+    let name = mesh_name(options.name.as_deref(), options.input.as_deref());
     let mut report = Report::new(Command::Flatten, options.input.clone());
     report.layout = Some(layout);
     report.layout_reason = Some(reason);
