@@ -28,7 +28,7 @@ const MAX_UNDO: usize = 1_000;
 pub struct BendEditor {
     scene: BendScene,
     root: PathBuf,
-    history: Vec<BendScene>,
+    history: std::collections::VecDeque<BendScene>,
 }
 
 /// `index` in `0..count`, or counted from the end when negative.
@@ -78,9 +78,9 @@ impl BendEditor {
         let scene = &self.scene;
         let result = crate::errors::detached(py, || edit_bend_scene(scene, &edit))?.map_err(|e| python_error(py, e))?;
         if result.info.applied {
-            self.history.push(std::mem::replace(&mut self.scene, result.scene));
+            self.history.push_back(std::mem::replace(&mut self.scene, result.scene));
             if self.history.len() > MAX_UNDO {
-                self.history.remove(0);
+                self.history.pop_front();
             }
         }
         Ok(to_python(py, &result.info)?.unbind())
@@ -102,7 +102,7 @@ impl BendEditor {
         Ok(Self {
             scene,
             root,
-            history: Vec::new(),
+            history: std::collections::VecDeque::new(),
         })
     }
 
@@ -215,7 +215,7 @@ impl BendEditor {
 
     /// Takes the last applied edit back; `False` when there is none.
     fn undo(&mut self) -> bool {
-        match self.history.pop() {
+        match self.history.pop_back() {
             Some(scene) => {
                 self.scene = scene;
                 true

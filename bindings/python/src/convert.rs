@@ -117,13 +117,10 @@ pub(crate) fn float_rows<'py>(
     rows_of(argument, array, columns, "numbers")
 }
 
-/// An `(m, columns)` integer array (any integer dtype), C-contiguous int64: no copy when
-/// it already is one. Floats are refused rather than truncated.
-pub(crate) fn index_rows<'py>(
-    argument: &str,
-    value: &Bound<'py, PyAny>,
-    columns: usize,
-) -> PyResult<PyReadonlyArray2<'py, i64>> {
+/// Any integer array (any integer dtype) as a C-contiguous int64 array: no copy when it
+/// already is one. Floats are refused rather than truncated, unsigned values past int64
+/// rather than wrapped.
+fn int64_array<'py>(argument: &str, value: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
     let py = value.py();
     let numpy = py.import("numpy")?;
     let array = numpy
@@ -135,7 +132,7 @@ pub(crate) fn index_rows<'py>(
         let dtype = array.getattr("dtype")?.str()?.to_string();
         return Err(invalid_argument(
             argument,
-            format!("integer vertex indices expected, got an array of {dtype}"),
+            format!("integer indices expected, got an array of {dtype}"),
         ));
     }
     if kind == "u" && !is_empty && array.call_method0("max")?.gt(i64::MAX)? {
@@ -146,8 +143,16 @@ pub(crate) fn index_rows<'py>(
     }
     let kwargs = PyDict::new(py);
     kwargs.set_item("dtype", numpy.getattr("int64")?)?;
-    let array = numpy.call_method("ascontiguousarray", (array,), Some(&kwargs))?;
-    rows_of(argument, array, columns, "indices")
+    numpy.call_method("ascontiguousarray", (array,), Some(&kwargs))
+}
+
+/// An `(m, columns)` integer array as C-contiguous int64 ([`int64_array`]).
+pub(crate) fn index_rows<'py>(
+    argument: &str,
+    value: &Bound<'py, PyAny>,
+    columns: usize,
+) -> PyResult<PyReadonlyArray2<'py, i64>> {
+    rows_of(argument, int64_array(argument, value)?, columns, "indices")
 }
 
 fn rows_of<'py, T: numpy::Element>(
@@ -174,27 +179,16 @@ fn rows_of<'py, T: numpy::Element>(
     Ok(typed.readonly())
 }
 
-/// An optional `(m,)` integer array.
-pub(crate) fn index_list<'py>(argument: &str, value: &Bound<'py, PyAny>) -> PyResult<Vec<i64>> {
-    let py = value.py();
-    let numpy = py.import("numpy")?;
-    let array = numpy
-        .call_method1("asarray", (value,))
-        .map_err(|e| invalid_argument(argument, format!("not an array of integers: {e}")))?;
-    let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
+/// An `(m,)` integer array ([`int64_array`]), copied.
+pub(crate) fn index_list(argument: &str, value: &Bound<'_, PyAny>) -> PyResult<Vec<i64>> {
+    let array = int64_array(argument, value)?;
     let shape: Vec<usize> = array.getattr("shape")?.extract()?;
-    if !(kind == "i" || kind == "u" || shape == [0]) || shape.len() != 1 {
+    if shape.len() != 1 {
         return Err(invalid_argument(
             argument,
             format!("a one-dimensional array of integers expected, got shape {shape:?}"),
         ));
     }
-    if kind == "u" && shape != [0] && array.call_method0("max")?.gt(i64::MAX)? {
-        return Err(invalid_argument(argument, format!("a value over {}", i64::MAX)));
-    }
-    let kwargs = PyDict::new(py);
-    kwargs.set_item("dtype", numpy.getattr("int64")?)?;
-    let array = numpy.call_method("ascontiguousarray", (array,), Some(&kwargs))?;
     let typed = array.cast_into::<PyArray1<i64>>().map_err(PyErr::from)?;
     let values = typed.readonly().as_slice()?.to_vec();
     Ok(values)

@@ -127,7 +127,7 @@ pub(crate) fn flatten(
     let v = float_rows("vertices", vertices, 3)?;
     let f = index_rows("faces", faces, 3)?;
     let outputs = output_set(outputs)?;
-    let pattern = pattern_argument(pattern)?;
+    let pattern = pattern_argument(py, pattern)?;
     let defaults = ChartOptions::default();
     let options = FlattenOptions {
         method: match method {
@@ -215,7 +215,7 @@ pub(crate) fn pattern(
     let labels = face_pieces.map(|l| index_list("face_pieces", l)).transpose()?;
     let outputs = output_set(outputs)?;
     let unit = length_unit(unit)?;
-    let options = pattern_argument(pattern)?.options;
+    let options = pattern_argument(py, pattern)?.options;
     let (v, f, flat) = (v.as_slice()?, f.as_slice()?, flat.as_slice()?);
     // (Read with the interpreter's lock held, as in `check`.)
     let sheet = sheet_mesh_from_arrays(v, f, flat, labels.as_deref(), piece_names.as_deref(), name, unit)

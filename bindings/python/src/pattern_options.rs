@@ -174,12 +174,11 @@ impl PatternOptions {
 
 /// The `pattern=` argument: `None` (the defaults), a [`PatternOptions`] or a dict of its
 /// keywords.
-pub(crate) fn pattern_argument(pattern: Option<&Bound<'_, PyAny>>) -> PyResult<PatternOptions> {
+pub(crate) fn pattern_argument(py: Python<'_>, pattern: Option<&Bound<'_, PyAny>>) -> PyResult<PatternOptions> {
     let Some(value) = pattern else {
-        return Ok(PatternOptions {
-            options: PatternOutputOptions::default(),
-            net_tabs: Some(TabOptions::default()),
-        });
+        // (The class's own defaults: they are written once, in its signature.)
+        let defaults = py.get_type::<PatternOptions>().call0()?;
+        return Ok(defaults.cast::<PatternOptions>()?.get().clone());
     };
     if let Ok(options) = value.cast::<PatternOptions>() {
         return Ok(options.get().clone());
@@ -187,13 +186,13 @@ pub(crate) fn pattern_argument(pattern: Option<&Bound<'_, PyAny>>) -> PyResult<P
     let dict = value
         .cast::<PyDict>()
         .map_err(|_| invalid_argument("pattern", "a sheetform.PatternOptions or a dict of its keywords"))?;
-    let class = value.py().get_type::<PatternOptions>();
+    let class = py.get_type::<PatternOptions>();
     let options = class.call((), Some(dict)).map_err(|e| {
         // (An option's own error names it; an unknown keyword is named by Python's.)
-        if e.is_instance_of::<crate::errors::InvalidInputError>(value.py()) {
+        if e.is_instance_of::<crate::errors::InvalidInputError>(py) {
             e
         } else {
-            invalid_argument("pattern", e.value(value.py()))
+            invalid_argument("pattern", e.value(py))
         }
     })?;
     Ok(options.cast::<PatternOptions>()?.get().clone())

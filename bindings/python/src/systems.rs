@@ -44,7 +44,7 @@ pub(crate) fn bend(
     let SceneArgument { text, root, input } = scene_argument(py, scene, root)?;
     let outputs = output_set(outputs)?;
     let options = BendRunOptions {
-        pattern: pattern_argument(pattern)?.options,
+        pattern: pattern_argument(py, pattern)?.options,
         animate_frames,
         input,
     };
@@ -76,7 +76,7 @@ pub(crate) fn slit(
     let SceneArgument { text, root, input } = scene_argument(py, scene, root)?;
     let outputs = output_set(outputs)?;
     let options = SlitRunOptions {
-        pattern: pattern_argument(pattern)?.options,
+        pattern: pattern_argument(py, pattern)?.options,
         input,
     };
     let scene = parsed(py, SlitScene::from_json(&text))?;
@@ -133,7 +133,7 @@ pub(crate) fn ffd(
         }
     };
     let options = FfdRunOptions {
-        pattern: pattern_argument(pattern)?.options,
+        pattern: pattern_argument(py, pattern)?.options,
         input,
         solver,
         warm_start: match &warm_start {
@@ -181,7 +181,7 @@ pub(crate) fn photo(
     let SceneArgument { text, root, input } = scene_argument(py, annotation, root)?;
     let outputs = output_set(outputs)?;
     let options = PhotoRunOptions {
-        pattern: pattern_argument(pattern)?.options,
+        pattern: pattern_argument(py, pattern)?.options,
         input,
     };
     let input = parsed(py, PhotoInput::from_text(&text))?;

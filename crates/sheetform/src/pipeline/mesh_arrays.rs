@@ -13,45 +13,81 @@ fn invalid(array: &'static str, message: String) -> PipelineError {
     PipelineError::InvalidArray { array, message }
 }
 
-fn positions_from(vertices: &[f64]) -> Result<Vec<Vec3>, PipelineError> {
-    if vertices.len() % 3 != 0 {
+/// `values` as rows of `N` finite numbers (row-major).
+fn finite_rows<const N: usize>(array: &'static str, values: &[f64]) -> Result<Vec<[f64; N]>, PipelineError> {
+    if values.len() % N != 0 {
         return Err(invalid(
-            "vertices",
-            format!("{} numbers do not make rows of 3 coordinates", vertices.len()),
+            array,
+            format!("{} numbers do not make rows of {N} coordinates", values.len()),
         ));
     }
+    values
+        .chunks_exact(N)
+        .enumerate()
+        .map(|(i, c)| {
+            if c.iter().all(|x| x.is_finite()) {
+                Ok(c.try_into().expect("a chunk of N"))
+            } else {
+                Err(invalid(array, format!("row {i} has a non-finite coordinate {c:?}")))
+            }
+        })
+        .collect()
+}
+
+/// `values` as rows of `N` vertex indices (row-major), each below `vertex_count`; `rows`
+/// says what a row is, for the message when the length does not divide.
+fn vertex_index_rows<I: Copy + TryInto<i64> + std::fmt::Display, const N: usize>(
+    array: &'static str,
+    values: &[I],
+    vertex_count: usize,
+    rows: &str,
+) -> Result<Vec<[u32; N]>, PipelineError> {
+    if values.len() % N != 0 {
+        return Err(invalid(
+            array,
+            format!("{} indices do not make rows of {N} ({rows})", values.len()),
+        ));
+    }
+    values
+        .chunks_exact(N)
+        .enumerate()
+        .map(|(row, c)| {
+            let mut indices = [0u32; N];
+            for (k, &index) in c.iter().enumerate() {
+                let v: i64 = index.try_into().unwrap_or(i64::MAX);
+                if v < 0 || v as u64 >= vertex_count as u64 {
+                    return Err(invalid(
+                        array,
+                        format!(
+                            "row {row} names vertex {index}, but the vertices are numbered 0 to {}",
+                            vertex_count as i64 - 1
+                        ),
+                    ));
+                }
+                indices[k] = v as u32;
+            }
+            Ok(indices)
+        })
+        .collect()
+}
+
+fn positions_from(vertices: &[f64]) -> Result<Vec<Vec3>, PipelineError> {
     if vertices.len() / 3 > MAX_ARRAY_MESH_ELEMENTS {
         return Err(invalid(
             "vertices",
             format!("more than {MAX_ARRAY_MESH_ELEMENTS} vertices"),
         ));
     }
-    vertices
-        .chunks_exact(3)
-        .enumerate()
-        .map(|(i, c)| {
-            if c.iter().all(|x| x.is_finite()) {
-                Ok(Vec3::new(c[0], c[1], c[2]))
-            } else {
-                Err(invalid(
-                    "vertices",
-                    format!("row {i} has a non-finite coordinate {c:?}"),
-                ))
-            }
-        })
-        .collect()
+    Ok(finite_rows::<3>("vertices", vertices)?
+        .into_iter()
+        .map(Vec3::from)
+        .collect())
 }
 
 fn triangles_from<I: Copy + TryInto<i64> + std::fmt::Display>(
     faces: &[I],
     vertex_count: usize,
 ) -> Result<Vec<[u32; 3]>, PipelineError> {
-    if faces.len() % 3 != 0 {
-        return Err(invalid(
-            "faces",
-            format!("{} indices do not make rows of 3 (triangles only)", faces.len()),
-        ));
-    }
     if faces.len() / 3 > MAX_ARRAY_MESH_ELEMENTS {
         return Err(invalid("faces", format!("more than {MAX_ARRAY_MESH_ELEMENTS} faces")));
     }
@@ -59,27 +95,7 @@ fn triangles_from<I: Copy + TryInto<i64> + std::fmt::Display>(
         // (As the mesh readers say of a file without faces.)
         return Err(invalid("faces", "the mesh has no faces".into()));
     }
-    faces
-        .chunks_exact(3)
-        .enumerate()
-        .map(|(f, c)| {
-            let mut triangle = [0u32; 3];
-            for (k, &index) in c.iter().enumerate() {
-                let v: i64 = index.try_into().unwrap_or(i64::MAX);
-                if v < 0 || v as u64 >= vertex_count as u64 {
-                    return Err(invalid(
-                        "faces",
-                        format!(
-                            "row {f} names vertex {index}, but the vertices are numbered 0 to {}",
-                            vertex_count as i64 - 1
-                        ),
-                    ));
-                }
-                triangle[k] = v as u32;
-            }
-            Ok(triangle)
-        })
-        .collect()
+    vertex_index_rows("faces", faces, vertex_count, "triangles only")
 }
 
 /// A triangle mesh from `vertices` (`n × 3` coordinates, row-major) and `faces` (`m × 3`
@@ -116,38 +132,16 @@ pub fn seam_edges_from_array<I: Copy + TryInto<i64> + std::fmt::Display>(
     mesh: &TriangleMesh,
     seams: &[I],
 ) -> Result<Vec<[u32; 2]>, PipelineError> {
-    if seams.len() % 2 != 0 {
-        return Err(invalid(
-            "seams",
-            format!("{} indices do not make rows of 2 (one edge per row)", seams.len()),
-        ));
-    }
     let table = sheetform_mesh::EdgeTable::new(&mesh.triangles, mesh.positions.len());
-    seams
-        .chunks_exact(2)
+    vertex_index_rows::<I, 2>("seams", seams, mesh.positions.len(), "one edge per row")?
+        .into_iter()
         .enumerate()
-        .map(|(row, pair)| {
-            let mut edge = [0u32; 2];
-            for (k, &index) in pair.iter().enumerate() {
-                let v: i64 = index.try_into().unwrap_or(i64::MAX);
-                if v < 0 || v as u64 >= mesh.positions.len() as u64 {
-                    return Err(invalid(
-                        "seams",
-                        format!(
-                            "row {row} names vertex {index}, but the vertices are numbered 0 to {}",
-                            mesh.positions.len() as i64 - 1
-                        ),
-                    ));
-                }
-                edge[k] = v as u32;
-            }
-            match table.find(edge[0], edge[1]) {
-                Some(_) => Ok(edge),
-                None => Err(invalid(
-                    "seams",
-                    format!("row {row} ({}, {}) is not an edge of the mesh", edge[0], edge[1]),
-                )),
-            }
+        .map(|(row, edge)| match table.find(edge[0], edge[1]) {
+            Some(_) => Ok(edge),
+            None => Err(invalid(
+                "seams",
+                format!("row {row} ({}, {}) is not an edge of the mesh", edge[0], edge[1]),
+            )),
         })
         .collect()
 }
@@ -183,17 +177,7 @@ pub fn sheet_mesh_from_arrays<I: Copy + TryInto<i64> + std::fmt::Display>(
             ),
         ));
     }
-    let flat = uv
-        .chunks_exact(2)
-        .enumerate()
-        .map(|(i, c)| {
-            if c.iter().all(|x| x.is_finite()) {
-                Ok(Vec2::new(c[0], c[1]))
-            } else {
-                Err(invalid("uv", format!("row {i} has a non-finite coordinate {c:?}")))
-            }
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let flat = finite_rows::<2>("uv", uv)?.into_iter().map(Vec2::from).collect();
     let labels: Vec<u32> = match face_pieces {
         None => vec![0; triangles.len()],
         Some(labels) => {
