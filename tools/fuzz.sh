@@ -25,7 +25,7 @@ seed() {
     mesh_check | mesh_flatten)
       # The first byte picks the format: 0 OBJ, 1 OFF, 2 PLY, 3 STL.
       local kind
-      for mesh in ../shared/testdata/*.obj tests/data/*.obj crates/*/tests/data/*.{obj,off,ply,stl}; do
+      for mesh in examples/meshes/*.{obj,stl} tests/data/*.obj crates/*/tests/data/*.{obj,off,ply,stl}; do
         [ -f "$mesh" ] || continue
         [ "$(stat -c %s "$mesh")" -le 200000 ] || continue
         case $mesh in *.obj) kind='\x00' ;; *.off) kind='\x01' ;; *.ply) kind='\x02' ;; *.stl) kind='\x03' ;; esac

@@ -323,6 +323,7 @@ impl From<PatternArgs> for PatternOutputOptions {
                 } else {
                     TabSides::One
                 },
+                ..Default::default()
             }),
             sheet: a.sheet.map(|(w, h)| SheetOptions {
                 width_mm: w,

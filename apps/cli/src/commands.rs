@@ -96,6 +96,7 @@ pub(crate) fn flatten_command(
         width_mm: pattern.tab_width,
         angle_degrees: pattern.tab_angle,
         sides: TabSides::One,
+        ..Default::default()
     });
     let options = FlattenOptions {
         weld,

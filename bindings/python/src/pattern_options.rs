@@ -81,6 +81,7 @@ impl PatternOptions {
             width_mm: tab_width_mm,
             angle_degrees: tab_angle_degrees,
             sides,
+            ..Default::default()
         };
         let (tabs, net_tabs) = match tabs {
             "auto" => (None, Some(tab(TabSides::One))),

@@ -5,7 +5,7 @@ use sheetform_geometry::triangles_overlap;
 use sheetform_mesh::{primitives, TriangleMesh};
 
 fn wingnut() -> TriangleMesh {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/testdata/wingnut.obj");
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/meshes/wingnut.obj");
     let mut mesh = sheetform_io::read_mesh(std::path::Path::new(path)).unwrap();
     mesh.weld(1e-9);
     mesh

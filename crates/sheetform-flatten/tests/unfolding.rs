@@ -99,8 +99,7 @@ fn closed_and_non_manifold_meshes_are_refused() {
 
 #[test]
 fn crumpled_developable_reproduces_its_stored_flattening() {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/testdata/crumpled-developable.obj");
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/meshes/crumpled-developable.obj");
     let mesh = sheetform_io_free_obj(&path);
     let u = exact_unfold(&mesh, &UnfoldOptions::default()).unwrap();
     let ours = distortion(&mesh, &u.flat);

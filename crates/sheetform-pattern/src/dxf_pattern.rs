@@ -32,9 +32,13 @@ const PATTERN_GUID: u128 = 0x5348_4545_5446_4f52_4d00_0000_0000_0001;
 
 /// The pattern as DXF (AutoCAD R2000, so that LWPOLYLINE entities are kept), coordinates
 /// in `unit` with `$INSUNITS` and `$MEASUREMENT` set accordingly and `$EXTMIN`/`$EXTMAX`
-/// around the pattern. Layers: `CUT` (closed LWPOLYLINEs, glue tabs included, red),
-/// `MOUNTAIN` and `VALLEY` (LINEs: mountain folds red, valley folds blue), `FOLD` (bending
-/// guides and tab bases, grey), `LABEL` (TEXT: piece names and seam IDs) and `SHEET` (sheet
+/// around the pattern. Layers, one kind of line each so that a cutter can give each its
+/// own tool: `CUT` (closed LWPOLYLINEs, glue tabs included, and notches, red),
+/// `MOUNTAIN` and `VALLEY` (LINEs to score: mountain folds red, valley folds blue), `TAB`
+/// (LINEs to score: the bases of the glue tabs, cyan), `GUIDE` (LINEs to draw, never to
+/// score: bending guides such as the rulings of a smooth sheet, and the tangent lines of
+/// bend zones, grey), `STITCH` (the stitch line inside a seam allowance, green), `GRAIN`
+/// (grain lines, grey), `LABEL` (TEXT: piece names and seam IDs) and `SHEET` (sheet
 /// outlines, when packed). Every table head gets a handle (the dxf crate leaves them out;
 /// see `with_table_handles`), so ezdxf reads the file without repairs.
 ///
@@ -80,7 +84,8 @@ pub fn dxf_bytes(pattern: &Pattern, unit: DxfUnit) -> Result<Vec<u8>, PatternErr
         ("CUT", 1u8),
         ("MOUNTAIN", 1),
         ("VALLEY", 5),
-        ("FOLD", 8),
+        ("TAB", 4),
+        ("GUIDE", 8),
         ("LABEL", 5),
         ("SHEET", 7),
         ("STITCH", 3),
@@ -115,13 +120,14 @@ pub fn dxf_bytes(pattern: &Pattern, unit: DxfUnit) -> Result<Vec<u8>, PatternErr
             Point::new(f.a.x * k, f.a.y * k, 0.0),
             Point::new(f.b.x * k, f.b.y * k, 0.0),
         )));
-        // Mountain and valley folds on layers of their own (a cutter or plotter takes them
-        // as different tools: score from the front or the back); guides and tab bases
-        // stay on FOLD.
+        // Every kind of line on a layer of its own (a cutter or plotter takes them as
+        // different tools: score mountains from the front, valleys from the back, tab
+        // bases; draw guides, which must not be scored).
         let (layer, colour) = match f.style {
             FoldStyle::Mountain => ("MOUNTAIN", 1),
             FoldStyle::Valley => ("VALLEY", 5),
-            FoldStyle::Guide | FoldStyle::TabBase => ("FOLD", 8),
+            FoldStyle::TabBase => ("TAB", 4),
+            FoldStyle::Guide => ("GUIDE", 8),
             // Notches are cuts; the stitch line and the grain line are drawn, not cut.
             FoldStyle::Notch => ("CUT", 1),
             FoldStyle::Stitch => ("STITCH", 3),

@@ -33,6 +33,10 @@ pub(crate) struct LabelRequest {
     pub(crate) height_mm: f64,
     /// Candidate spots, best first.
     pub(crate) spots: Vec<LabelSpot>,
+    /// The cut edges the label names (a seam ID's run; empty for a piece name): the label
+    /// goes only where no other cut edge of its piece is nearer to it than these, so that
+    /// a maker reads it as the ID of the edge it names.
+    pub(crate) anchor: Vec<(Vec2, Vec2)>,
 }
 
 /// Labels are shrunk down to this fraction of their height before they are left out.
@@ -111,8 +115,9 @@ pub(crate) struct LabelPlacement {
 /// Places each request on the first of its spots (at the first of the sizes 1, ¾, ½,
 /// [`SMALLEST_SCALE`] of its height) where the label's text box, with a margin, lies
 /// inside its piece's cut loops and meets none of the piece's cut or fold lines nor a
-/// label placed before it; the text is turned upright (its direction within ±90° of +x,
-/// so no label reads upside down). Requests are placed in order (seam IDs first by the
+/// label placed before it, and (for a label with anchor edges) no other cut edge lies
+/// nearer to it than its anchor; the text is turned upright (its direction within ±90°
+/// of +x, so no label reads upside down). Requests are placed in order (seam IDs first by the
 /// caller), a label with no free spot is left out and counted; so are the labels left
 /// when [`MAX_LABEL_WORK`] tests have been spent.
 pub(crate) fn place_labels(pieces: &mut [PatternPiece], requests: &[LabelRequest]) -> LabelPlacement {
@@ -128,6 +133,7 @@ pub(crate) fn place_labels(pieces: &mut [PatternPiece], requests: &[LabelRequest
                 .flat_map(|l| (0..l.len()).map(move |i| (l[i], l[(i + 1) % l.len()])));
             let folds = piece.folds.iter().map(|f| (f.a, f.b));
             let segments: Vec<(Vec2, Vec2)> = cut.chain(folds).collect();
+            let cut_count = piece.cut.iter().map(Vec::len).sum();
             let boxes = segments
                 .iter()
                 .enumerate()
@@ -138,6 +144,7 @@ pub(crate) fn place_labels(pieces: &mut [PatternPiece], requests: &[LabelRequest
                 .collect();
             PieceLines {
                 segments,
+                cut_count,
                 tree: RTree::bulk_load(boxes),
             }
         })
@@ -166,8 +173,14 @@ pub(crate) fn place_labels(pieces: &mut [PatternPiece], requests: &[LabelRequest
                     half_width,
                     half_height,
                 };
-                let (is_free, tests) = free(&candidate, piece, &lines[request.piece], &placed[request.piece]);
+                let (mut is_free, tests) = free(&candidate, piece, &lines[request.piece], &placed[request.piece]);
                 work += tests;
+                if is_free && !request.anchor.is_empty() {
+                    let (nearest, tests) =
+                        nearest_to_anchor(centre, &request.anchor, &lines[request.piece], 0.25 * height);
+                    work += tests;
+                    is_free = nearest;
+                }
                 if work > MAX_LABEL_WORK {
                     break 'search;
                 }
@@ -195,10 +208,49 @@ pub(crate) fn place_labels(pieces: &mut [PatternPiece], requests: &[LabelRequest
     report
 }
 
-/// A piece's cut and fold lines and an R-tree of their bounding boxes.
+/// A piece's cut and fold lines (the cut lines first) and an R-tree of their bounding
+/// boxes.
 struct PieceLines {
     segments: Vec<(Vec2, Vec2)>,
+    /// The first `cut_count` segments are cut lines.
+    cut_count: usize,
     tree: RTree<GeomWithData<Rectangle<[f64; 2]>, usize>>,
+}
+
+fn point_segment_distance(p: Vec2, (a, b): (Vec2, Vec2)) -> f64 {
+    let d = b - a;
+    let t = if d.norm_squared() > 0.0 {
+        ((p - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p - (a + d * t)).norm()
+}
+
+/// Whether every cut line of the piece other than the anchor edges lies farther from
+/// `centre` than the anchor does by `margin` (so that a label at a corner, as near to the
+/// next edge as to its own, is not taken for the next edge's), and how many tests that
+/// took.
+fn nearest_to_anchor(centre: Vec2, anchor: &[(Vec2, Vec2)], lines: &PieceLines, margin: f64) -> (bool, usize) {
+    let own = anchor
+        .iter()
+        .map(|&s| point_segment_distance(centre, s))
+        .fold(f64::INFINITY, f64::min);
+    let reach = own + margin;
+    let same = |(a, b): (Vec2, Vec2), (c, d): (Vec2, Vec2)| (a == c && b == d) || (a == d && b == c);
+    let mut tests = anchor.len();
+    let envelope = AABB::from_corners(
+        [centre.x - reach, centre.y - reach],
+        [centre.x + reach, centre.y + reach],
+    );
+    let other_nearer = lines.tree.locate_in_envelope_intersecting(&envelope).any(|hit| {
+        tests += 1;
+        let segment = lines.segments[hit.data];
+        hit.data < lines.cut_count
+            && point_segment_distance(centre, segment) < reach
+            && !anchor.iter().any(|&s| same(s, segment))
+    });
+    (!other_nearer, tests)
 }
 
 /// Whether a text box lies inside its piece, off every line and off the labels placed,
@@ -274,6 +326,7 @@ mod tests {
                     direction: std::f64::consts::PI,
                 })
                 .collect(),
+            anchor: vec![],
         };
         let name = LabelRequest {
             piece: 0,
@@ -292,6 +345,7 @@ mod tests {
                     direction: 0.0,
                 },
             ],
+            anchor: vec![],
         };
         let report = place_labels(&mut pieces, &[name, seam("12"), seam("13")]);
         assert_eq!(report, LabelPlacement::default());
@@ -317,6 +371,7 @@ mod tests {
                 inward: Vec2::zeros(),
                 direction: 0.0,
             }],
+            anchor: vec![],
         };
         assert_eq!(place_labels(&mut pieces, &[crowded]).dropped, 1);
     }

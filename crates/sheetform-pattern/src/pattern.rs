@@ -214,6 +214,18 @@ impl Pattern {
         self.pieces.iter().flat_map(|p| p.labels.iter())
     }
 
+    /// Seams whose ID is printed on both copies: the seam IDs (1 to `seam_count`) that
+    /// appear on exactly two seam labels, counted from the labels drawn.
+    pub fn seams_labelled_on_both_sides(&self) -> usize {
+        let mut printed: HashMap<&str, usize> = HashMap::default();
+        for label in self.labels().filter(|l| l.kind == LabelKind::Seam) {
+            *printed.entry(label.text.as_str()).or_default() += 1;
+        }
+        (1..=self.seam_count)
+            .filter(|id| printed.get(id.to_string().as_str()) == Some(&2))
+            .count()
+    }
+
     /// The pieces on sheet `sheet`, moved so that the sheet's corner is the origin, with
     /// that sheet alone (for one cutter file per sheet). This looks at every piece: for
     /// all sheets, [`Pattern::sheet_patterns`] sorts the pieces out in one pass.
@@ -630,6 +642,7 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
             piece: face_part[f],
             text: piece.name.clone(),
             kind: LabelKind::Piece,
+            anchor: Vec::new(),
             height_mm: label_height,
             spots: directions
                 .into_iter()
@@ -690,12 +703,21 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
                 })
                 .collect();
             spots.extend(deeper);
+            // The run's edges as drawn: the ID goes where they are the nearest cut line.
+            let anchor = (r.start..r.start + r.edges)
+                .map(|i| {
+                    let (a, b) = (l[i % l.len()], l[(i + 1) % l.len()]);
+                    let o = edge_moved(a, b);
+                    (at(a) + o, at(b) + o)
+                })
+                .collect();
             requests.push(LabelRequest {
                 piece: loop_part[r.loop_index],
                 text: format!("{}", r.seam + 1),
                 kind: LabelKind::Seam,
                 height_mm: seam_height,
                 spots,
+                anchor,
             });
         }
     }

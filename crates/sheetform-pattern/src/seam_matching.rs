@@ -80,12 +80,16 @@ pub fn match_seams(mesh: &SheetMesh, loops: &[Vec<u32>], tolerance: f64) -> Vec<
         }
     }
     // `e` continues the run of the edge before it when both are glued and their partners
-    // are consecutive (in reverse) on one loop.
+    // are consecutive (in reverse) on one loop, unless the two are each other's partners:
+    // at the apex of a slit (a seam folding back on itself around one vertex, as at the
+    // leaves of a net's cut tree) one run ends and its partner begins. Without that
+    // break, a run and its partner would be one run glued to itself: one ID for both
+    // copies, tabs on both.
     let continues = |li: usize, i: usize| {
         let n = loops[li].len();
         let prev = (li, (i + n - 1) % n);
         match (partner.get(&(li, i)), partner.get(&prev)) {
-            (Some(&(pl, pi)), Some(&(ql, qi))) => pl == ql && (pi + 1) % loops[pl].len() == qi,
+            (Some(&p), Some(&(ql, qi))) => p != prev && p.0 == ql && (p.1 + 1) % loops[p.0].len() == qi,
             _ => false,
         }
     };
@@ -136,4 +140,62 @@ pub fn match_seams(mesh: &SheetMesh, loops: &[Vec<u32>], tolerance: f64) -> Vec<
         next_id += 1;
     }
     runs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Vector2, Vector3};
+    use sheetform_mesh::{LengthUnit, Piece, PieceKind};
+
+    /// A cone opened along one ruling: a fan of `n` faces around the apex, laid flat with
+    /// the gap of its angle defect between the first and the last ruling. The cut ruling's
+    /// two copies meet at the apex, one after the other on the outline.
+    fn opened_cone(n: usize) -> SheetMesh {
+        let (radius, height) = (30.0, 40.0);
+        let slant = f64::hypot(radius, height);
+        let mut positions = vec![Vector3::new(0.0, 0.0, height)];
+        let mut flat = vec![Vector2::zeros()];
+        // The flat sector's angle: the circumference over the slant height.
+        let sector = std::f64::consts::TAU * radius / slant;
+        for i in 0..=n {
+            let t = i as f64 / n as f64;
+            let a = std::f64::consts::TAU * t;
+            positions.push(Vector3::new(radius * a.cos(), radius * a.sin(), 0.0));
+            flat.push(Vector2::new((sector * t).cos(), (sector * t).sin()) * slant);
+        }
+        // The last rim point is the first one in 3D.
+        positions[n + 1] = positions[1];
+        SheetMesh {
+            positions,
+            flat,
+            triangles: (0..n as u32).map(|i| [0, i + 1, i + 2]).collect(),
+            face_pieces: vec![0; n],
+            pieces: vec![Piece {
+                name: "cone".into(),
+                kind: PieceKind::Chart,
+            }],
+            rulings: vec![],
+            smooth_edges: vec![],
+            unit: LengthUnit::Mm,
+        }
+    }
+
+    /// Issue 34: the two copies of a cut ruling meet at the apex, consecutive on the
+    /// outline. They are two runs of one seam (sides 0 and 1), not one run glued to
+    /// itself (which printed the ID on one copy and a tab on both).
+    #[test]
+    fn a_seam_folding_back_at_an_apex_is_two_runs() {
+        let mesh = opened_cone(12);
+        let loops = mesh.boundary_loops();
+        assert_eq!(loops.len(), 1);
+        let runs = match_seams(&mesh, &loops, 1e-9);
+        assert_eq!(runs.len(), 2, "{runs:?}");
+        assert_eq!((runs[0].seam, runs[1].seam), (0, 0));
+        assert_eq!((runs[0].edges, runs[1].edges), (1, 1));
+        let mut sides = [runs[0].side, runs[1].side];
+        sides.sort_unstable();
+        assert_eq!(sides, [0, 1]);
+        assert_ne!(runs[0].start, runs[1].start);
+    }
 }

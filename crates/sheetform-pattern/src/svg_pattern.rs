@@ -6,14 +6,16 @@ use sheetform_geometry::xml_escaped as escape;
 
 /// The pattern as SVG at true size: the document is `W mm × H mm` and one user unit is
 /// one millimetre, so it prints and laser-cuts at 1:1. Layers (Inkscape layer groups,
-/// plain `<g id>` for other tools): `cut` (the loops, glue tabs included, red hairline),
-/// `fold` with sub-groups `fold-mountain` (red dash-dot), `fold-valley` (blue dashed;
-/// both with their fold angle as `data-fold-angle-degrees`),
-/// `fold-guide` (bending guides: rulings, grey dotted) and `fold-tab` (tab bases, grey
-/// dotted), `stitch` (the design outline inside a seam allowance, green dashed), `notch`
-/// (cuts into the allowance, red), `grain` (grain lines, grey), `labels` (piece names
-/// and seam IDs), and `sheets` (sheet outlines, when packed). The y axis is flipped so the pattern reads as seen from the sheet's printed
-/// side; `margin_mm` surrounds it.
+/// plain `<g id>` for other tools), side by side and each of one kind of line in a colour
+/// of its own (cutter software that sorts by colour, such as LightBurn or Silhouette
+/// Studio, gets the same layers): `cut` (the loops, glue tabs included, red hairline),
+/// `fold-mountain` (red dash-dot) and `fold-valley` (blue dashed), both with their fold
+/// angle as `data-fold-angle-degrees`, `fold-tab` (the bases of the glue tabs, to score:
+/// teal dotted), `fold-guide` (bending guides, never to score: rulings, grey dotted),
+/// `stitch` (the design outline inside a seam allowance, green dashed), `notch` (cuts
+/// into the allowance, red), `grain` (grain lines, dark grey), `labels` (piece names and
+/// seam IDs), and `sheets` (sheet outlines, when packed). The y axis is flipped so the
+/// pattern reads as seen from the sheet's printed side; `margin_mm` surrounds it.
 pub fn svg_bytes(pattern: &Pattern, title: &str, margin_mm: f64) -> Vec<u8> {
     let (lo, hi) = pattern.bounds();
     let (lo, hi) = if lo.x.is_finite() {
@@ -33,7 +35,7 @@ pub fn svg_bytes(pattern: &Pattern, title: &str, margin_mm: f64) -> Vec<u8> {
     let _ = writeln!(s, "<title>{}</title>", escape(title));
     let _ = writeln!(
         s,
-        "<desc>1 user unit = 1 mm. Layers: cut, fold (mountain, valley, guide, tab), labels, sheets.</desc>"
+        "<desc>1 user unit = 1 mm. Layers: cut, fold-mountain, fold-valley (score), fold-tab (score), fold-guide (draw only), stitch, notch, grain, labels, sheets.</desc>"
     );
     if let Some(texture) = &pattern.texture {
         write_texture(&mut s, pattern, texture, &px, &py);
@@ -46,22 +48,18 @@ pub fn svg_bytes(pattern: &Pattern, title: &str, margin_mm: f64) -> Vec<u8> {
         let _ = writeln!(s, r#"<path d="{}"/>"#, path_data([cycle], &px, &py));
     }
     let _ = writeln!(s, "</g>");
-    let _ = writeln!(
-        s,
-        r#"<g id="fold" inkscape:groupmode="layer" inkscape:label="fold" fill="none" stroke-width="0.1">"#
-    );
     for (style, id, colour, dash) in [
         (FoldStyle::Mountain, "fold-mountain", "#c03030", "3,1,0.6,1"),
         (FoldStyle::Valley, "fold-valley", "#3050c0", "2,1.2"),
+        (FoldStyle::TabBase, "fold-tab", "#108080", "0.6,0.6"),
         (FoldStyle::Guide, "fold-guide", "#9a9a9a", "1,1"),
-        (FoldStyle::TabBase, "fold-tab", "#9a9a9a", "0.6,0.6"),
         (FoldStyle::Stitch, "stitch", "#20a040", "2,1.5"),
         (FoldStyle::Notch, "notch", "#e00000", "none"),
         (FoldStyle::Grain, "grain", "#505050", "none"),
     ] {
         let _ = writeln!(
             s,
-            r#"<g id="{id}" inkscape:groupmode="layer" inkscape:label="{id}" stroke="{colour}" stroke-dasharray="{dash}">"#
+            r#"<g id="{id}" inkscape:groupmode="layer" inkscape:label="{id}" fill="none" stroke-width="0.1" stroke="{colour}" stroke-dasharray="{dash}">"#
         );
         for f in pattern.folds().filter(|f| f.style == style) {
             // Folds carry their dihedral angle (how far to fold), for cutters and readers.
@@ -81,7 +79,6 @@ pub fn svg_bytes(pattern: &Pattern, title: &str, margin_mm: f64) -> Vec<u8> {
         }
         let _ = writeln!(s, "</g>");
     }
-    let _ = writeln!(s, "</g>");
     let _ = writeln!(
         s,
         r##"<g id="labels" inkscape:groupmode="layer" inkscape:label="labels" font-family="Helvetica, Arial, sans-serif" fill="#3050a0" text-anchor="middle" dominant-baseline="middle">"##

@@ -468,8 +468,13 @@ pub struct PatternReport {
     pub piece_count: usize,
     /// Sheets the pieces are packed on (0 when not packed).
     pub sheet_count: usize,
-    /// Seams (pairs of edges glued together), each with an ID printed on both sides.
+    /// Seams (runs of edges glued to a run elsewhere), each with an ID to print on both
+    /// copies.
     pub seam_count: usize,
+    /// Seams whose ID is not printed on both copies (no room off every line on one of
+    /// them, or seam labels turned off), counted from the labels drawn.
+    #[serde(default)]
+    pub seam_id_missing_count: usize,
     /// Mountain folds drawn.
     pub mountain_fold_count: usize,
     /// Valley folds drawn.

@@ -74,7 +74,12 @@ fn every_example_bends_into_an_exact_isometry_with_all_outputs() {
             "{}: svg width {width}",
             scene.display()
         );
-        for layer in ["id=\"cut\"", "id=\"fold\"", "id=\"labels\""] {
+        for layer in [
+            "id=\"cut\"",
+            "id=\"fold-mountain\"",
+            "id=\"fold-guide\"",
+            "id=\"labels\"",
+        ] {
             assert!(svg.contains(layer));
         }
     }

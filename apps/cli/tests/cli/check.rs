@@ -1,13 +1,13 @@
 //! `sheetform check`: developability and topology of meshes, bad mesh files.
 
-use crate::common::{report, shared, sheetform, validate_glb};
+use crate::common::{example_mesh, report, sheetform, validate_glb};
 
 #[test]
 fn check_calls_the_crumpled_sheet_developable_and_measures_its_flattening() {
     let tmp = tempfile::tempdir().unwrap();
     let o = sheetform(&[
         "check",
-        shared("crumpled-developable.obj").to_str().unwrap(),
+        example_mesh("crumpled-developable.obj").to_str().unwrap(),
         "-o",
         tmp.path().to_str().unwrap(),
         "-q",
@@ -35,7 +35,7 @@ fn check_measures_the_wingnut() {
     let tmp = tempfile::tempdir().unwrap();
     let o = sheetform(&[
         "check",
-        shared("wingnut.obj").to_str().unwrap(),
+        example_mesh("wingnut.obj").to_str().unwrap(),
         "-o",
         tmp.path().to_str().unwrap(),
         "-q",
@@ -81,7 +81,7 @@ fn check_rejects_bad_mesh_files_with_the_place() {
     let tmp = tempfile::tempdir().unwrap();
     let o = sheetform(&[
         "check",
-        shared("wingnut.obj").to_str().unwrap(),
+        example_mesh("wingnut.obj").to_str().unwrap(),
         "-o",
         tmp.path().join("o").to_str().unwrap(),
         "--weld=-1",

@@ -112,8 +112,9 @@ pub(crate) fn validate_glb(files: &[PathBuf]) {
     }
 }
 
-pub(crate) fn shared(name: &str) -> PathBuf {
-    repo().join("../shared/testdata").join(name)
+/// A mesh bundled in `examples/meshes` (sources and licences in its SOURCES.md).
+pub(crate) fn example_mesh(name: &str) -> PathBuf {
+    repo().join("examples/meshes").join(name)
 }
 
 /// Cut loops of an SVG pattern (layer `cut`) as point lists (mm, SVG coordinates).
@@ -187,7 +188,7 @@ for p in polys:
 print(json.dumps({"errors": len(auditor.errors), "closed": all(p.closed for p in polys), "count": len(polys),
   "area": area, "width": max(xs) - min(xs), "height": max(ys) - min(ys),
   "layers": sorted(l.dxf.name for l in doc.layers), "insunits": doc.header.get('$INSUNITS', 0),
-  "folds": len([e for e in doc.modelspace().query('LINE') if e.dxf.layer in ('FOLD', 'MOUNTAIN', 'VALLEY')]),
+  "folds": len([e for e in doc.modelspace().query('LINE') if e.dxf.layer in ('GUIDE', 'TAB', 'MOUNTAIN', 'VALLEY')]),
   "mountain": len([e for e in doc.modelspace().query('LINE') if e.dxf.layer == 'MOUNTAIN']),
   "valley": len([e for e in doc.modelspace().query('LINE') if e.dxf.layer == 'VALLEY']),
   "fixes": len(auditor.fixes), "measurement": doc.header.get('$MEASUREMENT', 0),
@@ -351,4 +352,23 @@ pub(crate) fn sheetform_within(args: &[&str], limit_seconds: u64) -> Output {
         stdout: out.join().unwrap(),
         stderr: err.join().unwrap(),
     }
+}
+
+/// The pattern of an output directory as a maker gets it, audited from the files
+/// (`tools/pattern_audit.py`: model.obj, pattern.svg, pattern.dxf read back on their own,
+/// each piece registered onto the printed outline): glued edge pairs and their tabs, seam
+/// IDs on each copy, tab depths and clearances, crossings, labels, DXF layers.
+pub(crate) fn pattern_audit(dir: &Path) -> serde_json::Value {
+    let o = Command::new("python3")
+        .arg(repo().join("tools/pattern_audit.py"))
+        .arg(dir)
+        .output()
+        .expect("python3 runs");
+    assert!(
+        o.status.success(),
+        "the audit could not read {}: {}",
+        dir.display(),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    serde_json::from_slice(&o.stdout).unwrap()
 }

@@ -1,7 +1,7 @@
 //! `sheetform flatten`: exact unfolding, charts, LSCM.
 
 use crate::common::{
-    cut_intersections, ezdxf_cut, obj_isometry_error, read_obj, report, shared, sheetform, svg_cut_loops,
+    cut_intersections, example_mesh, ezdxf_cut, obj_isometry_error, read_obj, report, sheetform, svg_cut_loops,
     svg_labels_over_lines, svg_texts, validate_glb,
 };
 
@@ -10,7 +10,7 @@ fn flatten_unfolds_the_crumpled_sheet_at_least_as_well_as_its_stored_pattern() {
     let tmp = tempfile::tempdir().unwrap();
     let o = sheetform(&[
         "flatten",
-        shared("crumpled-developable.obj").to_str().unwrap(),
+        example_mesh("crumpled-developable.obj").to_str().unwrap(),
         "-o",
         tmp.path().to_str().unwrap(),
         "-q",
@@ -37,7 +37,7 @@ fn flatten_without_charts_refuses_a_closed_mesh_with_the_reason() {
     let out = tmp.path().join("out");
     let o = sheetform(&[
         "flatten",
-        shared("wingnut.obj").to_str().unwrap(),
+        example_mesh("wingnut.obj").to_str().unwrap(),
         "--charts",
         "never",
         "-o",
@@ -54,7 +54,7 @@ fn flatten_cuts_the_wingnut_into_flat_charts_with_seam_ids_tabs_and_sheets() {
     let out = tmp.path().join("out");
     let o = sheetform(&[
         "flatten",
-        shared("wingnut.obj").to_str().unwrap(),
+        example_mesh("wingnut.obj").to_str().unwrap(),
         "--charts",
         "smooth",
         "--scale",

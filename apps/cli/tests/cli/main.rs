@@ -8,6 +8,7 @@ mod check;
 mod common;
 mod ffd;
 mod flatten;
+mod gluing;
 mod nets;
 mod pattern;
 mod photo;

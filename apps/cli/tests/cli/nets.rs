@@ -208,7 +208,7 @@ fn a_pdf_over_the_page_cap_is_refused_with_the_way_out() {
 fn the_wingnut_is_cut_into_charts_rather_than_a_net_of_scraps() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
-    let o = flatten(&crate::common::shared("wingnut.obj"), &out, &[]);
+    let o = flatten(&crate::common::example_mesh("wingnut.obj"), &out, &[]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let r = report(&out);
     assert_eq!(r["layout"], "charts");

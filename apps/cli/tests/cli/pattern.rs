@@ -1,6 +1,6 @@
 //! Pattern outputs read back by outside tools: DXF (ezdxf), PDF (pdftoppm), scales, units, sheets.
 
-use crate::common::{cut_intersections, ezdxf_cut, repo, report, shared, sheetform, svg_cut_loops};
+use crate::common::{cut_intersections, example_mesh, ezdxf_cut, repo, report, sheetform, svg_cut_loops};
 use std::process::Command;
 
 #[test]
@@ -9,7 +9,7 @@ fn a_piece_larger_than_the_sheet_is_named() {
     let out = tmp.path().join("out");
     let o = sheetform(&[
         "flatten",
-        shared("crumpled-developable.obj").to_str().unwrap(),
+        example_mesh("crumpled-developable.obj").to_str().unwrap(),
         "--units",
         "cm",
         "--scale",
@@ -57,7 +57,7 @@ fn patterns_are_readable_and_at_true_scale_in_dxf_and_pdf() {
         "{d}"
     );
     assert!(d["folds"].as_u64().unwrap() > 10);
-    for layer in ["CUT", "FOLD", "LABEL"] {
+    for layer in ["CUT", "GUIDE", "LABEL"] {
         assert!(d["layers"].as_array().unwrap().iter().any(|l| l == layer), "{d}");
     }
     // Outline counter-clockwise, hole clockwise: the signed sum is the sheet's area.

@@ -221,6 +221,7 @@ pub(crate) fn pattern_files(
         piece_count: pattern.pieces.len(),
         sheet_count: pattern.sheets.len(),
         seam_count: pattern.seam_count,
+        seam_id_missing_count: pattern.seam_count - pattern.seams_labelled_on_both_sides(),
         mountain_fold_count: pattern.folds().filter(|f| f.style == FoldStyle::Mountain).count(),
         valley_fold_count: pattern.folds().filter(|f| f.style == FoldStyle::Valley).count(),
         tabs: options.tabs.map(|_| pattern.tabs),

@@ -1,0 +1,151 @@
+//! Issue 34: patterns a maker can glue as printed, checked on the written files by an
+//! outside reader (`tools/pattern_audit.py`), never on the report's own counts; the
+//! report's figures are then compared with what the files show.
+
+use crate::common::{example_mesh, pattern_audit, report, sheetform};
+use serde_json::Value;
+use sheetform::mesh::{primitives, TriangleMesh};
+use std::path::{Path, PathBuf};
+
+fn write_obj(dir: &Path, name: &str, mesh: &TriangleMesh) -> PathBuf {
+    let mut text = String::new();
+    for p in &mesh.positions {
+        text += &format!("v {} {} {}\n", p.x, p.y, p.z);
+    }
+    for t in &mesh.triangles {
+        text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    let path = dir.join(format!("{name}.obj"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn count(v: &Value, key: &str) -> u64 {
+    v[key].as_u64().unwrap_or_else(|| panic!("{key} missing in {v}"))
+}
+
+/// What every pattern with glue tabs must show in its files: one tab per glued edge pair
+/// (none counted by the report as such), tabs no shallower than the stated minimum and
+/// clear of every other cut line, the seam IDs the report says are printed on both copies
+/// found next to both copies, no crossing cut lines, no label over a line or outside its
+/// piece, pieces apart by the clearance, and a DXF layer for each kind of line.
+fn assert_gluable(name: &str, out: &Path) -> (Value, Value) {
+    let r = report(out);
+    let a = pattern_audit(out);
+    let p = &r["pattern"];
+    let tabs = &p["tabs"];
+    assert_eq!(count(&a, "pieces_unregistered"), 0, "{name}: {a}");
+    assert_eq!(
+        count(&a, "pairs_tab_both"),
+        0,
+        "{name}: a pair with a tab on both copies: {a}"
+    );
+    assert_eq!(
+        count(&a, "glued_edge_pairs"),
+        count(tabs, "glued_edge_pair_count"),
+        "{name}: {a} {tabs}"
+    );
+    assert_eq!(
+        count(&a, "pairs_tab_none"),
+        count(tabs, "glued_edge_pairs_without_tab"),
+        "{name}: the report's pairs without a tab are those in the file: {a} {tabs}"
+    );
+    let clearance = tabs["clearance_mm"].as_f64().unwrap();
+    if count(&a, "pairs_tab_one") > 0 {
+        let shallowest = a["tab_depth_min_mm"].as_f64().unwrap();
+        assert!(
+            shallowest >= tabs["depth_min_allowed_mm"].as_f64().unwrap() - 1e-3,
+            "{name}: a sliver of a tab: {a} {tabs}"
+        );
+        assert!(
+            (shallowest - tabs["depth_min_mm"].as_f64().unwrap()).abs() < 1e-3,
+            "{name}: {a} {tabs}"
+        );
+    }
+    assert_eq!(count(&a, "tabs_closer_than_clearance"), 0, "{name}: {a}");
+    if let Some(gap) = a["tab_clearance_min_mm"].as_f64() {
+        assert!(gap >= clearance - 1e-3, "{name}: {a}");
+    }
+    if let Some(gap) = a["piece_gap_min_mm"].as_f64() {
+        assert!(gap >= clearance - 1e-3, "{name}: pieces closer than the clearance: {a}");
+    }
+    // Seam IDs: on both copies as often as the report says, never two different IDs on
+    // one seam's copies, never one ID on more than one seam.
+    assert_eq!(count(&a, "seams"), count(p, "seam_count"), "{name}: {a}");
+    assert_eq!(
+        count(&a, "seams_id_both"),
+        count(p, "seam_count") - count(p, "seam_id_missing_count"),
+        "{name}: {a} {p}"
+    );
+    assert_eq!(count(&a, "seams_id_mismatch"), 0, "{name}: {a}");
+    assert_eq!(count(&a, "seam_ids_reused"), 0, "{name}: {a}");
+    assert_eq!(count(&a, "cut_crossings"), 0, "{name}: {a}");
+    assert_eq!(count(&a, "labels_over_lines"), 0, "{name}: {a}");
+    assert_eq!(count(&a, "labels_outside"), 0, "{name}: {a}");
+    assert_eq!(a["dxf"]["layers_apart"], true, "{name}: {}", a["dxf"]);
+    (r, a)
+}
+
+fn flatten(mesh: &Path, out: &Path, extra: &[&str]) {
+    let mut args = vec!["flatten", mesh.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"];
+    args.extend_from_slice(extra);
+    let o = sheetform(&args);
+    assert!(o.status.success(), "{args:?}: {}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// The nets of the issue's models: every glued pair with one tab (none on both copies),
+/// every seam's ID on both copies, as the files show (the gift box had 4 of its 7 pairs
+/// tabbed on both copies and 4 of its 5 IDs on one copy only).
+#[test]
+fn nets_carry_one_tab_per_glued_pair_and_both_ids() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cases: Vec<(&str, PathBuf, Vec<&str>)> = vec![
+        ("gift-box", example_mesh("gift-box.obj"), vec![]),
+        (
+            "box",
+            write_obj(tmp.path(), "box", &primitives::cuboid([60.0, 40.0, 30.0])),
+            vec![],
+        ),
+        (
+            "icosphere",
+            write_obj(tmp.path(), "icosphere", &primitives::icosphere(50.0, 2)),
+            vec![],
+        ),
+        (
+            "cylinder",
+            write_obj(tmp.path(), "cylinder", &primitives::cylinder(30.0, 80.0, 32, true)),
+            vec![],
+        ),
+        ("bunny", example_mesh("bunny-99.stl"), vec!["--units", "m"]),
+    ];
+    for (name, mesh, extra) in cases {
+        let out = tmp.path().join(format!("{name}-out"));
+        flatten(&mesh, &out, &extra);
+        let (r, a) = assert_gluable(name, &out);
+        assert_eq!(r["layout"], "net", "{name}");
+        // These have room for every ID.
+        assert_eq!(count(&r["pattern"], "seam_id_missing_count"), 0, "{name}: {a}");
+        assert_eq!(count(&a, "seams_id_one_side"), 0, "{name}: {a}");
+        assert!(count(&a, "pairs_tab_one") > 0, "{name}: {a}");
+    }
+}
+
+/// Tabs alternating between the seams' sides, and a user's tab depth: still one per pair.
+#[test]
+fn alternating_and_deep_tabs_stay_one_per_pair() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mesh = example_mesh("gift-box.obj");
+    for (label, extra) in [
+        ("alternate", vec!["--tabs", "alternate"]),
+        ("deep", vec!["--tab-width", "12", "--tab-angle", "60"]),
+    ] {
+        let out = tmp.path().join(label);
+        flatten(&mesh, &out, &extra);
+        let (_, a) = assert_gluable(label, &out);
+        assert_eq!(
+            count(&a, "pairs_tab_one"),
+            count(&a, "glued_edge_pairs"),
+            "{label}: {a}"
+        );
+    }
+}
