@@ -145,11 +145,22 @@ class SegmentIndex:
         return found
 
 
-def register(piece_points, piece_edges, outline, claimed, tolerance=2e-3):
+def register(piece_points, piece_edges, outline, claimed, folds=(), fold_index=None, near=None, tolerance=2e-3):
     """The rigid motions (R, t, outline points landed on) putting every point of the
-    piece on the printed outline, on points no piece registered before has claimed."""
+    piece on the printed outline, on points no piece registered before has claimed, and
+    the middle of every fold edge of the piece (`folds`) on a printed fold line (a piece
+    whose outline is symmetric goes the one way its folds are drawn). With `near`
+    (centre, radius), only the outline within the radius of the centre votes (a piece
+    whose name is printed: it lies around its name)."""
     outline_segments, outline_points, keys, point_index = outline
-    seg = np.array([[a, b] for a, b in outline_segments])
+    voting_segments = outline_segments
+    if near is not None:
+        centre, radius = near
+        close = [ab for ab in outline_segments if np.linalg.norm((ab[0] + ab[1]) / 2 - centre) <= radius]
+        if close:
+            voting_segments = close
+            outline_points = np.array([p for ab in close for p in ab])
+    seg = np.array([[a, b] for a, b in voting_segments])
     seg_len = np.linalg.norm(seg[:, 1] - seg[:, 0], axis=1)
     seg_angle = np.arctan2(seg[:, 1, 1] - seg[:, 0, 1], seg[:, 1, 0] - seg[:, 0, 0])
     order = np.argsort(seg_len)
@@ -162,7 +173,7 @@ def register(piece_points, piece_edges, outline, claimed, tolerance=2e-3):
         for k in order[lo:hi]:
             theta = (seg_angle[k] - math.atan2(d[1], d[0])) % (2 * math.pi)
             votes[round(theta / 1e-4) % round(2 * math.pi / 1e-4)] += 1
-    candidates = [0] + [k for k, _ in votes.most_common(6)]
+    candidates = [0] + [k for k, _ in votes.most_common(8)]
     found = []
     for k in candidates:
         theta = k * 1e-4
@@ -178,9 +189,14 @@ def register(piece_points, piece_edges, outline, claimed, tolerance=2e-3):
         # gets as many votes as the right place).
         order = np.argsort(-counts)
         best = codes[order][counts[order] >= 0.25 * counts.max()][:400]
-        for c in best:
-            c = int(c)
-            t = np.array([(c >> 31) - (1 << 30), (c & ((1 << 31) - 1)) - (1 << 30)]) * tolerance
+        translations = [np.array([(int(c) >> 31) - (1 << 30), (int(c) & ((1 << 31) - 1)) - (1 << 30)]) * tolerance
+                        for c in best]
+        if counts.max() < 3:
+            # Too few of the piece's points are vertices of the printed outline (a small
+            # piece whose sides run on in tabs): every outline point under each of its
+            # points.
+            translations = [q - p for p in turned[:12] for q in outline_points]
+        for t in translations:
             moved = turned + t
             ok = True
             landed = []
@@ -196,6 +212,22 @@ def register(piece_points, piece_edges, outline, claimed, tolerance=2e-3):
                 if not any(point_segment_distance(p, *outline_segments[i]) <= 0.01 for i in near):
                     ok = False
                     break
+            if ok:
+                # The middle of every boundary edge on the outline too (a piece moved by
+                # one face along a row of congruent faces has its points on other
+                # pieces' outlines, its edges across them).
+                for a, b in piece_edges:
+                    m = ((a + b) / 2) @ R.T + t
+                    near = point_index.near(m - 0.01, m + 0.01)
+                    if not any(point_segment_distance(m, *outline_segments[i]) <= 0.01 for i in near):
+                        ok = False
+                        break
+            if ok and fold_index is not None:
+                for m in np.array(list(folds)).reshape(-1, 2) @ R.T + t:
+                    near = fold_index.near(m - 0.01, m + 0.01)
+                    if not any(point_segment_distance(m, *fold_index.segments[i]) <= 0.01 for i in near):
+                        ok = False
+                        break
             if ok:
                 found.append((R, t, landed))
     return found
@@ -255,12 +287,85 @@ def audit(out, clearance):
     placed = {}
     claimed = set()
     unregistered = 0
+    # Without packing, every piece sits where the mesh's layout put it: one translation
+    # (found by a vote over all boundary points) places them all; it is tried first.
+    boundary_points = flat[sorted({t for e in boundary for t in e})]
+    sample = boundary_points[:: max(1, len(boundary_points) // 300)]
+    raw = (outline_points[None, :, :] - sample[:, None, :]).reshape(-1, 2)
+    # Votes in bins of 0.01 mm (the SVG's rounding stays inside one), the winner refined
+    # to the median of its votes.
+    bins = np.round(raw / 0.01).astype(np.int64)
+    code = (bins[:, 0] + (1 << 30)) * (1 << 31) + (bins[:, 1] + (1 << 30))
+    codes, inverse, counts = np.unique(code, return_inverse=True, return_counts=True)
+    shared_t = np.median(raw[inverse.ravel() == np.argmax(counts)], axis=0)
+
+    def on_printed_outline(p):
+        return any(point_segment_distance(p, *outline[0][i]) <= 0.01 for i in outline[3].near(p - 0.01, p + 0.01))
+    # The middles of each piece's fold edges (interior edges folded by more than 2°),
+    # and the printed fold lines.
+    fold_lines = [ab for lid in ("fold-mountain", "fold-valley") for ab in lines.get(lid, [])]
+    fold_index = SegmentIndex(fold_lines, 10.0) if fold_lines else None
+    piece_folds = defaultdict(list)
+    normal = {}
+    for f in faces:
+        a, b, c = (np.array(v[x[0]]) for x in f)
+        n = np.cross(b - a, c - a)
+        normal[tuple(x[1] for x in f)] = n / max(np.linalg.norm(n), 1e-300)
+    face_normal = {}
+    for f in faces:
+        key = tuple(x[1] for x in f)
+        for k in range(3):
+            face_normal[(f[k][1], f[(k + 1) % 3][1])] = normal[key]
+    for (ta, tb), n1 in face_normal.items():
+        n2 = face_normal.get((tb, ta))
+        if n2 is not None and ta < tb and math.degrees(math.acos(max(-1.0, min(1.0, n1 @ n2)))) > 2.0:
+            piece_folds[vt_piece[ta]].append((flat[ta] + flat[tb]) / 2)
+    piece_points = []
     for piece in range(len(piece_of)):
         edges = [(a, b) for a, b in boundary if vt_piece[a] == piece]
         idx = sorted({t for e in edges for t in e})
+        piece_points.append((edges, idx))
+    # The shared translation holds only when it puts every piece on the outline.
+    shared = all(on_printed_outline(flat[i] + shared_t) for _, idx in piece_points for i in idx)
+    ambiguous = []
+
+    def settle(piece, points, idx, motion):
+        R, t, landed = motion
+        claimed.update(landed)
+        # Refined: the mean offset from the moved points to the outline points they
+        # landed on (the vote's bins are coarser than the drawing's rounding).
+        matched = []
+        for p0, p in zip(points, points @ R.T + t):
+            near = outline[3].near(p - 0.01, p + 0.01)
+            ends = [e for i in near for e in outline[0][i] if np.linalg.norm(e - p) <= 0.01]
+            if ends:
+                matched.append((p0, min(ends, key=lambda e: np.linalg.norm(e - p))))
+        if len(matched) >= 2:
+            # The rigid motion fitting them best (Procrustes, no reflection).
+            P, Q = np.array([a for a, _ in matched]), np.array([b for _, b in matched])
+            pc, qc = P.mean(axis=0), Q.mean(axis=0)
+            H = (P - pc).T @ (Q - qc)
+            angle = math.atan2(H[0, 1] - H[1, 0], H[0, 0] + H[1, 1])
+            R = np.array([[math.cos(angle), -math.sin(angle)], [math.sin(angle), math.cos(angle)]])
+            t = qc - pc @ R.T
+        for i in members[piece]:
+            placed[i] = flat[i] @ R.T + t
+    for piece, (edges, idx) in enumerate(piece_points):
         points = flat[idx]
         edge_points = [(flat[a], flat[b]) for a, b in edges]
-        motions = register(points, edge_points, outline, claimed)
+        if shared:
+            motions = [(np.eye(2), shared_t, [tuple(np.round((p + shared_t) / 2e-3).astype(int)) for p in points])]
+        else:
+            # Where the piece's own name is printed, if it is.
+            names = {face_groups[f] for f, face in enumerate(faces) if vt_piece[face[0][1]] == piece}
+            name_at = [t["centre"] for t in texts if t["class"] == "piece" and t["text"] in names]
+            diameter = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
+            motions = []
+            if len(name_at) == 1:
+                motions = register(points, edge_points, outline, claimed, piece_folds[piece], fold_index,
+                                   near=(name_at[0], diameter + 1.0))
+            if not motions:
+                motions = register(points, edge_points, outline, claimed, piece_folds[piece], fold_index)
         if not motions:
             unregistered += 1
             continue
@@ -279,10 +384,32 @@ def audit(out, clearance):
                     if any(inside_triangle(q, *tri) for tri in moved):
                         return True
             return False
-        R, t, landed = next((m for m in motions if named_here(m)), motions[0])
-        claimed.update(landed)
-        for i in members[piece]:
-            placed[i] = flat[i] @ R.T + t
+        named = [m for m in motions if named_here(m)]
+        if named or len(motions) == 1:
+            settle(piece, points, idx, (named or motions)[0])
+        else:
+            ambiguous.append((piece, points, idx, edges, motions))
+    # Congruent pieces with no name printed, last: each where the seam IDs near its edges
+    # agree with those near their partners already placed (for a maker, IDs are what tell
+    # such pieces apart).
+    seam_texts = [t for t in texts if t["class"] == "seam"]
+
+    def ids_near(p, q):
+        m = (p + q) / 2
+        return {t["text"] for t in seam_texts if np.linalg.norm(t["centre"] - m) <= 4 * t["size"] + 2}
+    for piece, points, idx, edges, motions in ambiguous:
+        free = [m for m in motions if not claimed.intersection(m[2])] or motions
+
+        def agreement(motion):
+            R, t, _ = motion
+            spot = {i: flat[i] @ R.T + t for i in idx}
+            score = 0
+            for a, b in edges:
+                other = partner.get((a, b))
+                if other and other[0] in placed and other[1] in placed:
+                    score += bool(ids_near(spot[a], spot[b]) & ids_near(placed[other[0]], placed[other[1]]))
+            return score
+        settle(piece, points, idx, max(free, key=agreement))
     result = {"pieces": len(piece_of), "pieces_unregistered": unregistered, "glued_edge_pairs": len(pairs)}
     if unregistered:
         return result

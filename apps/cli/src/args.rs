@@ -188,8 +188,10 @@ pub(crate) struct PatternArgs {
     /// Angle of the tabs' slanted sides (degrees; 90 = straight tabs).
     #[arg(long, value_name = "DEGREES", default_value_t = 45.0)]
     pub(crate) tab_angle: f64,
-    /// Pack the pieces onto sheets of this size, `WIDTHxHEIGHT` in mm (e.g. 210x297,
-    /// or a4 / letter); writes sheets/sheet-NN.svg and .dxf too.
+    /// Pack the pieces onto sheets of this size, `WIDTHxHEIGHT` in mm (e.g. 600x400 for a
+    /// cutter's bed), or a4 / letter: the paper's printable area when it is the PDF's
+    /// --page, so every sheet prints on one page; a net is cut into pieces that fit, with
+    /// room for their tabs. Writes sheets/sheet-NN.svg and .dxf too.
     #[arg(long, value_name = "WxH", value_parser = parse_sheet)]
     pub(crate) sheet: Option<(f64, f64)>,
     /// Gap between packed pieces and from the sheet's edges (mm, at most 1000).

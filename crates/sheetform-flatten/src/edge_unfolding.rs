@@ -1,9 +1,9 @@
 //! Edge unfolding of a faceted mesh into a net: pieces that are exact copies of the faces,
 //! joined along the edges that are folded, with no piece overlapping itself.
 
+use crate::island_joining::{IslandLimits, Islands, Join};
 use crate::{distortion, Chart, FlattenError, Vec2};
 use rustc_hash::FxHashMap;
-use sheetform_geometry::triangles_overlap;
 use sheetform_mesh::{cut_along_edges, mesh_topology_with_edges, EdgeTable, TriangleMesh};
 use sheetform_solve::SolverInfo;
 use std::cmp::Reverse;
@@ -24,6 +24,17 @@ pub struct NetOptions {
     /// Overlap tests the growth may make over all attempts, and again the merging:
     /// [`MAX_NET_OVERLAP_TESTS`] (the default) at most, larger values count as that.
     pub overlap_tests: usize,
+    /// Cutting clearance (model units): two cut lines of one piece that share no point
+    /// stay this far apart. Default 0 (no overlap only).
+    pub clearance: f64,
+    /// Two cut lines of one piece that share no point but end at the same mesh vertex
+    /// (the sides of a slit beyond its apex, two copies of one seam facing each other)
+    /// stay this far apart (model units): with glue tabs, room for the smallest tab and
+    /// its clearance. Default 0.
+    pub slit_clearance: f64,
+    /// Every piece fits a rectangle of this size (model units), turned as needed
+    /// (`None`, the default: any size).
+    pub sheet: Option<(f64, f64)>,
 }
 
 impl Default for NetOptions {
@@ -32,6 +43,9 @@ impl Default for NetOptions {
             attempts: 12,
             merge_pieces: true,
             overlap_tests: MAX_NET_OVERLAP_TESTS,
+            clearance: 0.0,
+            slit_clearance: 0.0,
+            sheet: None,
         }
     }
 }
@@ -147,7 +161,14 @@ pub fn unfold_net(mesh: &TriangleMesh, options: &NetOptions) -> Result<Net, Flat
     };
     let faces = FaceGeometry::new(mesh, &table);
     let attempts = options.attempts.clamp(1, (MAX_NET_WORK / (nf * variants.len())).max(1));
-    let mut best: Option<(Growth, usize)> = None;
+    let non_negative = |x: f64| if x.is_finite() { x.max(0.0) } else { 0.0 };
+    let limits = IslandLimits {
+        clearance: non_negative(options.clearance),
+        slit_clearance: non_negative(options.slit_clearance),
+        sheet: options.sheet,
+    };
+    // (growth, its variant, pieces before they were joined to each other)
+    let mut best: Option<(Growth, usize, usize)> = None;
     let overlap_tests = options.overlap_tests.min(MAX_NET_OVERLAP_TESTS);
     let mut tests_left = overlap_tests;
     // Seeds tried (fewer than `attempts` when the overlap tests ran out).
@@ -166,24 +187,40 @@ pub fn unfold_net(mesh: &TriangleMesh, options: &NetOptions) -> Result<Net, Flat
         } else {
             (i * nf / attempts) as u32
         };
-        let growth = grow(&faces, &table, variants[variant], seed, &mut tests_left);
-        let better = best.as_ref().is_none_or(|(b, _)| {
+        let mut islands = Islands::new(&faces, &table, limits);
+        // Compact and strip growths take turns (the first seed grows both).
+        let order = if i % 2 == 0 {
+            GrowthOrder::Compact
+        } else {
+            GrowthOrder::Strip
+        };
+        let seed = if i == 1 { faces.central } else { seed };
+        grow(
+            &mut islands,
+            &faces,
+            &table,
+            variants[variant],
+            seed,
+            order,
+            &mut tests_left,
+        );
+        let grown = islands.count();
+        if options.merge_pieces {
+            join_pieces(&mut islands, &faces, &table, variants[variant], &mut tests_left);
+        }
+        let mut growth = islands.into_growth();
+        close_zero_width_slits(&faces, &table, variants[variant], &mut growth);
+        let better = best.as_ref().is_none_or(|(b, _, _)| {
             (growth.piece_count, growth.cut_length(&faces, &table)) < (b.piece_count, b.cut_length(&faces, &table))
         });
-        tracing::debug!(seed, variant, pieces = growth.piece_count, "net attempt");
+        tracing::debug!(seed, variant, grown, pieces = growth.piece_count, "net attempt");
         if better {
-            best = Some((growth, variant));
+            best = Some((growth, variant, grown));
         }
     }
-    let (mut growth, variant) = best.expect("at least one attempt");
+    let (growth, _, grown) = best.expect("at least one attempt");
     let attempts = tried;
-    let forced_cut = variants[variant].to_vec();
-    let before_merge = growth.piece_count;
-    if options.merge_pieces {
-        merge_pieces(&faces, &table, &forced_cut, overlap_tests, &mut growth);
-    }
-    let merged_piece_count = before_merge - growth.piece_count;
-    close_zero_width_slits(&faces, &table, &forced_cut, &mut growth);
+    let merged_piece_count = grown - growth.piece_count;
 
     // The pieces as charts: cut the mesh along every edge not kept.
     let cut: Vec<[u32; 2]> = (0..table.len())
@@ -264,17 +301,17 @@ pub fn unfold_net(mesh: &TriangleMesh, options: &NetOptions) -> Result<Net, Flat
 
 /// Normals closer than this (radians) count as coplanar: such edges are kept first and
 /// are no folds.
-const FLAT_DIHEDRAL: f64 = 1e-6;
+pub(crate) const FLAT_DIHEDRAL: f64 = 1e-6;
 
 /// What the growth needs of every face and edge, computed once.
-struct FaceGeometry<'a> {
-    mesh: &'a TriangleMesh,
+pub(crate) struct FaceGeometry<'a> {
+    pub(crate) mesh: &'a TriangleMesh,
     /// Unsigned angle between the normals of the two faces on each edge (0 on the boundary).
-    dihedral: Vec<f64>,
+    pub(crate) dihedral: Vec<f64>,
     /// Overlap tolerance (model units).
-    tolerance: f64,
+    pub(crate) tolerance: f64,
     /// Grid cell size (model units).
-    cell: f64,
+    pub(crate) cell: f64,
     /// The face nearest the centroid of all faces (the first seed).
     central: u32,
 }
@@ -335,136 +372,23 @@ impl<'a> FaceGeometry<'a> {
     }
 
     /// Face `f` laid flat on its own, corner 0 at the origin, edge 0 along +x.
-    fn alone(&self, f: u32) -> [Vec2; 3] {
+    pub(crate) fn alone(&self, f: u32) -> [Vec2; 3] {
         let length = (self.corner(f, 1) - self.corner(f, 0)).norm();
         self.hinge(f, 0, Vec2::zeros(), Vec2::new(length, 0.0))
     }
 }
 
-/// The faces of each piece in a uniform grid of their flat bounding boxes.
-#[derive(Default)]
-struct OverlapGrid {
-    cells: FxHashMap<(i64, i64), Vec<u32>>,
-    /// Faces too large for the cells (kept out of them, tested by every query).
-    big: Vec<u32>,
-    /// Every face, for queries too large for the cells.
-    all: Vec<u32>,
-}
-
-/// Most grid cells a face is entered in (or a query looks at); larger faces go to the
-/// grid's list of big faces, larger queries scan every face. Bounds the grid's memory and
-/// work on meshes whose faces differ in size by orders of magnitude.
-const MAX_CELLS_PER_FACE: i64 = 256;
-
-impl OverlapGrid {
-    fn range(cell: f64, t: &[Vec2; 3]) -> (i64, i64, i64, i64) {
-        let lo = t[0].inf(&t[1]).inf(&t[2]);
-        let hi = t[0].sup(&t[1]).sup(&t[2]);
-        (
-            (lo.x / cell).floor() as i64,
-            (hi.x / cell).floor() as i64,
-            (lo.y / cell).floor() as i64,
-            (hi.y / cell).floor() as i64,
-        )
-    }
-
-    fn too_many((x0, x1, y0, y1): (i64, i64, i64, i64)) -> bool {
-        (x1 - x0 + 1).saturating_mul(y1 - y0 + 1) > MAX_CELLS_PER_FACE
-    }
-
-    fn insert(&mut self, cell: f64, t: &[Vec2; 3], f: u32) {
-        self.all.push(f);
-        let range = Self::range(cell, t);
-        if Self::too_many(range) {
-            self.big.push(f);
-            return;
-        }
-        let (x0, x1, y0, y1) = range;
-        for x in x0..=x1 {
-            for y in y0..=y1 {
-                self.cells.entry((x, y)).or_default().push(f);
-            }
-        }
-    }
-
-    /// Whether `t` overlaps a face of the grid, each face examined taking one test off
-    /// `tests_left`; [`Overlap::Unsettled`] when they run out first.
-    fn overlaps(
-        &self,
-        cell: f64,
-        t: &[Vec2; 3],
-        flat: &[[Vec2; 3]],
-        tolerance: f64,
-        tests_left: &mut usize,
-    ) -> Overlap {
-        // `Some(found)` per face examined, `None` once the tests are spent.
-        let mut test = |g: &u32, in_box: &dyn Fn(&[Vec2; 3]) -> bool| {
-            if *tests_left == 0 {
-                return None;
-            }
-            *tests_left -= 1;
-            let u = &flat[*g as usize];
-            Some(in_box(u) && triangles_overlap(*t, *u, tolerance))
-        };
-        let anywhere = |_: &[Vec2; 3]| true;
-        let verdict = |found: Option<bool>| match found {
-            None => Some(Overlap::Unsettled),
-            Some(true) => Some(Overlap::Yes),
-            Some(false) => None,
-        };
-        let range = Self::range(cell, t);
-        if Self::too_many(range) {
-            // A large query: every face, after a bounding-box check.
-            let (lo, hi) = (t[0].inf(&t[1]).inf(&t[2]), t[0].sup(&t[1]).sup(&t[2]));
-            let in_box = |u: &[Vec2; 3]| {
-                let (a, b) = (u[0].inf(&u[1]).inf(&u[2]), u[0].sup(&u[1]).sup(&u[2]));
-                a.x <= hi.x && b.x >= lo.x && a.y <= hi.y && b.y >= lo.y
-            };
-            return self
-                .all
-                .iter()
-                .find_map(|g| verdict(test(g, &in_box)))
-                .unwrap_or(Overlap::No);
-        }
-        if let Some(v) = self.big.iter().find_map(|g| verdict(test(g, &anywhere))) {
-            return v;
-        }
-        let (x0, x1, y0, y1) = range;
-        for x in x0..=x1 {
-            for y in y0..=y1 {
-                if let Some(list) = self.cells.get(&(x, y)) {
-                    if let Some(v) = list.iter().find_map(|g| verdict(test(g, &anywhere))) {
-                        return v;
-                    }
-                }
-            }
-        }
-        Overlap::No
-    }
-}
-
-/// What [`OverlapGrid::overlaps`] found.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Overlap {
-    /// The face overlaps none of the grid.
-    No,
-    /// The face overlaps one of the grid.
-    Yes,
-    /// The tests ran out before the answer was known.
-    Unsettled,
-}
-
 /// One growth of a net.
-struct Growth {
+pub(crate) struct Growth {
     /// Flat corners of every face (in its piece's frame).
-    flat: Vec<[Vec2; 3]>,
+    pub(crate) flat: Vec<[Vec2; 3]>,
     /// Piece of every face.
-    piece: Vec<u32>,
+    pub(crate) piece: Vec<u32>,
     /// Edges kept whole (a fold or a flat hinge inside a piece).
-    kept: Vec<bool>,
-    piece_count: usize,
+    pub(crate) kept: Vec<bool>,
+    pub(crate) piece_count: usize,
     /// Placements refused only because the overlap tests ran out.
-    budget_cuts: usize,
+    pub(crate) budget_cuts: usize,
 }
 
 impl Growth {
@@ -483,98 +407,94 @@ impl Growth {
 /// corner starting the edge, face across)`, ordered by the key.
 type HingeCandidate = ((u8, u64), u32, u8, u32);
 
-/// Grows a net from `seed` (step 1 of [`unfold_net`]), each face of a piece examined
-/// against a face being placed taking one test off `tests_left`; once they are spent, a
-/// face is joined only when [`NET_TESTS_PER_FACE_WHEN_SPENT`] tests settle it.
-fn grow(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &[bool], seed: u32, tests_left: &mut usize) -> Growth {
-    let mesh = faces.mesh;
-    let nf = mesh.triangles.len();
-    let mut growth = Growth {
-        flat: vec![[Vec2::zeros(); 3]; nf],
-        piece: vec![u32::MAX; nf],
-        kept: vec![false; table.len()],
-        piece_count: 0,
-        budget_cuts: 0,
-    };
+/// In which order a piece of a net grows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum GrowthOrder {
+    /// Nearest to the seed first: the piece grows as a compact disk (few pieces on convex
+    /// and nearly convex shapes, narrow slits between its arms on curved ones).
+    Compact,
+    /// Newest neighbour first (depth first): the piece grows as a winding strip, every
+    /// vertex on its border, with room between its turns (no narrow slits on curved
+    /// shapes, where a disk has them).
+    Strip,
+}
+
+/// Grows the pieces of a net from `seed` (step 1 of [`unfold_net`]): the edges of a
+/// piece's border wait in a priority queue, coplanar neighbours first, then in `order`;
+/// a popped face not yet in a piece is hinged on ([`Islands::try_join`]), or waits for
+/// another edge or a later piece. A new piece starts from a face that was refused, else
+/// from any face left. Once the overlap tests are spent, a face is joined only when
+/// [`NET_TESTS_PER_FACE_WHEN_SPENT`] tests settle it.
+fn grow(
+    islands: &mut Islands,
+    faces: &FaceGeometry,
+    table: &EdgeTable,
+    forced_cut: &[bool],
+    seed: u32,
+    order: GrowthOrder,
+    tests_left: &mut usize,
+) {
+    let nf = faces.mesh.triangles.len();
+    let mut grown = vec![false; nf];
     let mut refused: Vec<u32> = Vec::new();
     let mut next_any = 0usize;
     let mut start = Some(seed);
     let mut queue: BinaryHeap<Reverse<HingeCandidate>> = BinaryHeap::new();
+    // Candidates pushed so far (the strip order takes the newest first).
+    let mut pushed = 0u64;
     while let Some(s) = start {
-        let p = growth.piece_count as u32;
-        growth.piece_count += 1;
-        let mut grid = OverlapGrid::default();
-        growth.flat[s as usize] = faces.alone(s);
-        growth.piece[s as usize] = p;
-        grid.insert(faces.cell, &growth.flat[s as usize], s);
+        grown[s as usize] = true;
         let centre = |t: &[Vec2; 3]| (t[0] + t[1] + t[2]) / 3.0;
-        let origin = centre(&growth.flat[s as usize]);
-        let push = |f: u32, growth: &Growth, queue: &mut BinaryHeap<_>| {
+        let origin = centre(islands.flat(s));
+        let push = |f: u32, islands: &Islands, grown: &[bool], queue: &mut BinaryHeap<_>, pushed: &mut u64| {
             for k in 0..3 {
                 let e = table.face_edges[f as usize][k];
                 if e == u32::MAX || forced_cut[e as usize] {
                     continue;
                 }
                 if let Some(g) = table.opposite(f as usize, k) {
-                    if growth.piece[g as usize] == u32::MAX {
+                    if !grown[g as usize] {
                         let class = u8::from(faces.dihedral[e as usize] > FLAT_DIHEDRAL);
-                        let t = &growth.flat[f as usize];
+                        let t = islands.flat(f);
                         let middle = (t[k] + t[(k + 1) % 3]) * 0.5;
-                        let distance = (middle - origin).norm();
-                        queue.push(Reverse(((class, distance.to_bits()), f, k as u8, g)));
+                        let d: Vec2 = middle - origin;
+                        let key = match order {
+                            GrowthOrder::Compact => d.norm().to_bits(),
+                            GrowthOrder::Strip => u64::MAX - *pushed,
+                        };
+                        *pushed += 1;
+                        queue.push(Reverse(((class, key), f, k as u8, g)));
                     }
                 }
             }
         };
-        push(s, &growth, &mut queue);
+        push(s, islands, &grown, &mut queue, &mut pushed);
         while let Some(Reverse((_, f, k, g))) = queue.pop() {
-            if growth.piece[g as usize] != u32::MAX {
+            if grown[g as usize] {
                 continue;
             }
-            let k = k as usize;
-            let (a, b) = (mesh.triangles[f as usize][k], mesh.triangles[f as usize][(k + 1) % 3]);
-            // g runs the edge b → a.
-            let Some(j) =
-                (0..3).find(|&j| mesh.triangles[g as usize][j] == b && mesh.triangles[g as usize][(j + 1) % 3] == a)
-            else {
-                continue;
-            };
-            let t = faces.hinge(g, j, growth.flat[f as usize][(k + 1) % 3], growth.flat[f as usize][k]);
+            let e = table.face_edges[f as usize][k as usize] as usize;
             let mut allowance = NET_TESTS_PER_FACE_WHEN_SPENT;
             let budget = if *tests_left > 0 {
                 &mut *tests_left
             } else {
                 &mut allowance
             };
-            match grid.overlaps(faces.cell, &t, &growth.flat, faces.tolerance, budget) {
-                Overlap::No => {}
-                Overlap::Yes => {
-                    refused.push(g);
-                    continue;
+            match islands.try_join(e, budget) {
+                Join::Joined => {
+                    grown[g as usize] = true;
+                    push(g, islands, &grown, &mut queue, &mut pushed);
                 }
-                Overlap::Unsettled => {
-                    growth.budget_cuts += 1;
-                    refused.push(g);
-                    continue;
-                }
+                Join::Refused | Join::Unsettled => refused.push(g),
             }
-            growth.flat[g as usize] = t;
-            growth.piece[g as usize] = p;
-            growth.kept[table.face_edges[f as usize][k] as usize] = true;
-            grid.insert(faces.cell, &t, g);
-            push(g, &growth, &mut queue);
         }
-        start = refused
-            .drain(..)
-            .find(|&f| growth.piece[f as usize] == u32::MAX)
-            .or_else(|| {
-                while next_any < nf && growth.piece[next_any] != u32::MAX {
-                    next_any += 1;
-                }
-                (next_any < nf).then_some(next_any as u32)
-            });
+        start = refused.drain(..).find(|&f| !grown[f as usize]).or_else(|| {
+            while next_any < nf && grown[next_any] {
+                next_any += 1;
+            }
+            (next_any < nf).then_some(next_any as u32)
+        });
     }
-    growth
 }
 
 /// Keeps the cut edges whose two faces lie in one piece with the edge in the same place on
@@ -605,110 +525,47 @@ fn close_zero_width_slits(faces: &FaceGeometry, table: &EdgeTable, forced_cut: &
     }
 }
 
-/// Hinges small pieces onto neighbouring pieces where they fit (step 3 of [`unfold_net`]).
-fn merge_pieces(
+/// Joins the pieces of a grown net to each other where they fit (step 3 of
+/// [`unfold_net`]): the edges cut between two pieces, those of the smallest pieces first
+/// (the single faces and slivers a greedy growth leaves behind), then by dihedral angle,
+/// each tried once ([`Islands::try_join`]: the smaller piece hinged onto the larger), in
+/// passes until one joins nothing; no further join once the overlap tests are spent.
+fn join_pieces(
+    islands: &mut Islands,
     faces: &FaceGeometry,
     table: &EdgeTable,
     forced_cut: &[bool],
-    overlap_tests: usize,
-    growth: &mut Growth,
+    tests_left: &mut usize,
 ) {
-    let mesh = faces.mesh;
-    let nf = mesh.triangles.len();
-    // Work budget: overlap tests in all (estimated before each trial), and the tests
-    // actually made.
-    let mut budget = 20 * MAX_NET_WORK;
-    let mut tests_left = overlap_tests;
     loop {
-        if budget < nf {
+        let mut cut: Vec<usize> = (0..table.len())
+            .filter(|&e| !forced_cut[e] && !islands.is_kept(e))
+            .filter(|&e| match table.sides(e) {
+                [f, g] => islands.island_of(f.face) != islands.island_of(g.face),
+                _ => false,
+            })
+            .collect();
+        let smaller = |e: usize| {
+            let [f, g] = table.sides(e) else { return 0 };
+            islands.size_of(f.face).min(islands.size_of(g.face))
+        };
+        cut.sort_by(|&x, &y| {
+            smaller(x)
+                .cmp(&smaller(y))
+                .then(faces.dihedral[x].total_cmp(&faces.dihedral[y]))
+                .then(x.cmp(&y))
+        });
+        let mut joined = false;
+        for e in cut {
+            if *tests_left == 0 {
+                tracing::warn!("net: the budget of overlap tests for joining pieces is spent");
+                return;
+            }
+            joined |= islands.try_join(e, tests_left) == Join::Joined;
+        }
+        if !joined {
             return;
         }
-        budget -= nf;
-        let mut members: Vec<Vec<u32>> = vec![Vec::new(); growth.piece_count];
-        for f in 0..nf {
-            members[growth.piece[f] as usize].push(f as u32);
-        }
-        let mut order: Vec<usize> = (0..members.len()).collect();
-        order.sort_by_key(|&p| members[p].len());
-        let mut merged = None;
-        'pieces: for &p in &order {
-            for &f in &members[p] {
-                for k in 0..3 {
-                    let e = table.face_edges[f as usize][k];
-                    if e == u32::MAX || forced_cut[e as usize] || growth.kept[e as usize] {
-                        continue;
-                    }
-                    let Some(g) = table.opposite(f as usize, k) else {
-                        continue;
-                    };
-                    let q = growth.piece[g as usize] as usize;
-                    if q == p {
-                        continue;
-                    }
-                    let cost = members[p].len() * 8 + members[q].len();
-                    if budget < cost {
-                        return;
-                    }
-                    budget -= cost;
-                    // Move piece p so that f's edge k lies on g's copy of the edge.
-                    let (a, b) = (mesh.triangles[f as usize][k], mesh.triangles[f as usize][(k + 1) % 3]);
-                    let Some(j) = (0..3)
-                        .find(|&j| mesh.triangles[g as usize][j] == b && mesh.triangles[g as usize][(j + 1) % 3] == a)
-                    else {
-                        continue;
-                    };
-                    let (from_a, from_b) = (growth.flat[f as usize][k], growth.flat[f as usize][(k + 1) % 3]);
-                    let (to_a, to_b) = (growth.flat[g as usize][(j + 1) % 3], growth.flat[g as usize][j]);
-                    let (u, v) = ((from_b - from_a).normalize(), (to_b - to_a).normalize());
-                    let (cos, sin) = (u.dot(&v), u.x * v.y - u.y * v.x);
-                    let motion = |x: Vec2| {
-                        let d = x - from_a;
-                        to_a + Vec2::new(cos * d.x - sin * d.y, sin * d.x + cos * d.y)
-                    };
-                    let mut grid = OverlapGrid::default();
-                    for &h in &members[q] {
-                        grid.insert(faces.cell, &growth.flat[h as usize], h);
-                    }
-                    let moved: Vec<[Vec2; 3]> = members[p]
-                        .iter()
-                        .map(|&h| growth.flat[h as usize].map(motion))
-                        .collect();
-                    let mut fits = true;
-                    for t in &moved {
-                        match grid.overlaps(faces.cell, t, &growth.flat, faces.tolerance, &mut tests_left) {
-                            Overlap::No => {}
-                            Overlap::Yes => {
-                                fits = false;
-                                break;
-                            }
-                            Overlap::Unsettled => {
-                                tracing::warn!("net: the budget of overlap tests for merging pieces is spent");
-                                return;
-                            }
-                        }
-                    }
-                    if !fits {
-                        continue;
-                    }
-                    merged = Some((p, q, e, moved));
-                    break 'pieces;
-                }
-            }
-        }
-        let Some((p, q, e, moved)) = merged else { return };
-        for (&h, t) in members[p].iter().zip(moved) {
-            growth.flat[h as usize] = t;
-            growth.piece[h as usize] = q as u32;
-        }
-        growth.kept[e as usize] = true;
-        // Renumber: the last piece takes p's number.
-        let last = (growth.piece_count - 1) as u32;
-        for x in growth.piece.iter_mut() {
-            if *x == last {
-                *x = p as u32;
-            }
-        }
-        growth.piece_count -= 1;
     }
 }
 

@@ -12,6 +12,7 @@ mod distortion;
 mod edge_unfolding;
 mod error;
 mod exact_unfolding;
+mod island_joining;
 mod layout_choice;
 mod lscm;
 mod shortest_edge_path;

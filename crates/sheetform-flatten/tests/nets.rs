@@ -214,3 +214,53 @@ fn a_fan_of_thin_triangles_unfolds_within_the_budget_of_overlap_tests() {
     };
     assert_eq!(unfold_net(&mesh, &capped).unwrap(), full);
 }
+
+/// Issue 34: with a clearance and a sheet, every piece fits the sheet (turned as needed),
+/// its cut lines that share no point stay the clearance apart, and the two sides of a slit
+/// (cut lines ending at one mesh vertex) the slit clearance; still exact and free of
+/// overlaps, every face in one piece.
+#[test]
+fn nets_keep_their_cut_lines_apart_and_fit_the_sheet() {
+    use sheetform_geometry::{convex_hull, hull_fits_rectangle, segment_distance};
+    let mesh = primitives::icosphere(1.0, 2);
+    let options = NetOptions {
+        clearance: 0.02,
+        slit_clearance: 0.06,
+        sheet: Some((1.6, 1.1)),
+        ..NetOptions::default()
+    };
+    let net = unfold_net(&mesh, &options).unwrap();
+    assert_exact_and_overlap_free(&mesh, &net);
+    let free = unfold_net(&mesh, &NetOptions::default()).unwrap();
+    assert!(net.pieces.len() > free.pieces.len(), "the limits cost pieces here");
+    for piece in &net.pieces {
+        assert!(hull_fits_rectangle(&convex_hull(piece.flat.clone()), 1.6, 1.1));
+        // The piece's cut lines: edges of one face of the piece.
+        let mut count = std::collections::HashMap::new();
+        for t in &piece.triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+        let cut: Vec<(u32, u32)> = count.into_iter().filter(|&(_, n)| n == 1).map(|(e, _)| e).collect();
+        for (i, &(a, b)) in cut.iter().enumerate() {
+            for &(c, d) in &cut[i + 1..] {
+                let p = |v: u32| piece.flat[v as usize];
+                let share = [a, b]
+                    .iter()
+                    .any(|&x| [c, d].iter().any(|&y| (p(x) - p(y)).norm() < 1e-9));
+                if share {
+                    continue;
+                }
+                let vertex = |v: u32| piece.vertices[v as usize];
+                let slit = [a, b]
+                    .iter()
+                    .any(|&x| [c, d].contains(&x) || [vertex(c), vertex(d)].contains(&vertex(x)));
+                let distance = segment_distance([p(a), p(b)], [p(c), p(d)]);
+                let need = if slit { 0.06 } else { 0.02 };
+                assert!(distance >= need - 1e-9, "{distance} < {need} (slit: {slit})");
+            }
+        }
+    }
+}

@@ -117,6 +117,106 @@ pub fn rings_contain<'a>(rings: impl IntoIterator<Item = &'a [Vec2]>, p: Vec2) -
         == 1
 }
 
+/// The shortest distance between the closed segments `[a, b]` and `[c, d]` (0 when they
+/// meet), by `geo`'s Euclidean distance between lines.
+pub fn segment_distance([a, b]: [Vec2; 2], [c, d]: [Vec2; 2]) -> f64 {
+    use geo::{Distance, Euclidean, Line};
+    Euclidean.distance(
+        &Line::new(geo::coord! { x: a.x, y: a.y }, geo::coord! { x: b.x, y: b.y }),
+        &Line::new(geo::coord! { x: c.x, y: c.y }, geo::coord! { x: d.x, y: d.y }),
+    )
+}
+
+/// Convex hull of points, counter-clockwise without collinear points (Andrew's monotone
+/// chain, O(n log n)); fewer than three distinct points come back as they are (sorted).
+pub fn convex_hull(mut points: Vec<Vec2>) -> Vec<Vec2> {
+    points.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    points.dedup();
+    if points.len() < 3 {
+        return points;
+    }
+    let turn = |o: Vec2, a: Vec2, b: Vec2| cross(a - o, b - o);
+    let mut hull: Vec<Vec2> = Vec::with_capacity(points.len() * 2);
+    for pass in 0..2 {
+        let start = hull.len();
+        let iter: Box<dyn Iterator<Item = &Vec2>> = if pass == 0 {
+            Box::new(points.iter())
+        } else {
+            Box::new(points.iter().rev())
+        };
+        for &p in iter {
+            while hull.len() >= start + 2 && turn(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0 {
+                hull.pop();
+            }
+            hull.push(p);
+        }
+        hull.pop();
+    }
+    hull
+}
+
+/// Whether a convex polygon (counter-clockwise) fits in a `width × height` rectangle,
+/// turned as [`fitting_rotation`] turns it.
+pub fn hull_fits_rectangle(hull: &[Vec2], width: f64, height: f64) -> bool {
+    fitting_rotation(hull, width, height).is_some()
+}
+
+/// Turns [`fitting_rotation`] tries besides the hull's edges: every half degree of a
+/// quarter turn (with each turned a further quarter turn, every half degree of a half
+/// turn).
+const FIT_ANGLE_STEPS: usize = 180;
+
+/// A rotation (radians, counter-clockwise) that turns a convex polygon (or any points:
+/// every point is measured) into a
+/// `width × height` rectangle, and the size of its bounding box then (within `width ×
+/// height`): of the turns that lay one of its edges along the rectangle's sides (where
+/// the smallest bounding rectangles lie) or any multiple of half a degree, either way
+/// round, the one of the smallest bounding box. A polygon that fits only between those
+/// angles (within a hair of the rectangle) is refused. `None` when none fits.
+pub fn fitting_rotation(hull: &[Vec2], width: f64, height: f64) -> Option<(f64, Vec2)> {
+    let size_along = |u: Vec2| {
+        let normal = Vec2::new(-u.y, u.x);
+        let (mut a0, mut a1, mut b0, mut b1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+        for p in hull {
+            let (a, b) = (p.dot(&u), p.dot(&normal));
+            (a0, a1, b0, b1) = (a0.min(a), a1.max(a), b0.min(b), b1.max(b));
+        }
+        Vec2::new(a1 - a0, b1 - b0)
+    };
+    if hull.is_empty() {
+        return Some((0.0, Vec2::zeros()));
+    }
+    let n = hull.len();
+    let directions = (0..FIT_ANGLE_STEPS)
+        .map(|k| {
+            let a = std::f64::consts::FRAC_PI_2 * k as f64 / FIT_ANGLE_STEPS as f64;
+            Vec2::new(a.cos(), a.sin())
+        })
+        .chain((0..n).filter_map(|i| {
+            let e = hull[(i + 1) % n] - hull[i];
+            // (hypot: no overflow for a hull far from the origin or huge.)
+            let length = e.x.hypot(e.y);
+            let u = e / length;
+            (length > 0.0 && u.x.is_finite() && u.y.is_finite()).then_some(u)
+        }));
+    let mut best: Option<(f64, Vec2)> = None;
+    for u in directions {
+        let size = size_along(u);
+        // Turning by −angle(u) lays u along +x; a further quarter turn swaps the sides.
+        let angle = -u.y.atan2(u.x);
+        for (turn, s) in [
+            (angle, size),
+            (angle + std::f64::consts::FRAC_PI_2, Vec2::new(size.y, size.x)),
+        ] {
+            let fits = s.x <= width * (1.0 + 1e-12) && s.y <= height * (1.0 + 1e-12);
+            if fits && best.is_none_or(|(_, b)| s.x * s.y < b.x * b.y) {
+                best = Some((turn, s));
+            }
+        }
+    }
+    best
+}
+
 fn cross(a: Vec2, b: Vec2) -> f64 {
     a.x * b.y - a.y * b.x
 }
@@ -543,5 +643,27 @@ mod tests {
             1e-3
         ));
         assert!(triangles_overlap(t, [v(0.9, 0.0), v(2.0, 0.0), v(2.0, 1.0)], 1e-3));
+    }
+}
+
+#[cfg(test)]
+mod hull_tests {
+    use super::*;
+
+    #[test]
+    fn a_hull_fits_a_rectangle_either_way_round_and_turned() {
+        let v = Vec2::new;
+        let hull = convex_hull(vec![v(0.0, 0.0), v(4.0, 0.0), v(4.0, 1.0), v(0.0, 1.0), v(2.0, 0.5)]);
+        assert_eq!(hull.len(), 4, "the inner point is not on the hull: {hull:?}");
+        assert!(hull_fits_rectangle(&hull, 4.0, 1.0));
+        assert!(hull_fits_rectangle(&hull, 1.0, 4.0));
+        assert!(!hull_fits_rectangle(&hull, 3.9, 1.1));
+        // A 4 × 1 bar turned by 30°: its axis-aligned box is 3.96 × 2.87, but turned back
+        // onto its edge it fits 4 × 1.
+        let (s, c) = 30f64.to_radians().sin_cos();
+        let turned: Vec<Vec2> = hull.iter().map(|p| v(c * p.x - s * p.y, s * p.x + c * p.y)).collect();
+        assert!(hull_fits_rectangle(&convex_hull(turned), 1.0, 4.0));
+        assert!(segment_distance([v(0.0, 0.0), v(1.0, 0.0)], [v(0.5, 2.0), v(0.5, 1.0)]) == 1.0);
+        assert!(segment_distance([v(0.0, 0.0), v(1.0, 0.0)], [v(0.5, -1.0), v(0.5, 1.0)]) == 0.0);
     }
 }

@@ -4,10 +4,9 @@
 use crate::pattern::{Fold, FoldStyle};
 use crate::seam_matching::SeamRun;
 use crate::{PatternError, Vec2};
-use geo::{Distance, Euclidean, Line};
 use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{RTree, AABB};
-use sheetform_geometry::{cross2, segments_cross, short_number};
+use sheetform_geometry::{cross2, segment_distance, segments_cross, short_number};
 
 /// Which side of a seam carries the tabs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -123,13 +122,6 @@ type IndexedLoopEdge = GeomWithData<Rectangle<[f64; 2]>, (usize, usize)>;
 fn indexed(a: Vec2, b: Vec2) -> IndexedSegment {
     let (lo, hi) = (a.inf(&b), a.sup(&b));
     GeomWithData::new(Rectangle::from_corners([lo.x, lo.y], [hi.x, hi.y]), [a, b])
-}
-
-fn segment_distance([a, b]: [Vec2; 2], [c, d]: [Vec2; 2]) -> f64 {
-    Euclidean.distance(
-        &Line::new(geo::coord! { x: a.x, y: a.y }, geo::coord! { x: b.x, y: b.y }),
-        &Line::new(geo::coord! { x: c.x, y: c.y }, geo::coord! { x: d.x, y: d.y }),
-    )
 }
 
 /// Whether the quadrilateral `q` (convex or a triangle with a repeated point) holds `p`

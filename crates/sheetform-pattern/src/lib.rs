@@ -19,7 +19,9 @@ mod svg_pattern;
 pub use bend_allowance::{BendAllowance, BendGeometry, MaterialSide, MAX_BEND_DEGREES, MAX_THICKNESS_MM};
 pub use dxf_pattern::{dxf_bytes, DxfUnit};
 pub use error::PatternError;
-pub use glue_tabs::{add_glue_tabs, TabOptions, TabReport, TabSides, TabbedLoops};
+pub use glue_tabs::{
+    add_glue_tabs, TabOptions, TabReport, TabSides, TabbedLoops, DEFAULT_CUT_CLEARANCE_MM, DEFAULT_MIN_TAB_FRACTION,
+};
 pub use material_allowance::{MaterialAllowance, MAX_ALLOWANCE_MM};
 pub use pattern::{
     pattern_from_mesh, point_bounds, signed_fold_angle, Fold, FoldStyle, Label, LabelKind, Pattern, PatternOptions,

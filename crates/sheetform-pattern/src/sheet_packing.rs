@@ -64,33 +64,6 @@ pub fn rotated(p: Vec2, angle: f64) -> Vec2 {
     Vec2::new(c * p.x - s * p.y, s * p.x + c * p.y)
 }
 
-/// Convex hull (counter-clockwise, Andrew's monotone chain).
-fn convex_hull(mut points: Vec<Vec2>) -> Vec<Vec2> {
-    points.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
-    points.dedup();
-    if points.len() < 3 {
-        return points;
-    }
-    let cross = |o: Vec2, a: Vec2, b: Vec2| (a - o).x * (b - o).y - (a - o).y * (b - o).x;
-    let mut hull: Vec<Vec2> = Vec::with_capacity(points.len() * 2);
-    for pass in 0..2 {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &Vec2>> = if pass == 0 {
-            Box::new(points.iter())
-        } else {
-            Box::new(points.iter().rev())
-        };
-        for &p in iter {
-            while hull.len() >= start + 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0 {
-                hull.pop();
-            }
-            hull.push(p);
-        }
-        hull.pop();
-    }
-    hull
-}
-
 /// The rotation (radians) that gives the smallest-area axis-aligned bounding rectangle
 /// (one hull edge lies on the rectangle), turned a further quarter turn when needed so
 /// the rectangle is at least as wide as high; and that rectangle's size.
@@ -103,7 +76,7 @@ fn convex_hull(mut points: Vec<Vec2>) -> Vec<Vec2> {
 /// are measured in time linear in the hull (after the hull's O(n log n)); the chosen
 /// rectangle is measured again by turning the hull.
 pub fn smallest_bounding_rotation(points: &[Vec2]) -> (f64, Vec2) {
-    let hull = convex_hull(points.to_vec());
+    let hull = sheetform_geometry::convex_hull(points.to_vec());
     let size_at = |angle: f64| {
         let turned: Vec<Vec2> = hull.iter().map(|&p| rotated(p, angle)).collect();
         let (lo, hi) = crate::point_bounds(&turned);
@@ -260,7 +233,8 @@ pub fn arrange_in_rows(sizes: &[Vec2], row_width: f64, gap: f64) -> Vec<Vec2> {
 
 /// Packs the pieces onto as few sheets as a shelf packer finds: each piece is turned to
 /// its smallest bounding rectangle (landscape), turned upright instead when only that
-/// fits, then placed first-fit on shelves in order of decreasing height (FFDH), with
+/// fits, or to another of its hull's edges when only that fits
+/// ([`sheetform_geometry::fitting_rotation`]), then placed first-fit on shelves in order of decreasing height (FFDH), with
 /// `gap_mm` between pieces and from the sheet's edges. Sheets are drawn side by side
 /// 20 mm apart; [`Pattern::sheet_pattern`] extracts one.
 ///
@@ -296,10 +270,19 @@ pub fn pack_pieces(pattern: &mut Pattern, options: &SheetOptions) -> Result<(), 
         let points: Vec<Vec2> = piece.cut.iter().flatten().copied().collect();
         let (angle, size) = smallest_bounding_rotation(&points);
         let fits = |s: Vec2| s.x <= usable_w + 1e-9 && s.y <= usable_h + 1e-9;
+        let turned_to_fit = || {
+            // (A hull that rounding folds up, at absurd sizes, is measured by every point.)
+            let hull = sheetform_geometry::convex_hull(points.clone());
+            sheetform_geometry::fitting_rotation(if hull.len() >= 3 { &hull } else { &points }, usable_w, usable_h)
+        };
         let (angle, size) = if fits(size) {
             (angle, size)
         } else if fits(Vec2::new(size.y, size.x)) {
             (angle + std::f64::consts::FRAC_PI_2, Vec2::new(size.y, size.x))
+        } else if let Some(turn) = turned_to_fit() {
+            // Fits only at another angle than its smallest rectangle's (a long bent
+            // strip: lying along the sheet's diagonal side by side with its bend).
+            turn
         } else {
             return Err(PatternError::PieceTooLarge {
                 piece: piece.name.clone(),
@@ -365,6 +348,7 @@ pub fn pack_pieces(pattern: &mut Pattern, options: &SheetOptions) -> Result<(), 
 mod tests {
     use super::*;
     use crate::PatternPiece;
+    use sheetform_geometry::convex_hull;
 
     fn square(name: &str, side: f64, turn: f64) -> PatternPiece {
         let (s, c) = turn.sin_cos();

@@ -98,28 +98,29 @@ fn flatten(mesh: &Path, out: &Path, extra: &[&str]) {
 /// tabbed on both copies and 4 of its 5 IDs on one copy only).
 #[test]
 fn nets_carry_one_tab_per_glued_pair_and_both_ids() {
-    let tmp = tempfile::tempdir().unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let tmp = dir.path();
     let cases: Vec<(&str, PathBuf, Vec<&str>)> = vec![
         ("gift-box", example_mesh("gift-box.obj"), vec![]),
         (
             "box",
-            write_obj(tmp.path(), "box", &primitives::cuboid([60.0, 40.0, 30.0])),
+            write_obj(tmp, "box", &primitives::cuboid([60.0, 40.0, 30.0])),
             vec![],
         ),
         (
             "icosphere",
-            write_obj(tmp.path(), "icosphere", &primitives::icosphere(50.0, 2)),
+            write_obj(tmp, "icosphere", &primitives::icosphere(50.0, 2)),
             vec![],
         ),
         (
             "cylinder",
-            write_obj(tmp.path(), "cylinder", &primitives::cylinder(30.0, 80.0, 32, true)),
+            write_obj(tmp, "cylinder", &primitives::cylinder(30.0, 80.0, 32, true)),
             vec![],
         ),
         ("bunny", example_mesh("bunny-99.stl"), vec!["--units", "m"]),
     ];
     for (name, mesh, extra) in cases {
-        let out = tmp.path().join(format!("{name}-out"));
+        let out = tmp.join(format!("{name}-out"));
         flatten(&mesh, &out, &extra);
         let (r, a) = assert_gluable(name, &out);
         assert_eq!(r["layout"], "net", "{name}");
@@ -147,5 +148,56 @@ fn alternating_and_deep_tabs_stay_one_per_pair() {
             count(&a, "glued_edge_pairs"),
             "{label}: {a}"
         );
+    }
+}
+
+/// `--sheet a4`: a net too large for a page (the icosphere's was one 290 × 281 mm star)
+/// is cut into pieces that each fit the printable area of an A4 page with their tabs,
+/// packed one sheet per page; still one tab per glued pair and both IDs, read from the
+/// packed files (each piece found turned and moved on its sheet).
+#[test]
+fn a_net_is_cut_to_fit_the_sheet_and_printed_one_sheet_a_page() {
+    let dir = tempfile::tempdir().unwrap();
+    let tmp = dir.path();
+    let cases: Vec<(&str, PathBuf, Vec<&str>)> = vec![
+        (
+            "icosphere",
+            write_obj(tmp, "icosphere", &primitives::icosphere(50.0, 2)),
+            vec!["--sheet", "a4"],
+        ),
+        (
+            "bunny",
+            example_mesh("bunny-99.stl"),
+            vec!["--units", "m", "--sheet", "a4"],
+        ),
+    ];
+    for (name, mesh, extra) in cases {
+        let out = tmp.join(format!("{name}-a4"));
+        flatten(&mesh, &out, &extra);
+        let (r, a) = assert_gluable(name, &out);
+        let p = &r["pattern"];
+        assert_eq!(r["layout"], "net", "{name}");
+        assert_eq!(count(&a, "pairs_tab_none"), 0, "{name}: {a}");
+        assert!(count(p, "sheet_count") >= 1, "{name}");
+        assert_eq!(
+            count(p, "page_count"),
+            count(p, "sheet_count"),
+            "{name}: one page a sheet"
+        );
+        // Every sheet's cut lines inside the printable area of A4 (186 × 261 mm).
+        for sheet in 1..=count(p, "sheet_count") {
+            let svg = std::fs::read_to_string(out.join(format!("sheets/sheet-{sheet:02}.svg"))).unwrap();
+            let loops = crate::common::svg_cut_loops(&svg);
+            let (lo, hi) = loops
+                .iter()
+                .flatten()
+                .fold(([f64::MAX; 2], [f64::MIN; 2]), |(lo, hi), p| {
+                    ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
+                });
+            assert!(
+                hi[0] - lo[0] <= 186.0 && hi[1] - lo[1] <= 261.0,
+                "{name} sheet {sheet}: {lo:?} {hi:?}"
+            );
+        }
     }
 }

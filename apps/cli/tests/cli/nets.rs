@@ -34,18 +34,22 @@ fn flatten(mesh: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
 
 /// Faceted models become nets: exact (every OBJ `vt` edge equal to its 3D edge), in the
 /// piece counts of the papercraft tools for a box (one cross), a cylinder and a cone with
-/// their caps, a hemisphere, a handful for an icosphere; cut outlines (glue tabs
-/// included) that touch nowhere; DXF read by ezdxf without repairs; a valid GLB.
+/// their caps; on finely faceted curved shapes (icosphere, hemisphere, torus) pieces that
+/// each fit an A4 page and leave room for a glue tab on one copy of every glued pair
+/// (issue 34: a one-piece star's narrow slits had none), so more of them, and no more
+/// than a tenth of the pairs without a tab (edges too short near a pole, corners too
+/// tight); cut outlines (glue tabs included) that touch nowhere; DXF read by ezdxf
+/// without repairs; a valid GLB.
 #[test]
 fn faceted_models_unfold_into_exact_nets_in_few_pieces() {
     let tmp = tempfile::tempdir().unwrap();
     let cases = [
         ("box", primitives::cuboid([40.0, 60.0, 80.0]), 1),
-        ("icosphere", primitives::icosphere(50.0, 2), 5),
+        ("icosphere", primitives::icosphere(50.0, 2), 24),
         ("cylinder", primitives::cylinder(30.0, 80.0, 32, true), 1),
         ("cone", primitives::cone(30.0, 80.0, 32, true), 1),
-        ("hemisphere", primitives::hemisphere(50.0, 8, 32), 1),
-        ("torus", primitives::torus(60.0, 20.0, 32, 16), 25),
+        ("hemisphere", primitives::hemisphere(50.0, 8, 32), 22),
+        ("torus", primitives::torus(60.0, 20.0, 32, 16), 50),
     ];
     for (name, mesh, most) in cases {
         let path = write_obj(tmp.path(), name, &mesh);
@@ -61,7 +65,17 @@ fn faceted_models_unfold_into_exact_nets_in_few_pieces() {
         assert!(r["isometry_error_max_relative"].as_f64().unwrap() <= 1e-10, "{name}");
         assert!(obj_isometry_error(&read_obj(&out.join("model.obj"))) <= 1e-10, "{name}");
         // Glue tabs by default on a net, and outlines that cross nowhere.
-        assert!(r["pattern"]["tabs"]["placed"].as_u64().unwrap() > 0, "{name}");
+        let tabs = &r["pattern"]["tabs"];
+        assert!(tabs["placed"].as_u64().unwrap() > 0, "{name}");
+        let (pairs, untabbed) = (
+            tabs["glued_edge_pair_count"].as_u64().unwrap(),
+            tabs["glued_edge_pairs_without_tab"].as_u64().unwrap(),
+        );
+        if matches!(name, "box" | "icosphere" | "cylinder" | "cone") {
+            assert_eq!(untabbed, 0, "{name}: {tabs}");
+        } else {
+            assert!(untabbed * 10 <= pairs, "{name}: {tabs}");
+        }
         let svg = std::fs::read_to_string(out.join("pattern.svg")).unwrap();
         let loops = svg_cut_loops(&svg);
         assert_eq!(loops.len(), pieces, "{name}");
@@ -291,7 +305,8 @@ fn a_sheet_metal_box_unfolds_with_its_bend_deductions() {
         let r = report(&out);
         let (loops, _) = bounds(&out);
         // Zero-width slits of the net (cut edges whose two sides lie on each other) stay
-        // cut lines of their own; every other loop outlines a piece (no holes).
+        // cut lines of their own; every other loop outlines a piece or a hole in one (a
+        // strip of faces closing around a pole): one outer outline per piece.
         let area = |l: &Vec<[f64; 2]>| {
             (0..l.len())
                 .map(|i| {
@@ -302,11 +317,22 @@ fn a_sheet_metal_box_unfolds_with_its_bend_deductions() {
                 / 2.0
         };
         let outlines: Vec<Vec<[f64; 2]>> = loops.into_iter().filter(|l| area(l).abs() > 1e-6).collect();
-        assert_eq!(
-            outlines.len(),
-            r["net"]["piece_count"].as_u64().unwrap() as usize,
-            "{name}"
-        );
+        let inside = |p: [f64; 2], l: &Vec<[f64; 2]>| {
+            let mut crossings = 0;
+            for i in 0..l.len() {
+                let (a, b) = (l[i], l[(i + 1) % l.len()]);
+                if (a[1] > p[1]) != (b[1] > p[1]) && p[0] < a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]) {
+                    crossings += 1;
+                }
+            }
+            crossings % 2 == 1
+        };
+        let outer = outlines
+            .iter()
+            .enumerate()
+            .filter(|(i, l)| !outlines.iter().enumerate().any(|(j, m)| j != *i && inside(l[0], m)))
+            .count();
+        assert_eq!(outer, r["net"]["piece_count"].as_u64().unwrap() as usize, "{name}");
         assert_eq!(cut_intersections(&outlines), 0, "{name}");
         assert_eq!(
             r["pattern"]["bend_allowance"]["bend_count"], r["net"]["fold_edge_count"],

@@ -14,7 +14,9 @@ type Vec2 = nalgebra::Vector2<f64>;
 use super::check::{mesh_name, weld_input};
 use super::context::RunContext;
 use super::error::{Outcome, PipelineError};
-use super::outputs::{output_names, pattern_files, PatternOutputOptions, SMOOTH_PANEL_BEND_DEGREES};
+use super::outputs::{
+    output_names, pattern_files, PatternOutputOptions, PAGE_PACKING_GAP_MM, SMOOTH_PANEL_BEND_DEGREES,
+};
 use super::sheet_report::{angle_defects, chart_report, DEFAULT_ANGLE_TOLERANCE};
 use std::time::Instant;
 
@@ -176,11 +178,19 @@ pub fn run_flatten(
     let (mut net, mut chart_set) = (None, None);
     if layout == Layout::Net {
         context.progress("unfolding a net", 0.2);
-        let unfolded = unfold_net(&mesh, &options.net_options)?;
+        let net_options = net_limits(options);
+        let unfolded = unfold_net(&mesh, &net_options)?;
         if options.charts == ChartMode::Auto && unfolded.pieces.len() > AUTO_NET_HANDFUL {
             context.check_cancelled()?;
             let set = cut_into_charts(&mesh, &options.chart_options)?;
-            if 2 * set.charts.len() < unfolded.pieces.len() {
+            // (Charts are not cut to fit a sheet or page: they are taken only when each
+            // fits, as every piece of the net does.)
+            let fit = |chart: &Chart| {
+                net_options.sheet.is_none_or(|(w, h)| {
+                    sheetform_geometry::hull_fits_rectangle(&sheetform_geometry::convex_hull(chart.flat.clone()), w, h)
+                })
+            };
+            if 2 * set.charts.len() < unfolded.pieces.len() && set.charts.iter().all(fit) {
                 reason = format!(
                     "{reason}; but the net needs {} pieces and smooth charts within the distortion bound {}: cut into charts",
                     unfolded.pieces.len(),
@@ -360,6 +370,43 @@ pub fn run_flatten(
         files,
         report,
     })
+}
+
+/// The net options with the limits the pattern sets, in model units: the cutting
+/// clearance between cut lines; between the sides of a slit (a seam facing its own other
+/// copy), room for the smallest glue tab and its clearance when tabs are on; and pieces
+/// that fit a sheet's printable area (inside the gap at its edges), or without sheets a
+/// page of the PDF (so that each prints whole), with room for the tabs and allowances
+/// around them.
+fn net_limits(options: &FlattenOptions) -> NetOptions {
+    let pattern = &options.pattern;
+    let model_mm = options.unit.millimetres() * pattern.scale;
+    let tabs = pattern.tabs.or(options.net_tabs);
+    let clearance_mm = tabs.map_or(sheetform_pattern::DEFAULT_CUT_CLEARANCE_MM, |t| t.clearance_mm);
+    let slit_mm = tabs.map_or(clearance_mm, |t| t.width_mm * t.min_width_fraction + t.clearance_mm);
+    let around_mm =
+        2.0 * (tabs.map_or(0.0, |t| t.width_mm) + pattern.allowance.seam_allowance_mm + pattern.allowance.kerf_mm);
+    let (width_mm, height_mm) = match pattern.packing_sheet() {
+        Some(s) => (s.width_mm - 2.0 * s.gap_mm, s.height_mm - 2.0 * s.gap_mm),
+        None => {
+            let (w, h) = sheetform_pattern::PdfOptions {
+                page: pattern.page,
+                ..Default::default()
+            }
+            .printable_area();
+            (w - 2.0 * PAGE_PACKING_GAP_MM, h - 2.0 * PAGE_PACKING_GAP_MM)
+        }
+    };
+    let sheet = (
+        ((width_mm - around_mm) / model_mm).max(0.0),
+        ((height_mm - around_mm) / model_mm).max(0.0),
+    );
+    NetOptions {
+        clearance: options.net_options.clearance.max(clearance_mm / model_mm),
+        slit_clearance: options.net_options.slit_clearance.max(slit_mm / model_mm),
+        sheet: options.net_options.sheet.or(Some(sheet)),
+        ..options.net_options
+    }
 }
 
 /// The mesh vertex each vertex of [`sheet_from_charts`]'s sheet is a copy of.

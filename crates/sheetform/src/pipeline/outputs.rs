@@ -55,6 +55,32 @@ pub struct PatternOutputOptions {
 }
 
 impl PatternOutputOptions {
+    /// The sheets the pieces are packed on: those asked for, except that a sheet the size
+    /// of the PDF's paper (`--sheet a4` with the A4 page) is that paper's printable area
+    /// (inside the PDF's margins and above its scale bar), so that every sheet prints on
+    /// one page at true scale.
+    pub fn packing_sheet(&self) -> Option<SheetOptions> {
+        let sheet = self.sheet?;
+        let (pw, ph) = self.page.millimetres();
+        let same = |a: f64, b: f64| (a - b).abs() <= 0.5;
+        let paper = (same(sheet.width_mm, pw) && same(sheet.height_mm, ph))
+            || (same(sheet.width_mm, ph) && same(sheet.height_mm, pw));
+        if !paper {
+            return Some(sheet);
+        }
+        let (w, h) = PdfOptions {
+            page: self.page,
+            ..Default::default()
+        }
+        .printable_area();
+        let landscape = sheet.width_mm > sheet.height_mm;
+        Some(SheetOptions {
+            width_mm: if landscape { h } else { w },
+            height_mm: if landscape { w } else { h },
+            ..sheet
+        })
+    }
+
     /// Room to keep between pieces laid side by side (model units, `mm` millimetres per
     /// unit) for what grows outside them on the pattern: glue tabs, seam allowance, kerf.
     pub fn room_between_pieces(&self, mm: f64) -> f64 {
@@ -69,7 +95,7 @@ impl PatternOutputOptions {
 pub const SMOOTH_PANEL_BEND_DEGREES: f64 = 10.0;
 
 /// Gap between pieces packed onto the PDF's pages (mm).
-const PAGE_PACKING_GAP_MM: f64 = 4.0;
+pub(crate) const PAGE_PACKING_GAP_MM: f64 = 4.0;
 
 /// Most pieces for which packing onto pages is tried (each try renders a PDF).
 const MAX_PAGE_PACKED_PIECES: usize = 2_000;
@@ -153,7 +179,7 @@ pub(crate) fn pattern_files(
             min_fold_angle_degrees: options.min_fold_angle_degrees,
             seam_labels: options.seam_labels,
             tabs: options.tabs,
-            sheet: options.sheet,
+            sheet: options.packing_sheet(),
             allowance: options.allowance,
             up_axis,
             smooth_bend_degrees: options.smooth_bend_degrees.unwrap_or(smooth_bend_degrees),
