@@ -130,6 +130,11 @@ pub(crate) enum Command {
         /// Length unit of the mesh file.
         #[arg(long, value_enum, default_value_t = Unit::Mm)]
         units: Unit,
+        /// The model's final height as printed (mm, along +y, the up axis of OBJ and
+        /// glTF): the pattern is scaled to it, whatever the file's unit (instead of
+        /// --scale).
+        #[arg(long, value_name = "HEIGHT")]
+        size: Option<f64>,
         #[command(flatten)]
         charts: ChartArgs,
         #[command(flatten)]

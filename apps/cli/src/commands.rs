@@ -68,6 +68,7 @@ pub(crate) fn check_command(
 pub(crate) struct FlattenArgs {
     pub(crate) weld: Option<f64>,
     pub(crate) units: Unit,
+    pub(crate) size: Option<f64>,
     pub(crate) method: Method,
     pub(crate) charts: ChartArgs,
     pub(crate) pattern: PatternArgs,
@@ -82,6 +83,7 @@ pub(crate) fn flatten_command(
     let FlattenArgs {
         weld,
         units,
+        size,
         method,
         charts,
         pattern,
@@ -118,6 +120,7 @@ pub(crate) fn flatten_command(
         },
         input: Some(mesh.display().to_string()),
         name: None,
+        size_mm: size,
     };
     let model = read_mesh(&mesh)?;
     let run = with_progress_bar(quiet, |progress| {
@@ -128,6 +131,9 @@ pub(crate) fn flatten_command(
         )
     })?;
     write_set(&output, &run.files, &run.report)?;
+    for warning in &run.report.warnings {
+        eprintln!("sheetform: warning: {}: {warning}", mesh.display());
+    }
     let d = &run.distortion;
     if !d.is_overlap_free() {
         eprintln!(

@@ -72,6 +72,7 @@ fn main() -> ExitCode {
             output,
             weld,
             units,
+            size,
             method,
             charts,
             pattern,
@@ -81,6 +82,7 @@ fn main() -> ExitCode {
             FlattenArgs {
                 weld,
                 units,
+                size,
                 method,
                 charts,
                 pattern,

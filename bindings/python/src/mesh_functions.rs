@@ -106,7 +106,7 @@ pub(crate) fn check(
 /// one copy per chart; after `weld`, the first of the input vertices merged into it). `outcome` is `"overlapping"` when the pattern overlaps itself and
 /// `"out_of_tolerance"` when an edge stretches more than `max_distortion`.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, *, seams=None, method="exact", charts="auto", crease_angle=None, max_distortion=None, weld=None, unit="mm", name="mesh", outputs="all", progress=None, pattern=None))]
+#[pyo3(signature = (vertices, faces, *, seams=None, method="exact", charts="auto", crease_angle=None, max_distortion=None, weld=None, unit="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn flatten(
     py: Python<'_>,
@@ -119,6 +119,7 @@ pub(crate) fn flatten(
     max_distortion: Option<f64>,
     weld: Option<f64>,
     unit: &str,
+    size: Option<f64>,
     name: &str,
     outputs: &str,
     progress: Option<Py<PyAny>>,
@@ -165,6 +166,7 @@ pub(crate) fn flatten(
         unit: length_unit(unit)?,
         input: None,
         name: Some(name.to_string()),
+        size_mm: size,
     };
     let (v, f) = (v.as_slice()?, f.as_slice()?);
     let seams = seams.map(|s| index_rows("seams", s, 2)).transpose()?;

@@ -614,6 +614,10 @@ pub struct Report {
     /// `photo`: the reconstruction from an annotated photograph.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub photo: Option<PhotoReport>,
+    /// What the user should know of the result that no bound states (a model printed
+    /// too small to fold, ...): each a sentence saying what to do.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// Files written (relative to the output directory).
     pub outputs: Vec<String>,
     /// Stage times.
@@ -660,6 +664,7 @@ impl Report {
             slit: None,
             ffd: None,
             photo: None,
+            warnings: vec![],
             outputs: vec![],
             timings: Timings::default(),
         }

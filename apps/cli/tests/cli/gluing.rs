@@ -201,3 +201,58 @@ fn a_net_is_cut_to_fit_the_sheet_and_printed_one_sheet_a_page() {
         }
     }
 }
+
+/// Scale on import: a mesh in metres read as millimetres prints a fraction of a
+/// millimetre: written (exit 0) with a warning in the report and on stderr that names
+/// --units and --size. `--size 150` scales the pattern so the model stands 150 mm high
+/// (its extent along y in the OBJ's 3D positions times the report's scale, and the files
+/// read back at that scale); `--size` with `--scale`, or not a height, is refused naming it.
+#[test]
+fn a_model_in_metres_is_warned_about_and_sized_by_its_height() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = example_mesh("bunny-99.stl");
+    let tiny = dir.path().join("tiny");
+    let o = sheetform(&["flatten", mesh.to_str().unwrap(), "-o", tiny.to_str().unwrap(), "-q"]);
+    assert!(o.status.success());
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.contains("warning") && stderr.contains("--units") && stderr.contains("--size"),
+        "{stderr}"
+    );
+    let warnings = report(&tiny)["warnings"].clone();
+    assert_eq!(warnings.as_array().map(Vec::len), Some(1), "{warnings}");
+    assert!(
+        warnings[0].as_str().unwrap().contains("0.155383 mm across"),
+        "{warnings}"
+    );
+
+    let sized = dir.path().join("sized");
+    flatten(&mesh, &sized, &["--size", "150"]);
+    let r = report(&sized);
+    assert!(r.get("warnings").is_none(), "{r}");
+    let obj = crate::common::read_obj(&sized.join("model.obj"));
+    let (lo, hi) = obj
+        .v
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(lo, hi), p| (lo.min(p[1]), hi.max(p[1])));
+    let scale = r["pattern"]["scale"].as_f64().unwrap();
+    assert!(((hi - lo) * scale - 150.0).abs() < 1e-9, "{} mm", (hi - lo) * scale);
+    assert_gluable("bunny at 150 mm", &sized);
+
+    for (extra, says) in [
+        (vec!["--size", "150", "--scale", "2"], "not both"),
+        (vec!["--size", "0"], "height"),
+        (vec!["--size", "1e9"], "at most"),
+        (vec!["--size", "nan"], "height"),
+    ] {
+        let mut args = vec!["flatten", mesh.to_str().unwrap(), "-o", "unused", "-q"];
+        args.extend_from_slice(&extra);
+        let o = sheetform(&args);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{extra:?}: {stderr}");
+        assert!(
+            stderr.contains("--size") && stderr.contains(says),
+            "{extra:?}: {stderr}"
+        );
+    }
+}

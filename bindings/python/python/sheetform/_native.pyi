@@ -210,12 +210,14 @@ def flatten(
     max_distortion: Optional[float] = None,
     weld: Optional[float] = None,
     unit: _Unit = "mm",
+    size: Optional[float] = None,
     name: str = "mesh",
     outputs: _Outputs = "all",
     progress: Optional[Callable[[str, float], Any]] = None,
     pattern: Optional[Union[PatternOptions, dict[str, Any]]] = None,
 ) -> Run:
-    """Lays a mesh out flat, as ``sheetform flatten``."""
+    """Lays a mesh out flat, as ``sheetform flatten`` (``size``: the model's height as
+    printed in mm, as ``--size``)."""
 
 def pattern(
     vertices: npt.ArrayLike,

@@ -83,7 +83,22 @@ pub struct FlattenOptions {
     pub input: Option<String>,
     /// The name the pieces are named after (default: the input's file stem, or `mesh`).
     pub name: Option<String>,
+    /// The model's final height as printed (mm, along +y, the up axis of OBJ and glTF):
+    /// the pattern is scaled to it (`pattern.scale` must then be 1), as Pepakura asks for
+    /// a model's size.
+    pub size_mm: Option<f64>,
 }
+
+/// The largest `size_mm` of [`FlattenOptions`] (mm: a 100 m model).
+pub const MAX_MODEL_SIZE_MM: f64 = 1e5;
+
+/// A pattern whose model is smaller than this as printed (mm, its largest extent) gets a
+/// warning: too small to cut and fold (a file in metres read as millimetres).
+pub const SMALLEST_SENSIBLE_MODEL_MM: f64 = 20.0;
+
+/// The printed edges of a pattern whose median edge is shorter than this (mm) are too
+/// short to fold and glue: a warning.
+pub const SHORTEST_SENSIBLE_EDGE_MM: f64 = 1.0;
 
 impl Default for FlattenOptions {
     fn default() -> Self {
@@ -98,6 +113,7 @@ impl Default for FlattenOptions {
             unit: LengthUnit::default(),
             input: None,
             name: None,
+            size_mm: None,
         }
     }
 }
@@ -154,6 +170,8 @@ pub fn run_flatten(
     }
     let mut mesh = mesh;
     let (welded, welded_origins) = weld_input(&mut mesh, options.weld)?;
+    let sized = sized_to_height(options, &mesh)?;
+    let options = sized.as_ref().unwrap_or(options);
     let parsed = Instant::now();
     context.progress("flattening", 0.1);
     let topology = mesh_topology(&mesh);
@@ -349,6 +367,7 @@ pub fn run_flatten(
     report.flat_area_mm2 = Some(sheet.flat_area() * mm * mm);
     report.area_mm2 = sheet.area() * mm * mm;
     report.welded_vertex_count = welded;
+    report.warnings = size_warnings(&mesh, options, layout == Layout::Net);
     report.pattern = Some(pattern_report);
     report.outputs = output_names(&files);
     report.timings = Timings::from_stages(start, parsed, solved, exported);
@@ -370,6 +389,91 @@ pub fn run_flatten(
         files,
         report,
     })
+}
+
+/// The options with the pattern scaled so that the model's height (its extent along +y)
+/// prints as `size_mm` (`None` without a size).
+///
+/// # Errors
+/// A size that is not a positive number up to [`MAX_MODEL_SIZE_MM`], a size given with a
+/// scale other than 1, a model with no height.
+fn sized_to_height(options: &FlattenOptions, mesh: &TriangleMesh) -> Result<Option<FlattenOptions>, PipelineError> {
+    let Some(size) = options.size_mm else { return Ok(None) };
+    if !(size.is_finite() && size > 0.0 && size <= MAX_MODEL_SIZE_MM) {
+        return Err(PipelineError::Option {
+            option: "--size",
+            message: format!(
+                "must be the model's height in millimetres, over 0 and at most {}, got {}",
+                MAX_MODEL_SIZE_MM,
+                sheetform_geometry::short_number(size)
+            ),
+        });
+    }
+    if options.pattern.scale != 1.0 {
+        return Err(PipelineError::Option {
+            option: "--size",
+            message: "sets the scale itself: give --size or --scale, not both".into(),
+        });
+    }
+    let (lo, hi) = mesh
+        .positions
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p.y), hi.max(p.y))
+        });
+    let height_mm = (hi - lo) * options.unit.millimetres();
+    if !(height_mm.is_finite() && height_mm > 0.0) {
+        return Err(PipelineError::Option {
+            option: "--size",
+            message: "the model has no height along y (the up axis of OBJ and glTF) to scale to: use --scale".into(),
+        });
+    }
+    let mut sized = options.clone();
+    sized.pattern.scale = size / height_mm;
+    Ok(Some(sized))
+}
+
+/// Warnings of a pattern printed too small to cut and fold: the model smaller than
+/// [`SMALLEST_SENSIBLE_MODEL_MM`] across, or (a net, folded at every edge) its median
+/// edge shorter than [`SHORTEST_SENSIBLE_EDGE_MM`], with what to do (the file's unit, or
+/// a size).
+fn size_warnings(mesh: &TriangleMesh, options: &FlattenOptions, net: bool) -> Vec<String> {
+    let k = options.unit.millimetres() * options.pattern.scale;
+    let (lo, hi) = mesh.positions.iter().fold(
+        (
+            nalgebra::Vector3::repeat(f64::INFINITY),
+            nalgebra::Vector3::repeat(f64::NEG_INFINITY),
+        ),
+        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+    );
+    let across = (hi - lo).max() * k;
+    let mut lengths: Vec<f64> = mesh
+        .triangles
+        .iter()
+        .flat_map(|t| (0..3).map(move |i| (t[i], t[(i + 1) % 3])))
+        .map(|(a, b)| (mesh.positions[a as usize] - mesh.positions[b as usize]).norm() * k)
+        .collect();
+    let median = if lengths.is_empty() {
+        0.0
+    } else {
+        let middle = lengths.len() / 2;
+        *lengths.select_nth_unstable_by(middle, f64::total_cmp).1
+    };
+    let advice = "if the file is in metres, centimetres or inches give --units m, cm or in; or set the model's height as printed with --size HEIGHT (mm)";
+    let mut warnings = Vec::new();
+    if across.is_finite() && across < SMALLEST_SENSIBLE_MODEL_MM {
+        warnings.push(format!(
+            "the model prints {} mm across, too small to cut and fold: {advice}",
+            sheetform_geometry::short_number(across)
+        ));
+    } else if net && median.is_finite() && median < SHORTEST_SENSIBLE_EDGE_MM {
+        warnings.push(format!(
+            "half the model's edges print shorter than {} mm (median {} mm), too short to fold and glue: {advice}",
+            SHORTEST_SENSIBLE_EDGE_MM,
+            sheetform_geometry::short_number(median)
+        ));
+    }
+    warnings
 }
 
 /// The net options with the limits the pattern sets, in model units: the cutting
