@@ -187,6 +187,37 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
     };
     for (k, (pattern, &(rows, columns, origin))) in parts.iter().zip(&grids).enumerate() {
         let index = PartIndex::new(pattern, texture.is_some());
+        // Every label printed whole on one tile, never cut at a tile's edge: the first
+        // tile whose window holds all of its text, or else the one whose window holds its
+        // middle deepest (printed past the window's edge into the page's margin).
+        let window = |r: usize, c: usize| {
+            let (wx, wy) = (origin.x + c as f64 * sx, origin.y - r as f64 * sy);
+            (Vec2::new(wx, wy - ah), Vec2::new(wx + aw, wy))
+        };
+        let label_tile: Vec<(usize, usize)> = index
+            .labels
+            .iter()
+            .map(|label| {
+                let (half_width, half_height) = label_half_extent(label);
+                let (lo, hi) = (
+                    label.position - Vec2::new(half_width, half_height),
+                    label.position + Vec2::new(half_width, half_height),
+                );
+                let tiles = (0..rows).flat_map(|r| (0..columns).map(move |c| (r, c)));
+                let whole = tiles.clone().find(|&(r, c)| {
+                    let (a, b) = window(r, c);
+                    lo.x >= a.x && lo.y >= a.y && hi.x <= b.x && hi.y <= b.y
+                });
+                whole.unwrap_or_else(|| {
+                    let depth = |(r, c): (usize, usize)| {
+                        let (a, b) = window(r, c);
+                        let p = label.position;
+                        (p.x - a.x).min(b.x - p.x).min(p.y - a.y).min(b.y - p.y)
+                    };
+                    tiles.max_by(|&x, &y| depth(x).total_cmp(&depth(y))).unwrap_or((0, 0))
+                })
+            })
+            .collect();
         for r in 0..rows {
             for c in 0..columns {
                 // Pattern window of this tile: x from wx, y down from wy.
@@ -272,9 +303,9 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                     })
                     .collect();
                 content.set_line_width(0.3);
-                // Origami convention: mountain dash-dot red, valley dashed blue; guides and
-                // tab bases dotted grey; stitch lines dashed green, notches solid red (cuts),
-                // grain lines solid dark grey.
+                // Origami convention: mountain dash-dot red, valley dashed blue; guides
+                // dotted grey, tab bases dotted teal (as in the SVG); stitch lines dashed
+                // green, notches solid red (cuts), grain lines solid dark grey.
                 for style in [
                     FoldStyle::Mountain,
                     FoldStyle::Valley,
@@ -293,9 +324,13 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                             content.set_stroke_rgb(0.2, 0.35, 0.8);
                             content.set_dash_pattern([3.0, 2.0], 0.0);
                         }
-                        FoldStyle::Guide | FoldStyle::TabBase => {
+                        FoldStyle::Guide => {
                             content.set_stroke_rgb(0.55, 0.55, 0.55);
                             content.set_dash_pattern([1.0, 2.0], 0.0);
+                        }
+                        FoldStyle::TabBase => {
+                            content.set_stroke_rgb(0.06, 0.5, 0.5);
+                            content.set_dash_pattern([1.5, 1.5], 0.0);
                         }
                         FoldStyle::Stitch => {
                             content.set_stroke_rgb(0.1, 0.55, 0.25);
@@ -318,23 +353,6 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                     }
                 }
                 content.set_dash_pattern([], 0.0);
-                content.set_fill_rgb(0.2, 0.3, 0.65);
-                for label in marks.iter().filter_map(|m| match m {
-                    Mark::Label(n) => Some(index.labels[*n as usize]),
-                    _ => None,
-                }) {
-                    let (x, y) = to_page(label.position);
-                    let size = (label.height_mm * PT * 1.4) as f32;
-                    let width = ascii(&label.text).len() as f32 * size * 0.55;
-                    let (s, c) = (label.angle_radians as f32).sin_cos();
-                    content.begin_text();
-                    content.set_font(Name(b"F1"), size);
-                    // Centred on the anchor, turned with the label.
-                    let (dx, dy) = (-0.5 * width, -0.35 * size);
-                    content.set_text_matrix([c, s, -s, c, x + c * dx - s * dy, y + s * dx + c * dy]);
-                    content.show(Str(ascii(&label.text).as_bytes()));
-                    content.end_text();
-                }
                 // Sheet outlines (packed patterns), thin black.
                 content.set_stroke_rgb(0.0, 0.0, 0.0);
                 content.set_line_width(0.2);
@@ -344,9 +362,12 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                     content.rect(x0, y0, x1 - x0, y1 - y0);
                     content.stroke();
                 }
-                // Overlap guides (dashed blue) where this tile meets its neighbours.
-                content.set_stroke_rgb(0.3, 0.5, 0.9);
-                content.set_dash_pattern([1.0, 2.0], 0.0);
+                // Overlap guides where this tile meets its neighbours: long magenta dashes
+                // and a line a third as thick as a fold's, unlike every fold, guide and
+                // cut line (neither red dash-dot, blue dashed, teal or grey dotted).
+                content.set_stroke_rgb(0.85, 0.25, 0.85);
+                content.set_line_width(0.1);
+                content.set_dash_pattern([8.0, 4.0], 0.0);
                 let (left, bottom, right, top) = (m, m + 12.0, m + aw, m + 12.0 + ah);
                 if c + 1 < columns {
                     line(&mut content, right - o, bottom, right - o, top);
@@ -361,6 +382,25 @@ pub fn pdf_tiled(pattern: &Pattern, options: &PdfOptions) -> Result<TiledPdf, Pa
                     line(&mut content, left, top - o, right, top - o);
                 }
                 content.restore_state();
+                // Labels after the clip: each whole, on its own tile.
+                content.set_dash_pattern([], 0.0);
+                content.set_fill_rgb(0.2, 0.3, 0.65);
+                for label in marks.iter().filter_map(|m| match m {
+                    Mark::Label(n) if label_tile[*n as usize] == (r, c) => Some(index.labels[*n as usize]),
+                    _ => None,
+                }) {
+                    let (x, y) = to_page(label.position);
+                    let size = (label.height_mm * PT * 1.4) as f32;
+                    let width = ascii(&label.text).len() as f32 * size * 0.55;
+                    let (s, c) = (label.angle_radians as f32).sin_cos();
+                    content.begin_text();
+                    content.set_font(Name(b"F1"), size);
+                    // Centred on the anchor, turned with the label.
+                    let (dx, dy) = (-0.5 * width, -0.35 * size);
+                    content.set_text_matrix([c, s, -s, c, x + c * dx - s * dy, y + s * dx + c * dy]);
+                    content.show(Str(ascii(&label.text).as_bytes()));
+                    content.end_text();
+                }
                 // Registration marks at the printable area's corners.
                 content.set_line_width(0.3);
                 content.set_stroke_rgb(0.0, 0.0, 0.0);
@@ -527,6 +567,16 @@ enum Mark {
 /// The marks of a part of the pattern (a sheet, or the whole) in an R-tree of their
 /// bounds, so that each page looks only at what it shows: a page's content stream then
 /// holds its share of the drawing, not all of it.
+/// Half the width and height (mm) of the box a label's text takes on the page, turned
+/// with it: the text as printed (Helvetica at 1.4 times the label's height, 0.55 of the
+/// size a character).
+fn label_half_extent(label: &Label) -> (f64, f64) {
+    let size = 1.4 * label.height_mm;
+    let (w, h) = (0.5 * 0.55 * size * ascii(&label.text).len() as f64, 0.5 * size);
+    let (s, c) = label.angle_radians.sin_cos();
+    (c.abs() * w + s.abs() * h, s.abs() * w + c.abs() * h)
+}
+
 struct PartIndex<'a> {
     rings: Vec<&'a [Vec2]>,
     folds: Vec<&'a Fold>,
@@ -807,11 +857,47 @@ mod tests {
             assert!(count(s, "m") < 70, "{} moves", count(s, "m"));
             assert!(count(s, "Tj") <= 4 + 1, "{} texts", count(s, "Tj"));
         }
-        // Every guide and label on some page.
+        // Every guide on some page, every label on exactly one (issue 34: a label near a
+        // tile's edge was cut there, part on each page).
         let folds: usize = streams.iter().map(|s| count(s, "m")).sum();
         assert!(folds > 600 + 17 * 8, "{folds}");
         let labels: usize = streams.iter().map(|s| count(s, "Tj") - 1).sum();
-        assert!(labels >= 30, "{labels}");
+        assert_eq!(labels, 30);
+        for i in 0..30 {
+            let shown = format!("(L{i}) Tj");
+            assert_eq!(streams.iter().filter(|s| s.contains(&shown)).count(), 1, "L{i}");
+        }
+    }
+
+    /// Issue 34: a label across the edge between two tiles is printed whole on one of
+    /// them, not clipped at the printable area; one entirely inside a tile stays there.
+    #[test]
+    fn a_label_across_a_tile_edge_is_printed_whole_on_one_tile() {
+        let o = PdfOptions::default();
+        let (aw, _) = o.printable_area();
+        let mut pattern = rectangle(500.0, 100.0);
+        // The pattern's tiles start at its left edge less half the spare width: a label
+        // across the first tile's right edge.
+        let pdf = pdf_tiled(&pattern, &o).unwrap();
+        let spare = pdf.columns as f64 * (aw - o.overlap_mm) + o.overlap_mm - 500.0;
+        let edge = aw - 0.5 * spare;
+        pattern.pieces[0].labels.push(Label {
+            position: Vec2::new(edge, 50.0),
+            text: "ACROSS-THE-EDGE".into(),
+            height_mm: 4.0,
+            angle_radians: 0.0,
+            kind: crate::LabelKind::Piece,
+        });
+        let pdf = pdf_tiled(&pattern, &o).unwrap();
+        let streams = page_streams(&pdf.bytes);
+        let pages: Vec<&String> = streams.iter().filter(|s| s.contains("(ACROSS-THE-EDGE) Tj")).collect();
+        assert_eq!(pages.len(), 1);
+        // Drawn after the clip is restored: after the page's last `Q`.
+        let page = pages[0];
+        assert!(
+            page.rfind("(ACROSS-THE-EDGE) Tj") > page.rfind("\nQ\n").or(page.rfind(" Q")),
+            "{page}"
+        );
     }
 
     /// A cut line across pages is drawn on each page as the runs of its segments that
