@@ -166,17 +166,23 @@ def register(piece_points, piece_edges, outline, claimed, folds=(), fold_index=N
     order = np.argsort(seg_len)
     sorted_len = seg_len[order]
     votes = Counter()
+    # An exact angle of each bin (a bin is 1e-4 rad wide: 0.025 mm at 250 mm).
+    exact = {0: 0.0}
     for a, b in piece_edges[:400]:
         d = b - a
         length = float(np.hypot(*d))
         lo, hi = np.searchsorted(sorted_len, [length - tolerance, length + tolerance])
         for k in order[lo:hi]:
             theta = (seg_angle[k] - math.atan2(d[1], d[0])) % (2 * math.pi)
-            votes[round(theta / 1e-4) % round(2 * math.pi / 1e-4)] += 1
-    candidates = [0] + [k for k, _ in votes.most_common(8)]
+            key = round(theta / 1e-4) % round(2 * math.pi / 1e-4)
+            votes[key] += 1
+            exact[key] = theta
+    # (Without a name to look near, congruent pieces turned every way vote for many
+    # rotations: more are tried.)
+    candidates = [0] + [k for k, _ in votes.most_common(8 if near is not None else 16)]
     found = []
     for k in candidates:
-        theta = k * 1e-4
+        theta = exact.get(k, k * 1e-4)
         c, s = math.cos(theta), math.sin(theta)
         R = np.array([[c, -s], [s, c]])
         turned = piece_points @ R.T
@@ -222,15 +228,18 @@ def register(piece_points, piece_edges, outline, claimed, folds=(), fold_index=N
                     if not any(point_segment_distance(m, *outline_segments[i]) <= 0.01 for i in near):
                         ok = False
                         break
-            if ok and fold_index is not None:
-                for m in np.array(list(folds)).reshape(-1, 2) @ R.T + t:
-                    near = fold_index.near(m - 0.01, m + 0.01)
-                    if not any(point_segment_distance(m, *fold_index.segments[i]) <= 0.01 for i in near):
-                        ok = False
-                        break
             if ok:
-                found.append((R, t, landed))
-    return found
+                # How many of the piece's folds lie on printed fold lines: the turn of a
+                # symmetric outline that matches its folds is preferred (folds under the
+                # pattern's smallest fold angle are not drawn: a preference, not a test).
+                on_folds = 0
+                if fold_index is not None:
+                    for m in np.array(list(folds)).reshape(-1, 2) @ R.T + t:
+                        near = fold_index.near(m - 0.01, m + 0.01)
+                        on_folds += any(point_segment_distance(m, *fold_index.segments[i]) <= 0.01 for i in near)
+                found.append((R, t, landed, on_folds))
+    found.sort(key=lambda m: -m[3])
+    return [m[:3] for m in found]
 
 
 def audit(out, clearance):
@@ -251,7 +260,11 @@ def audit(out, clearance):
             half[(ta, tb)] = (va, vb)
             vt_to_v[ta] = va
     boundary = [(a, b) for (a, b) in half if (b, a) not in half]
-    key3 = {i: v[i] for i in range(len(v))}
+    # Copies of one 3D vertex (a seam's two sides, computed apart, may differ in the last
+    # digits): positions on a grid a millionth of the model's size.
+    V = np.array(v)
+    step = 1e-6 * max(float(np.linalg.norm(V.max(axis=0) - V.min(axis=0))), 1e-300)
+    key3 = {i: tuple(np.round(V[i] / step).astype(np.int64)) for i in range(len(v))}
     by_ends = defaultdict(list)
     for a, b in boundary:
         pa, pb = key3[vt_to_v[a]], key3[vt_to_v[b]]
@@ -303,7 +316,7 @@ def audit(out, clearance):
         return any(point_segment_distance(p, *outline[0][i]) <= 0.01 for i in outline[3].near(p - 0.01, p + 0.01))
     # The middles of each piece's fold edges (interior edges folded by more than 2°),
     # and the printed fold lines.
-    fold_lines = [ab for lid in ("fold-mountain", "fold-valley") for ab in lines.get(lid, [])]
+    fold_lines = [ab for lid in ("fold-mountain", "fold-valley", "fold-guide") for ab in lines.get(lid, [])]
     fold_index = SegmentIndex(fold_lines, 10.0) if fold_lines else None
     piece_folds = defaultdict(list)
     normal = {}
@@ -541,7 +554,16 @@ def audit(out, clearance):
                     tab_of_point[i] = (li, count)
         for i in range(n):
             j = (i + 1) % n
-            cut_segments.append((li, i, l[i], l[j], tab_of_point[i] or tab_of_point[j]))
+            tab = tab_of_point[i] or tab_of_point[j]
+            # A tab's slanted side is measured but for its first twice the clearance at
+            # its base corner, where the outline it stands on meets it.
+            a, b = l[i], l[j]
+            if tab is not None and (tab_of_point[i] is None) != (tab_of_point[j] is None):
+                base, far = (a, b) if tab_of_point[i] is None else (b, a)
+                length = np.linalg.norm(far - base)
+                base = base + (far - base) * min(0.9, 2 * clearance / max(length, 1e-12))
+                a, b = (base, far) if tab_of_point[i] is None else (far, base)
+            cut_segments.append((li, i, a, b, tab))
         # Each tab's depth: its outer points' largest distance from the line through the
         # outline points on either side of it.
         depth = {}
@@ -559,6 +581,20 @@ def audit(out, clearance):
         if depth:
             depth_min = min(depth_min, min(depth.values()))
     index = SegmentIndex([(a, b) for _, _, a, b, _ in cut_segments], 10.0)
+    # Arc length along each loop up to each of its points.
+    cumulative = []
+    for l in loops:
+        steps = np.linalg.norm(np.roll(l, -1, axis=0) - l, axis=1)
+        cumulative.append(np.concatenate([[0.0], np.cumsum(steps)]))
+
+    def along(loop, i, j):
+        """The shorter way along the loop between the end of segment i and the start of
+        segment j (or the other way round)."""
+        c = cumulative[loop]
+        total = c[-1]
+        i, j = min(i, j), max(i, j)
+        inner = c[j] - c[i + 1]
+        return min(inner, total - (c[j + 1] - c[i]))
     crossings, slit_close, tab_close = 0, 0, 0
     tab_gap, piece_gap, slit_gap = math.inf, math.inf, math.inf
     loop_piece = []
@@ -580,20 +616,16 @@ def audit(out, clearance):
             if tx is not None and tx == ty:
                 continue
             if tx or ty:
-                if shared:
-                    # Through a tab's base corner: from the far ends.
-                    far = [p for p in (a, b, c, d) if not any(same(p, s) for s in shared)]
-                    dist = min(point_segment_distance(p, *((c, d) if any(same(p, q) for q in (a, b)) else (a, b)))
-                               for p in far)
-                else:
-                    dist = segment_distance(a, b, c, d)
+                dist = segment_distance(a, b, c, d)
                 tab_gap = min(tab_gap, dist)
                 if dist < clearance - 1e-9 and os.environ.get("AUDIT_DEBUG"):
                     print("close", dist, a, b, c, d, tx, ty, file=sys.stderr)
                 tab_close += dist < clearance - 1e-9
             elif lx != ly:
                 piece_gap = min(piece_gap, segment_distance(a, b, c, d))
-            elif not shared:
+            elif not shared and along(lx, ix, iy) > 3 * clearance:
+                # (Two lines of one outline near each other only because the outline
+                # runs on between them in a few short steps are no slit.)
                 dist = segment_distance(a, b, c, d)
                 slit_gap = min(slit_gap, dist)
                 slit_close += dist < clearance - 1e-9

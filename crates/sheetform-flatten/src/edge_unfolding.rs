@@ -537,6 +537,7 @@ fn join_pieces(
     forced_cut: &[bool],
     tests_left: &mut usize,
 ) {
+    let mut refused: FxHashMap<usize, (usize, usize)> = FxHashMap::default();
     loop {
         let mut cut: Vec<usize> = (0..table.len())
             .filter(|&e| !forced_cut[e] && !islands.is_kept(e))
@@ -561,7 +562,19 @@ fn join_pieces(
                 tracing::warn!("net: the budget of overlap tests for joining pieces is spent");
                 return;
             }
-            joined |= islands.try_join(e, tests_left) == Join::Joined;
+            // An edge refused between two pieces is tried again only once one of them
+            // has grown (the same two pieces hinge the same way).
+            let [f, g] = table.sides(e) else { continue };
+            let sizes = (islands.size_of(f.face), islands.size_of(g.face));
+            if refused.get(&e) == Some(&sizes) {
+                continue;
+            }
+            match islands.try_join(e, tests_left) {
+                Join::Joined => joined = true,
+                _ => {
+                    refused.insert(e, sizes);
+                }
+            }
         }
         if !joined {
             return;

@@ -5,7 +5,7 @@
 use crate::edge_unfolding::{FaceGeometry, Growth};
 use crate::Vec2;
 use rustc_hash::FxHashMap;
-use sheetform_geometry::{convex_hull, hull_fits_rectangle, segment_distance, triangles_overlap};
+use sheetform_geometry::{convex_hull, fits_turned, fitting_rotation, segment_distance, triangles_overlap};
 use sheetform_mesh::EdgeTable;
 
 /// What every island of a net keeps (model units).
@@ -135,6 +135,8 @@ pub(crate) struct Islands<'a> {
     kept: Vec<bool>,
     /// Convex hull of every island (with a sheet to fit only).
     hull: Vec<Vec<Vec2>>,
+    /// The turn that last fitted each island in the sheet (tried first on the next join).
+    turn: Vec<f64>,
     face_grid: IslandGrid<u32>,
     edge_grid: IslandGrid<(u32, u8)>,
     /// Joins refused because the tests ran out.
@@ -162,6 +164,7 @@ impl<'a> Islands<'a> {
             } else {
                 Vec::new()
             },
+            turn: vec![0.0; if limits.sheet.is_some() { nf } else { 0 }],
             faces,
             table,
             limits,
@@ -209,7 +212,7 @@ impl<'a> Islands<'a> {
     /// apex), nor within `limits.slit_clearance` when the two end at the same mesh
     /// vertex (the sides of a slit beyond its apex: a narrow slit shows as the lines
     /// beyond its mouth, which share no point), and the union's convex hull fits
-    /// `limits.sheet` ([`hull_fits_rectangle`]).
+    /// `limits.sheet` ([`fitting_rotation`]; the turn that fitted it last, first).
     pub(crate) fn try_join(&mut self, e: usize, tests_left: &mut usize) -> Join {
         let mesh = self.faces.mesh;
         let table = self.table;
@@ -252,8 +255,11 @@ impl<'a> Islands<'a> {
                 .chain(self.hull[small as usize].iter().map(|&p| motion(p)))
                 .collect();
             union_hull = convex_hull(points);
-            if !hull_fits_rectangle(&union_hull, w, h) {
-                return Join::Refused;
+            if !fits_turned(&union_hull, self.turn[big as usize], w, h) {
+                match fitting_rotation(&union_hull, w, h) {
+                    Some((turn, _)) => self.turn[big as usize] = turn,
+                    None => return Join::Refused,
+                }
             }
         }
         let moved: Vec<[Vec2; 3]> = self.members[small as usize]
@@ -299,7 +305,8 @@ impl<'a> Islands<'a> {
         if reach > 0.0 {
             let kept = &self.kept;
             let edge_of = |h: u32, q: u8| table.face_edges[h as usize][q as usize] as usize;
-            let same_point = |p: Vec2, q: Vec2| (p - q).norm() <= 1e3 * tolerance.max(f64::MIN_POSITIVE);
+            let near2 = (1e3 * tolerance.max(f64::MIN_POSITIVE)).powi(2);
+            let same_point = |p: Vec2, q: Vec2| (p - q).norm_squared() <= near2;
             let all_edges = || all_faces.iter().flat_map(|&h| (0..3u8).map(move |q| (h, q))).collect();
             for (&h, t) in self.members[small as usize].iter().zip(&moved) {
                 for q in 0..3u8 {
@@ -328,7 +335,10 @@ impl<'a> Islands<'a> {
                         let w = &mesh.triangles[other as usize];
                         let (w0, w1) = (w[r as usize], w[(r as usize + 1) % 3]);
                         let slit = v0 == w0 || v0 == w1 || v1 == w0 || v1 == w1;
-                        segment_distance([p0, p1], [q0, q1]) >= if slit { slit_clearance } else { c }
+                        let need = if slit { slit_clearance } else { c };
+                        // (Boxes that far apart need no exact distance.)
+                        let gap = (q0.inf(&q1) - p0.sup(&p1)).sup(&(p0.inf(&p1) - q0.sup(&q1)));
+                        gap.x >= need || gap.y >= need || segment_distance([p0, p1], [q0, q1]) >= need
                     });
                     if !clear {
                         return Join::Refused;

@@ -27,8 +27,8 @@ pub use frame::{curve_frame, CurveFrame, CurveFrameDerivatives};
 pub use helix::Helix;
 pub use message_text::{quoted_token, short_number, shortened_message, xml_escaped, ShortNumber, QUOTED_TOKEN_CHARS};
 pub use polygon::{
-    convex_hull, cross2, fitting_rotation, hull_fits_rectangle, rings_contain, segment_distance, segment_intersection,
-    segments_cross, segments_meet, signed_area, triangles_overlap, Polygon, PolygonEdge, RayHit,
+    convex_hull, cross2, fits_turned, fitting_rotation, hull_fits_rectangle, rings_contain, segment_distance,
+    segment_intersection, segments_cross, segments_meet, signed_area, triangles_overlap, Polygon, PolygonEdge, RayHit,
 };
 pub use rigid::{rotation_about_axis, RigidMotion};
 

@@ -158,7 +158,33 @@ pub fn convex_hull(mut points: Vec<Vec2>) -> Vec<Vec2> {
 /// Whether a convex polygon (counter-clockwise) fits in a `width × height` rectangle,
 /// turned as [`fitting_rotation`] turns it.
 pub fn hull_fits_rectangle(hull: &[Vec2], width: f64, height: f64) -> bool {
+    // As it lies, either way round, first (most polygons asked about are far smaller
+    // than the rectangle: one look instead of some 180 turns).
+    let (lo, hi) = hull.iter().fold(
+        (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+    );
+    let size = hi - lo;
+    let (long, short) = (width.max(height), width.min(height));
+    if hull.is_empty() || (size.x.max(size.y) <= long && size.x.min(size.y) <= short) {
+        return true;
+    }
     fitting_rotation(hull, width, height).is_some()
+}
+
+/// Whether points turned by `turn` (radians, counter-clockwise) fit a `width × height`
+/// rectangle, either way round: one look where [`fitting_rotation`] searches (a turn that
+/// fitted a smaller polygon often fits it grown a little).
+pub fn fits_turned(points: &[Vec2], turn: f64, width: f64, height: f64) -> bool {
+    let (s, c) = turn.sin_cos();
+    let (mut lo, mut hi) = (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY));
+    for p in points {
+        let q = Vec2::new(c * p.x - s * p.y, s * p.x + c * p.y);
+        (lo, hi) = (lo.inf(&q), hi.sup(&q));
+    }
+    let size = hi - lo;
+    let (long, short) = (width.max(height), width.min(height));
+    points.is_empty() || (size.x.max(size.y) <= long && size.x.min(size.y) <= short)
 }
 
 /// Turns [`fitting_rotation`] tries besides the hull's edges: every half degree of a

@@ -143,11 +143,11 @@ struct TabSpace<'a> {
 }
 
 impl TabSpace<'_> {
-    /// Whether the tab `[b0, q0, q1, b1]` standing on loop `li`'s edges `from..to`
-    /// (`corners`: whether `b0` and `b1` are loop vertices, where the neighbouring edges
-    /// touch the tab) is clear: it crosses no cut line or tab, keeps the clearance from
-    /// every one of them (for lines through a base corner, from its far side and its
-    /// slanted side's far end), holds no cut line, and lies on no piece.
+    /// Whether the tab `[b0, q0, q1, b1]` standing on loop `li`'s edges `from..to` is
+    /// clear: it crosses no cut line or tab, keeps the clearance from every one of them
+    /// (measured from its far side and its slanted sides but for their first twice the
+    /// clearance at the base corners, where the outline it stands on meets it), holds no
+    /// cut line, and lies on no piece.
     fn is_clear(&self, li: usize, from: usize, to: usize, tab: [Vec2; 4]) -> bool {
         let [b0, q0, q1, b1] = tab;
         let n = self.loops[li].len().max(1);
@@ -156,28 +156,26 @@ impl TabSpace<'_> {
         let (lo, hi) = tab.iter().fold((tab[0], tab[0]), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
         let c = self.clearance;
         let envelope = AABB::from_corners([lo.x - c, lo.y - c], [hi.x + c, hi.y + c]);
-        let near = |p: Vec2, q: Vec2| (p - q).norm() <= 1e-9 * (1.0 + p.norm());
-        // A line `[u, v]` against the tab: clear of the sides that do not start at a
-        // point it passes through; crossing none.
+        // The slanted sides less their first stretch at the base corners (twice the
+        // clearance along them): lines that run into a corner (the neighbouring edges, and
+        // the short edges of an outline running on straight from them) meet the tab there
+        // and are not measured where they do.
+        let trimmed = |base: Vec2, far: Vec2| {
+            let length = (far - base).norm();
+            let t = if length > 0.0 { (2.0 * c / length).min(0.9) } else { 0.0 };
+            [base + (far - base) * t, far]
+        };
+        let measured = [trimmed(b0, q0), [q0, q1], trimmed(b1, q1)];
+        // A line `[u, v]` against the tab: crossing none of its sides (other than at a
+        // base corner it passes through), clear of the measured parts by the clearance.
         let clear_of = |u: Vec2, v: Vec2| {
-            let through = |p: Vec2| near(u, p) || near(v, p) || segment_distance([u, v], [p, p]) <= 1e-9;
-            let (at0, at1) = (through(b0), through(b1));
-            if sides.iter().any(|&[p, q]| segments_cross(p, q, u, v)) {
-                return false;
-            }
-            if segment_distance([u, v], [q0, q1]) < c {
-                return false;
-            }
-            // A slanted side meets a line through its base corner there: only its far end
-            // keeps the clearance.
-            let side_clear = |base: Vec2, far: Vec2, touches: bool| {
-                if touches {
-                    segment_distance([u, v], [far, far]) >= c
-                } else {
-                    segment_distance([u, v], [base, far]) >= c
-                }
-            };
-            side_clear(b0, q0, at0) && side_clear(b1, q1, at1)
+            let crosses = sides.iter().any(|&[p, q]| {
+                segments_cross(p, q, u, v)
+                    && ![b0, b1]
+                        .iter()
+                        .any(|&corner| segment_distance([u, v], [corner, corner]) <= 1e-9 * (1.0 + corner.norm()))
+            });
+            !crosses && measured.iter().all(|&side| segment_distance([u, v], side) >= c)
         };
         for hit in self.cut.locate_in_envelope_intersecting(&envelope) {
             let (l, i) = hit.data;
@@ -366,7 +364,17 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
             return Attempt::TooShort;
         }
         let d = chord / len;
-        let out = Vec2::new(d.y, -d.x);
+        // Outside: right of a counter-clockwise outline, left of a mirrored piece's
+        // clockwise one (a layout whose faces run clockwise): the side of the first edge
+        // off the piece.
+        let (e0, e1) = (l[stretch.from % n], l[(stretch.from + 1) % n]);
+        let right = Vec2::new((e1 - e0).y, -(e1 - e0).x).normalize();
+        let probe = (e0 + e1) * 0.5 + right * (1e-6 * len.max(1.0));
+        let out = if inside_loops(loops.iter(), probe) {
+            -Vec2::new(d.y, -d.x)
+        } else {
+            Vec2::new(d.y, -d.x)
+        };
         let single_edge = stretch.to - stretch.from == 1;
         let mut candidates: Vec<(f64, f64, f64)> = depths.iter().map(|&w| (0.0, 1.0, w)).collect();
         if single_edge {
