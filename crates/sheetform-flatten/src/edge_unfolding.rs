@@ -93,29 +93,35 @@ pub struct Net {
 }
 
 /// Unfolds `mesh` into a net: a forest of faces joined across edges, each tree laid flat
-/// by hinging every face about its parent edge, with no two faces of one piece overlapping.
+/// by hinging every face about its parent edge, every piece one a maker can cut and glue.
 ///
-/// 1. **Growth** (greedy, Prim-like): a piece starts from a seed face laid flat; the
-///    edges of its border wait in a priority queue, coplanar neighbours first (so flat
-///    polygons of a faceted model stay whole, their diagonals never drawn), then by the
-///    distance of the neighbour's flat centroid from the seed's (the piece grows as a
-///    compact disk, which is what keeps nets of convex and nearly convex shapes in few
-///    pieces). A popped neighbour not yet placed is laid flat across the edge — an exact
-///    copy: the third corner from the law of cosines, `x = (w·e)/|e|`, `h = |e×w|/|e|`,
-///    on the left of the edge as the face runs it — and kept when it overlaps no face of
-///    the piece ([`triangles_overlap`] against the faces in the same cells of a uniform
-///    grid, tolerance `1e-9 ×` the median edge length); otherwise the edge is cut and the
-///    face waits for another edge or a later piece. A new piece starts from a face that
-///    was refused (so pieces follow one another across the surface), else from any face
-///    left. User seams (`mesh.seam_edges`) are always cut.
-/// 2. **Attempts**: the growth is run from `options.attempts` seeds spread over the mesh
-///    and the net with the fewest pieces, then the shortest total cut, is kept.
-///    The work is bounded: attempts × faces by [`MAX_NET_WORK`], overlap tests by
-///    [`MAX_NET_OVERLAP_TESTS`] (fewer attempts, then cuts counted in
-///    [`Net::budget_cut_count`], when they run out).
-/// 3. **Merging**: a piece, smallest first, is hinged onto a neighbouring piece across
-///    one of the edges cut between them when it fits there without overlap (this gathers
-///    the single faces and slivers a greedy growth leaves behind).
+/// Every join goes through one move (`Islands::try_join`, island_joining.rs): the
+/// smaller island is hinged onto the larger across the edge — every face an exact copy,
+/// the third corner from the law of cosines, `x = (w·e)/|e|`, `h = |e×w|/|e|` — and kept
+/// only when no face of one overlaps a face of the other (the separating-axis test,
+/// tolerance `1e-9 ×` the median edge length, faces found in uniform grids), no cut line
+/// of one comes within `options.clearance` of a cut line of the other unless the two
+/// meet, the two sides of a slit (cut lines ending at one mesh vertex) stay
+/// `options.slit_clearance` apart (room for a glue tab), and the union fits
+/// `options.sheet`. Otherwise the edge stays cut.
+///
+/// 1. **Growth** from a seed face: the edges of a piece's border wait in a priority
+///    queue, coplanar neighbours first (so flat polygons of a faceted model stay whole,
+///    their diagonals never drawn), then either nearest to the seed first (a **compact**
+///    disk, which keeps nets of convex and nearly convex shapes in few pieces) or newest
+///    first (depth first: a winding **strip**, every vertex on its border, which needs no
+///    narrow slit on a curved shape where a disk does). A refused face waits for another
+///    edge or a later piece; a new piece starts from a face that was refused (so pieces
+///    follow one another across the surface), else from any face left. User seams
+///    (`mesh.seam_edges`) are always cut.
+/// 2. **Attempts**: compact and strip growths take turns from `options.attempts` seeds
+///    spread over the mesh (the first two from the central face), and the net with the
+///    fewest pieces, then the shortest total cut, is kept. The work is bounded: attempts
+///    × faces by [`MAX_NET_WORK`], overlap tests by [`MAX_NET_OVERLAP_TESTS`] (fewer
+///    attempts, then cuts counted in [`Net::budget_cut_count`], when they run out).
+/// 3. **Joining pieces**: the edges cut between two pieces, those of the smallest pieces
+///    first, hinge them together where they fit (this gathers the single faces and slivers
+///    a greedy growth leaves behind), in passes until one joins nothing.
 /// 4. **No zero-width slits**: a cut edge whose two faces lie in one piece with the edge
 ///    on the same place of both (around a flat interior vertex, where a tree of faces
 ///    has to leave one edge cut) is joined again.

@@ -290,6 +290,7 @@ mod tests {
     fn square_piece() -> PatternPiece {
         PatternPiece {
             name: "p".into(),
+            mesh_pieces: vec![],
             cut: vec![vec![
                 Vec2::new(0.0, 0.0),
                 Vec2::new(40.0, 0.0),

@@ -161,6 +161,7 @@ mod tests {
         let v = |x: f64, y: f64| Vec2::new(x, y);
         PatternPiece {
             name: "p".into(),
+            mesh_pieces: vec![],
             cut: vec![
                 vec![v(0.0, 0.0), v(100.0, 0.0), v(100.0, 100.0), v(0.0, 100.0)],
                 vec![v(40.0, 40.0), v(40.0, 60.0), v(60.0, 60.0), v(60.0, 40.0)],

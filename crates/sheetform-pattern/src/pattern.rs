@@ -68,10 +68,13 @@ pub struct Label {
 }
 
 /// One part to cut out: a connected piece of the flat pattern.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct PatternPiece {
     /// Name (the mesh pieces it holds).
     pub name: String,
+    /// The mesh pieces it holds (indices into the mesh's pieces, in order of their first
+    /// face): what the editor lights up in 3D when the piece is pointed at.
+    pub mesh_pieces: Vec<u32>,
     /// Closed loops to cut (outline counter-clockwise, holes clockwise), glue tabs included.
     pub cut: Vec<Vec<Vec2>>,
     /// Fold and score lines.
@@ -292,6 +295,7 @@ impl PatternPiece {
     pub fn transformed(&self, f: impl Fn(Vec2) -> Vec2, turn: f64) -> PatternPiece {
         PatternPiece {
             name: self.name.clone(),
+            mesh_pieces: self.mesh_pieces.clone(),
             cut: self.cut.iter().map(|l| l.iter().map(|&p| f(p)).collect()).collect(),
             folds: self
                 .folds
@@ -441,7 +445,11 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
 
     // Piece names: the mesh pieces each part holds.
     let mut names: Vec<Vec<String>> = vec![Vec::new(); parts];
+    let mut held: Vec<Vec<u32>> = vec![Vec::new(); parts];
     for (f, &piece) in mesh.face_pieces.iter().enumerate() {
+        if !held[face_part[f]].contains(&piece) {
+            held[face_part[f]].push(piece);
+        }
         let name = &mesh.pieces[piece as usize].name;
         if !names[face_part[f]].contains(name) {
             names[face_part[f]].push(name.clone());
@@ -449,12 +457,14 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
     }
     let mut pieces: Vec<PatternPiece> = names
         .iter()
-        .map(|n| PatternPiece {
+        .zip(held)
+        .map(|(n, mesh_pieces)| PatternPiece {
             name: if n.len() <= 3 {
                 n.join(" + ")
             } else {
                 format!("{} + {} more", n[..2].join(" + "), n.len() - 2)
             },
+            mesh_pieces,
             cut: Vec::new(),
             folds: Vec::new(),
             labels: Vec::new(),
@@ -1482,6 +1492,7 @@ mod tests {
     fn a_piece_placement_follows_every_motion_applied_to_the_piece() {
         let piece = PatternPiece {
             name: "p".into(),
+            mesh_pieces: vec![],
             cut: vec![vec![Vec2::new(0.0, 0.0), Vec2::new(2.0, 0.0), Vec2::new(0.0, 1.0)]],
             folds: vec![],
             labels: vec![],

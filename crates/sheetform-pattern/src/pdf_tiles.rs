@@ -750,6 +750,7 @@ mod tests {
         Pattern {
             pieces: vec![crate::PatternPiece {
                 name: "rectangle".into(),
+                mesh_pieces: vec![],
                 cut: vec![vec![
                     Vec2::new(0.0, 0.0),
                     Vec2::new(w, 0.0),

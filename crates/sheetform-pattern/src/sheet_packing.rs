@@ -355,6 +355,7 @@ mod tests {
         let r = |x: f64, y: f64| Vec2::new(c * x - s * y, s * x + c * y);
         PatternPiece {
             name: name.into(),
+            mesh_pieces: vec![],
             cut: vec![vec![r(0.0, 0.0), r(side, 0.0), r(side, side / 2.0), r(0.0, side / 2.0)]],
             folds: vec![],
             labels: vec![],
@@ -540,6 +541,7 @@ mod tests {
                 .enumerate()
                 .map(|(i, s)| PatternPiece {
                     name: format!("p{i}"),
+                    mesh_pieces: vec![],
                     cut: vec![vec![Vec2::zeros(), Vec2::new(s.x, 0.0), *s, Vec2::new(0.0, s.y)]],
                     folds: vec![],
                     labels: vec![],

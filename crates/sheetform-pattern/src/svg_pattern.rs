@@ -44,8 +44,18 @@ pub fn svg_bytes(pattern: &Pattern, title: &str, margin_mm: f64) -> Vec<u8> {
         s,
         r##"<g id="cut" inkscape:groupmode="layer" inkscape:label="cut" fill="none" stroke="#e00000" stroke-width="0.1">"##
     );
-    for cycle in pattern.cut_loops() {
-        let _ = writeln!(s, r#"<path d="{}"/>"#, path_data([cycle], &px, &py));
+    // Each cut loop names its piece (`data-piece`, the piece's number) and the mesh
+    // pieces it holds (`data-mesh-pieces`): the editor lights them up in 3D.
+    for (k, piece) in pattern.pieces.iter().enumerate() {
+        let held: Vec<String> = piece.mesh_pieces.iter().map(u32::to_string).collect();
+        for cycle in &piece.cut {
+            let _ = writeln!(
+                s,
+                r#"<path data-piece="{k}" data-mesh-pieces="{}" d="{}"/>"#,
+                held.join(" "),
+                path_data([cycle], &px, &py)
+            );
+        }
     }
     let _ = writeln!(s, "</g>");
     for (style, id, colour, dash) in [
@@ -83,16 +93,22 @@ pub fn svg_bytes(pattern: &Pattern, title: &str, margin_mm: f64) -> Vec<u8> {
         s,
         r##"<g id="labels" inkscape:groupmode="layer" inkscape:label="labels" font-family="Helvetica, Arial, sans-serif" fill="#3050a0" text-anchor="middle" dominant-baseline="middle">"##
     );
-    for label in pattern.labels() {
+    for (k, label) in pattern
+        .pieces
+        .iter()
+        .enumerate()
+        .flat_map(|(k, p)| p.labels.iter().map(move |l| (k, l)))
+    {
         let (x, y) = (px(label.position.x), py(label.position.y));
-        let class = match label.kind {
-            LabelKind::Piece => "piece",
-            LabelKind::Seam => "seam",
+        // A seam ID says which seam (`data-seam`): the editor lights up both its copies.
+        let (class, seam) = match label.kind {
+            LabelKind::Piece => ("piece", String::new()),
+            LabelKind::Seam => ("seam", format!(r#" data-seam="{}""#, escape(&label.text))),
         };
         // SVG's y axis points down, so the angle changes sign.
         let _ = writeln!(
             s,
-            r#"<text class="{class}" x="{x:.4}" y="{y:.4}" font-size="{:.3}" transform="rotate({:.3} {x:.4} {y:.4})">{}</text>"#,
+            r#"<text class="{class}" data-piece="{k}"{seam} x="{x:.4}" y="{y:.4}" font-size="{:.3}" transform="rotate({:.3} {x:.4} {y:.4})">{}</text>"#,
             label.height_mm,
             -label.angle_radians.to_degrees(),
             escape(&label.text)

@@ -122,8 +122,16 @@ pub(crate) fn svg_cut_loops(svg: &str) -> Vec<Vec<[f64; 2]>> {
     let layer = &svg[svg.find(r#"<g id="cut""#).unwrap()..];
     let layer = &layer[..layer.find("</g>").unwrap()];
     layer
-        .split(r#"<path d=""#)
+        .split("<path ")
         .skip(1)
+        .map(|tag| {
+            let at = if tag.starts_with(r#"d=""#) {
+                0
+            } else {
+                tag.find(r#" d=""#).unwrap() + 1
+            };
+            &tag[at + 3..]
+        })
         .map(|d| {
             d[..d.find('"').unwrap()]
                 .split_whitespace()

@@ -32,6 +32,7 @@ const state = {
   generation: 0, // bumped by a mode switch or a load: answers to older requests are dropped
   ffdRequested: null, // FFD mode: the scene of the run under way
   mesh: null, // mesh mode: { name, bytes (ArrayBuffer), path } of the loaded mesh
+  highlight: null, // mesh mode: { key, pieces, seam } lit on the model and the pattern
   meshOptions: null, // mesh mode: the layout options of the last answered request
   path: null, // the scene file's path in the served directory, when it came from there
   scene: null, // the last admissible scene (an object; never mutated in place)
@@ -661,7 +662,72 @@ $('photo-pane').addEventListener('change', (event) => {
 
 function drawPattern(svg) {
   $('pattern').innerHTML = svg;
+  state.highlight = null;
 }
+
+// ---------------------------------------------------------------- pieces and IDs, 2D ↔ 3D
+
+/** The mesh pieces of pattern piece `piece` (its cut loops' `data-mesh-pieces`). */
+function meshPiecesOf(svg, piece) {
+  const path = svg.querySelector(`path[data-piece="${piece}"]`);
+  return path ? path.dataset.meshPieces.split(' ').filter(Boolean).map(Number) : [];
+}
+
+/** Lights up the mesh pieces `pieces` (face_pieces values; null: none) on the 3D model and
+ * the pattern pieces holding them in 2D (their cut loops and names), and the seam ID
+ * `seam` on both its copies. */
+function highlightPieces(pieces, seam = null) {
+  const key = pieces ? `${[...pieces].sort().join(' ')}|${seam}` : null;
+  if ((state.highlight && state.highlight.key) === key || (!state.highlight && key === null)) return;
+  state.highlight = pieces ? { key, pieces: [...pieces].sort((a, b) => a - b), seam } : null;
+  const svg = $('pattern').querySelector('svg');
+  if (svg) {
+    for (const element of svg.querySelectorAll('.lit')) element.classList.remove('lit');
+    if (pieces) {
+      const lit = new Set();
+      for (const path of svg.querySelectorAll('path[data-mesh-pieces]')) {
+        if (path.dataset.meshPieces.split(' ').some((p) => p !== '' && pieces.has(Number(p)))) {
+          path.classList.add('lit');
+          lit.add(path.dataset.piece);
+        }
+      }
+      for (const text of svg.querySelectorAll('text.piece[data-piece]')) if (lit.has(text.dataset.piece)) text.classList.add('lit');
+      if (seam !== null) for (const text of svg.querySelectorAll(`text[data-seam="${CSS.escape(seam)}"]`)) text.classList.add('lit');
+    }
+  }
+  if (state.mode === 'mesh' && state.reply && $('colour').value === 'pieces') {
+    // The model's pieces: those lit keep their colour, the others fade to paper.
+    const colour = sheet.geometry.getAttribute('color');
+    const paper = new THREE.Color(0xeeece6);
+    const faces = state.reply.model.face_pieces;
+    for (let t = 0; t < faces.length && 3 * t + 2 < colour.count; t++) {
+      const c = pieceColour(faces[t]);
+      if (pieces && !pieces.has(faces[t])) c.lerp(paper, 0.8);
+      for (let k = 0; k < 3; k++) colour.setXYZ(3 * t + k, c.r, c.g, c.b);
+    }
+    colour.needsUpdate = true;
+    render();
+  }
+}
+
+// Pointing at a piece or a seam ID on the pattern lights it up on the model; at a seam
+// ID, both copies and both pieces.
+$('pattern').addEventListener('pointerover', (event) => {
+  if (state.mode !== 'mesh') return;
+  const svg = $('pattern').querySelector('svg');
+  const element = event.target.closest && event.target.closest('[data-piece]');
+  if (!svg || !element) return;
+  if (element.dataset.seam !== undefined) {
+    const pieces = new Set();
+    for (const copy of svg.querySelectorAll(`text[data-seam="${CSS.escape(element.dataset.seam)}"]`)) {
+      for (const p of meshPiecesOf(svg, copy.dataset.piece)) pieces.add(p);
+    }
+    highlightPieces(pieces, element.dataset.seam);
+  } else {
+    highlightPieces(new Set(meshPiecesOf(svg, element.dataset.piece)));
+  }
+});
+$('pattern').addEventListener('pointerleave', () => highlightPieces(null));
 $('fit').addEventListener('change', (e) => $('pattern').classList.toggle('fit', e.target.checked));
 
 // ---------------------------------------------------------------- status
@@ -1117,6 +1183,14 @@ canvas.addEventListener('pointerdown', (event) => {
 });
 
 canvas.addEventListener('pointermove', (event) => {
+  // Mesh mode: the piece under the pointer lights up on the model and the pattern.
+  if (!drag && state.mode === 'mesh' && state.reply && $('colour').value === 'pieces' && event.buttons === 0) {
+    pointerRay(event);
+    const hit = raycaster.intersectObject(sheet, false)[0];
+    const faces = state.reply.model.face_pieces;
+    highlightPieces(hit && hit.faceIndex < faces.length ? new Set([faces[hit.faceIndex]]) : null);
+    return;
+  }
   if (!drag) return;
   const started = performance.now();
   const world = pointerRay(event).intersectPlane(drag.plane, new THREE.Vector3());
@@ -1657,6 +1731,13 @@ window.sheetformEditor = {
     return worst;
   },
   idle: () => !state.inFlight && !state.pending,
+  /** The page coordinates of the centroid of face `t` of the drawn model (mesh mode). */
+  faceScreenPosition(t) {
+    const { positions: p, triangles: f } = state.reply.model;
+    const centre = new THREE.Vector3();
+    for (let k = 0; k < 3; k++) centre.add(new THREE.Vector3(p[3 * f[3 * t + k]], p[3 * f[3 * t + k] + 1], p[3 * f[3 * t + k] + 2]));
+    return pageCoordinates(content.localToWorld(centre.divideScalar(3)));
+  },
 };
 
 resize();

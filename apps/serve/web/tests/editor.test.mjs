@@ -600,6 +600,40 @@ try {
   const smooth = await meshReply();
   assert.equal(smooth.report.status, 'ok');
   assert.notDeepEqual(smooth.model.face_pieces, net.model.face_pieces, 'the layout changed the pieces');
+
+  // Pieces and seam IDs, 2D ↔ 3D (issue 34): pointing at a piece of the pattern lights it
+  // up on the model (the others fade), pointing at the model lights up its pattern piece,
+  // pointing at a seam ID lights up both its copies and both pieces.
+  const pieceCount = new Set(smooth.model.face_pieces).size;
+  assert.ok(pieceCount > 1, 'smooth charts of a box: several pieces');
+  const plain = await page.evaluate(() => window.sheetformEditor.sheetColours());
+  await page.dispatchEvent('#pattern path[data-piece="1"]', 'pointerover');
+  const lit = await page.evaluate(() => window.sheetformEditor.state.highlight);
+  const held = (await page.getAttribute('#pattern path[data-piece="1"]', 'data-mesh-pieces')).split(' ').map(Number);
+  assert.deepEqual(lit.pieces, held);
+  const shaded = await page.evaluate(() => window.sheetformEditor.sheetColours());
+  smooth.model.face_pieces.forEach((piece, t) => {
+    const [a, b] = [plain[3 * t], shaded[3 * t]];
+    if (held.includes(piece)) assert.deepEqual(b, a, `face ${t} of a lit piece keeps its colour`);
+    else assert.ok(b[0] + b[1] + b[2] > a[0] + a[1] + a[2] + 0.1, `face ${t} of another piece fades`);
+  });
+  assert.equal(await page.getAttribute('#pattern path[data-piece="1"]', 'class'), 'lit');
+  await page.screenshot({ path: join(outputDir, 'mesh-piece-lit.png') });
+  // The model under the pointer: the face's piece on the pattern.
+  const face = smooth.model.face_pieces.findIndex((piece) => !held.includes(piece));
+  const spot = await page.evaluate((t) => window.sheetformEditor.faceScreenPosition(t), face);
+  await page.mouse.move(spot.x, spot.y);
+  const litNow = await page.evaluate(() => window.sheetformEditor.state.highlight);
+  assert.ok(litNow && litNow.pieces.length === 1, 'one mesh piece under the pointer');
+  const litPaths = await page.$$eval('#pattern path.lit', (paths) => paths.map((p) => p.dataset.meshPieces));
+  assert.ok(litPaths.length >= 1 && litPaths.every((m) => m.split(' ').map(Number).includes(litNow.pieces[0])), JSON.stringify(litPaths));
+  // A seam ID: both copies lit.
+  const seam = await page.getAttribute('#pattern text[data-seam]', 'data-seam');
+  await page.hover(`#pattern text[data-seam="${seam}"]`);
+  assert.equal(await page.$$eval(`#pattern text.lit[data-seam="${seam}"]`, (t) => t.length), 2, `seam ${seam} on both copies`);
+  assert.equal((await page.evaluate(() => window.sheetformEditor.state.highlight)).seam, seam);
+  await page.screenshot({ path: join(outputDir, 'mesh-seam-lit.png') });
+  await page.mouse.move(1, 1);
   await answered(() => page.click('#undo'));
   const undone = await meshReply();
   assert.deepEqual(undone.model, net.model, 'undo restores the exact previous result');
