@@ -31,7 +31,8 @@
 //! Departures: the model is taken as zero-thickness folds between flat panels; smooth
 //! bends (under the pattern's smooth-bend angle) keep the model surface's length (exact
 //! for a mid-surface model at K = ½); the corners where cut edges meet (a box's welded
-//! corners) are not trimmed for the thickness.
+//! corners) are not trimmed for the thickness. Where two bend zones meet at their ends, a
+//! square corner relief is cut out ([`corner_reliefs`]).
 
 use crate::{PatternError, Vec2};
 use sheetform_geometry::short_number;
@@ -553,24 +554,110 @@ fn counter_clockwise(mut polygon: Vec<Vec2>) -> Vec<Vec2> {
     polygon
 }
 
-/// The union of counter-clockwise polygons as cut loops: outlines counter-clockwise,
-/// holes clockwise (geo's boolean union), holes under [`MIN_HOLE_MM`] across left out.
-pub(crate) fn union_loops(polygons: &[Vec<Vec2>]) -> Vec<Vec<Vec2>> {
+/// Corner reliefs of one part: where two bend zones meet at their ends on the part's
+/// outline (a box's flanges folded up around one corner of its base), the material in
+/// both zones can bend with neither, and tears or bulges. As FreeCAD SheetMetal's square
+/// corner relief, a square is cut out there: centred where the two bend lines cross,
+/// aligned with the first zone, reaching past both zones' tangent lines by half the
+/// sheet's `thickness_mm`. Zones that cross in the middle of one of them, or meet inside
+/// the part away from its `outline` (folds around an inner vertex of a net, which no
+/// relief frees), get none. Counter-clockwise squares (mm).
+pub(crate) fn corner_reliefs(zones: &[&BendZone], thickness_mm: f64, outline: &[Vec<Vec2>]) -> Vec<Vec<Vec2>> {
+    let mut reliefs = Vec::new();
+    for (i, first) in zones.iter().enumerate() {
+        for second in &zones[i + 1..] {
+            let (a0, a1) = first.centre_line();
+            let (b0, b1) = second.centre_line();
+            let (u, v) = (a1 - a0, b1 - b0);
+            let denominator = u.x * v.y - u.y * v.x;
+            if denominator.abs() <= 1e-9 * u.norm() * v.norm() {
+                continue;
+            }
+            // The crossing of the two bend lines: a0 + s·u = b0 + t·v.
+            let w = b0 - a0;
+            let (s, t) = (
+                (w.x * v.y - w.y * v.x) / denominator,
+                (w.x * u.y - w.y * u.x) / denominator,
+            );
+            let crossing = a0 + u * s;
+            let (half_first, half_second) = (0.5 * first.bend.allowance_mm, 0.5 * second.bend.allowance_mm);
+            // At an end of each: within the other's half width (and the thickness) of it.
+            let at_end = |parameter: f64, length: f64, reach: f64| {
+                let along = parameter * length;
+                along <= reach || along >= length - reach
+            };
+            let reach = |half: f64| half + thickness_mm;
+            if !at_end(s, u.norm(), reach(half_second)) || !at_end(t, v.norm(), reach(half_first)) {
+                continue;
+            }
+            // Beyond either end by more than that: the zones do not meet.
+            let outside = |parameter: f64, length: f64, reach: f64| {
+                parameter * length < -reach || parameter * length > length + reach
+            };
+            if outside(s, u.norm(), reach(half_second)) || outside(t, v.norm(), reach(half_first)) {
+                continue;
+            }
+            // On the outline: within reach of one of its edges.
+            let near_outline = outline.iter().any(|l| {
+                (0..l.len()).any(|k| {
+                    sheetform_geometry::segment_distance([l[k], l[(k + 1) % l.len()]], [crossing, crossing])
+                        <= reach(half_first.max(half_second))
+                })
+            });
+            if !near_outline {
+                continue;
+            }
+            let along = u / u.norm();
+            let across = Vec2::new(-along.y, along.x);
+            // Half sizes: along the first zone, the second's half width; across it, its own.
+            // The sine of the angle between the two zones: the second's width measured
+            // along the first.
+            let sine = (u.x * v.y - u.y * v.x).abs() / (u.norm() * v.norm());
+            let (h_along, h_across) = (
+                half_second / sine.max(1e-9) + 0.5 * thickness_mm,
+                half_first + 0.5 * thickness_mm,
+            );
+            reliefs.push(counter_clockwise(vec![
+                crossing - along * h_along - across * h_across,
+                crossing + along * h_along - across * h_across,
+                crossing + along * h_along + across * h_across,
+                crossing - along * h_along + across * h_across,
+            ]));
+        }
+    }
+    reliefs
+}
+
+/// [`union_loops`] less the `reliefs` (geo's boolean difference) that do not cut the part
+/// in two, and those kept.
+pub(crate) fn union_less_reliefs(polygons: &[Vec<Vec2>], reliefs: &[Vec<Vec2>]) -> (Vec<Vec<Vec2>>, Vec<Vec<Vec2>>) {
+    use geo::{BooleanOps, LineString, MultiPolygon, Polygon};
+    let shape = |p: &Vec<Vec2>| {
+        let p = counter_clockwise(p.clone());
+        Polygon::new(
+            LineString::from(p.iter().map(|q| (q.x, q.y)).collect::<Vec<_>>()),
+            vec![],
+        )
+    };
+    let mut remaining: MultiPolygon = geo::unary_union(&polygons.iter().map(shape).collect::<Vec<_>>());
+    let pieces = remaining.0.len();
+    let mut kept = Vec::new();
+    for relief in reliefs {
+        let cut = remaining.difference(&MultiPolygon::new(vec![shape(relief)]));
+        if cut.0.len() == pieces {
+            remaining = cut;
+            kept.push(relief.clone());
+        }
+    }
+    (polygon_loops(&remaining), kept)
+}
+
+/// The loops of geo polygons: outlines counter-clockwise, holes clockwise, holes under
+/// [`MIN_HOLE_MM`] across left out.
+fn polygon_loops(shapes: &geo::MultiPolygon) -> Vec<Vec<Vec2>> {
     use crate::material_allowance::ring_loop;
-    use geo::{LineString, Polygon};
-    let shapes: Vec<Polygon> = polygons
-        .iter()
-        .map(|p| {
-            let p = counter_clockwise(p.clone());
-            Polygon::new(
-                LineString::from(p.iter().map(|q| (q.x, q.y)).collect::<Vec<_>>()),
-                vec![],
-            )
-        })
-        .collect();
-    let union = geo::unary_union(&shapes);
     let mut loops = Vec::new();
-    for polygon in &union {
+    for polygon in shapes {
         loops.push(ring_loop(polygon.exterior(), true));
         for hole in polygon.interiors() {
             let hole = ring_loop(hole, false);
@@ -585,9 +672,78 @@ pub(crate) fn union_loops(polygons: &[Vec<Vec2>]) -> Vec<Vec<Vec2>> {
     loops
 }
 
+/// The union of counter-clockwise polygons as cut loops: outlines counter-clockwise,
+/// holes clockwise (geo's boolean union), holes under [`MIN_HOLE_MM`] across left out.
+pub(crate) fn union_loops(polygons: &[Vec<Vec2>]) -> Vec<Vec<Vec2>> {
+    use geo::{LineString, Polygon};
+    let shapes: Vec<Polygon> = polygons
+        .iter()
+        .map(|p| {
+            let p = counter_clockwise(p.clone());
+            Polygon::new(
+                LineString::from(p.iter().map(|q| (q.x, q.y)).collect::<Vec<_>>()),
+                vec![],
+            )
+        })
+        .collect();
+    polygon_loops(&geo::unary_union(&shapes))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A zone whose bend line runs from `a` to `b`, `width` wide (allowance), no setback.
+    fn zone(a: Vec2, b: Vec2, width: f64) -> BendZone {
+        let d = (b - a).normalize();
+        let across = Vec2::new(-d.y, d.x);
+        BendZone {
+            part: 0,
+            a: a - across * (0.5 * width),
+            b: b - across * (0.5 * width),
+            across,
+            bend: BendGeometry {
+                setback_mm: 0.0,
+                allowance_mm: width,
+            },
+            signed_angle: std::f64::consts::FRAC_PI_2,
+        }
+    }
+
+    /// Issue 34: the two bend zones of a box's base meeting at its corner on the outline
+    /// get one square relief, centred where their bend lines cross, reaching half the
+    /// thickness past both tangent lines; zones crossing in their middles, or meeting
+    /// away from the outline, get none.
+    #[test]
+    fn bend_zones_meeting_at_a_corner_of_the_outline_get_a_square_relief() {
+        let v = Vec2::new;
+        let (width, thickness) = (4.0, 1.0);
+        // Bend lines along x = 0 (upwards) and y = 0 (rightwards), both starting at the
+        // origin, the outline's corner.
+        let (up, right) = (
+            zone(v(0.0, 0.0), v(0.0, 50.0), width),
+            zone(v(0.0, 0.0), v(60.0, 0.0), width),
+        );
+        let outline = vec![vec![v(-2.0, -2.0), v(60.0, -2.0), v(60.0, 50.0), v(-2.0, 50.0)]];
+        let reliefs = corner_reliefs(&[&up, &right], thickness, &outline);
+        assert_eq!(reliefs.len(), 1);
+        let (lo, hi) = crate::point_bounds(&reliefs[0]);
+        for k in 0..2 {
+            assert!(
+                (lo[k] + 2.5).abs() < 1e-12 && (hi[k] - 2.5).abs() < 1e-12,
+                "{lo:?} {hi:?}"
+            );
+        }
+        // Crossing in the middle of both: an X of folds, no corner.
+        let (x1, x2) = (
+            zone(v(-30.0, 0.0), v(30.0, 0.0), width),
+            zone(v(0.0, -30.0), v(0.0, 30.0), width),
+        );
+        let around = vec![vec![v(-40.0, -40.0), v(40.0, -40.0), v(40.0, 40.0), v(-40.0, 40.0)]];
+        assert!(corner_reliefs(&[&x1, &x2], thickness, &around).is_empty());
+        // Meeting at their ends, but inside the part (an inner vertex of a net).
+        assert!(corner_reliefs(&[&up, &right], thickness, &around).is_empty());
+    }
 
     #[test]
     fn freecad_sheet_metal_worked_example() {

@@ -1,4 +1,4 @@
-use crate::bend_allowance::{lay_out_bends, union_loops, BentLayout};
+use crate::bend_allowance::{corner_reliefs, lay_out_bends, union_less_reliefs, union_loops, BentLayout};
 use crate::glue_tabs::{add_glue_tabs, TabOptions, TabReport};
 use crate::label_placement::{place_labels, LabelRequest, LabelSpot};
 use crate::material_allowance::{add_kerf, add_seam_allowance, MaterialAllowance};
@@ -151,6 +151,8 @@ pub struct Pattern {
     /// With a bend allowance: how much longer the pattern grew across each bend than the
     /// zero-thickness development (mm; negative: a bend deduction).
     pub bend_flat_changes_mm: Vec<f64>,
+    /// With a bend allowance: corner reliefs cut where two bend zones meet.
+    pub corner_relief_count: usize,
 }
 
 /// Knobs of [`pattern_from_mesh`].
@@ -281,6 +283,7 @@ impl Pattern {
             } else {
                 Vec::new()
             },
+            corner_relief_count: self.corner_relief_count,
         }
     }
 }
@@ -525,6 +528,25 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
         }
         None => None,
     };
+    // A bent part's outline: the union of its flanges and bend zones, less the corner
+    // reliefs where two of its bend zones meet on it (those that leave it whole).
+    type Loops = Vec<Vec<Vec2>>;
+    let (bent_loops, part_reliefs): (Vec<Loops>, Vec<Loops>) =
+        bent.as_ref().map_or((Vec::new(), Vec::new()), |layout| {
+            let thickness = options.allowance.bend.map_or(0.0, |b| b.thickness_mm);
+            layout
+                .part_polygons
+                .iter()
+                .enumerate()
+                .map(|(part, polygons)| {
+                    let zones: Vec<_> = layout.zones.iter().filter(|z| z.part == part).collect();
+                    let outline = union_loops(polygons);
+                    let reliefs = corner_reliefs(&zones, thickness, &outline);
+                    let (loops, kept) = union_less_reliefs(polygons, &reliefs);
+                    (loops.into_iter().map(without_collinear_points).collect(), kept)
+                })
+                .unzip()
+        });
     let moved = |f: u32| bent.as_ref().map_or(Vec2::zeros(), |l| l.face_offset[f as usize]);
     // How far the face along edge `a b` moved (a boundary or fold edge's face).
     let edge_moved = |a: u32, b: u32| table.faces_of(a, b).next().map_or(Vec2::zeros(), moved);
@@ -548,22 +570,28 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
     };
     match &bent {
         Some(layout) => {
-            // The bend line in the middle of each bend zone, its tangent lines as guides.
+            // The bend line in the middle of each bend zone, its tangent lines as guides,
+            // each drawn where material is left (not across a corner relief).
             for zone in &layout.zones {
+                let reliefs = &part_reliefs[zone.part];
                 let (a, b) = zone.centre_line();
-                pieces[zone.part].folds.push(Fold {
-                    a,
-                    b,
-                    style: fold_style(zone.signed_angle),
-                    angle_degrees: zone.signed_angle.abs().to_degrees(),
-                });
-                for (a, b) in zone.tangent_lines() {
+                for (a, b) in outside_polygons(a, b, reliefs) {
                     pieces[zone.part].folds.push(Fold {
                         a,
                         b,
-                        style: FoldStyle::Guide,
-                        angle_degrees: 0.0,
+                        style: fold_style(zone.signed_angle),
+                        angle_degrees: zone.signed_angle.abs().to_degrees(),
                     });
+                }
+                for (a, b) in zone.tangent_lines() {
+                    for (a, b) in outside_polygons(a, b, reliefs) {
+                        pieces[zone.part].folds.push(Fold {
+                            a,
+                            b,
+                            style: FoldStyle::Guide,
+                            angle_degrees: 0.0,
+                        });
+                    }
                 }
             }
         }
@@ -740,19 +768,7 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
             pieces[loop_part[i]].cut.push(points.clone());
         }
     }
-    // A bent part's outline: the union of its flanges and bend zones.
-    let bent_loops: Vec<Vec<Vec<Vec2>>> = bent.as_ref().map_or(Vec::new(), |layout| {
-        layout
-            .part_polygons
-            .iter()
-            .map(|polygons| {
-                union_loops(polygons)
-                    .into_iter()
-                    .map(without_collinear_points)
-                    .collect()
-            })
-            .collect()
-    });
+    let relief_count = part_reliefs.iter().map(Vec::len).sum();
     for (part, loops) in bent_loops.iter().enumerate() {
         if bent_part(part) {
             pieces[part].cut = loops.clone();
@@ -851,11 +867,56 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
         bend_flat_changes_mm: bent.map_or(Vec::new(), |l| {
             l.zones.iter().map(|z| z.bend.flat_change_mm()).collect()
         }),
+        corner_relief_count: relief_count,
     };
     if let Some(sheet) = &options.sheet {
         pack_pieces(&mut pattern, sheet)?;
     }
     Ok(pattern)
+}
+
+/// The parts of the segment `a b` outside every convex polygon of `polygons`
+/// (counter-clockwise): each polygon's inside cut from it (Cyrus–Beck), what is left in
+/// order.
+fn outside_polygons(a: Vec2, b: Vec2, polygons: &[Vec<Vec2>]) -> Vec<(Vec2, Vec2)> {
+    let d = b - a;
+    // Parameter intervals of the segment inside each polygon.
+    let mut inside: Vec<(f64, f64)> = polygons
+        .iter()
+        .filter_map(|polygon| {
+            let (mut t0, mut t1) = (0.0f64, 1.0f64);
+            let n = polygon.len();
+            for i in 0..n {
+                let (p, q) = (polygon[i], polygon[(i + 1) % n]);
+                // Inside: left of every edge, cross(q − p, x − p) ≥ 0.
+                let e = q - p;
+                let (at_a, rate) = (e.x * (a - p).y - e.y * (a - p).x, e.x * d.y - e.y * d.x);
+                if rate == 0.0 {
+                    if at_a < 0.0 {
+                        return None;
+                    }
+                } else if rate > 0.0 {
+                    t0 = t0.max(-at_a / rate);
+                } else {
+                    t1 = t1.min(-at_a / rate);
+                }
+            }
+            (t0 < t1).then_some((t0, t1))
+        })
+        .collect();
+    inside.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let mut parts = Vec::new();
+    let mut from = 0.0;
+    for (t0, t1) in inside {
+        if t0 > from {
+            parts.push((a + d * from, a + d * t0));
+        }
+        from = from.max(t1);
+    }
+    if from < 1.0 {
+        parts.push((a + d * from, b));
+    }
+    parts
 }
 
 /// Pieces that a bend allowance made grow into each other's bounding rectangles (where

@@ -523,6 +523,9 @@ pub struct BendAllowanceReport {
     pub material_side: sheetform_pattern::MaterialSide,
     /// Folds given a bend zone.
     pub bend_count: usize,
+    /// Square corner reliefs cut where two bend zones meet at their ends.
+    #[serde(default)]
+    pub corner_relief_count: usize,
     /// Smallest change of flat length across a bend against the zero-thickness pattern
     /// (negative: a bend deduction; 0 without bends).
     pub flat_change_min_mm: f64,

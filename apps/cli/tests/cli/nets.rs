@@ -291,6 +291,57 @@ fn a_sheet_metal_box_unfolds_with_its_bend_deductions() {
     let dxf = ezdxf_cut(&metal.join("pattern.dxf"));
     assert_eq!((dxf["errors"].as_u64(), dxf["fixes"].as_u64()), (Some(0), Some(0)));
     assert_eq!(dxf["mountain"], 5);
+    // Corner reliefs (issue 34): where two bend lines meet at the base's four corners, the
+    // square where both zones would bend is cut out: the bend lines' crossing lies off
+    // the outline's material, every bend line's middle on it.
+    assert_eq!(bend["corner_relief_count"], 4, "{bend}");
+    let mountains: Vec<([f64; 2], [f64; 2])> = {
+        let group = &svg[svg.find(r#"id="fold-mountain""#).unwrap()..];
+        let group = &group[..group.find("</g>").unwrap()];
+        let attr = |tag: &str, name: &str| -> f64 {
+            let key = format!(r#" {name}=""#);
+            let start = tag.find(&key).unwrap() + key.len();
+            tag[start..start + tag[start..].find('"').unwrap()].parse().unwrap()
+        };
+        group
+            .split("<line")
+            .skip(1)
+            .map(|tag| ([attr(tag, "x1"), attr(tag, "y1")], [attr(tag, "x2"), attr(tag, "y2")]))
+            .collect()
+    };
+    let inside = |p: [f64; 2]| {
+        let l = &loops[0];
+        let mut crossings = 0;
+        for i in 0..l.len() {
+            let (a, b) = (l[i], l[(i + 1) % l.len()]);
+            if (a[1] > p[1]) != (b[1] > p[1]) && p[0] < a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]) {
+                crossings += 1;
+            }
+        }
+        crossings % 2 == 1
+    };
+    let mut corners = 0;
+    for (i, &(a, b)) in mountains.iter().enumerate() {
+        assert!(
+            inside([(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0]),
+            "bend line {i} on the material"
+        );
+        for &(c, d) in &mountains[i + 1..] {
+            // Perpendicular bend lines of the base (axis-aligned here) that end near one
+            // another: their crossing is cut out.
+            let (u, v) = ([b[0] - a[0], b[1] - a[1]], [d[0] - c[0], d[1] - c[1]]);
+            if (u[0] * v[0] + u[1] * v[1]).abs() > 1e-9 {
+                continue;
+            }
+            let crossing = if u[0].abs() < 1e-9 { [a[0], c[1]] } else { [c[0], a[1]] };
+            let near_end = |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).hypot(p[1] - q[1]) < 6.0;
+            if (near_end(crossing, a) || near_end(crossing, b)) && (near_end(crossing, c) || near_end(crossing, d)) {
+                corners += 1;
+                assert!(!inside(crossing), "a corner relief at {crossing:?}");
+            }
+        }
+    }
+    assert_eq!(corners, 4);
 
     // Nets whose folds meet at every vertex in every direction still come out as one
     // outline each, the flanges trimmed and joined by their zones without hairline gaps.

@@ -264,6 +264,7 @@ pub(crate) fn pattern_files(
                 k_factor: bend.k_factor,
                 material_side: bend.material_side,
                 bend_count: changes.len(),
+                corner_relief_count: pattern.corner_relief_count,
                 flat_change_min_mm: if changes.is_empty() { 0.0 } else { min },
                 flat_change_max_mm: if changes.is_empty() { 0.0 } else { max },
             }
