@@ -117,6 +117,20 @@ pub struct ChartSet {
 /// Non-manifold, degenerate or non-orientable meshes (named), seam edges that are not
 /// mesh edges.
 pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<ChartSet, FlattenError> {
+    cut_into_charts_until(mesh, options, None)
+}
+
+/// [`cut_into_charts`] that stops once `stop` is set (from another thread: Ctrl-C, an
+/// abandoned editor request), before each chart it flattens.
+///
+/// # Errors
+/// As [`cut_into_charts`]; [`FlattenError::Cancelled`] when stopped.
+pub fn cut_into_charts_until(
+    mesh: &TriangleMesh,
+    options: &ChartOptions,
+    stop: Option<&std::sync::atomic::AtomicBool>,
+) -> Result<ChartSet, FlattenError> {
+    let stopped = || stop.is_some_and(|s| s.load(std::sync::atomic::Ordering::Relaxed));
     let topology = mesh_topology(mesh);
     let problems = crate::exact_unfolding::topology_problems(&topology);
     if !problems.is_empty() {
@@ -176,6 +190,9 @@ pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<Ch
     let mut opened_cut_edges = 0;
     let mut in_chart = vec![u32::MAX; nf];
     while let Some(faces) = pending.pop() {
+        if stopped() {
+            return Err(FlattenError::Cancelled);
+        }
         let (sub, vertices) = submesh(mesh, &faces);
         let out_of_budget = charts.len() + pending.len() + 1 >= options.max_charts;
         let attempt = flatten_chart(&sub);
@@ -223,7 +240,13 @@ pub fn cut_into_charts(mesh: &TriangleMesh, options: &ChartOptions) -> Result<Ch
         pending.push(a);
         pending.push(b);
     }
+    if stopped() {
+        return Err(FlattenError::Cancelled);
+    }
     let merged_count = merge_small_charts(mesh, &table, &seams, &mut charts, options);
+    if stopped() {
+        return Err(FlattenError::Cancelled);
+    }
     // Borders that splitting left (not creases, not user seams) moved onto shortest paths.
     let fixed: Vec<bool> = (0..table.len())
         .map(|e| match table.sides(e) {

@@ -27,4 +27,7 @@ pub enum FlattenError {
         /// The solver's message.
         message: String,
     },
+    /// Stopped from outside (Ctrl-C, an abandoned editor request).
+    #[error("cancelled")]
+    Cancelled,
 }

@@ -21,7 +21,8 @@ mod user_seams;
 pub use alignment::{align_rigid, RigidAlignment};
 pub use arap::{arap, ArapOptions};
 pub use chart_segmentation::{
-    cut_into_charts, Chart, ChartOptions, ChartSet, MAX_CONE_POINTS, MAX_SEAM_LOOPS, SMALL_CHART_FACES,
+    cut_into_charts, cut_into_charts_until, Chart, ChartOptions, ChartSet, MAX_CONE_POINTS, MAX_SEAM_LOOPS,
+    SMALL_CHART_FACES,
 };
 pub use distortion::{distortion, Distortion};
 pub use edge_unfolding::{

@@ -24,6 +24,9 @@ pub enum SlitError {
     /// No mould can be made from the shape.
     #[error("mould: {0}")]
     Mould(String),
+    /// The solve was stopped from outside (Ctrl-C, an abandoned editor request).
+    #[error("cancelled")]
+    Cancelled,
 }
 
 impl SlitError {

@@ -41,7 +41,8 @@ pub use seat_curve::{SeatCurve, SeatProjection};
 pub use sheet_layout::SheetLayout;
 pub use side_panel::SidePanel;
 pub use slit_design::{
-    solve_design, ScanFit, SlitDesign, SlitModel, MAX_ITERATIONS, MAX_QUADS, MAX_QUADS_SOLVED_TOGETHER, MAX_STRIPS,
+    solve_design, solve_design_until, ScanFit, SlitDesign, SlitModel, MAX_ITERATIONS, MAX_QUADS,
+    MAX_QUADS_SOLVED_TOGETHER, MAX_STRIPS,
 };
 pub use slit_mesh::slit_mesh;
 pub use strip_solver::StripSolveInfo;

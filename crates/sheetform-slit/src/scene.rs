@@ -112,7 +112,11 @@ pub struct AnchorSpec {
     pub position: [f64; 3],
 }
 
-/// Weights `w1..w4` of Eq. 1 and of the extensions.
+/// The largest weight of [`WeightsSpec`] (as the photo reconstruction's energy weights):
+/// larger ones overflow when squared in the solve.
+pub const MAX_WEIGHT: f64 = 1e6;
+
+/// Weights `w1..w4` of Eq. 1 and of the extensions, each from 0 to [`MAX_WEIGHT`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct WeightsSpec {

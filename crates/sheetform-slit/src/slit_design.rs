@@ -6,7 +6,7 @@ use crate::point_cloud::ScanCloud;
 use crate::sheet_layout::MAX_LENGTH;
 use crate::strip_folding::{fold_strip, FoldedStrip, RidgeEnd, StripStart, StripState};
 use crate::strip_penalty::{StripTerms, VertexAnchor};
-use crate::strip_solver::{solve_gap_constrained, solve_strip, JointProblem, StripSolveInfo, StripSolveOptions};
+use crate::strip_solver::{solve_gap_constrained, solve_strip_until, JointProblem, StripSolveInfo, StripSolveOptions};
 use crate::{
     AnchorSpec, MouldSpec, SeatCurve, SheetLayout, SidePanel, SlitError, SlitScene, SolveMode, SolverSpec, StripSide,
     WeightsSpec,
@@ -15,6 +15,7 @@ use nalgebra::{DVector, Vector2, Vector3};
 use rayon::prelude::*;
 use sheetform_geometry::Bezier2;
 use sheetform_mesh::LengthUnit;
+use std::sync::atomic::AtomicBool;
 
 type Vec3 = Vector3<f64>;
 
@@ -163,10 +164,16 @@ impl SlitModel {
             ("weights.scan", w.scan),
             ("weights.neighbour", w.neighbour),
         ] {
-            if !(value.is_finite() && value >= 0.0) {
+            // (Bounded: a weight whose square overflows made the strip solve loop on a
+            // matrix of infinities.)
+            if !(value.is_finite() && (0.0..=crate::MAX_WEIGHT).contains(&value)) {
                 return Err(SlitError::field(
                     name,
-                    format!("must be a non-negative number, got {value}"),
+                    format!(
+                        "must be a number from 0 to {}, got {}",
+                        crate::MAX_WEIGHT,
+                        sheetform_geometry::short_number(value)
+                    ),
                 ));
             }
         }
@@ -480,6 +487,12 @@ impl SlitDesign {
     /// the affected strip), one by one in parallel, or all strips jointly when the model
     /// says so.
     pub fn solve(&mut self, model: &SlitModel, strips: &[usize]) {
+        self.solve_until(model, strips, None);
+    }
+
+    /// [`SlitDesign::solve`] that stops where it is once `stop` is set (from another
+    /// thread: a cancelled run); the design is then not converged.
+    pub fn solve_until(&mut self, model: &SlitModel, strips: &[usize], stop: Option<&AtomicBool>) {
         let options = model.solve_options();
         let level = self.level;
         if model.solver.mode == SolveMode::Joint && model.layout.strip_count > 1 {
@@ -489,6 +502,7 @@ impl SlitDesign {
                     .map(|k| model.strip_terms(k, level))
                     .collect(),
                 neighbour_weight: model.weights.neighbour,
+                stop,
             };
             let x0: Vec<f64> = self.states.iter().flat_map(StripState::to_vector).collect();
             let (x, info, _) = solve_gap_constrained(&mut problem, DVector::from_vec(x0), &options);
@@ -522,7 +536,7 @@ impl SlitDesign {
                 .par_iter()
                 .map(|&k| {
                     let mut state = self.states[k].clone();
-                    let info = solve_strip(model.strip_terms(k, level), k, &mut state, &options);
+                    let info = solve_strip_until(model.strip_terms(k, level), k, &mut state, &options, stop);
                     (k, state, info)
                 })
                 .collect();
@@ -601,6 +615,16 @@ fn accumulate(previous: StripSolveInfo, latest: StripSolveInfo) -> StripSolveInf
 /// settings ask for (solve, split, solve again from the current state, …). With a scan,
 /// the first solve is from the design curves alone and the fit starts from its result.
 pub fn solve_design(model: &SlitModel) -> SlitDesign {
+    solve_design_until(model, None).expect("nothing stops a solve without a stop flag")
+}
+
+/// [`solve_design`] that stops once `stop` is set (from another thread: Ctrl-C, an
+/// abandoned editor request), at its next iteration of any strip's solve.
+///
+/// # Errors
+/// [`SlitError::Cancelled`] when stopped.
+pub fn solve_design_until(model: &SlitModel, stop: Option<&AtomicBool>) -> Result<SlitDesign, SlitError> {
+    let stopped = || stop.is_some_and(|s| s.load(std::sync::atomic::Ordering::Relaxed));
     let mut design = SlitDesign::initial(model);
     let all: Vec<usize> = (0..model.layout.strip_count).collect();
     if model.scan.is_some() && model.weights.scan > 0.0 {
@@ -611,12 +635,18 @@ pub fn solve_design(model: &SlitModel) -> SlitDesign {
         // (mean 3.2 mm, max 4.4 mm; `examples/scan_fitted_chair.rs` of the facade).
         let mut curves_only = model.clone();
         curves_only.scan = None;
-        design.solve(&curves_only, &all);
+        design.solve_until(&curves_only, &all, stop);
     }
-    design.solve(model, &all);
+    design.solve_until(model, &all, stop);
     for _ in 0..model.solver.subdivisions {
+        if stopped() {
+            return Err(SlitError::Cancelled);
+        }
         design.subdivide();
-        design.solve(model, &all);
+        design.solve_until(model, &all, stop);
     }
-    design
+    if stopped() {
+        return Err(SlitError::Cancelled);
+    }
+    Ok(design)
 }

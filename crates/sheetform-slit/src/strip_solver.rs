@@ -35,6 +35,7 @@ use sheetform_solve::{
     constrained_levenberg_marquardt, levenberg_marquardt, ConstrainedLeastSquaresProblem, ConstrainedOptions,
     LeastSquaresProblem, LevenbergMarquardtOptions, SolverInfo,
 };
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Knobs of the strip solver.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -98,6 +99,8 @@ pub trait GapConstrained: ConstrainedLeastSquaresProblem {
 pub struct StripProblem<'a> {
     /// The strip's terms.
     pub terms: StripTerms<'a>,
+    /// Set from another thread to stop the solve (a cancelled run).
+    pub stop: Option<&'a AtomicBool>,
 }
 
 impl LeastSquaresProblem for StripProblem<'_> {
@@ -111,6 +114,10 @@ impl LeastSquaresProblem for StripProblem<'_> {
         let mut j = DMatrix::zeros(self.terms.residual_count(), x.len());
         self.terms.jacobian_into(x.as_slice(), &mut j, 0, 0);
         j
+    }
+
+    fn stop_requested(&self) -> bool {
+        self.stop.is_some_and(|s| s.load(Ordering::Relaxed))
     }
 }
 
@@ -152,6 +159,8 @@ pub struct JointProblem<'a> {
     pub strips: Vec<StripTerms<'a>>,
     /// Weight of the neighbour rows.
     pub neighbour_weight: f64,
+    /// Set from another thread to stop the solve (a cancelled run).
+    pub stop: Option<&'a AtomicBool>,
 }
 
 impl JointProblem<'_> {
@@ -219,6 +228,10 @@ impl LeastSquaresProblem for JointProblem<'_> {
             row += 1;
         }
         jac
+    }
+
+    fn stop_requested(&self) -> bool {
+        self.stop.is_some_and(|s| s.load(Ordering::Relaxed))
     }
 }
 
@@ -329,10 +342,21 @@ pub fn solve_strip(
     state: &mut StripState,
     options: &StripSolveOptions,
 ) -> StripSolveInfo {
+    solve_strip_until(terms, strip, state, options, None)
+}
+
+/// [`solve_strip`] that stops where it is once `stop` is set (from another thread).
+pub fn solve_strip_until(
+    terms: StripTerms<'_>,
+    strip: usize,
+    state: &mut StripState,
+    options: &StripSolveOptions,
+    stop: Option<&AtomicBool>,
+) -> StripSolveInfo {
     let started = std::time::Instant::now();
     let x0 = state.to_vector();
     let initial_penalty = terms.penalty(&x0).total;
-    let mut problem = StripProblem { terms };
+    let mut problem = StripProblem { terms, stop };
     let (x, info, _) = solve_gap_constrained(&mut problem, DVector::from_vec(x0), options);
     state.set_vector(x.as_slice());
     let terms = &problem.terms;

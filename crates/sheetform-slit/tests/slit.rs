@@ -53,7 +53,7 @@ fn penalty_jacobian_matches_finite_differences() {
     let x = wavy_problem(&mut model);
     let mut terms = model.strip_terms(1, 0);
     terms.gap_shift = [0.01, -0.02];
-    let problem = StripProblem { terms };
+    let problem = StripProblem { terms, stop: None };
     let exact: DMatrix<f64> = problem.jacobian(&x);
     for k in 0..x.len() {
         let h = 1e-6;
@@ -99,7 +99,7 @@ fn hessians_match_differences_of_the_exact_gradients() {
     let x = wavy_problem(&mut model);
     let mut terms = model.strip_terms(1, 0);
     terms.gap_shift = [0.01, -0.02];
-    let problem = StripProblem { terms };
+    let problem = StripProblem { terms, stop: None };
     let n = x.len();
     let gradient = |x: &DVector<f64>| problem.jacobian(x).transpose() * problem.residuals(x);
     let multipliers = DVector::from_vec(vec![0.7, -1.3]);
@@ -374,5 +374,54 @@ fn anchorable_points_are_ridge_ends_on_the_sheet_and_anchors_pull_them() {
             let moved = Vector3::from(solve_design(&pulled).anchorable_points(&pulled)[2 * (quads - 1)].position);
             assert!((moved - target).norm() < (Vector3::from(chosen.position) - target).norm() - 1.0);
         }
+    }
+}
+
+/// Issue 35: the slit solve looked at no cancel flag, so two abandoned editor requests held
+/// both solve slots until they finished (minutes at the largest sizes). A stop set from
+/// another thread while the strips are solved ends the solve with `Cancelled`.
+#[test]
+fn a_stop_from_another_thread_cancels_the_solve() {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let mut scene: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/slit/chair.json")).unwrap(),
+    )
+    .unwrap();
+    // Eight strips of 256 quads: some 40 s of solving on 2 cores.
+    scene["sheet"]["strip_count"] = 8.into();
+    scene["sheet"]["quads_per_strip"] = 256.into();
+    scene["solver"] = serde_json::json!({ "max_iterations": 10000, "gap_tolerance": 1e-14 });
+    let scene = sheetform_slit::SlitScene::from_json(&scene.to_string()).unwrap();
+    let model = sheetform_slit::SlitModel::from_scene(&scene, None).unwrap();
+    let stop = AtomicBool::new(false);
+    let result = std::thread::scope(|s| {
+        s.spawn(|| {
+            std::thread::sleep(std::time::Duration::from_millis(300));
+            stop.store(true, Ordering::Relaxed);
+        });
+        sheetform_slit::solve_design_until(&model, Some(&stop))
+    });
+    assert!(
+        matches!(result, Err(sheetform_slit::SlitError::Cancelled)),
+        "{:?}",
+        result.map(|_| ())
+    );
+}
+
+/// Issue 35: a weight whose square overflows (1e200) made the strip solve loop forever on
+/// a matrix of infinities; weights are bounded, the field named.
+#[test]
+fn weights_beyond_their_bound_are_refused_naming_the_field() {
+    for field in ["no_gap", "smooth", "fair", "user_control", "scan", "neighbour"] {
+        let mut scene: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/slit/chair.json")).unwrap(),
+        )
+        .unwrap();
+        scene["weights"] = serde_json::json!({ field: 1e200 });
+        let scene = sheetform_slit::SlitScene::from_json(&scene.to_string()).unwrap();
+        let e = sheetform_slit::SlitModel::from_scene(&scene, None)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(&format!("weights.{field}")) && e.contains("1e200"), "{e}");
     }
 }

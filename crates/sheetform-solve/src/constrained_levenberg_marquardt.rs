@@ -102,6 +102,11 @@ fn tangent_blocks(cj: &DMatrix<f64>, matrices: &[&DMatrix<f64>]) -> (Vec<DMatrix
     (blocks, independent)
 }
 
+/// Most sweeps of the SVD that gives a singular KKT system its minimum-norm step (a few
+/// dozen suffice for the systems here; the bound keeps a pathological one from running
+/// on).
+const MAX_SVD_SWEEPS: usize = 10_000;
+
 /// Levenberg–Marquardt with linearised equality constraints (an SQP-type step).
 ///
 /// Each step solves the damped KKT system
@@ -173,6 +178,9 @@ pub fn constrained_levenberg_marquardt(
     // One `tracing` debug line per iteration (`SHEETFORM_TRACE=1` shows them in the CLI).
     for it in 0..base.max_iterations {
         info.solver.iterations = it;
+        if problem.stop_requested() {
+            break;
+        }
         let feasible = violation(&c) <= options.constraint_tolerance;
         if feasible && gradient <= gradient_limit {
             info.solver.converged = true;
@@ -224,7 +232,13 @@ pub fn constrained_levenberg_marquardt(
             .filter(|x| x.iter().all(|v| v.is_finite()))
             .or_else(|| {
                 tracing::debug!("constrained LM: singular KKT system, minimum-norm step by SVD");
-                let svd = kkt.svd(true, true);
+                // (nalgebra's SVD iterates until it converges, which a matrix with a
+                // non-finite entry never does: such a system has no step, and the SVD's
+                // sweeps are bounded.)
+                if !kkt.iter().all(|v| v.is_finite()) {
+                    return None;
+                }
+                let svd = kkt.try_svd(true, true, f64::EPSILON, MAX_SVD_SWEEPS)?;
                 let tolerance = 1e-13 * svd.singular_values.max();
                 svd.solve(&rhs, tolerance).ok()
             });
@@ -431,5 +445,62 @@ mod tests {
         let s = 5f64.sqrt();
         assert!((x[0] - 2.0 / s).abs() < 1e-9 && (x[1] - 1.0 / s).abs() < 1e-9, "{x:?}");
         assert!(info.constraint_violation < 1e-10);
+    }
+
+    /// Issue 35: weights whose squares overflow (a slit scene's weight of 1e200) made the
+    /// KKT system infinite, and the SVD taken for its step never converged: the solve hung.
+    /// It now ends within its iterations, not converged, with finite unknowns.
+    #[test]
+    fn an_overflowing_problem_ends_within_its_iterations() {
+        let huge = OnCircle {
+            weights: [1e200, 1e200],
+            target: [2.0, 1.0],
+        };
+        let options = ConstrainedOptions {
+            base: LevenbergMarquardtOptions {
+                max_iterations: 50,
+                ..Default::default()
+            },
+            constraint_tolerance: 1e-10,
+        };
+        let (x, info) = constrained_levenberg_marquardt(&huge, DVector::from_vec(vec![1.0, 0.0]), &options);
+        assert!(!info.solver.converged);
+        assert!(info.solver.iterations < 50);
+        assert!(x.iter().all(|v| v.is_finite()));
+    }
+
+    /// A problem that asks to stop is left at once, not converged.
+    #[test]
+    fn a_stop_request_ends_the_solve() {
+        struct Stopping(OnCircle);
+        impl LeastSquaresProblem for Stopping {
+            fn residuals(&self, v: &DVector<f64>) -> DVector<f64> {
+                self.0.residuals(v)
+            }
+            fn jacobian(&self, v: &DVector<f64>) -> DMatrix<f64> {
+                self.0.jacobian(v)
+            }
+            fn stop_requested(&self) -> bool {
+                true
+            }
+        }
+        impl ConstrainedLeastSquaresProblem for Stopping {
+            fn constraints(&self, v: &DVector<f64>) -> DVector<f64> {
+                self.0.constraints(v)
+            }
+            fn constraint_jacobian(&self, v: &DVector<f64>) -> DMatrix<f64> {
+                self.0.constraint_jacobian(v)
+            }
+        }
+        let problem = Stopping(NEAREST_POINT);
+        let (x, info) = constrained_levenberg_marquardt(
+            &problem,
+            DVector::from_vec(vec![1.0, 0.0]),
+            &ConstrainedOptions::default(),
+        );
+        assert_eq!((info.solver.iterations, info.solver.converged), (0, false));
+        assert_eq!(x.as_slice(), &[1.0, 0.0]);
+        let (_, info) = crate::levenberg_marquardt(&problem, DVector::from_vec(vec![1.0, 0.0]), &Default::default());
+        assert_eq!((info.iterations, info.converged), (0, false));
     }
 }

@@ -7,6 +7,12 @@ pub trait LeastSquaresProblem {
     fn residuals(&self, x: &DVector<f64>) -> DVector<f64>;
     /// Jacobian `∂r/∂x` (rows: residuals, columns: unknowns).
     fn jacobian(&self, x: &DVector<f64>) -> DMatrix<f64>;
+    /// Whether the solve should stop now (a cancelled run: Ctrl-C, an abandoned editor
+    /// request). Asked once an iteration; the solvers then return where they are, not
+    /// converged. Default: never.
+    fn stop_requested(&self) -> bool {
+        false
+    }
 }
 
 /// Knobs of [`levenberg_marquardt`].
@@ -63,6 +69,9 @@ pub fn levenberg_marquardt(
     let gradient_limit = options.gradient_tolerance * g.norm();
     for it in 0..options.max_iterations {
         info.iterations = it;
+        if problem.stop_requested() {
+            break;
+        }
         if g.norm() <= gradient_limit {
             info.converged = true;
             break;

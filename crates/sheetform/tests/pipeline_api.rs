@@ -215,3 +215,72 @@ fn reports_read_back_into_the_same_typed_report() {
         "{statuses:?}"
     );
 }
+
+/// Issue 35: the slit solve and the cutting into charts looked at no cancel flag, so an
+/// abandoned editor request held its solve slot until it finished (a slit scene of 8 × 256
+/// quads some 40 s, charts of a large noisy sheet up to 45 s). A flag set from another
+/// thread while they run now stops both, with `Cancelled`.
+#[test]
+fn slit_solves_and_chart_cutting_stop_when_cancelled() {
+    use sheetform::pipeline::{run_flatten, run_slit, ChartMode, FlattenOptions, SlitRunOptions};
+    use std::sync::atomic::Ordering;
+    let stop_after = |cancel: &AtomicBool, run: &dyn Fn() -> Result<(), PipelineError>| {
+        std::thread::scope(|s| {
+            s.spawn(|| {
+                std::thread::sleep(std::time::Duration::from_millis(300));
+                cancel.store(true, Ordering::Relaxed);
+            });
+            run()
+        })
+    };
+    let mut slit: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(examples().join("slit/chair.json")).unwrap()).unwrap();
+    slit["sheet"]["strip_count"] = 8.into();
+    slit["sheet"]["quads_per_strip"] = 256.into();
+    slit["solver"] = serde_json::json!({ "max_iterations": 10000, "gap_tolerance": 1e-14 });
+    let slit = sheetform::slit::SlitScene::from_json(&slit.to_string()).unwrap();
+    let cancel = AtomicBool::new(false);
+    let e = stop_after(&cancel, &|| {
+        let context = RunContext::new(examples()).with_cancel(&cancel);
+        run_slit(&slit, &SlitRunOptions::default(), &context).map(|_| ())
+    })
+    .unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::Cancelled, "{e}");
+
+    // A bumpy sheet of 80 000 faces cut into smooth charts.
+    let (nx, ny) = (200usize, 200usize);
+    let mut mesh = sheetform::mesh::TriangleMesh {
+        positions: Vec::new(),
+        triangles: Vec::new(),
+        face_groups: Vec::new(),
+        groups: vec!["sheet".into()],
+        corner_uvs: None,
+        seam_edges: Vec::new(),
+    };
+    for j in 0..=ny {
+        for i in 0..=nx {
+            let (x, y) = (i as f64, j as f64);
+            mesh.positions
+                .push(nalgebra::Vector3::new(x, y, 3.0 * (0.3 * x).sin() * (0.2 * y).cos()));
+        }
+    }
+    let at = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
+    for j in 0..ny {
+        for i in 0..nx {
+            mesh.triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            mesh.triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    mesh.face_groups = vec![0; mesh.triangles.len()];
+    let options = FlattenOptions {
+        charts: ChartMode::Smooth,
+        ..Default::default()
+    };
+    let cancel = AtomicBool::new(false);
+    let e = stop_after(&cancel, &|| {
+        let context = RunContext::new(examples()).with_cancel(&cancel);
+        run_flatten(mesh.clone(), &options, &context).map(|_| ())
+    })
+    .unwrap_err();
+    assert_eq!(e.kind(), ErrorKind::Cancelled, "{e}");
+}

@@ -150,9 +150,10 @@ impl PipelineError {
             Self::Flatten(
                 sheetform_flatten::FlattenError::Topology { .. } | sheetform_flatten::FlattenError::NotADisk { .. },
             ) => ErrorKind::InvalidInput,
+            Self::Flatten(sheetform_flatten::FlattenError::Cancelled) => ErrorKind::Cancelled,
             Self::Flatten(_) | Self::InvalidResult(_) => ErrorKind::Failed,
             Self::Photo(PhotoError::Solver(_)) | Self::Ffd(FfdError::Solver(_)) => ErrorKind::Failed,
-            Self::Ffd(FfdError::Cancelled) => ErrorKind::Cancelled,
+            Self::Ffd(FfdError::Cancelled) | Self::Slit(sheetform_slit::SlitError::Cancelled) => ErrorKind::Cancelled,
             Self::Read { .. }
             | Self::Bend(_)
             | Self::MeshRead(_)

@@ -2,8 +2,8 @@
 
 use crate::report::{ChartMethod, Command, NetReport, Report, SegmentationReport, Status, Timings};
 use sheetform_flatten::{
-    arap, choose_layout, cut_into_charts, distortion, exact_unfold, lscm, open_user_seams, unfold_net, ArapOptions,
-    Chart, ChartOptions, Distortion, Layout, NetOptions, UnfoldOptions,
+    arap, choose_layout, cut_into_charts_until, distortion, exact_unfold, lscm, open_user_seams, unfold_net,
+    ArapOptions, Chart, ChartOptions, Distortion, Layout, NetOptions, UnfoldOptions,
 };
 use sheetform_io::{glb_bytes, obj_string, UpAxis};
 use sheetform_mesh::{mesh_topology, LengthUnit, Piece, PieceKind, SheetMesh, TriangleMesh};
@@ -200,7 +200,7 @@ pub fn run_flatten(
         let unfolded = unfold_net(&mesh, &net_options)?;
         if options.charts == ChartMode::Auto && unfolded.pieces.len() > AUTO_NET_HANDFUL {
             context.check_cancelled()?;
-            let set = cut_into_charts(&mesh, &options.chart_options)?;
+            let set = cut_into_charts_until(&mesh, &options.chart_options, context.cancel).map_err(cancelled)?;
             // (Charts are not cut to fit a sheet or page: they are taken only when each
             // fits, as every piece of the net does.)
             let fit = |chart: &Chart| {
@@ -243,7 +243,7 @@ pub fn run_flatten(
         Layout::Charts => {
             let set = match chart_set.take() {
                 Some(set) => set,
-                None => cut_into_charts(&mesh, &options.chart_options)?,
+                None => cut_into_charts_until(&mesh, &options.chart_options, context.cancel).map_err(cancelled)?,
             };
             let solved = Instant::now();
             let sheet = sheet_from_charts(&mesh, &set.charts, &name, None, options.unit, tab_room);
@@ -389,6 +389,14 @@ pub fn run_flatten(
         files,
         report,
     })
+}
+
+/// A flattening error, stopped runs as the pipeline's [`PipelineError::Cancelled`].
+fn cancelled(e: sheetform_flatten::FlattenError) -> PipelineError {
+    match e {
+        sheetform_flatten::FlattenError::Cancelled => PipelineError::Cancelled,
+        other => PipelineError::from(other),
+    }
 }
 
 /// The options with the pattern scaled so that the model's height (its extent along +y)

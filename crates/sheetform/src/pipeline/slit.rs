@@ -3,7 +3,7 @@
 use crate::report::{Command, MouldReport, Report, ScanFitReport, SlitReport, Status, StripReport, Timings};
 use sheetform_io::{glb_bytes, obj_string, stl_bytes, UpAxis};
 use sheetform_mesh::{Piece, PieceKind, SheetMesh};
-use sheetform_slit::{build_mould, slit_mesh, solve_design, SlitDesign, SlitModel, SlitScene};
+use sheetform_slit::{build_mould, slit_mesh, solve_design_until, SlitDesign, SlitModel, SlitScene};
 
 type Vec2 = nalgebra::Vector2<f64>;
 use super::context::RunContext;
@@ -55,7 +55,12 @@ pub fn run_slit(scene: &SlitScene, options: &SlitRunOptions, context: &RunContex
     let parsed = Instant::now();
     context.check_cancelled()?;
     context.progress("solving the strips", 0.1);
-    let design = solve_design(&model);
+    // (The solve looks at the run's cancel flag at every iteration of every strip: an
+    // abandoned editor request frees its solve slot.)
+    let design = solve_design_until(&model, context.cancel).map_err(|e| match e {
+        sheetform_slit::SlitError::Cancelled => PipelineError::Cancelled,
+        other => PipelineError::from(other),
+    })?;
     let mesh = slit_mesh(&model, &design);
     let mould = if model.mould.enabled {
         Some(build_mould(&model, &design)?)
