@@ -169,7 +169,7 @@ pub fn run_design_resuming(
         return Err(FfdError::field(
             "model",
             format!(
-                "{} vertices after linking, more than the {} a restoration can hold in memory (about 28 kB each)",
+                "{} vertices after linking, more than the {} a restoration may have",
                 assembly.node_count,
                 crate::MAX_PROCEDURAL_VERTICES
             ),

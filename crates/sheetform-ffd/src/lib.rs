@@ -31,6 +31,7 @@ mod embedding;
 mod error;
 mod fold_angle;
 mod kkt_system;
+pub use kkt_system::MAX_FACTOR_BYTES;
 mod nested_dissection;
 mod normal_step_reduction;
 mod nurbs_volume;

@@ -135,8 +135,10 @@ fn combine(panels: Vec<TriangleMesh>) -> TriangleMesh {
     out
 }
 
-/// Most vertices a procedural model may have: the restoration needs about 28 kB per
-/// vertex (the 100k duct: 2.8 GB), so 250 000 stay within 8 GB.
+/// Most vertices a procedural model may have (a first bound, on the scene alone: how much
+/// memory the restoration takes depends on how its vertices are linked, and is bounded by
+/// [`crate::MAX_FACTOR_BYTES`] once the linear system is analysed; a mesh of well-spread
+/// panels, the 100k duct, takes about 9 kB a vertex).
 pub const MAX_PROCEDURAL_VERTICES: usize = 250_000;
 
 impl ProceduralModel {
@@ -206,7 +208,7 @@ impl ProceduralModel {
             return Err(crate::FfdError::field(
                 field(names[0]),
                 format!(
-                    "{} gives about {} vertices, more than the {MAX_PROCEDURAL_VERTICES} a restoration can hold in memory (about 28 kB each)",
+                    "{} gives about {} vertices, more than the {MAX_PROCEDURAL_VERTICES} a restoration may have",
                     names.join(" × "),
                     sheetform_geometry::short_number(vertices as f64)
                 ),
