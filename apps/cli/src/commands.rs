@@ -47,7 +47,7 @@ pub(crate) fn check_command(
     if !quiet {
         let r = &run.report;
         let d = r.angle_defects.as_ref().expect("check reports angle defects");
-        eprintln!(
+        say!(
             "{}: {}; {} vertices, {} faces, max angle defect {:.2e} rad, D[M] = {:.4}{}; wrote {}",
             mesh.display(),
             r.status,
@@ -132,11 +132,11 @@ pub(crate) fn flatten_command(
     })?;
     write_set(&output, &run.files, &run.report)?;
     for warning in &run.report.warnings {
-        eprintln!("sheetform: warning: {}: {warning}", mesh.display());
+        say!("sheetform: warning: {}: {warning}", mesh.display());
     }
     let d = &run.distortion;
     if !d.is_overlap_free() {
-        eprintln!(
+        say!(
             "sheetform: {}: the pattern overlaps itself ({} flipped faces, {} boundary crossings); written to {}, but it cannot be cut from one sheet as it is",
             mesh.display(),
             d.flipped_faces.len(),
@@ -144,7 +144,7 @@ pub(crate) fn flatten_command(
             output.display()
         );
     } else if run.outcome == Outcome::OutOfTolerance {
-        eprintln!(
+        say!(
             "sheetform: {}: the pattern stretches an edge by {:.1} % (bound {:.1} %); written to {}, but out of tolerance: cut it into charts (--charts smooth) or allow more (--max-distortion)",
             mesh.display(),
             100.0 * d.edge_length_max_relative,
@@ -152,7 +152,7 @@ pub(crate) fn flatten_command(
             output.display()
         );
     } else if !quiet {
-        eprintln!(
+        say!(
             "{}: flattened {} faces; edge-length error max {:.1e}, mean {:.1e}; area error max {:.1e}; wrote {}",
             mesh.display(),
             run.report.face_count,
@@ -270,7 +270,7 @@ pub(crate) fn bend_command(
             write_set(&output, &run.files, &run.report)?;
             if !quiet {
                 let r = &run.report;
-                eprintln!(
+                say!(
                     "bent `{}`: {} rulings, {} faces, isometry error {:.1e}, admissible; wrote {} files to {}",
                     scene.display(),
                     r.ruling_count.unwrap_or(0),
@@ -286,8 +286,8 @@ pub(crate) fn bend_command(
             // An inadmissible shape: only the report, which says where.
             if let Some(report) = e.report() {
                 write_set(&output, &[], report)?;
-                eprintln!("sheetform: {}: {e}", scene.display());
-                eprintln!(
+                say!("sheetform: {}: {e}", scene.display());
+                say!(
                     "sheetform: no mesh written; {} says where",
                     output.join("report.json").display()
                 );
@@ -319,7 +319,7 @@ pub(crate) fn slit_command(
     write_set(&output, &run.files, &run.report)?;
     if !quiet {
         let slit = run.report.slit.as_ref().expect("slit report");
-        eprintln!(
+        say!(
             "slit `{}`: {} strips, E = {:.1e} (gap {:.2e} mm), {}; wrote {} files to {}",
             scene.display(),
             slit.strips.len(),
@@ -370,7 +370,7 @@ pub(crate) fn photo_command(
                 );
             }
         }
-        eprintln!(
+        say!(
             "photo `{}`: {} patches, {} rulings, {} symmetric pairs; developability error mean {:.2}° (linear), {}; {}; wrote {} files to {}",
             annotation.display(),
             photo.patch_count,
@@ -384,7 +384,7 @@ pub(crate) fn photo_command(
         );
     }
     if !photo.depth_undetermined_curves.is_empty() {
-        eprintln!(
+        say!(
             "sheetform: the depth of {} is not fixed by the drawing (no mirror pair reaches it): mark their mirror \
              relations (`symmetric_curves`, `self_symmetric_curves`)",
             photo
@@ -427,7 +427,7 @@ pub(crate) fn ffd_command(
     write_set(&output, &run.files, &run.report)?;
     if !quiet {
         let ffd = run.report.ffd.as_ref().expect("ffd report");
-        eprintln!(
+        say!(
             "ffd `{}` ({}): {} panels, max angle defect {:.2e} -> {:.2e} rad, D[M] {:.3} -> {:.3}, {}; wrote {} files to {}",
             scene.display(),
             ffd.solver,
@@ -453,8 +453,22 @@ pub(crate) fn schema_command(format: SchemaFormat) -> ExitCode {
         SchemaFormat::Photo => sheetform::photo::PhotoAnnotation::json_schema(),
         SchemaFormat::Report => sheetform::report::Report::json_schema(),
     };
-    println!("{}", serde_json::to_string_pretty(&schema).expect("schema serialises"));
-    ExitCode::SUCCESS
+    print_out(&serde_json::to_string_pretty(&schema).expect("schema serialises"))
+}
+
+/// Writes `text` and a line break to standard output; a stdout that cannot take it (a
+/// closed pipe, a full disk) is an output error (exit 1) said on stderr, not a panic
+/// (`println!` panicked with exit 101).
+fn print_out(text: &str) -> ExitCode {
+    use std::io::Write as _;
+    let mut out = std::io::stdout().lock();
+    match writeln!(out, "{text}").and_then(|()| out.flush()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            say!("sheetform: could not write to standard output: {e}");
+            ExitCode::from(sheetform::pipeline::ErrorKind::Output.exit_code())
+        }
+    }
 }
 
 /// `sheetform serve`: binds the editor's server, prints its address, serves until Ctrl-C.
@@ -476,16 +490,18 @@ pub(crate) fn serve_command(
     let server = match sheetform_serve::Server::bind(&options).and_then(|s| Ok((s.local_address()?, s))) {
         Ok(bound) => bound,
         Err(e) => {
-            eprintln!("sheetform: {e}");
+            say!("sheetform: {e}");
             return ExitCode::from(1);
         }
     };
     let (address, server) = server;
     let url = format!("http://{address}/");
     // The address goes to stdout even with -q: scripts and tests read it there.
-    println!("{url}");
+    if print_out(&url) != ExitCode::SUCCESS {
+        return ExitCode::from(sheetform::pipeline::ErrorKind::Output.exit_code());
+    }
     if !quiet {
-        eprintln!(
+        say!(
             "sheetform editor at {url}, serving the scene files of {} (Ctrl-C stops it)",
             options.root.display()
         );
@@ -493,13 +509,13 @@ pub(crate) fn serve_command(
     if open {
         let opener = if cfg!(target_os = "macos") { "open" } else { "xdg-open" };
         if let Err(e) = std::process::Command::new(opener).arg(&url).spawn() {
-            eprintln!("sheetform: could not start a browser ({opener}: {e}); open {url} yourself");
+            say!("sheetform: could not start a browser ({opener}: {e}); open {url} yourself");
         }
     }
     match server.run(&CANCELLED) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("sheetform: {e}");
+            say!("sheetform: {e}");
             ExitCode::from(1)
         }
     }

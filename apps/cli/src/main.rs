@@ -10,6 +10,15 @@
 //! patch not developable to the bound or a curve whose depth the drawing does not fix),
 //! 130 cancelled.
 
+/// A message on standard error; a stderr that cannot be written (closed, a full disk) is
+/// ignored: there is nowhere else to say it, and `eprintln!` would panic (exit 101).
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 mod args;
 mod commands;
 
@@ -95,7 +104,7 @@ fn main() -> ExitCode {
     match result {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("sheetform: {e}");
+            say!("sheetform: {e}");
             ExitCode::from(e.kind().exit_code())
         }
     }

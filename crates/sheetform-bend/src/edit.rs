@@ -312,12 +312,22 @@ fn check_index(index: usize, count: usize) -> Result<(), BendError> {
     Ok(())
 }
 
+/// The largest coordinate an edit may move a point to (model units: 1 000 km in mm).
+/// Far beyond any sheet, and far below where the curve's arithmetic overflows (a drag
+/// to 1e200 panicked in the trim's de Casteljau steps).
+pub const MAX_EDIT_COORDINATE: f64 = 1e9;
+
 fn check_finite(v: Vec3) -> Result<(), BendError> {
-    if v.iter().all(|c| c.is_finite()) {
+    if v.iter().all(|c| c.is_finite() && c.abs() <= MAX_EDIT_COORDINATE) {
         Ok(())
     } else {
         Err(BendError::Edit {
-            message: "a coordinate is not finite".into(),
+            message: format!(
+                "a position or direction must be finite and within {MAX_EDIT_COORDINATE:e} of the origin, got ({}, {}, {})",
+                sheetform_geometry::short_number(v.x),
+                sheetform_geometry::short_number(v.y),
+                sheetform_geometry::short_number(v.z)
+            ),
         })
     }
 }

@@ -451,10 +451,14 @@ fn flat_path(
         .flat_direction
         .map(|d| {
             let d = finite2(d, &format!("{path}.flat_direction"))?;
-            if d.norm() == 0.0 {
+            // Scaled by its largest component before normalising: a direction of huge (or
+            // tiny) components squared to infinity (or 0), became the zero vector and
+            // panicked in the placement, or was read as another direction.
+            let largest = d.x.abs().max(d.y.abs());
+            if largest == 0.0 {
                 return Err(field(format!("{path}.flat_direction"), "is the zero vector"));
             }
-            Ok(d.normalize())
+            Ok((d / largest).normalize())
         })
         .transpose()?;
     let mismatch = |flat_length: f64| {

@@ -789,3 +789,64 @@ fn the_fuzz_smoke_fails_when_cargo_fuzz_fails() {
     );
     assert_eq!(code, Some(0), "{stderr}");
 }
+
+/// Issue 35, panics by class, each now an error or a result: a flat direction with huge
+/// (or tiny) components, read as the direction it is (the same direction scaled gives
+/// the same bend); standard output that cannot be written (a full disk: `println!`
+/// panicked, exit 101) is an output error said on stderr.
+#[test]
+fn huge_directions_and_unwritable_output_are_not_panics() {
+    let mut reference = example("examples/arc-band.json");
+    reference["regions"][0]["flat_direction"] = json!([1, 0]);
+    let dir = tempfile::tempdir().unwrap();
+    let run = |scene: &Value, name: &str| {
+        let path = dir.path().join(format!("{name}.json"));
+        std::fs::write(&path, scene.to_string()).unwrap();
+        let out = dir.path().join(name);
+        let o = sheetform_within(
+            &["bend", path.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"],
+            120,
+        );
+        (o.status.code(), String::from_utf8_lossy(&o.stderr).into_owned(), out)
+    };
+    let (code, stderr, plain) = run(&reference, "plain");
+    assert_eq!(code, Some(0), "{stderr}");
+    let model = |out: &Path| std::fs::read_to_string(out.join("model.obj")).unwrap();
+    for (k, direction) in [json!([2e300, 0]), json!([1e-310, 0]), json!([5e-324, 0])]
+        .into_iter()
+        .enumerate()
+    {
+        let mut scene = reference.clone();
+        scene["regions"][0]["flat_direction"] = direction.clone();
+        let (code, stderr, out) = run(&scene, &format!("scaled-{k}"));
+        assert_eq!(code, Some(0), "{direction}: {stderr}");
+        assert_eq!(model(&out), model(&plain), "{direction} is the direction (1, 0)");
+    }
+    for (k, direction) in [json!([0, 1e300]), json!([1e300, 1e300]), json!([-1e308, 1e308])]
+        .into_iter()
+        .enumerate()
+    {
+        let mut scene = reference.clone();
+        scene["regions"][0]["flat_direction"] = direction.clone();
+        let (code, stderr, _) = run(&scene, &format!("turned-{k}"));
+        assert!(
+            matches!(code, Some(0) | Some(1) | Some(3)),
+            "{direction}: {code:?} {stderr}"
+        );
+        assert!(!stderr.contains("panicked"), "{direction}: {stderr}");
+        assert_readable(&stderr);
+    }
+    // Standard output on a full disk.
+    let full = std::fs::OpenOptions::new().write(true).open("/dev/full").unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_sheetform"))
+        .args(["schema", "report"])
+        .stdout(full)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("could not write to standard output") && !stderr.contains("panicked"),
+        "{stderr}"
+    );
+}

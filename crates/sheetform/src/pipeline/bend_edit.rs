@@ -253,4 +253,39 @@ mod tests {
         let wanted = Vec3::new(0.0, 0.2, 1.0).normalize();
         assert!(normal.dot(&wanted) > 0.99, "start normal {normal:?}");
     }
+
+    /// Issue 35: a drag (or a trim) to a coordinate ≥ 1e200 panicked in the edit (the
+    /// server answered 500 quoting the panic; the Python editor shares the code). Every
+    /// edit to such a place is refused naming it, the scene unchanged.
+    #[test]
+    fn edits_to_absurd_places_are_refused_not_panics() {
+        let scene = rectangle();
+        for method in [LengthMethod::Trim, LengthMethod::Scale] {
+            for position in [
+                [1e200, 0.0, 0.0],
+                [1e300, 1e300, 1e300],
+                [150.0, 1e250, 70.0],
+                [2e9, 0.0, 0.0],
+            ] {
+                let edit = BendEdit::DragPreservingLength {
+                    region: 0,
+                    index: 2,
+                    position,
+                    method,
+                };
+                let e = edit_bend_scene(&scene, &edit).unwrap_err().to_string();
+                assert!(e.contains("within 1e9"), "{position:?}: {e}");
+            }
+        }
+        let e = edit_bend_scene(
+            &scene,
+            &BendEdit::MoveControlPoint {
+                region: 0,
+                index: 1,
+                position: [0.0, -1e200, 0.0],
+            },
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("within 1e9"), "{e}");
+    }
 }
