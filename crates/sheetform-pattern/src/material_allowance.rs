@@ -77,7 +77,11 @@ impl MaterialAllowance {
 /// counter-clockwise, holes clockwise, even–odd) buffered with mitred joins (geo's
 /// `Buffer`; corners sharper than 30° are cut square instead of running out into a
 /// spike), its exterior and interior rings as the new loops.
-fn offset_loops(loops: &[Vec<Vec2>], distance: f64) -> Vec<Vec<Vec2>> {
+///
+/// # Errors
+/// A hole narrower than twice `distance` closes up: its cut line would be lost, so the
+/// hole (its centre and width) is returned instead.
+fn offset_loops(loops: &[Vec<Vec2>], distance: f64) -> Result<Vec<Vec<Vec2>>, ClosedHole> {
     let ring = |l: &Vec<Vec2>| LineString::from(l.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>());
     let area = |l: &Vec<Vec2>| sheetform_geometry::signed_area(l);
     let outers: Vec<&Vec<Vec2>> = loops.iter().filter(|l| area(l) > 0.0).collect();
@@ -91,12 +95,64 @@ fn offset_loops(loops: &[Vec<Vec2>], distance: f64) -> Vec<Vec<Vec2>> {
             .collect();
         let polygon = Polygon::new(ring(outer), inside);
         let style = BufferStyle::new(distance).line_join(LineJoin::Miter(std::f64::consts::FRAC_PI_6));
-        for p in polygon.buffer_with_style(style) {
+        let buffered = polygon.buffer_with_style(style);
+        let kept: Vec<Vec<Vec2>> = buffered
+            .iter()
+            .flat_map(|p| p.interiors().iter().map(|r| ring_loop(r, false)))
+            .collect();
+        // Each hole shrinks to a ring inside it; one with none inside closed up.
+        for hole in holes
+            .iter()
+            .filter(|h| sheetform_geometry::rings_contain([outer.as_slice()], h[0]))
+        {
+            let survives = kept
+                .iter()
+                .any(|k| sheetform_geometry::rings_contain([hole.as_slice()], k[0]));
+            if !survives {
+                let (low, high) = hole.iter().fold(
+                    (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
+                    |(low, high), p| (low.inf(p), high.sup(p)),
+                );
+                let size = high - low;
+                return Err(ClosedHole {
+                    centre: (low + high) * 0.5,
+                    width: size.x.min(size.y),
+                });
+            }
+        }
+        for p in &buffered {
             out.push(ring_loop(p.exterior(), true));
-            out.extend(p.interiors().iter().map(|r| ring_loop(r, false)));
+        }
+        out.extend(kept);
+    }
+    Ok(out)
+}
+
+/// A hole that an offset closes up.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ClosedHole {
+    /// The centre of the hole's bounding box (mm, pattern coordinates).
+    pub centre: Vec2,
+    /// The smaller side of its bounding box (mm).
+    pub width: f64,
+}
+
+impl ClosedHole {
+    /// The error naming `option` (its value `value`) and the piece.
+    fn error(&self, option: &'static str, value: f64, what: &str, piece: &str) -> PatternError {
+        PatternError::Option {
+            option,
+            message: format!(
+                "a {} mm {what} closes the hole about {} mm wide at ({}, {}) mm in piece `{piece}`, \
+                 whose cut line would be lost: use a smaller {what} (under half the hole's width) \
+                 or a design without the hole",
+                short_number(value),
+                short_number(self.width),
+                short_number(self.centre.x),
+                short_number(self.centre.y),
+            ),
         }
     }
-    out
 }
 
 /// A ring of geo's as a cut loop: the closing point dropped, turned counter-clockwise
@@ -116,7 +172,16 @@ pub(crate) fn ring_loop(ring: &LineString, counter_clockwise: bool) -> Vec<Vec2>
 /// Adds the seam allowance to a piece: its loops become stitch lines, its cut loops the
 /// loops moved out by the allowance; notches at `notch_points` (points on the stitch line
 /// with the outward direction there) cross the allowance.
-pub(crate) fn add_seam_allowance(piece: &mut PatternPiece, allowance_mm: f64, notch_points: &[(Vec2, Vec2)]) {
+///
+/// # Errors
+/// The allowance closes a hole of the piece (named with the option).
+pub(crate) fn add_seam_allowance(
+    piece: &mut PatternPiece,
+    allowance_mm: f64,
+    notch_points: &[(Vec2, Vec2)],
+) -> Result<(), PatternError> {
+    let cut = offset_loops(&piece.cut, allowance_mm)
+        .map_err(|hole| hole.error("seam_allowance_mm", allowance_mm, "seam allowance", &piece.name))?;
     for l in &piece.cut {
         for i in 0..l.len() {
             piece.folds.push(Fold {
@@ -141,12 +206,18 @@ pub(crate) fn add_seam_allowance(piece: &mut PatternPiece, allowance_mm: f64, no
             angle_degrees: 0.0,
         });
     }
-    piece.cut = offset_loops(&piece.cut, allowance_mm);
+    piece.cut = cut;
+    Ok(())
 }
 
 /// Moves a piece's cut loops out by half the kerf.
-pub(crate) fn add_kerf(piece: &mut PatternPiece, kerf_mm: f64) {
-    piece.cut = offset_loops(&piece.cut, 0.5 * kerf_mm);
+///
+/// # Errors
+/// The kerf closes a hole of the piece (named with the option).
+pub(crate) fn add_kerf(piece: &mut PatternPiece, kerf_mm: f64) -> Result<(), PatternError> {
+    piece.cut =
+        offset_loops(&piece.cut, 0.5 * kerf_mm).map_err(|hole| hole.error("kerf_mm", kerf_mm, "kerf", &piece.name))?;
+    Ok(())
 }
 
 #[cfg(test)]
@@ -176,19 +247,39 @@ mod tests {
     #[test]
     fn a_seam_allowance_grows_the_outline_and_keeps_the_design_as_stitch_lines() {
         let mut piece = square_with_hole();
-        add_seam_allowance(&mut piece, 10.0, &[(Vec2::new(50.0, 0.0), Vec2::new(0.0, -1.0))]);
-        // Mitred corners: the outline becomes 120 × 120; the 20 mm hole shrinks by 10 mm
-        // on each side and closes.
-        assert!((area(&piece.cut) - 120.0 * 120.0).abs() < 1e-3, "{}", area(&piece.cut));
+        add_seam_allowance(&mut piece, 8.0, &[(Vec2::new(50.0, 0.0), Vec2::new(0.0, -1.0))]).unwrap();
+        // Mitred corners: the outline becomes 116 × 116; the 20 mm hole shrinks by 8 mm
+        // on each side to 4 × 4.
+        assert!(
+            (area(&piece.cut) - (116.0 * 116.0 - 4.0 * 4.0)).abs() < 1e-3,
+            "{}",
+            area(&piece.cut)
+        );
+        assert_eq!(piece.cut.len(), 2);
         assert_eq!(piece.folds.iter().filter(|f| f.style == FoldStyle::Stitch).count(), 8);
         let notch = piece.folds.iter().find(|f| f.style == FoldStyle::Notch).unwrap();
-        assert!((notch.b - Vec2::new(50.0, -6.0)).norm() < 1e-12);
+        assert!((notch.b - Vec2::new(50.0, -4.8)).norm() < 1e-12);
+    }
+
+    /// Issue 35: an allowance or kerf that closes a hole is refused naming the option,
+    /// the hole and the piece (its cut line was silently lost, status ok).
+    #[test]
+    fn an_offset_that_closes_a_hole_is_refused_naming_the_option_and_the_hole() {
+        let mut piece = square_with_hole();
+        let error = add_seam_allowance(&mut piece, 12.0, &[]).unwrap_err().to_string();
+        for part in ["seam_allowance_mm", "20 mm wide", "(50, 50)", "`p`"] {
+            assert!(error.contains(part), "{part} missing in: {error}");
+        }
+        let mut piece = square_with_hole();
+        let error = add_kerf(&mut piece, 25.0).unwrap_err().to_string();
+        assert!(error.contains("kerf_mm") && error.contains("(50, 50)"), "{error}");
+        assert_eq!(piece.cut, square_with_hole().cut, "the piece changed");
     }
 
     #[test]
     fn kerf_moves_the_cut_out_by_half_its_width_and_shrinks_holes() {
         let mut piece = square_with_hole();
-        add_kerf(&mut piece, 0.2);
+        add_kerf(&mut piece, 0.2).unwrap();
         let expected = 100.2 * 100.2 - 19.8 * 19.8;
         // geo's boolean engine rounds to an integer grid: about 1e-7 of the size.
         assert!(

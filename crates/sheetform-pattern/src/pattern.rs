@@ -847,12 +847,12 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
             }
         }
         for (piece, points) in pieces.iter_mut().zip(&notches) {
-            add_seam_allowance(piece, allowance.seam_allowance_mm, points);
+            add_seam_allowance(piece, allowance.seam_allowance_mm, points)?;
         }
     }
     if allowance.kerf_mm > 0.0 {
         for piece in &mut pieces {
-            add_kerf(piece, allowance.kerf_mm);
+            add_kerf(piece, allowance.kerf_mm)?;
         }
     }
 

@@ -3,7 +3,7 @@
 //! the minimal input that broke an earlier build (panic, abort on allocation, hang,
 //! wrong success, corrupt output, leaked internal names).
 
-use crate::common::{repo, sheetform_within};
+use crate::common::{repo, sheetform, sheetform_within};
 use serde_json::{json, Value};
 use std::path::Path;
 
@@ -849,4 +849,61 @@ fn huge_directions_and_unwritable_output_are_not_panics() {
         stderr.contains("could not write to standard output") && !stderr.contains("panicked"),
         "{stderr}"
     );
+}
+
+/// Issue 35, output directories, as a user meets them: a read-only `-o` directory is
+/// refused naming it (nothing changed, no hidden copy left beside it); another tool's
+/// `report.json` listing `outputs` deletes none of its files; a run from inside the
+/// output directory (`-o .`) leaves the shell's directory live; a kerf or seam allowance
+/// that would close a hole is refused naming the option and the hole.
+#[test]
+fn output_directories_keep_what_sheetform_did_not_write() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let out_str = out.to_str().unwrap();
+    let scene = repo().join("examples/bent-rectangle.json");
+    let scene = scene.to_str().unwrap();
+    // Another tool's report with an outputs list: its files stay.
+    std::fs::create_dir(&out).unwrap();
+    std::fs::write(out.join("theirs.csv"), "1,2").unwrap();
+    std::fs::write(out.join("report.json"), r#"{"outputs": ["theirs.csv"]}"#).unwrap();
+    assert!(sheetform(&["bend", scene, "-o", out_str, "-q"]).status.success());
+    assert_eq!(std::fs::read_to_string(out.join("theirs.csv")).unwrap(), "1,2");
+    // Read-only: refused, nothing changed.
+    let before = snapshot(&out);
+    std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o555)).unwrap();
+    let o = sheetform(&["bend", scene, "-o", out_str, "-q", "--animate", "2"]);
+    std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_ne!(o.status.code(), Some(0));
+    assert!(stderr.contains(out_str) && stderr.contains("read-only"), "{stderr}");
+    assert_eq!(snapshot(&out), before);
+    let siblings: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(siblings, vec![std::ffi::OsString::from("out")]);
+    // `-o .` from inside: the directory stays the same one.
+    let inode = |p: &Path| std::os::unix::fs::MetadataExt::ino(&std::fs::metadata(p).unwrap());
+    let before = inode(&out);
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_sheetform"))
+        .args(["bend", scene, "-o", ".", "-q"])
+        .current_dir(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(inode(&out), before, "-o . replaced the directory the shell is in");
+    // A kerf or allowance wider than a hole.
+    let hole = repo().join("examples/sheet-with-hole.json");
+    for (option, value, key) in [
+        ("--kerf", "60", "kerf_mm"),
+        ("--seam-allowance", "30", "seam_allowance_mm"),
+    ] {
+        let o = sheetform(&["bend", hole.to_str().unwrap(), "-o", out_str, "-q", option, value]);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{option}: {stderr}");
+        assert!(stderr.contains(key) && stderr.contains("closes the hole"), "{stderr}");
+    }
+    assert_eq!(std::fs::read_to_string(out.join("theirs.csv")).unwrap(), "1,2");
 }

@@ -1,7 +1,7 @@
 //! Rendered outputs: the pattern files every command makes, and writing a run's files
 //! and report into a directory.
 
-use crate::report::{PatternReport, Report};
+use crate::report::{PatternReport, Report, REPORT_FORMAT};
 use sheetform_io::{Texture, UpAxis};
 use sheetform_mesh::SheetMesh;
 use sheetform_pattern::{
@@ -386,9 +386,11 @@ pub fn write_outputs(dir: &Path, files: &[(String, Vec<u8>)], report: &Report) -
     Ok(())
 }
 
-/// The files the previous run wrote into `dir`: its `report.json`'s `outputs`, kept only
-/// when they are plain relative paths inside `dir` (a report edited by hand cannot make
-/// a run delete anything outside).
+/// The files the previous run wrote into `dir`: its `report.json`'s `outputs`, trusted
+/// only when the report is sheetform's (`format` is [`REPORT_FORMAT`]: another tool's
+/// `report.json` with an `outputs` list names that tool's files, which are kept) and
+/// kept only when they are plain relative paths inside `dir` (a report edited by hand
+/// cannot make a run delete anything outside).
 fn previous_outputs(dir: &Path) -> Vec<String> {
     let Ok(bytes) = sheetform_io::read_bounded(&dir.join("report.json"), sheetform_io::MAX_SCENE_FILE_BYTES) else {
         return Vec::new();
@@ -396,6 +398,9 @@ fn previous_outputs(dir: &Path) -> Vec<String> {
     let Ok(value) = serde_json::from_slice::<serde_json::Value>(&bytes) else {
         return Vec::new();
     };
+    if value.get("format").and_then(|f| f.as_str()) != Some(REPORT_FORMAT) {
+        return Vec::new();
+    }
     let Some(list) = value.get("outputs").and_then(|o| o.as_array()) else {
         return Vec::new();
     };
@@ -411,6 +416,24 @@ mod tests {
     use super::*;
     use sheetform_geometry::{Vec2, Vec3};
     use sheetform_mesh::{Piece, PieceKind};
+
+    /// Issue 35: only sheetform's own report names a previous set. Another tool's
+    /// `report.json` with an `outputs` list (or one without a format) deletes nothing.
+    #[test]
+    fn only_sheetforms_report_names_files_to_remove() {
+        let root = tempfile::tempdir().unwrap();
+        std::fs::write(root.path().join("theirs.csv"), "1,2").unwrap();
+        for report in [
+            r#"{"outputs": ["theirs.csv"]}"#,
+            r#"{"format": "other-tool/2", "outputs": ["theirs.csv"]}"#,
+        ] {
+            std::fs::write(root.path().join("report.json"), report).unwrap();
+            assert!(previous_outputs(root.path()).is_empty(), "{report}");
+        }
+        let ours = format!(r#"{{"format": "{REPORT_FORMAT}", "outputs": ["theirs.csv", "../x"]}}"#);
+        std::fs::write(root.path().join("report.json"), ours).unwrap();
+        assert_eq!(previous_outputs(root.path()), vec!["theirs.csv".to_string()]);
+    }
 
     /// Issue 19: no NaN reaches a file. A model with a non-finite coordinate stops
     /// before anything is rendered, naming the vertex.
