@@ -1,14 +1,30 @@
 //! The default solver: constrained Gauss–Newton (SQP) on the embedded parameters.
 
 use crate::bending_metric::BendingMetric;
-use crate::kkt_system::{FactorisationFailure, KktSystem};
 use crate::normal_step_reduction::NormalStepReduction;
 use crate::{DevelopabilityProblem, Evaluation, FfdError, RestorationInfo};
 use faer::sparse::Pair;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use sheetform_geometry::short_number;
+use sheetform_solve::{FactorisationFailure, KktError, KktSystem};
 use std::time::Instant;
+
+/// The shared KKT system's refusals in the FFD's terms: the model is what the user can
+/// change (fewer gores, segments or panels).
+impl From<KktError> for FfdError {
+    fn from(error: KktError) -> Self {
+        match error {
+            KktError::TooLarge { rows } => FfdError::Solver(format!(
+                "the restoration's linear system ({rows} rows) is too large to factorise on this machine; use fewer vertices"
+            )),
+            KktError::OverMemory { .. } => FfdError::field(
+                "model",
+                format!("the restoration's {error}: use fewer vertices (fewer gores, segments or panels)"),
+            ),
+        }
+    }
+}
 
 /// Knobs of [`restore_constrained`].
 #[derive(Debug, Clone, Copy, PartialEq)]

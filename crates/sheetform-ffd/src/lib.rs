@@ -25,14 +25,11 @@
 
 mod bending_metric;
 mod constrained_gauss_newton;
-mod corner_angle;
 mod developability_problem;
 mod embedding;
 mod error;
 mod fold_angle;
-mod kkt_system;
-pub use kkt_system::MAX_FACTOR_BYTES;
-mod nested_dissection;
+pub use sheetform_solve::MAX_FACTOR_BYTES;
 mod normal_step_reduction;
 mod nurbs_volume;
 mod panel_assembly;
@@ -48,7 +45,6 @@ pub mod scene;
 pub use constrained_gauss_newton::{
     restore_constrained, restore_constrained_with_progress, ConstrainedOptions, StepUnknowns,
 };
-pub use corner_angle::{corner_angle, corner_angle_gradient, corner_angle_hessian};
 pub use developability_problem::{DevelopabilityProblem, Evaluation, ProblemOptions, Spring};
 pub use embedding::{embed_points, lattice_size, newton_inversion, EMBEDDING_TOLERANCE};
 pub use error::FfdError;
@@ -64,3 +60,4 @@ pub use penalty_conjugate_gradient::{restore_paper, restore_paper_with_progress,
 pub use procedural_panels::MAX_PROCEDURAL_VERTICES;
 pub use restoration_info::{RestorationInfo, RestorationProgress};
 pub use scene::*;
+pub use sheetform_mesh::{corner_angle, corner_angle_gradient, corner_angle_hessian};

@@ -50,6 +50,12 @@ impl Default for NetOptions {
     }
 }
 
+/// Most faces [`unfold_net`] unfolds: a net is a papercraft model's pattern, facet by
+/// facet; a mesh of more facets makes a pattern of thousands of pieces nobody assembles
+/// (Blender's Export Paper Model asks for an island-size limit long before). `flatten`
+/// lays out larger faceted meshes in smooth charts.
+pub const MAX_NET_FACES: usize = 50_000;
+
 /// Work budget of [`unfold_net`], in faces placed over all attempts (about a second).
 pub const MAX_NET_WORK: usize = 4_000_000;
 
@@ -135,6 +141,7 @@ pub struct Net {
 /// # Errors
 /// Non-manifold, degenerate or non-orientable meshes (named); user seams that are not mesh
 /// edges; an empty mesh.
+/// A mesh of more than [`MAX_NET_FACES`] faces is refused.
 pub fn unfold_net(mesh: &TriangleMesh, options: &NetOptions) -> Result<Net, FlattenError> {
     let (topology, table) = mesh_topology_with_edges(mesh);
     let problems = crate::exact_unfolding::topology_problems(&topology);
@@ -147,6 +154,14 @@ pub fn unfold_net(mesh: &TriangleMesh, options: &NetOptions) -> Result<Net, Flat
     if nf == 0 {
         return Err(FlattenError::Topology {
             problem: "the mesh has no faces".into(),
+        });
+    }
+    if nf > MAX_NET_FACES {
+        return Err(FlattenError::TooManyPieces {
+            what: "a net unfolds every facet and this mesh has more facets than a net is made of".into(),
+            count: nf,
+            bound: MAX_NET_FACES,
+            advice: "decimate it to a papercraft model first, or flatten it in smooth charts (--charts smooth)".into(),
         });
     }
     let mut forced_cut = vec![false; table.len()];
@@ -556,12 +571,11 @@ fn join_pieces(
             let [f, g] = table.sides(e) else { return 0 };
             islands.size_of(f.face).min(islands.size_of(g.face))
         };
-        cut.sort_by(|&x, &y| {
-            smaller(x)
-                .cmp(&smaller(y))
-                .then(faces.dihedral[x].total_cmp(&faces.dihedral[y]))
-                .then(x.cmp(&y))
-        });
+        // Keys computed once per pass (the comparisons looked the sizes up again and
+        // took a third of a large net's time).
+        let mut keyed: Vec<(usize, f64, usize)> = cut.iter().map(|&e| (smaller(e), faces.dihedral[e], e)).collect();
+        keyed.sort_unstable_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)).then(x.2.cmp(&y.2)));
+        let cut: Vec<usize> = keyed.into_iter().map(|(_, _, e)| e).collect();
         let mut joined = false;
         for e in cut {
             if *tests_left == 0 {
@@ -705,6 +719,34 @@ fn halving_split_sliding(order: &[(u32, u32, f64)], total: f64) -> (f64, usize, 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 35: a mesh of more facets than a net is made of is refused before any
+    /// work, naming the count and the bound.
+    #[test]
+    fn a_mesh_of_more_faces_than_a_net_is_refused_before_the_work() {
+        let side = 1 + (MAX_NET_FACES as f64 / 2.0).sqrt() as usize;
+        let mut mesh = TriangleMesh::default();
+        for i in 0..=side {
+            for j in 0..=side {
+                mesh.positions
+                    .push(nalgebra::Vector3::new(i as f64, j as f64, ((i * j) % 3) as f64));
+            }
+        }
+        let at = |i: usize, j: usize| (i * (side + 1) + j) as u32;
+        for i in 0..side {
+            for j in 0..side {
+                mesh.triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                mesh.triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            }
+        }
+        assert!(mesh.triangles.len() > MAX_NET_FACES);
+        let error = unfold_net(&mesh, &NetOptions::default()).unwrap_err();
+        assert!(
+            matches!(error, FlattenError::TooManyPieces { count, bound, .. } if count == mesh.triangles.len() && bound == MAX_NET_FACES),
+            "{error}"
+        );
+        assert!(error.to_string().contains("--charts smooth"), "{error}");
+    }
 
     /// Issue 19: a saddle vertex of degree k was split in O(k²) (a fan of 40 000 faces,
     /// 1.6e9 sums). The sliding window finds a split as near to half as every pair tried.

@@ -27,6 +27,21 @@ pub enum FlattenError {
         /// The solver's message.
         message: String,
     },
+    /// The pattern would have more pieces than a pattern may have, or the mesh has more
+    /// faces than a net is made of: refused before the work is done.
+    #[error(
+        "{what} ({count}, more than the {bound} a pattern may have): the mesh is likely noisy or too finely faceted for this; {advice}"
+    )]
+    TooManyPieces {
+        /// What is counted.
+        what: String,
+        /// How many.
+        count: usize,
+        /// The bound.
+        bound: usize,
+        /// What the user can do.
+        advice: String,
+    },
     /// Stopped from outside (Ctrl-C, an abandoned editor request).
     #[error("cancelled")]
     Cancelled,

@@ -257,30 +257,5 @@ fn third_point(pi: Vec2, pj: Vec2, li: f64, lj: f64) -> Vec2 {
 /// What keeps a mesh from being flattened as it is: non-manifold edges and vertices,
 /// degenerate faces, a non-orientable surface (empty when it is clean).
 pub(crate) fn topology_problems(topology: &sheetform_mesh::MeshTopology) -> Vec<String> {
-    let mut problems = Vec::new();
-    if !topology.non_manifold_edges.is_empty() {
-        problems.push(format!(
-            "{} non-manifold edge(s), first {:?}",
-            topology.non_manifold_edges.len(),
-            topology.non_manifold_edges[0]
-        ));
-    }
-    if !topology.non_manifold_vertices.is_empty() {
-        problems.push(format!(
-            "{} non-manifold vertex/vertices, first {}",
-            topology.non_manifold_vertices.len(),
-            topology.non_manifold_vertices[0]
-        ));
-    }
-    if !topology.degenerate_faces.is_empty() {
-        problems.push(format!(
-            "{} degenerate (zero-area) face(s), first {}",
-            topology.degenerate_faces.len(),
-            topology.degenerate_faces[0]
-        ));
-    }
-    if !topology.orientable {
-        problems.push("the surface is not orientable".into());
-    }
-    problems
+    topology.problems()
 }

@@ -43,7 +43,7 @@ pub const FACETED_FOLD_DEGREES: f64 = 5.0;
 ///    and has no sharp crease (a dihedral angle above `crease_angle_degrees`), or has user
 ///    seams and no cone point: an open tube or cone, a bent sheet with seams. The charts
 ///    are opened along straight seams and stay exact.
-/// 3. **Net** when it is faceted: the median fold angle over its folded edges (at least
+/// 3. **Net** when it is faceted (and of at most [`crate::MAX_NET_FACES`] faces): the median fold angle over its folded edges (at least
 ///    1°) is [`FACETED_FOLD_DEGREES`] or more, or it has sharp creases and curved
 ///    vertices — a box, a low-poly model, an icosphere. Papercraft tools (Pepakura,
 ///    Blender's Export Paper Model) always unfold such models into nets.
@@ -81,7 +81,18 @@ pub fn choose_layout(mesh: &TriangleMesh, topology: &MeshTopology, crease_angle_
     }
     folds.sort_by(f64::total_cmp);
     let median = folds.get(folds.len() / 2).copied().unwrap_or(0.0);
-    if median >= FACETED_FOLD_DEGREES || (sharp && curved > 0 && median >= 1.0) {
+    let faceted = median >= FACETED_FOLD_DEGREES || (sharp && curved > 0 && median >= 1.0);
+    if faceted && mesh.triangles.len() > crate::MAX_NET_FACES {
+        return LayoutChoice {
+            layout: Layout::Charts,
+            reason: format!(
+                "faceted (median fold {median:.1}°) but of {} faces, more than a net is made of ({}): split into charts within the distortion bound",
+                mesh.triangles.len(),
+                crate::MAX_NET_FACES
+            ),
+        };
+    }
+    if faceted {
         return LayoutChoice {
             layout: Layout::Net,
             reason: format!(

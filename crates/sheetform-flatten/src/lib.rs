@@ -21,12 +21,12 @@ mod user_seams;
 pub use alignment::{align_rigid, RigidAlignment};
 pub use arap::{arap, ArapOptions};
 pub use chart_segmentation::{
-    cut_into_charts, cut_into_charts_until, Chart, ChartOptions, ChartSet, MAX_CONE_POINTS, MAX_SEAM_LOOPS,
+    cut_into_charts, cut_into_charts_until, Chart, ChartOptions, ChartSet, MAX_CONE_POINTS, MAX_PIECES, MAX_SEAM_LOOPS,
     SMALL_CHART_FACES,
 };
 pub use distortion::{distortion, Distortion};
 pub use edge_unfolding::{
-    unfold_net, Net, NetOptions, MAX_NET_OVERLAP_TESTS, MAX_NET_WORK, NET_TESTS_PER_FACE_WHEN_SPENT,
+    unfold_net, Net, NetOptions, MAX_NET_FACES, MAX_NET_OVERLAP_TESTS, MAX_NET_WORK, NET_TESTS_PER_FACE_WHEN_SPENT,
 };
 pub use error::FlattenError;
 pub use exact_unfolding::{exact_unfold, UnfoldOptions, Unfolding};

@@ -5,6 +5,7 @@
 //! [`TriangleMesh`], any mesh read from a file, with its topology checks and
 //! developability measures (angle defects, Gaussian curvature, Wang & Tang's `D[M]`, `G[X]`).
 
+mod corner_angle;
 mod developability;
 mod edge_cut;
 mod edge_table;
@@ -18,6 +19,7 @@ mod union_find;
 mod unit;
 mod vertex_normals;
 
+pub use corner_angle::{corner_angle, corner_angle_gradient, corner_angle_hessian};
 pub use developability::{developability_summary, vertex_developability, DevelopabilitySummary, VertexDevelopability};
 pub use edge_cut::{cut_along_edges, CutMesh};
 pub use edge_table::{EdgeSide, EdgeTable};

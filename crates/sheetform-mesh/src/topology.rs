@@ -42,6 +42,37 @@ impl MeshTopology {
             && self.degenerate_faces.is_empty()
             && self.orientable
     }
+
+    /// What keeps the mesh from being a clean 2-manifold, one phrase per kind of
+    /// problem with the first place (empty for a clean mesh).
+    pub fn problems(&self) -> Vec<String> {
+        let mut problems = Vec::new();
+        if !self.non_manifold_edges.is_empty() {
+            problems.push(format!(
+                "{} non-manifold edge(s), first {:?}",
+                self.non_manifold_edges.len(),
+                self.non_manifold_edges[0]
+            ));
+        }
+        if !self.non_manifold_vertices.is_empty() {
+            problems.push(format!(
+                "{} non-manifold vertex/vertices, first {}",
+                self.non_manifold_vertices.len(),
+                self.non_manifold_vertices[0]
+            ));
+        }
+        if !self.degenerate_faces.is_empty() {
+            problems.push(format!(
+                "{} degenerate (zero-area) face(s), first {}",
+                self.degenerate_faces.len(),
+                self.degenerate_faces[0]
+            ));
+        }
+        if !self.orientable {
+            problems.push("the surface is not orientable".into());
+        }
+        problems
+    }
 }
 
 /// Analyses the topology of `mesh`. Degenerate faces are those with a repeated vertex or

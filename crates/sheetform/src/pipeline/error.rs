@@ -148,7 +148,9 @@ impl PipelineError {
             // A mesh that is not a clean manifold, or not a disk where one is needed, is
             // the input's problem; a layout solver that fails is ours.
             Self::Flatten(
-                sheetform_flatten::FlattenError::Topology { .. } | sheetform_flatten::FlattenError::NotADisk { .. },
+                sheetform_flatten::FlattenError::Topology { .. }
+                | sheetform_flatten::FlattenError::NotADisk { .. }
+                | sheetform_flatten::FlattenError::TooManyPieces { .. },
             ) => ErrorKind::InvalidInput,
             Self::Flatten(sheetform_flatten::FlattenError::Cancelled) => ErrorKind::Cancelled,
             Self::Flatten(_) | Self::InvalidResult(_) => ErrorKind::Failed,

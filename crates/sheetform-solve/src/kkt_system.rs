@@ -1,9 +1,10 @@
-//! The sparse symmetric KKT system `[H Aᵀ; A −δI]` that the constrained solver
-//! factorises: pattern, ordering, symbolic analysis and workspace once per problem, then
-//! numeric LDLᵀ factorisations and solves with iterative refinement.
+//! The sparse symmetric KKT system `[H Aᵀ; A −δI]` that a constrained Gauss–Newton
+//! solver factorises: pattern, ordering, symbolic analysis and workspace once per
+//! problem, then numeric LDLᵀ factorisations and solves with iterative refinement. The
+//! FFD restoration (Wang & Tang 2004) and `develop` share it.
 
 use crate::nested_dissection::nested_dissection;
-use crate::FfdError;
+
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::sparse::linalg::amd;
@@ -26,7 +27,7 @@ const PROJECTION_METRIC_BACKWARD_ERROR: f64 = 1e-6;
 
 /// When [`KktSystem::solve`] stops refining.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) enum SolveAccuracy {
+pub enum SolveAccuracy {
     /// The whole system to rounding: componentwise backward error at most
     /// [`REFINED_BACKWARD_ERROR`].
     Rounding,
@@ -48,16 +49,29 @@ pub const MAX_FACTOR_BYTES: usize = 8 << 30;
 /// index where the factor is stored column by column).
 const FACTOR_BYTES_PER_VALUE: usize = 16;
 
-/// The error of a factorisation over [`MAX_FACTOR_BYTES`], naming the model.
-fn over_the_memory_bound(size: usize, bytes: usize) -> FfdError {
-    FfdError::field(
-        "model",
-        format!(
-            "the restoration's linear system ({size} rows) needs {:.1} GB to factorise, more than the {} GB it may take: use fewer vertices (fewer gores, segments or panels)",
-            bytes as f64 / 1e9,
-            MAX_FACTOR_BYTES >> 30
-        ),
-    )
+/// Why a KKT system cannot be set up.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum KktError {
+    /// faer cannot index or allocate the pattern, its ordering or its factor (an index
+    /// overflow or out of memory).
+    #[error("the linear system ({rows} rows) is too large to factorise on this machine")]
+    TooLarge {
+        /// Rows of the system.
+        rows: usize,
+    },
+    /// The factorisation would take more than [`MAX_FACTOR_BYTES`].
+    #[error("the linear system ({rows} rows) needs {:.1} GB to factorise, more than the {} GB it may take", *bytes as f64 / 1e9, MAX_FACTOR_BYTES >> 30)]
+    OverMemory {
+        /// Rows of the system.
+        rows: usize,
+        /// Bytes the factor and its workspace would take.
+        bytes: usize,
+    },
+}
+
+/// The error of a factorisation over [`MAX_FACTOR_BYTES`].
+fn over_the_memory_bound(size: usize, bytes: usize) -> KktError {
+    KktError::OverMemory { rows: size, bytes }
 }
 
 /// The number of values in the Cholesky factor of the symmetric matrix whose upper
@@ -91,15 +105,13 @@ fn factor_values(pattern: &SymbolicSparseColMat<usize>, inverse: &[usize]) -> Op
     counts.iter().try_fold(0usize, |sum, &c| sum.checked_add(c))
 }
 
-fn too_large(size: usize) -> FfdError {
-    FfdError::Solver(format!(
-        "the restoration's linear system ({size} rows) is too large to factorise on this machine; use fewer vertices"
-    ))
+fn too_large(size: usize) -> KktError {
+    KktError::TooLarge { rows: size }
 }
 
 /// Why a numeric factorisation failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum FactorisationFailure {
+pub enum FactorisationFailure {
     /// A zero pivot (with the dynamic regularisation on, a pivot that is NaN: a
     /// non-finite value in the matrix, or exactly 0 with `δ = 0`).
     Singular,
@@ -108,7 +120,7 @@ pub(crate) enum FactorisationFailure {
 /// A KKT matrix of `n` unknowns and `nc` constraints, stored as its upper triangle: a fixed
 /// sequence of `(row, column)` pairs (duplicates are summed) whose values are refilled
 /// before each factorisation.
-pub(crate) struct KktSystem {
+pub struct KktSystem {
     /// Unknowns.
     pub n: usize,
     /// Constraints.
@@ -227,7 +239,7 @@ impl KktSystem {
         blocks: &[usize],
         block_coordinates: &[Vector3<f64>],
         amd_when_small: bool,
-    ) -> Result<Self, FfdError> {
+    ) -> Result<Self, KktError> {
         let choice = match (n + nc < Self::BOTH_ORDERINGS_BELOW, amd_when_small) {
             (false, _) => OrderingChoice::NestedDissection,
             (true, true) => OrderingChoice::Amd,
@@ -244,7 +256,7 @@ impl KktSystem {
         blocks: &[usize],
         block_coordinates: &[Vector3<f64>],
         choice: OrderingChoice,
-    ) -> Result<Self, FfdError> {
+    ) -> Result<Self, KktError> {
         let size = n + nc;
         let (symbolic, argsort) =
             SymbolicSparseColMat::try_new_from_indices(size, size, &pairs).map_err(|_| too_large(size))?;
@@ -572,7 +584,7 @@ mod tests {
         }
         let e = over_the_memory_bound(425_000, 10_100_000_000).to_string();
         assert!(
-            e.contains("`model`") && e.contains("10.1 GB") && e.contains("8 GB"),
+            e.contains("425000 rows") && e.contains("10.1 GB") && e.contains("8 GB"),
             "{e}"
         );
     }

@@ -28,7 +28,7 @@ const LEAF_SIZE: usize = 32;
 /// instead of 10–12 s; on a 2 501-vertex duct 1.36 M instead of 2.0 M; on the skirt
 /// (1 080 nodes) AMD is 7 % smaller, which is why the KKT system keeps whichever is
 /// smaller below 20 000 unknowns.
-pub(crate) fn nested_dissection(adjacency: &[Vec<usize>], coordinates: &[Vector3<f64>]) -> Vec<usize> {
+pub fn nested_dissection(adjacency: &[Vec<usize>], coordinates: &[Vector3<f64>]) -> Vec<usize> {
     debug_assert_eq!(adjacency.len(), coordinates.len());
     let mut order = Vec::with_capacity(adjacency.len());
     // `side[i] == tag` marks the half `A` of the split being made (a fresh tag per split).
