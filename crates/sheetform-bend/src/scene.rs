@@ -196,13 +196,13 @@ impl BendScene {
     /// Parses a scene from JSON text.
     ///
     /// # Errors
-    /// Malformed JSON, unknown or missing fields; the message gives line and column.
+    /// [`crate::BendError::Field`] for malformed JSON, unknown, missing or mistyped fields:
+    /// naming the field path (`regions[0].curve.type`), what is accepted, then the line
+    /// and column.
     pub fn from_json(text: &str) -> Result<Self, crate::BendError> {
-        // A byte-order mark is not JSON (serde refuses it); editors on Windows write one.
-        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        serde_json::from_str(text).map_err(|e| crate::BendError::Field {
-            field: format!("(line {}, column {})", e.line(), e.column()),
-            message: sheetform_geometry::shortened_message(&e.to_string()),
+        sheetform_geometry::json_from_text(text).map_err(|e| crate::BendError::Field {
+            field: e.field,
+            message: e.message,
         })
     }
 

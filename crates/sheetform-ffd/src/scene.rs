@@ -382,16 +382,10 @@ impl FfdScene {
     /// Parses a scene.
     ///
     /// # Errors
-    /// Malformed JSON or unknown fields, with line and column.
+    /// [`FfdError::Field`] for malformed JSON, unknown, missing or mistyped fields: naming
+    /// the field path, what is accepted, then the line and column.
     pub fn from_json(text: &str) -> Result<Self, FfdError> {
-        // A byte-order mark is not JSON (serde refuses it); editors on Windows write one.
-        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        serde_json::from_str(text).map_err(|e| {
-            FfdError::field(
-                format!("(line {}, column {})", e.line(), e.column()),
-                sheetform_geometry::shortened_message(&e.to_string()),
-            )
-        })
+        sheetform_geometry::json_from_text(text).map_err(|e| FfdError::field(e.field, e.message))
     }
 
     /// Checks the numbers that serde cannot.

@@ -1,6 +1,7 @@
 //! Geometry core of sheetform: Bézier and B-spline curves in 2D and 3D with exact
 //! derivatives, arc length and arc-length reparametrisation, Frenet and Darboux frames,
-//! 2D polygons with holes, and numbers and tokens written short for messages.
+//! 2D polygons with holes, numbers and tokens written short for messages, and JSON
+//! documents read with errors that name the field.
 //!
 //! Everything is `f64`. Lengths are in the model's units (the scene file says which;
 //! millimetres by default). Kernels do no I/O.
@@ -13,6 +14,7 @@ mod curve;
 mod error;
 mod frame;
 mod helix;
+mod json_document;
 mod message_text;
 mod polygon;
 mod rigid;
@@ -25,6 +27,7 @@ pub use curve::{Curve3, ParametricCurve};
 pub use error::GeometryError;
 pub use frame::{curve_frame, CurveFrame, CurveFrameDerivatives};
 pub use helix::Helix;
+pub use json_document::{json_from_text, JsonFieldError, WHOLE_DOCUMENT};
 pub use message_text::{quoted_token, short_number, shortened_message, xml_escaped, ShortNumber, QUOTED_TOKEN_CHARS};
 pub use polygon::{
     convex_hull, cross2, fits_turned, fitting_rotation, hull_fits_rectangle, rings_contain, segment_distance,

@@ -265,17 +265,11 @@ impl PhotoAnnotation {
     /// Parses an annotation from JSON text and validates it ([`PhotoAnnotation::validate`]).
     ///
     /// # Errors
-    /// [`PhotoError::Field`] naming the line and column, or the field, of the first
-    /// problem.
+    /// [`PhotoError::Field`] naming the field path of the first problem (with what is
+    /// accepted, then the line and column, for one serde finds).
     pub fn from_json(text: &str) -> Result<Self, PhotoError> {
-        // A byte-order mark is not JSON (serde refuses it); editors on Windows write one.
-        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        let annotation: Self = serde_json::from_str(text).map_err(|e| {
-            PhotoError::field(
-                format!("(line {}, column {})", e.line(), e.column()),
-                sheetform_geometry::shortened_message(&e.to_string()),
-            )
-        })?;
+        let annotation: Self =
+            sheetform_geometry::json_from_text(text).map_err(|e| PhotoError::field(e.field, e.message))?;
         annotation.validate()?;
         Ok(annotation)
     }

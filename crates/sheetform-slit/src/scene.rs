@@ -242,16 +242,10 @@ impl SlitScene {
     /// Parses a scene from JSON text.
     ///
     /// # Errors
-    /// [`crate::SlitError::Field`] naming the line and column of the first problem.
+    /// [`crate::SlitError::Field`] naming the field path of the first problem, what is
+    /// accepted, then the line and column.
     pub fn from_json(text: &str) -> Result<Self, crate::SlitError> {
-        // A byte-order mark is not JSON (serde refuses it); editors on Windows write one.
-        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        serde_json::from_str(text).map_err(|e| {
-            crate::SlitError::field(
-                format!("(line {}, column {})", e.line(), e.column()),
-                sheetform_geometry::shortened_message(&e.to_string()),
-            )
-        })
+        sheetform_geometry::json_from_text(text).map_err(|e| crate::SlitError::field(e.field, e.message))
     }
 
     /// The JSON Schema of the scene format.

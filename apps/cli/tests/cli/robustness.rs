@@ -907,3 +907,58 @@ fn output_directories_keep_what_sheetform_did_not_write() {
     }
     assert_eq!(std::fs::read_to_string(out.join("theirs.csv")).unwrap(), "1,2");
 }
+
+/// Issue 35, messages: a scene that serde refuses names the field's path (into lists,
+/// objects and tagged curves) and what is accepted, with the line and column after it, in
+/// every mode (it named only "(line 3, column 19)").
+#[test]
+fn serde_errors_name_the_field_and_what_is_accepted() {
+    let cases: Vec<(&str, Value, &str, &str)> = {
+        let mut bend = example("examples/bent-rectangle.json");
+        bend["units"] = json!("furlong");
+        let mut curve = example("examples/bent-rectangle.json");
+        curve["regions"][0]["curve"]["type"] = json!("spline");
+        let mut point = example("examples/bent-rectangle.json");
+        point["regions"][0]["flat_start"][1] = json!("x");
+        let mut unknown = example("examples/bent-rectangle.json");
+        unknown["regions"][0]["flat_stat"] = json!([0, 0]);
+        let mut slit = example("examples/slit/bench.json");
+        slit["sheet"]["strip_count"] = json!(2.5);
+        let mut ffd = example("examples/ffd/duct.json");
+        ffd["model"]["procedural"]["kind"] = json!("pipe");
+        let mut photo = example("examples/photo/tube.json");
+        photo["curves"][1]["kind"] = json!("edge");
+        vec![
+            ("bend", bend, "units", "expected one of `mm`, `cm`, `m`, `in`"),
+            (
+                "bend",
+                curve,
+                "regions[0].curve.type",
+                "expected one of `bezier`, `bspline`, `helix`",
+            ),
+            ("bend", point, "regions[0].flat_start[1]", "expected f64"),
+            (
+                "bend",
+                unknown,
+                "regions[0].flat_stat",
+                "expected one of `name`, `flat_start`",
+            ),
+            ("slit", slit, "sheet.strip_count", "expected usize"),
+            ("ffd", ffd, "model.procedural.kind", "expected one of `duct`"),
+            ("photo", photo, "curves[1].kind", "expected `silhouette` or `boundary`"),
+        ]
+    };
+    for (command, scene, field, accepted) in cases {
+        let (code, stderr) = run_scene(command, &scene, &[]);
+        assert_eq!(code, 1, "{stderr}");
+        assert!(
+            stderr.contains(&format!("field `{field}`: ")) && stderr.contains(accepted),
+            "{command}: expected `{field}` and {accepted:?} in: {stderr}"
+        );
+        assert!(
+            stderr.contains("(line 1, column "),
+            "the line and column kept: {stderr}"
+        );
+        assert_readable(&stderr);
+    }
+}

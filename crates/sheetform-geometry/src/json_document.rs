@@ -1,0 +1,236 @@
+//! JSON documents (scenes, annotations) read with errors that name the field: the path
+//! from the document's top (`regions[0].curve.type`), what is wrong and what is accepted,
+//! then the line and column, so that `"units": "furlong"` is reported at `units` and not
+//! only at "line 3, column 19".
+
+use crate::message_text::{quoted_token, shortened_message};
+use serde::de::DeserializeOwned;
+use serde_path_to_error::Segment;
+
+/// Why a JSON document could not be read: the field and what is wrong with it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct JsonFieldError {
+    /// JSON path of the field from the document's top (`regions[1].curve.control_points[3]`);
+    /// `(document)` when the document as a whole is wrong (not an object, empty).
+    pub field: String,
+    /// What is wrong and, where serde says, what is accepted; the line and column last,
+    /// in parentheses.
+    pub message: String,
+}
+
+/// The field named for an error in the document as a whole.
+pub const WHOLE_DOCUMENT: &str = "(document)";
+
+/// Reads a `T` from JSON `text` (a byte-order mark first is skipped: editors on Windows
+/// write one).
+///
+/// # Errors
+/// [`JsonFieldError`] naming the field path of the first problem: for an unknown or a
+/// missing field the path ends in that field; for an unknown tag of an internally tagged
+/// enum (`{"type": "spline"}`) in the tag's key.
+pub fn json_from_text<T: DeserializeOwned>(text: &str) -> Result<T, JsonFieldError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut deserializer = serde_json::Deserializer::from_str(text);
+    let value =
+        serde_path_to_error::deserialize(&mut deserializer).map_err(|e| field_error(text, e.path(), e.inner()))?;
+    // Characters after the document.
+    deserializer
+        .end()
+        .map_err(|e| field_error(text, &serde_path_to_error::Track::new().path(), &e))?;
+    Ok(value)
+}
+
+fn field_error(text: &str, path: &serde_path_to_error::Path, inner: &serde_json::Error) -> JsonFieldError {
+    let (line, column) = (inner.line(), inner.column());
+    let mut message = inner.to_string();
+    if line > 0 {
+        if let Some(stripped) = message.strip_suffix(&format!(" at line {line} column {column}")) {
+            message = stripped.to_string();
+        }
+    }
+    let mut segments: Vec<String> = Vec::new();
+    let mut keys: Vec<PathKey> = Vec::new();
+    for segment in path.iter() {
+        match segment {
+            Segment::Seq { index } => {
+                segments.push(format!("[{index}]"));
+                keys.push(PathKey::Index(*index));
+            }
+            Segment::Map { key } | Segment::Enum { variant: key } => {
+                segments.push(format!(".{}", quoted_token(key)));
+                keys.push(PathKey::Key(key.clone()));
+            }
+            Segment::Unknown => {
+                segments.push(".?".into());
+                keys.push(PathKey::Unknown);
+            }
+        }
+    }
+    // serde names the field of an unknown-field or missing-field error in the message;
+    // a missing one at the path of the object that lacks it: the path ends in the field.
+    let named = [
+        ("unknown field `", "unknown field"),
+        ("missing field `", "required, but missing"),
+    ];
+    for (prefix, replacement) in named {
+        if let Some(rest) = message.strip_prefix(prefix) {
+            if let Some((name, tail)) = rest.split_once('`') {
+                if !matches!(keys.last(), Some(PathKey::Key(last)) if last == name) {
+                    segments.push(format!(".{}", quoted_token(name)));
+                }
+                message = format!("{replacement}{tail}");
+                break;
+            }
+        }
+    }
+    // An internally tagged enum (`{"type": "spline", ...}`) reports an unknown tag at the
+    // object: name the key that holds it.
+    if let Some(rest) = message.strip_prefix("unknown variant `") {
+        if let Some((variant, _)) = rest.split_once('`') {
+            if let Ok(document) = serde_json::from_str::<serde_json::Value>(text) {
+                if let Some(serde_json::Value::Object(object)) = value_at(&document, &keys) {
+                    if let Some((tag, _)) = object.iter().find(|(_, v)| v.as_str() == Some(variant)) {
+                        segments.push(format!(".{}", quoted_token(tag)));
+                    }
+                }
+            }
+        }
+    }
+    let mut field = segments.concat();
+    if let Some(stripped) = field.strip_prefix('.') {
+        field = stripped.to_string();
+    }
+    if field.is_empty() {
+        field = WHOLE_DOCUMENT.to_string();
+    }
+    let mut message = shortened_message(&message);
+    if line > 0 {
+        message.push_str(&format!(" (line {line}, column {column})"));
+    }
+    JsonFieldError { field, message }
+}
+
+/// One step of a path into a JSON value.
+enum PathKey {
+    Index(usize),
+    Key(String),
+    Unknown,
+}
+
+fn value_at<'a>(document: &'a serde_json::Value, keys: &[PathKey]) -> Option<&'a serde_json::Value> {
+    let mut value = document;
+    for key in keys {
+        value = match key {
+            PathKey::Index(i) => value.get(*i)?,
+            PathKey::Key(k) => value.get(k.as_str())?,
+            PathKey::Unknown => return None,
+        };
+    }
+    Some(value)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde::Deserialize;
+
+    #[derive(Debug, Deserialize)]
+    #[serde(deny_unknown_fields)]
+    #[allow(dead_code)]
+    struct Scene {
+        units: Units,
+        regions: Vec<Region>,
+    }
+
+    #[derive(Debug, Deserialize)]
+    #[serde(rename_all = "snake_case")]
+    enum Units {
+        Mm,
+        Cm,
+    }
+
+    #[derive(Debug, Deserialize)]
+    #[serde(deny_unknown_fields)]
+    #[allow(dead_code)]
+    struct Region {
+        flat_start: [f64; 2],
+        curve: Curve,
+    }
+
+    #[derive(Debug, Deserialize)]
+    #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+    #[allow(dead_code)]
+    enum Curve {
+        Bezier { control_points: Vec<[f64; 3]> },
+        Helix { radius: f64 },
+    }
+
+    fn error(text: &str) -> JsonFieldError {
+        json_from_text::<Scene>(text).unwrap_err()
+    }
+
+    const GOOD_REGION: &str = r#"{"flat_start": [0, 0], "curve": {"type": "helix", "radius": 2}}"#;
+
+    /// Issue 35: serde errors named only "(line 3, column 19)"; every kind of error names
+    /// the field path, what is accepted, and keeps the line and column after it.
+    #[test]
+    fn errors_name_the_field_path_and_what_is_accepted() {
+        let e = error(&format!(
+            "{{\n  \"regions\": [{GOOD_REGION}],\n  \"units\": \"furlong\"\n}}"
+        ));
+        assert_eq!(e.field, "units");
+        assert!(
+            e.message
+                .starts_with("unknown variant `furlong`, expected `mm` or `cm`")
+                && e.message.ends_with("(line 3, column 20)"),
+            "{e:?}"
+        );
+        let e = error(r#"{"units": "mm", "regions": [{"flat_start": [0, 0], "curve": {"type": "spline"}}]}"#);
+        assert_eq!(e.field, "regions[0].curve.type");
+        assert!(e.message.contains("expected `bezier` or `helix`"), "{e:?}");
+        let e = error(&format!(
+            r#"{{"units": "mm", "regions": [{GOOD_REGION}, {{"flat_start": [0, "x"]}}]}}"#
+        ));
+        assert_eq!(e.field, "regions[1].flat_start[1]");
+        assert!(
+            e.message
+                .starts_with("invalid type: string \"x\", expected f64 (line 1"),
+            "{e:?}"
+        );
+        let e = error(r#"{"units": "mm", "regions": [{"flat_start": [0, 0], "bogus": 1}]}"#);
+        assert_eq!(e.field, "regions[0].bogus");
+        assert!(
+            e.message.starts_with("unknown field, expected `flat_start` or `curve`"),
+            "{e:?}"
+        );
+        let e = error(r#"{"units": "mm", "regions": [{"flat_start": [0, 0]}]}"#);
+        assert_eq!(e.field, "regions[0].curve");
+        assert!(e.message.starts_with("required, but missing"), "{e:?}");
+        let e = error(r#"{"units": "mm"}"#);
+        assert_eq!(e.field, "regions");
+        // Malformed JSON: the place the reader reached, and the line and column.
+        let e = error(&format!("{{\"units\": \"mm\",\n \"regions\": [{GOOD_REGION},]}}"));
+        assert_eq!(e.field, "regions");
+        assert!(
+            e.message.starts_with("trailing comma") && e.message.ends_with("(line 2, column 78)"),
+            "{e:?}"
+        );
+        for (text, problem) in [
+            ("[]", "expected struct Scene"),
+            ("", "EOF"),
+            ("{\"units\": \"mm\", \"regions\": []} x", "trailing characters"),
+        ] {
+            let e = error(text);
+            assert_eq!(e.field, WHOLE_DOCUMENT, "{text}");
+            assert!(e.message.contains(problem), "{e:?}");
+        }
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_skipped_and_long_keys_are_cut() {
+        assert!(json_from_text::<Scene>("\u{feff}{\"units\": \"cm\", \"regions\": []}").is_ok());
+        let key = "k".repeat(10_000);
+        let e = error(&format!("{{\"units\": \"mm\", \"{key}\": 1}}"));
+        assert!(e.field.len() < 100 && e.message.len() < 100, "{e:?}");
+    }
+}
