@@ -51,6 +51,7 @@ impl SceneAssets {
         let directory = match query.dir.as_deref() {
             None | Some("") => root.to_path_buf(),
             Some(dir) => {
+                printable("dir", dir)?;
                 let refuse = || {
                     ApiError::invalid(format!(
                         "dir: `{}` is not a directory inside the served one (such as `examples/photo`)",
@@ -80,26 +81,98 @@ impl SceneAssets {
         context.assets = sheetform::pipeline::AssetResolver::new(&self.directory).with_confinement(&self.root);
         context
     }
+
+    /// `error` as the client is told it: a file the scene names that is missing or lies
+    /// outside the served directory gets the same message either way ([`not_inside`]).
+    /// The library's resolver tells the two apart (it follows the path first, then says
+    /// "outside the allowed directory /abs/root" or "cannot open it"): a page could probe
+    /// which files exist outside the served directory, and learn where it is.
+    pub fn confined(&self, mut error: ApiError) -> ApiError {
+        let Some(asset) = error.asset.take() else {
+            return error;
+        };
+        let inside = !asset.path.chars().any(char::is_control)
+            && self
+                .directory
+                .join(&asset.path)
+                .canonicalize()
+                .is_ok_and(|full| full.starts_with(&self.root));
+        if inside {
+            // The file is there: what is wrong with it (its kind, its size) is the
+            // library's message, which names it as the scene does.
+            error
+        } else {
+            ApiError::invalid(not_inside(&asset.field, &asset.path))
+        }
+    }
+}
+
+/// The one refusal of a path that names no file inside the served directory, whether it
+/// is missing or lies outside (also through a symbolic link): the path as the client gave
+/// it, never the served directory's place.
+pub(crate) fn not_inside(field: &str, path: &str) -> String {
+    format!(
+        "{field}: no file `{}` inside the served directory (files are named by paths relative to the \
+         scene's directory, inside the served one)",
+        sheetform::geometry::quoted_token(path)
+    )
+}
+
+/// Refuses a name the client gave (`field`) that holds a control character (NUL, a line
+/// break, DEL, …): no file the editor opens or saves has one, and a NUL reached the OS as
+/// a failed write (a 500 quoting a temporary path).
+pub(crate) fn printable(field: &str, name: &str) -> Result<(), ApiError> {
+    match name.chars().find(|c| c.is_control()) {
+        None => Ok(()),
+        Some(c) => Err(ApiError::invalid(format!(
+            "{field}: `{}` holds the control character U+{:04X}; names are printable text",
+            sheetform::geometry::quoted_token(name),
+            u32::from(c)
+        ))),
+    }
 }
 
 /// An error reply: `{"error": {"kind", "message"}, "report"?}` with the HTTP status of
-/// its kind (400 invalid input, 422 inadmissible, 500 failed, 503 cancelled).
+/// its kind (400 invalid input, 422 inadmissible, 500 failed, 503 cancelled or busy,
+/// 408 timeout).
 #[derive(Debug)]
 pub(crate) struct ApiError {
     pub status: StatusCode,
     pub kind: &'static str,
     pub message: String,
     pub report: Option<Box<Report>>,
+    /// The file a scene named that could not be read ([`SceneAssets::confined`] words
+    /// the message).
+    pub asset: Option<Box<AssetRef>>,
+}
+
+/// A file a scene names, as the scene names it.
+#[derive(Debug)]
+pub(crate) struct AssetRef {
+    field: String,
+    path: String,
 }
 
 impl ApiError {
-    pub fn invalid(message: impl Into<String>) -> Self {
+    /// An error of `kind` with its status.
+    pub fn new(status: StatusCode, kind: &'static str, message: impl Into<String>) -> Self {
         Self {
-            status: StatusCode::BAD_REQUEST,
-            kind: "invalid_input",
+            status,
+            kind,
             message: message.into(),
             report: None,
+            asset: None,
         }
+    }
+
+    /// Invalid input (400).
+    pub fn invalid(message: impl Into<String>) -> Self {
+        Self::new(StatusCode::BAD_REQUEST, "invalid_input", message)
+    }
+
+    /// A failure of the server (500): a solve that stopped, a file not written.
+    pub fn failed(message: impl Into<String>) -> Self {
+        Self::new(StatusCode::INTERNAL_SERVER_ERROR, "failed", message)
     }
 }
 
@@ -112,11 +185,19 @@ impl From<PipelineError> for ApiError {
             ErrorKind::Output => (StatusCode::INTERNAL_SERVER_ERROR, "output"),
             ErrorKind::Cancelled => (StatusCode::SERVICE_UNAVAILABLE, "cancelled"),
         };
+        let asset = match &error {
+            PipelineError::Asset { field, path, .. } => Some(Box::new(AssetRef {
+                field: field.clone(),
+                path: path.clone(),
+            })),
+            _ => None,
+        };
         Self {
             status,
             kind,
             message: error.to_string(),
             report: error.report().cloned().map(Box::new),
+            asset,
         }
     }
 }
@@ -220,14 +301,12 @@ pub(crate) async fn solve<T: Send + 'static>(
         job(&cancel)
     })
     .await
-    .unwrap_or_else(|e| {
-        Err(ApiError {
-            status: StatusCode::INTERNAL_SERVER_ERROR,
-            kind: "failed",
-            message: format!("the solve stopped: {e}"),
-            report: None,
-        })
-    })
+    .unwrap_or_else(|e| Err(solve_stopped(&e)))
+}
+
+/// A job of the blocking pool that did not end (a panic: a bug).
+pub(crate) fn solve_stopped(error: &tokio::task::JoinError) -> ApiError {
+    ApiError::failed(format!("the solve stopped: {error}"))
 }
 
 /// A request's query, with a malformed one answered as every other error (JSON naming
@@ -252,35 +331,117 @@ where
     }
 }
 
-/// A request body, with a body over the size bound (or unreadable) answered as JSON.
-pub(crate) struct ApiBody<T>(pub T);
+/// What the body budget ([`crate::AppState::body_budget`]) counts in: KiB (a permit a
+/// KiB, so that a 64 MiB body takes 65 536 permits, well within one acquisition).
+pub(crate) const BUDGET_UNIT: usize = 1 << 10;
 
-impl<T, S> axum::extract::FromRequest<S> for ApiBody<T>
+/// Permits of the body budget for `bytes`.
+pub(crate) fn budget_units(bytes: usize) -> usize {
+    bytes.div_ceil(BUDGET_UNIT)
+}
+
+/// A request body read into memory, holding its share of the server's body budget until
+/// it is dropped (when its request is answered, or earlier once parsed).
+pub(crate) struct Buffered<T> {
+    value: T,
+    _share: tokio::sync::OwnedSemaphorePermit,
+}
+
+impl<T> std::ops::Deref for Buffered<T> {
+    type Target = T;
+
+    fn deref(&self) -> &T {
+        &self.value
+    }
+}
+
+/// A request body, bounded three ways, each refusal answered as JSON: its size
+/// ([`crate::ServeOptions::max_request_bytes`], 413), the bytes held over all requests
+/// ([`crate::ServeOptions::max_buffered_bytes`]: its share is taken before it is read,
+/// 503 `busy` when the budget is spent) and its time
+/// ([`crate::ServeOptions::body_read_timeout`], 408 `timeout`).
+pub(crate) struct ApiBody<T>(pub Buffered<T>);
+
+impl<T> axum::extract::FromRequest<Arc<AppState>> for ApiBody<T>
 where
-    T: axum::extract::FromRequest<S> + Send,
+    T: axum::extract::FromRequest<Arc<AppState>> + Send,
     T::Rejection: IntoResponse + Send,
-    S: Send + Sync,
 {
     type Rejection = ApiError;
 
-    async fn from_request(request: axum::extract::Request, state: &S) -> Result<Self, Self::Rejection> {
-        match T::from_request(request, state).await {
-            Ok(value) => Ok(Self(value)),
-            Err(rejection) => {
+    async fn from_request(request: axum::extract::Request, state: &Arc<AppState>) -> Result<Self, Self::Rejection> {
+        let share = body_share(&request, state)?;
+        let read = tokio::time::timeout(state.body_read_timeout, T::from_request(request, state));
+        match read.await {
+            Ok(Ok(value)) => Ok(Self(Buffered { value, _share: share })),
+            Ok(Err(rejection)) => {
                 let response = rejection.into_response();
                 let status = response.status();
                 let bytes = axum::body::to_bytes(response.into_body(), 4096)
                     .await
                     .unwrap_or_default();
-                Err(ApiError {
+                Err(ApiError::new(
                     status,
-                    kind: "invalid_input",
-                    message: format!("the request body: {}", String::from_utf8_lossy(&bytes)),
-                    report: None,
-                })
+                    "invalid_input",
+                    format!("the request body: {}", String::from_utf8_lossy(&bytes)),
+                ))
             }
+            Err(_) => Err(ApiError::new(
+                StatusCode::REQUEST_TIMEOUT,
+                "timeout",
+                format!(
+                    "the request body did not arrive within {} s",
+                    sheetform::geometry::short_number(state.body_read_timeout.as_secs_f64())
+                ),
+            )),
         }
     }
+}
+
+/// The share of the body budget `request`'s body takes: its declared length, or the
+/// largest body when it declares none (a chunked body). Refused at once when the body is
+/// declared larger than the largest (413) or when the budget is spent (503).
+fn body_share(
+    request: &axum::extract::Request,
+    state: &AppState,
+) -> Result<tokio::sync::OwnedSemaphorePermit, ApiError> {
+    use axum::body::HttpBody;
+    let hint = request.body().size_hint();
+    let largest = state.max_request_bytes;
+    let declared = usize::try_from(hint.lower()).unwrap_or(usize::MAX);
+    if declared > largest {
+        return Err(ApiError::new(
+            StatusCode::PAYLOAD_TOO_LARGE,
+            "invalid_input",
+            format!("the request body: {declared} bytes, more than the {largest} bytes a request may carry"),
+        ));
+    }
+    let bytes = hint
+        .upper()
+        .and_then(|upper| usize::try_from(upper).ok())
+        .map_or(largest, |upper| upper.min(largest));
+    let units = u32::try_from(budget_units(bytes)).unwrap_or(u32::MAX);
+    state.body_budget.clone().try_acquire_many_owned(units).map_err(|_| {
+        let held = state
+            .body_budget_bytes
+            .saturating_sub(state.body_budget.available_permits() * BUDGET_UNIT);
+        ApiError::new(
+            StatusCode::SERVICE_UNAVAILABLE,
+            "busy",
+            format!(
+                "other requests' bodies hold {} MiB of the server's bound of {} MiB on bodies held at once, and \
+                 this one ({} MiB) does not fit: send it again once they are answered",
+                mib(held),
+                mib(state.body_budget_bytes),
+                mib(bytes)
+            ),
+        )
+    })
+}
+
+/// Bytes in MiB, for messages.
+fn mib(bytes: usize) -> sheetform::geometry::ShortNumber {
+    sheetform::geometry::short_number(bytes as f64 / f64::from(1u32 << 20))
 }
 
 /// The pattern SVG of a run's rendered files (empty when it has none).
@@ -300,7 +461,7 @@ fn preview(
     cancel: &AtomicBool,
 ) -> Result<BendReply, ApiError> {
     let context = assets.context().with_outputs(OutputSet::Preview).with_cancel(cancel);
-    let run = run_bend(scene, &BendRunOptions::default(), &context)?;
+    let run = run_bend(scene, &BendRunOptions::default(), &context).map_err(|e| assets.confined(e.into()))?;
     Ok(BendReply {
         model: MeshArrays::new(&run.sheet.mesh),
         angle_defects_rad: run.angle_defects_rad,
@@ -370,15 +531,14 @@ async fn bend_edit(
         })?;
         let result = edit_bend_scene(&scene, &edit)?;
         if !result.info.applied {
-            return Err(ApiError {
-                status: StatusCode::UNPROCESSABLE_ENTITY,
-                kind: "inadmissible",
-                message: result
+            return Err(ApiError::new(
+                StatusCode::UNPROCESSABLE_ENTITY,
+                "inadmissible",
+                result
                     .info
                     .rejected_because
                     .unwrap_or_else(|| "the edit would make the shape inadmissible".into()),
-                report: None,
-            });
+            ));
         }
         let preview = preview(&result.scene, &assets, start, cancel)?;
         Ok(EditReply {
@@ -419,35 +579,39 @@ pub(crate) fn output_file(
         .into_iter()
         .find(|(n, _)| n == wanted)
         .map(|(_, bytes)| bytes)
-        .ok_or_else(|| ApiError {
-            status: StatusCode::NOT_FOUND,
-            kind: "invalid_input",
-            message: format!(
-                "`sheetform {command}` writes no file `{}` here",
-                sheetform::geometry::shortened_message(wanted)
-            ),
-            report: None,
+        .ok_or_else(|| {
+            ApiError::new(
+                StatusCode::NOT_FOUND,
+                "invalid_input",
+                format!(
+                    "`sheetform {command}` writes no file `{}` here",
+                    sheetform::geometry::shortened_message(wanted)
+                ),
+            )
         })
 }
 
 /// A scene command's download route: `run` parses the body and runs the command in the
 /// given context (every output, assets against the scene's directory, cancelled when the
-/// client leaves); the file `name` of its outputs goes back as an attachment.
+/// client leaves), both on the blocking pool under a solve slot; the file `name` of its
+/// outputs goes back as an attachment.
 pub(crate) async fn scene_download(
     state: &AppState,
     query: &SceneQuery,
     name: String,
-    body: String,
+    body: Buffered<String>,
     command: &'static str,
     run: impl FnOnce(&str, &RunContext) -> Result<(RenderedFiles, Report), ApiError> + Send + 'static,
 ) -> Result<Response, ApiError> {
     let assets = SceneAssets::new(&state.root, query)?;
+    let confinement = assets.clone();
     let wanted = name.clone();
     let bytes = solve(state, move |cancel| {
         let (files, report) = run(&body, &assets.context().with_cancel(cancel))?;
         output_file(files, &report, &wanted, command)
     })
-    .await?;
+    .await
+    .map_err(|e| confinement.confined(e))?;
     Ok(attachment(&name, bytes))
 }
 

@@ -9,7 +9,9 @@
 //! iteration; lossy: a slow reader misses some), then `{"result": …}` or `{"error":
 //! {"kind", "message"}, "report"?}`. A client that closes the connection (the editor's
 //! Cancel) cancels the run at its next progress report; one that left before its run
-//! started never starts it.
+//! started never starts it. The scene is parsed on the blocking pool under the run's
+//! solve slot (as every mode's); one that does not parse is answered with its status
+//! (400) before anything streams.
 //!
 //! The server keeps the last design it restored and resumes the next run from it
 //! (`FfdRunOptions::warm_start`): an editor's drag appends one deformation to the scene,
@@ -17,7 +19,9 @@
 //! `resumed_deformations` says how many were taken over. The result is the same as a
 //! run from scratch.
 
-use crate::api::{pattern_svg, scene_download, ApiBody, ApiError, ApiQuery, MeshArrays, SceneAssets, SceneQuery};
+use crate::api::{
+    pattern_svg, scene_download, solve_stopped, ApiBody, ApiError, ApiQuery, MeshArrays, SceneAssets, SceneQuery,
+};
 use crate::AppState;
 use axum::body::Body;
 use axum::extract::{Path, State};
@@ -108,15 +112,30 @@ async fn ffd(
     ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
     let start = Instant::now();
-    // A scene that does not parse is answered at once, with its status.
-    let scene = ffd_scene(&body)?;
     let assets = SceneAssets::new(&state.root, &query)?;
+    // The scene is parsed on the blocking pool under a solve slot, as every mode's scene
+    // is (a large one takes seconds, which on the async workers stalled every other
+    // request), and one that does not parse is answered with its status before anything
+    // streams. The slot goes into the job and on to the run, so it stays taken while
+    // either runs, also when the client has gone; the body's share of the budget is
+    // given back once parsed.
+    let slot = state
+        .solves
+        .clone()
+        .acquire_owned()
+        .await
+        .map_err(|_| ApiError::invalid("the server is stopping"))?;
+    let (slot, scene) = tokio::task::spawn_blocking(move || {
+        let scene = ffd_scene(&body);
+        drop(body);
+        (slot, scene)
+    })
+    .await
+    .map_err(|e| solve_stopped(&e))?;
+    let scene = scene?;
     let (sender, mut receiver) = tokio::sync::mpsc::channel::<String>(PROGRESS_BUFFER);
     tokio::spawn(async move {
-        let Ok(_permit) = state.solves.acquire().await else {
-            return;
-        };
-        // The client left while the run waited for its turn: nothing to do.
+        // The client left before the run started: nothing to do.
         if sender.is_closed() {
             return;
         }
@@ -128,6 +147,7 @@ async fn ffd(
             .clone();
         let cache = state.clone();
         let outcome = tokio::task::spawn_blocking(move || -> Result<FfdReply, ApiError> {
+            let _slot = slot;
             let cancel = AtomicBool::new(false);
             let progress = |stage: &str, fraction: f64| {
                 let message = line(serde_json::json!({"progress": {"stage": stage, "fraction": fraction}}));
@@ -148,7 +168,7 @@ async fn ffd(
                 warm_start,
                 ..FfdRunOptions::default()
             };
-            let run = run_ffd(&scene, &options, &context)?;
+            let run = run_ffd(&scene, &options, &context).map_err(|e| assets.confined(e.into()))?;
             let lattice = &run.design.steps.last().expect("a scene has a deformation").volume;
             let reply = FfdReply {
                 model: MeshArrays::new(&run.sheet),
@@ -173,9 +193,7 @@ async fn ffd(
         let last = match outcome {
             Ok(Ok(reply)) => serde_json::json!({ "result": reply }),
             Ok(Err(error)) => error.body(),
-            Err(error) => {
-                serde_json::json!({"error": {"kind": "failed", "message": format!("the solve stopped: {error}")}})
-            }
+            Err(error) => solve_stopped(&error).body(),
         };
         // Nobody listens any more when the client cancelled.
         let _ = sender.send(line(last)).await;

@@ -2,14 +2,21 @@
 //! pipeline's [`AssetResolver`] (the same rules as the files a scene may read: no
 //! absolute or escaping path, also not through a symbolic link; regular files only;
 //! bounded sizes).
+//!
+//! A path that names no file inside the served directory gets one refusal whether it is
+//! missing or lies outside, quoting the path as the client gave it (never where the
+//! served directory is), and a name with a control character is refused before any file
+//! is looked at. A save replaces the file atomically and keeps its mode (and owner where
+//! the OS allows); a new file gets the mode any program's new file gets (0666 less the
+//! umask).
 
-use crate::api::{ApiBody, ApiError};
+use crate::api::{not_inside, printable, solve_stopped, ApiBody, ApiError};
 use crate::AppState;
 use axum::extract::{Path, State};
 use axum::response::{IntoResponse, Response};
 use axum::routing::get;
 use axum::{Json, Router};
-use sheetform::pipeline::{AssetResolver, PipelineError};
+use sheetform::pipeline::AssetResolver;
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -43,6 +50,7 @@ async fn relocate(
     ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
     for (name, dir) in [("from", &query.from), ("to", &query.to)] {
+        printable(name, dir)?;
         if !dir.is_empty() && !sheetform::io::is_plain_relative(dir) {
             return Err(ApiError::invalid(format!(
                 "{name}: `{}` is not a directory inside the served one",
@@ -50,13 +58,18 @@ async fn relocate(
             )));
         }
     }
-    let scene: serde_json::Value =
-        serde_json::from_str(&body).map_err(|e| ApiError::invalid(format!("not a JSON document: {e}")))?;
-    let moves = sheetform::pipeline::relocated_scene_assets(
-        &scene,
-        std::path::Path::new(&query.from),
-        std::path::Path::new(&query.to),
-    );
+    // Parsed on the blocking pool: a large body takes a while.
+    let moves = tokio::task::spawn_blocking(move || -> Result<_, ApiError> {
+        let scene: serde_json::Value =
+            serde_json::from_str(&body).map_err(|e| ApiError::invalid(format!("not a JSON document: {e}")))?;
+        Ok(sheetform::pipeline::relocated_scene_assets(
+            &scene,
+            std::path::Path::new(&query.from),
+            std::path::Path::new(&query.to),
+        ))
+    })
+    .await
+    .map_err(|e| solve_stopped(&e))??;
     Ok(Json(serde_json::json!({ "moves": moves })).into_response())
 }
 
@@ -136,20 +149,42 @@ fn image_type(name: &str) -> Option<&'static str> {
     }
 }
 
+/// The file `path` names inside the served directory, or the one refusal
+/// ([`not_inside`]) whether it is missing or lies outside (by `..`, an absolute path or a
+/// symbolic link): the path is checked as written before it is followed.
+fn inside(root: &std::path::Path, path: &str) -> Result<PathBuf, ApiError> {
+    printable("path", path)?;
+    let refuse = || ApiError::invalid(not_inside("path", path));
+    if !sheetform::io::is_plain_relative(path) {
+        return Err(refuse());
+    }
+    let full = root.join(path).canonicalize().map_err(|_| refuse())?;
+    if full.starts_with(root) {
+        Ok(full)
+    } else {
+        Err(refuse())
+    }
+}
+
 async fn open(State(state): State<Arc<AppState>>, Path(path): Path<String>) -> Result<Response, ApiError> {
     let resolver = resolver(&state);
+    let root = state.root.clone();
     let image = image_type(&path);
     let mesh = is_mesh(&path) || image.is_some();
     let bytes = tokio::task::spawn_blocking(move || -> Result<Vec<u8>, ApiError> {
+        inside(&root, &path)?;
         let bytes = resolver.read(&path, "path")?;
         // Scenes are JSON text; meshes and images go out as they are.
         if !mesh && std::str::from_utf8(&bytes).is_err() {
-            return Err(ApiError::invalid(format!("`{path}` is not UTF-8 text")));
+            return Err(ApiError::invalid(format!(
+                "`{}` is not UTF-8 text",
+                sheetform::geometry::quoted_token(&path)
+            )));
         }
         Ok(bytes)
     })
     .await
-    .map_err(|e| ApiError::invalid(e.to_string()))??;
+    .map_err(|e| solve_stopped(&e))??;
     let content_type = image.unwrap_or(if mesh {
         "application/octet-stream"
     } else {
@@ -163,19 +198,101 @@ async fn save(
     Path(path): Path<String>,
     ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
+    printable("path", &path)?;
     if !path.ends_with(".json") {
         return Err(ApiError::invalid("scenes are saved as `.json` files"));
     }
-    if let Err(e) = serde_json::from_str::<serde_json::Value>(&body) {
-        return Err(ApiError::invalid(format!("not a JSON document: {e}")));
+    if !sheetform::io::is_plain_relative(&path) {
+        return Err(ApiError::invalid(not_inside("path", &path)));
     }
     let resolver = resolver(&state);
+    let root = state.root.clone();
     tokio::task::spawn_blocking(move || -> Result<(), ApiError> {
+        // Parsed on the blocking pool: a large body takes a while.
+        if let Err(e) = serde_json::from_str::<serde_json::Value>(&body) {
+            return Err(ApiError::invalid(format!("not a JSON document: {e}")));
+        }
+        // The directory must be one inside the served directory: the same refusal
+        // whether it is missing or lies outside.
+        let directory = std::path::Path::new(&path).parent().unwrap_or(std::path::Path::new(""));
+        let inside_root = root
+            .join(directory)
+            .canonicalize()
+            .is_ok_and(|full| full.is_dir() && full.starts_with(&root));
+        if !inside_root {
+            return Err(ApiError::invalid(format!(
+                "path: no directory `{}` inside the served directory to save `{}` in",
+                sheetform::geometry::quoted_token(&directory.to_string_lossy()),
+                sheetform::geometry::quoted_token(&path)
+            )));
+        }
         let full = resolver.resolve_for_writing(&path, "path")?;
-        sheetform::io::write_atomic(&full, body.as_bytes()).map_err(|e| ApiError::from(PipelineError::from(e)))?;
-        Ok(())
+        write_keeping_mode(&full, body.as_bytes()).map_err(|e| {
+            ApiError::new(
+                axum::http::StatusCode::INTERNAL_SERVER_ERROR,
+                "output",
+                format!(
+                    "path: `{}` cannot be saved: {}",
+                    sheetform::geometry::quoted_token(&path),
+                    os_reason(&e)
+                ),
+            )
+        })
     })
     .await
-    .map_err(|e| ApiError::invalid(e.to_string()))??;
+    .map_err(|e| solve_stopped(&e))??;
     Ok(Json(serde_json::json!({ "saved": true })).into_response())
+}
+
+/// Replaces the file `full` by `bytes` atomically (a temporary file beside it, flushed
+/// to disk, renamed over it), keeping the mode and, where the OS allows, the owner of the
+/// file it replaces; a new file gets 0666 less the umask, as any program's new file
+/// (`sheetform::io::write_atomic`'s temporary file is 0600, which a save made the
+/// scene's mode).
+fn write_keeping_mode(full: &std::path::Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write;
+    let directory = full.parent().unwrap_or(std::path::Path::new("."));
+    let name = full
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let existing = std::fs::metadata(full).ok();
+    let prefix = format!(".{name}.");
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix).suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        // Created with 0666: the OS takes the umask off.
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let mut file = builder.tempfile_in(directory)?;
+    #[cfg(unix)]
+    if let Some(existing) = &existing {
+        use std::os::unix::fs::{MetadataExt, PermissionsExt};
+        // The owner first (a change of owner clears the set-id bits), then the mode
+        // (which the umask does not touch). Only root may give a file away, and only
+        // to groups the user is in: otherwise the file is the user's, as any editor's.
+        let _ = std::os::unix::fs::fchown(file.as_file(), Some(existing.uid()), Some(existing.gid()));
+        file.as_file()
+            .set_permissions(std::fs::Permissions::from_mode(existing.mode() & 0o7777))?;
+    }
+    #[cfg(not(unix))]
+    if let Some(existing) = &existing {
+        file.as_file().set_permissions(existing.permissions())?;
+    }
+    file.write_all(bytes)?;
+    file.as_file().sync_all()?;
+    // On failure the temporary file is removed when dropped.
+    file.persist(full).map_err(|e| e.error)?;
+    Ok(())
+}
+
+/// An OS error without the path the temporary-file crate adds to it (a save's message
+/// names the file as the client did, never a temporary path).
+fn os_reason(error: &std::io::Error) -> String {
+    match error.raw_os_error() {
+        Some(code) => std::io::Error::from_raw_os_error(code).to_string(),
+        None => error.kind().to_string(),
+    }
 }

@@ -21,12 +21,16 @@
 //! | `POST /api/relocate?from=…&to=…` | a scene in, the asset paths that name the same files once the scene is saved in `to` instead of `from` out ([`sheetform::pipeline::relocated_scene_assets`]; the editor's "save as") |
 //!
 //! On loopback (the default) a request whose `Host` or `Origin` names another machine is
-//! refused (DNS rebinding, cross-site posts). Every request is bounded ([`ServeOptions::max_request_bytes`]), solves run on a
-//! blocking pool at most [`ServeOptions::max_concurrent_solves`] at a time, and a
-//! malformed, hostile or failing request gets an error reply (`{"error": {"kind",
-//! "message"}}`, with the report when a shape is inadmissible) while the server keeps
-//! serving. The library prints nothing: the caller is told the address through
-//! [`Server::local_address`].
+//! refused (DNS rebinding, cross-site posts). Every request is bounded ([`ServeOptions::max_request_bytes`]), and so
+//! are the bodies held at once over all requests ([`ServeOptions::max_buffered_bytes`]),
+//! the time a client may take to send its headers and its body
+//! ([`ServeOptions::header_read_timeout`], [`ServeOptions::body_read_timeout`]) and the
+//! connections open at once ([`ServeOptions::max_connections`]). Solves, and the parsing
+//! of the scenes they solve, run on a blocking pool at most
+//! [`ServeOptions::max_concurrent_solves`] at a time, and a malformed, hostile or failing
+//! request gets an error reply (`{"error": {"kind", "message"}}`, with the report when a
+//! shape is inadmissible) while the server keeps serving. The library prints nothing:
+//! the caller is told the address through [`Server::local_address`].
 
 #![warn(missing_docs)]
 
@@ -42,11 +46,16 @@ use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+use std::time::Duration;
 
 /// Largest request body by default (64 MiB, the largest file the editor opens from the
 /// served directory, `sheetform::io::MAX_SCENE_FILE_BYTES`, so that a mesh it opens can
 /// be sent back): a scene file is far smaller.
 pub const DEFAULT_MAX_REQUEST_BYTES: usize = 64 << 20;
+
+/// Most bytes of request bodies held at once over all requests by default (256 MiB: four
+/// of the largest bodies).
+pub const DEFAULT_MAX_BUFFERED_BYTES: usize = 4 * DEFAULT_MAX_REQUEST_BYTES;
 
 /// How the editor is served.
 #[derive(Debug, Clone)]
@@ -60,8 +69,26 @@ pub struct ServeOptions {
     pub root: PathBuf,
     /// Largest request body (bytes).
     pub max_request_bytes: usize,
+    /// Most bytes of request bodies held in memory at once, over all requests (default
+    /// [`DEFAULT_MAX_BUFFERED_BYTES`]; never less than `max_request_bytes`). A body takes
+    /// its declared length (`Content-Length`; `max_request_bytes` when it declares none)
+    /// from this budget before it is read and gives it back when its request is answered,
+    /// so requests waiting for a solve slot do not pile up bodies; a request that finds
+    /// the budget spent is refused at once (503, kind `busy`).
+    pub max_buffered_bytes: usize,
     /// Solves running at the same time; more wait their turn.
     pub max_concurrent_solves: usize,
+    /// Longest time a client may take to send a request's headers, and longest a kept-
+    /// alive connection waits for its next request (default 30 s): the connection is
+    /// then closed ([`Server`]; [`router`] alone does not read connections).
+    pub header_read_timeout: Duration,
+    /// Longest time a client may take to send a request's body once its headers are in
+    /// (default 60 s): the request is then answered 408 (kind `timeout`) and its
+    /// connection closed.
+    pub body_read_timeout: Duration,
+    /// Most connections open at once (default 256): more wait in the system's queue of
+    /// connections until one closes ([`Server`]).
+    pub max_connections: usize,
 }
 
 impl Default for ServeOptions {
@@ -71,7 +98,11 @@ impl Default for ServeOptions {
             port: 0,
             root: PathBuf::from("."),
             max_request_bytes: DEFAULT_MAX_REQUEST_BYTES,
+            max_buffered_bytes: DEFAULT_MAX_BUFFERED_BYTES,
             max_concurrent_solves: 2,
+            header_read_timeout: Duration::from_secs(30),
+            body_read_timeout: Duration::from_secs(60),
+            max_connections: 256,
         }
     }
 }
@@ -103,6 +134,15 @@ pub(crate) struct AppState {
     /// The last FFD design restored, to resume the next run from (a drag appends a
     /// deformation: only that one is restored; see `ffd.rs`).
     pub last_ffd_design: std::sync::Mutex<Option<Arc<sheetform::ffd::FfdDesign>>>,
+    /// The bytes of request bodies held at once, in [`api::BUDGET_UNIT`]s: a body takes
+    /// its share before it is read and gives it back when dropped (`api::Buffered`).
+    pub body_budget: Arc<tokio::sync::Semaphore>,
+    /// The budget's size (bytes), for messages.
+    pub body_budget_bytes: usize,
+    /// Largest request body (bytes).
+    pub max_request_bytes: usize,
+    /// Longest time a body may take to arrive.
+    pub body_read_timeout: Duration,
 }
 
 /// The editor's routes over a served directory (for tests and embedding; [`Server`]
@@ -121,10 +161,17 @@ pub fn router(options: &ServeOptions) -> Result<axum::Router, ServeError> {
             message: "not a directory".into(),
         });
     }
+    let budget_bytes = options.max_buffered_bytes.max(options.max_request_bytes);
     let state = Arc::new(AppState {
         root,
         solves: Arc::new(tokio::sync::Semaphore::new(options.max_concurrent_solves.max(1))),
         last_ffd_design: std::sync::Mutex::new(None),
+        body_budget: Arc::new(tokio::sync::Semaphore::new(
+            api::budget_units(budget_bytes).min(tokio::sync::Semaphore::MAX_PERMITS),
+        )),
+        body_budget_bytes: budget_bytes,
+        max_request_bytes: options.max_request_bytes,
+        body_read_timeout: options.body_read_timeout,
     });
     let router = axum::Router::new()
         .merge(assets::routes())
@@ -179,13 +226,19 @@ async fn this_machine_only(request: axum::extract::Request, next: axum::middlewa
     if allowed(axum::http::header::HOST, whole) && allowed(axum::http::header::ORIGIN, after_scheme) {
         next.run(request).await
     } else {
-        axum::response::IntoResponse::into_response(api::ApiError {
-            status: axum::http::StatusCode::FORBIDDEN,
-            kind: "invalid_input",
-            message: "the editor answers pages of this machine only (its Host or Origin names another); serve with --host to allow others".into(),
-            report: None,
-        })
+        axum::response::IntoResponse::into_response(api::ApiError::new(
+            axum::http::StatusCode::FORBIDDEN,
+            "invalid_input",
+            "the editor answers pages of this machine only (its Host or Origin names another); serve with --host to allow others",
+        ))
     }
+}
+
+/// What each connection is allowed ([`ServeOptions`]).
+#[derive(Debug, Clone, Copy)]
+struct ConnectionLimits {
+    header_read_timeout: Duration,
+    max_connections: usize,
 }
 
 /// A bound server, ready to run.
@@ -194,6 +247,7 @@ pub struct Server {
     runtime: tokio::runtime::Runtime,
     listener: tokio::net::TcpListener,
     router: axum::Router,
+    limits: ConnectionLimits,
 }
 
 impl Server {
@@ -215,6 +269,10 @@ impl Server {
             runtime,
             listener,
             router,
+            limits: ConnectionLimits {
+                header_read_timeout: options.header_read_timeout,
+                max_connections: options.max_connections.max(1),
+            },
         })
     }
 
@@ -236,20 +294,81 @@ impl Server {
             runtime,
             listener,
             router,
+            limits,
         } = self;
         let stopped = async move {
             while !stop.load(Ordering::SeqCst) {
                 tokio::time::sleep(std::time::Duration::from_millis(100)).await;
             }
         };
-        // Replies go out at once (no Nagle delay): an edit's round trip is a few small
-        // messages, which delayed acknowledgements would hold up by tens of ms.
-        let listener = axum::serve::ListenerExt::tap_io(listener, |stream| {
-            if let Err(error) = stream.set_nodelay(true) {
-                tracing::debug!(%error, "TCP_NODELAY not set");
-            }
-        });
-        runtime.block_on(async move { axum::serve(listener, router).with_graceful_shutdown(stopped).await })?;
+        runtime.block_on(serve(listener, router, limits, stopped));
         Ok(())
     }
+}
+
+/// Accepts connections until `stop` ends, at most `limits.max_connections` open at once
+/// (the next is accepted when one closes; until then it waits in the system's queue),
+/// each served by hyper's HTTP/1 connection with its header read timeout (`axum::serve`
+/// sets none: a client sending its headers a byte at a time held its socket for good);
+/// then waits for the requests under way.
+async fn serve(
+    listener: tokio::net::TcpListener,
+    router: axum::Router,
+    limits: ConnectionLimits,
+    stop: impl std::future::Future<Output = ()>,
+) {
+    let mut http = hyper::server::conn::http1::Builder::new();
+    http.timer(hyper_util::rt::TokioTimer::new())
+        .header_read_timeout(limits.header_read_timeout);
+    let open = Arc::new(tokio::sync::Semaphore::new(limits.max_connections));
+    let graceful = hyper_util::server::graceful::GracefulShutdown::new();
+    let mut stop = std::pin::pin!(stop);
+    loop {
+        let slot = tokio::select! {
+            slot = open.clone().acquire_owned() => match slot {
+                Ok(slot) => slot,
+                Err(_) => break,
+            },
+            () = &mut stop => break,
+        };
+        let stream = tokio::select! {
+            accepted = listener.accept() => match accepted {
+                Ok((stream, _)) => stream,
+                Err(error) => {
+                    accept_failed(error).await;
+                    continue;
+                }
+            },
+            () = &mut stop => break,
+        };
+        // Replies go out at once (no Nagle delay): an edit's round trip is a few small
+        // messages, which delayed acknowledgements would hold up by tens of ms.
+        if let Err(error) = stream.set_nodelay(true) {
+            tracing::debug!(%error, "TCP_NODELAY not set");
+        }
+        let service = hyper_util::service::TowerToHyperService::new(router.clone());
+        let connection = graceful.watch(http.serve_connection(hyper_util::rt::TokioIo::new(stream), service));
+        tokio::spawn(async move {
+            if let Err(error) = connection.await {
+                tracing::debug!(%error, "connection ended");
+            }
+            drop(slot);
+        });
+    }
+    drop(listener);
+    graceful.shutdown().await;
+}
+
+/// After a failed `accept`: a connection that went away is nothing; anything else (too
+/// many open files) is waited out for a second, as `axum::serve` does.
+async fn accept_failed(error: std::io::Error) {
+    use std::io::ErrorKind;
+    if matches!(
+        error.kind(),
+        ErrorKind::ConnectionRefused | ErrorKind::ConnectionAborted | ErrorKind::ConnectionReset
+    ) {
+        return;
+    }
+    tracing::error!(%error, "accepting a connection failed");
+    tokio::time::sleep(Duration::from_secs(1)).await;
 }

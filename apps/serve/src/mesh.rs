@@ -3,7 +3,7 @@
 //! and its pattern out; and any file `sheetform flatten` writes, for download. Both run
 //! the library's `run_check` and `run_flatten`; nothing of a pipeline is repeated here.
 
-use crate::api::{attachment, output_file, pattern_svg, solve, ApiBody, ApiError, ApiQuery, MeshArrays};
+use crate::api::{attachment, output_file, pattern_svg, printable, solve, ApiBody, ApiError, ApiQuery, MeshArrays};
 use crate::AppState;
 use axum::body::Bytes;
 use axum::extract::{Path, State};
@@ -50,6 +50,7 @@ struct MeshQuery {
 impl MeshQuery {
     /// The flatten options, parsed at the edge like the CLI's arguments.
     fn flatten_options(&self) -> Result<FlattenOptions, ApiError> {
+        printable("name", &self.name)?;
         let charts = match self.charts.as_deref().unwrap_or("auto") {
             "auto" => ChartMode::Auto,
             "smooth" => ChartMode::Smooth,

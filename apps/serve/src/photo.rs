@@ -44,7 +44,7 @@ async fn photo(
     let reply = solve(&state, move |cancel| {
         let input = PhotoInput::from_text(&body)?;
         let context = assets.context().with_outputs(OutputSet::Preview).with_cancel(cancel);
-        let run = run_photo(&input, &PhotoRunOptions::default(), &context)?;
+        let run = run_photo(&input, &PhotoRunOptions::default(), &context).map_err(|e| assets.confined(e.into()))?;
         Ok(PhotoReply {
             model: MeshArrays::new(&run.sheet),
             pattern_svg: pattern_svg(&run.files),

@@ -52,7 +52,7 @@ async fn slit(
     let reply = solve(&state, move |cancel| {
         let scene = slit_scene(&body)?;
         let context = assets.context().with_outputs(OutputSet::Preview).with_cancel(cancel);
-        let run = run_slit(&scene, &SlitRunOptions::default(), &context)?;
+        let run = run_slit(&scene, &SlitRunOptions::default(), &context).map_err(|e| assets.confined(e.into()))?;
         Ok(SlitReply {
             model: MeshArrays::new(&run.mesh),
             anchorable_points: run.design.anchorable_points(&run.model),

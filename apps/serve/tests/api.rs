@@ -771,3 +771,470 @@ async fn a_client_that_leaves_a_download_cancels_its_run() {
     assert!(abandoned.is_err(), "the long run cannot have finished");
     assert_the_only_slot_is_free(&app).await;
 }
+
+/// A server on a free port of this machine, serving on its own thread until the test
+/// process ends.
+fn running(options: ServeOptions) -> std::net::SocketAddr {
+    let server = sheetform_serve::Server::bind(&options).unwrap();
+    let address = server.local_address().unwrap();
+    let stop: &'static std::sync::atomic::AtomicBool = Box::leak(Box::new(std::sync::atomic::AtomicBool::new(false)));
+    std::thread::spawn(move || server.run(stop));
+    address
+}
+
+/// How a connection ended while a client waited on it.
+#[derive(Debug)]
+enum Ending {
+    /// The server closed it, after sending these bytes (perhaps a reply).
+    Closed(Vec<u8>),
+    /// Still open at the limit.
+    Open(Vec<u8>),
+}
+
+/// Waits up to `limit` for the server to close `stream`, sending one byte of `trickle`
+/// every 200 ms meanwhile (a slow client), and keeping what the server sends.
+fn wait_for_close(stream: &mut std::net::TcpStream, limit: std::time::Duration, trickle: &[u8]) -> Ending {
+    use std::io::{Read, Write};
+    stream
+        .set_read_timeout(Some(std::time::Duration::from_millis(200)))
+        .unwrap();
+    let start = std::time::Instant::now();
+    let mut received = Vec::new();
+    let mut trickle = trickle.iter().cycle();
+    while start.elapsed() < limit {
+        if let Some(byte) = trickle.next() {
+            if stream.write_all(&[*byte]).is_err() {
+                return Ending::Closed(received);
+            }
+        }
+        let mut buffer = [0u8; 4096];
+        match stream.read(&mut buffer) {
+            Ok(0) => return Ending::Closed(received),
+            Ok(n) => received.extend_from_slice(&buffer[..n]),
+            Err(e) if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => {}
+            Err(_) => return Ending::Closed(received),
+        }
+    }
+    Ending::Open(received)
+}
+
+/// A request over a connection of its own, answered in full (`Connection: close`).
+fn http(address: std::net::SocketAddr, method: &str, path: &str, body: &[u8]) -> String {
+    use std::io::{Read, Write};
+    let mut stream = std::net::TcpStream::connect(address).unwrap();
+    stream
+        .set_read_timeout(Some(std::time::Duration::from_secs(60)))
+        .unwrap();
+    write!(
+        stream,
+        "{method} {path} HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: {}\r\nConnection: close\r\n\r\n",
+        body.len()
+    )
+    .unwrap();
+    stream.write_all(body).unwrap();
+    let mut reply = Vec::new();
+    stream.read_to_end(&mut reply).unwrap();
+    String::from_utf8_lossy(&reply).into_owned()
+}
+
+/// Issue 35: slow clients held their sockets for good (no header or body read timeout).
+/// Headers sent a byte at a time, a connection that sends nothing, and a body that never
+/// completes are each cut off at their timeout (1 s here; 10 s allowed), the body with a
+/// 408; the server keeps serving.
+#[test]
+fn slow_clients_are_cut_off_at_the_header_and_body_timeouts() {
+    let (_dir, root) = served();
+    let address = running(ServeOptions {
+        root,
+        header_read_timeout: std::time::Duration::from_secs(1),
+        body_read_timeout: std::time::Duration::from_secs(1),
+        ..Default::default()
+    });
+    let limit = std::time::Duration::from_secs(10);
+    let mut headers = std::net::TcpStream::connect(address).unwrap();
+    std::io::Write::write_all(&mut headers, b"GET /api/files HTTP/1.1\r\nX-Slow: ").unwrap();
+    let ending = wait_for_close(&mut headers, limit, b"a");
+    assert!(
+        matches!(ending, Ending::Closed(_)),
+        "headers a byte at a time: {ending:?}"
+    );
+    let mut idle = std::net::TcpStream::connect(address).unwrap();
+    let ending = wait_for_close(&mut idle, limit, b"");
+    assert!(
+        matches!(ending, Ending::Closed(_)),
+        "a connection that sends nothing: {ending:?}"
+    );
+    let mut body = std::net::TcpStream::connect(address).unwrap();
+    std::io::Write::write_all(
+        &mut body,
+        b"POST /api/bend HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 100000\r\n\r\n{",
+    )
+    .unwrap();
+    match wait_for_close(&mut body, limit, b" ") {
+        Ending::Closed(reply) => {
+            let reply = String::from_utf8_lossy(&reply);
+            assert!(reply.starts_with("HTTP/1.1 408"), "{reply}");
+            assert!(reply.contains("\"timeout\"") && reply.contains("within 1 s"), "{reply}");
+        }
+        ending => panic!("a body that never completes: {ending:?}"),
+    }
+    assert!(http(address, "GET", "/api/files", b"").starts_with("HTTP/1.1 200"));
+}
+
+/// Issue 35: connections were not capped. Past the cap (2 here) a connection waits until
+/// one closes, then is served.
+#[test]
+fn connections_past_the_cap_wait_for_one_to_close() {
+    use std::io::Write;
+    let (_dir, root) = served();
+    let address = running(ServeOptions {
+        root,
+        max_connections: 2,
+        ..Default::default()
+    });
+    let first = std::net::TcpStream::connect(address).unwrap();
+    let _second = std::net::TcpStream::connect(address).unwrap();
+    let mut third = std::net::TcpStream::connect(address).unwrap();
+    third
+        .write_all(b"GET /api/files HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n")
+        .unwrap();
+    match wait_for_close(&mut third, std::time::Duration::from_secs(1), b"") {
+        Ending::Open(reply) => assert!(reply.is_empty(), "{}", String::from_utf8_lossy(&reply)),
+        ending => panic!("a third connection was served past the cap of 2: {ending:?}"),
+    }
+    drop(first);
+    match wait_for_close(&mut third, std::time::Duration::from_secs(10), b"") {
+        Ending::Closed(reply) => {
+            let reply = String::from_utf8_lossy(&reply);
+            assert!(reply.starts_with("HTTP/1.1 200"), "{reply}");
+        }
+        ending => panic!("the third connection was not served once a slot was free: {ending:?}"),
+    }
+}
+
+/// Uploads of `count` bodies of `declared` bytes that send their first kilobyte and
+/// then stall, each on its connection.
+fn stalled_uploads(address: std::net::SocketAddr, count: usize, declared: usize) -> Vec<std::net::TcpStream> {
+    use std::io::Write;
+    (0..count)
+        .map(|_| {
+            let mut stream = std::net::TcpStream::connect(address).unwrap();
+            write!(
+                stream,
+                "POST /api/bend HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: {declared}\r\n\r\n"
+            )
+            .unwrap();
+            stream.write_all(&[b' '; 1024]).unwrap();
+            stream
+                .set_read_timeout(Some(std::time::Duration::from_millis(50)))
+                .unwrap();
+            stream
+        })
+        .collect()
+}
+
+/// The replies the uploads got within `limit` (stopping early once `expected` came),
+/// after half a second more for any other; by upload.
+fn replies_within(uploads: &mut [std::net::TcpStream], expected: usize, limit: std::time::Duration) -> Vec<String> {
+    use std::io::Read;
+    let mut replies = vec![String::new(); uploads.len()];
+    let start = std::time::Instant::now();
+    let mut extra: Option<std::time::Instant> = None;
+    loop {
+        for (stream, reply) in uploads.iter_mut().zip(&mut replies) {
+            let mut buffer = [0u8; 4096];
+            if let Ok(n) = stream.read(&mut buffer) {
+                reply.push_str(&String::from_utf8_lossy(&buffer[..n]));
+            }
+        }
+        let answered = replies.iter().filter(|r| !r.is_empty()).count();
+        if answered >= expected && extra.is_none() {
+            extra = Some(std::time::Instant::now());
+        }
+        if extra.is_some_and(|t| t.elapsed() > std::time::Duration::from_millis(500)) || start.elapsed() > limit {
+            return replies;
+        }
+    }
+}
+
+/// Issue 35: the 64 MiB bound was per request, and 40 large bodies in parallel took the
+/// server to 3.8 GB. Bodies take their declared length from one budget before they are
+/// read (3 MiB here, bodies of 1 MiB): of 8 stalled uploads 3 are read and 5 refused at
+/// once (503, busy), and the budget is whole again once those 3 end.
+#[test]
+fn request_bodies_held_at_once_are_bounded_over_all_requests() {
+    let (_dir, root) = served();
+    let address = running(ServeOptions {
+        root,
+        max_request_bytes: 1 << 20,
+        max_buffered_bytes: 3 << 20,
+        ..Default::default()
+    });
+    let limit = std::time::Duration::from_secs(10);
+    let mut uploads = stalled_uploads(address, 8, 1 << 20);
+    let replies = replies_within(&mut uploads, 5, limit);
+    let refused: Vec<&String> = replies.iter().filter(|r| !r.is_empty()).collect();
+    assert_eq!(refused.len(), 5, "{replies:?}");
+    for reply in refused {
+        assert!(reply.starts_with("HTTP/1.1 503"), "{reply}");
+        assert!(
+            reply.contains("\"busy\"") && reply.contains("bound of 3 MiB"),
+            "{reply}"
+        );
+    }
+    // The three being read end (their clients leave): their shares come back.
+    drop(uploads);
+    std::thread::sleep(std::time::Duration::from_secs(1));
+    let mut uploads = stalled_uploads(address, 4, 1 << 20);
+    let replies = replies_within(&mut uploads, 1, limit);
+    assert_eq!(replies.iter().filter(|r| !r.is_empty()).count(), 1, "{replies:?}");
+    drop(uploads);
+    std::thread::sleep(std::time::Duration::from_secs(1));
+    // Small bodies take small shares: many fit beside each other, and a scene is solved.
+    let mut uploads = stalled_uploads(address, 8, 64 << 10);
+    let replies = replies_within(&mut uploads, 1, std::time::Duration::from_secs(1));
+    assert!(replies.iter().all(String::is_empty), "{replies:?}");
+    let scene = std::fs::read(repository().join("examples/bent-rectangle.json")).unwrap();
+    assert!(http(address, "POST", "/api/bend", &scene).starts_with("HTTP/1.1 200"));
+}
+
+/// A JSON document of about `bytes` that a parser must read to its end before it fails
+/// (an FFD scene of many deformations, then trailing garbage).
+fn slow_to_parse(bytes: usize) -> String {
+    let deformation = r#"{"name": "a step", "edits": [{"move": {"points": {"k": [3, 3]}, "by": [60, 0, 0]}}, {"transform": {"points": {"k": [1, 2]}, "scale": [0.8, 1.1, 1.0]}}]}"#;
+    let count = bytes / (deformation.len() + 2);
+    let mut text = String::with_capacity(bytes + 200);
+    text.push_str(r#"{"model": {"procedural": {"kind": "duct"}}, "lattice": {"counts": [4, 4, 4]}, "deformations": ["#);
+    for i in 0..count {
+        if i > 0 {
+            text.push_str(", ");
+        }
+        text.push_str(deformation);
+    }
+    text.push_str("]} x");
+    text
+}
+
+/// Issue 35: `/api/ffd` parsed its scene on the async workers, outside the solve slots,
+/// and every other request stalled for seconds. On one async worker, a request to a
+/// route that does no work is answered while a large scene is still being parsed, for
+/// every route that parses a large body (FFD scenes, relocations, saves).
+#[tokio::test(flavor = "current_thread")]
+async fn large_bodies_are_parsed_off_the_async_workers() {
+    let (_dir, root) = served();
+    let app = router(&ServeOptions {
+        root,
+        ..Default::default()
+    })
+    .unwrap();
+    let body = slow_to_parse(24 << 20);
+    for (method, uri) in [
+        ("POST", "/api/ffd"),
+        ("POST", "/api/relocate?from=a&to=b"),
+        ("PUT", "/api/files/scenes/large.json"),
+    ] {
+        let heavy = {
+            let (app, body) = (app.clone(), body.clone());
+            tokio::spawn(async move { send(&app, method, uri, body).await })
+        };
+        // The heavy request starts (on the only async worker) while this one sleeps.
+        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+        let (status, _) = send(&app, "GET", "/api/nothing-here", Body::empty()).await;
+        assert_eq!(status, StatusCode::NOT_FOUND);
+        assert!(
+            !heavy.is_finished(),
+            "{uri}: the body was parsed on the async worker, which answered nothing else meanwhile"
+        );
+        let (status, reply) = heavy.await.unwrap();
+        assert_eq!(
+            status,
+            StatusCode::BAD_REQUEST,
+            "{uri}: {}",
+            String::from_utf8_lossy(&reply)
+        );
+    }
+}
+
+/// Issue 35: saving a scene made its mode 600 (the atomic write's temporary file). A
+/// save keeps the mode of the file it replaces; a new file gets what any program's new
+/// file gets (0666 less the umask).
+#[cfg(unix)]
+#[tokio::test]
+async fn a_save_keeps_the_file_mode() {
+    use std::os::unix::fs::PermissionsExt;
+    let (_dir, root) = served();
+    let app = router(&ServeOptions {
+        root: root.clone(),
+        ..Default::default()
+    })
+    .unwrap();
+    let mode = |path: &Path| std::fs::metadata(path).unwrap().permissions().mode() & 0o7777;
+    let kept = root.join("scenes/bent-rectangle.json");
+    for wanted in [0o644, 0o664, 0o640, 0o600] {
+        std::fs::set_permissions(&kept, std::fs::Permissions::from_mode(wanted)).unwrap();
+        let (status, body) = send(&app, "PUT", "/api/files/scenes/bent-rectangle.json", "{\"a\": 1}").await;
+        assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+        assert_eq!(std::fs::read_to_string(&kept).unwrap(), "{\"a\": 1}");
+        assert_eq!(mode(&kept), wanted, "{wanted:o} became {:o}", mode(&kept));
+    }
+    let (status, _) = send(&app, "PUT", "/api/files/scenes/new.json", "{}").await;
+    assert_eq!(status, StatusCode::OK);
+    let control = root.join("scenes/control");
+    std::fs::File::create(&control).unwrap();
+    assert_eq!(mode(&root.join("scenes/new.json")), mode(&control));
+    // No temporary file is left behind.
+    let names: Vec<String> = std::fs::read_dir(root.join("scenes"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(names.iter().all(|n| !n.ends_with(".tmp")), "{names:?}");
+}
+
+/// The error message of a reply.
+fn message(body: &[u8]) -> String {
+    json(body)["error"]["message"].as_str().unwrap().to_string()
+}
+
+/// Issue 35: path checks followed a path before refusing it, so a refusal told whether a
+/// file outside the served directory existed ("lies outside the directory /abs/root" or
+/// "cannot open it"), and quoted where the served directory is; a NUL in a saved name
+/// gave a 500 quoting a temporary path. Every refusal of a path outside is the same for
+/// a file that exists and one that does not (by `..`, an absolute path, a symbolic link,
+/// for opening, saving and a scene's assets), quotes the path as given and never the
+/// served directory; a name with a control character is refused (400) naming its field.
+#[tokio::test]
+async fn refusals_of_paths_outside_do_not_tell_whether_a_file_exists() {
+    let (dir, root) = served();
+    let app = router(&ServeOptions {
+        root: root.clone(),
+        ..Default::default()
+    })
+    .unwrap();
+    let outside = dir.path().canonicalize().unwrap();
+    std::fs::copy(
+        repository().join("examples/textures/grid-240x120mm.png"),
+        outside.join("secret.png"),
+    )
+    .unwrap();
+    std::fs::create_dir(outside.join("elsewhere")).unwrap();
+    #[cfg(unix)]
+    for (link, target) in [
+        ("secret-link.json", "secret.json"),
+        ("missing-link.json", "missing.json"),
+        ("secret-dir", "elsewhere"),
+        ("missing-dir", "nowhere"),
+    ] {
+        std::os::unix::fs::symlink(outside.join(target), root.join(link)).unwrap();
+    }
+    let encoded = |path: &Path| path.display().to_string().replace('/', "%2F");
+    let refused = |status: StatusCode, body: &[u8], what: &str| {
+        assert_eq!(
+            status,
+            StatusCode::BAD_REQUEST,
+            "{what}: {}",
+            String::from_utf8_lossy(body)
+        );
+        let text = message(body);
+        assert!(
+            !text.contains(&*root.to_string_lossy())
+                && !text.contains(&*root.canonicalize().unwrap().to_string_lossy()),
+            "{what} quotes where the served directory is: {text}"
+        );
+        text
+    };
+    let mut pairs = vec![
+        (
+            "GET",
+            "/api/files/..%2Fsecret.json".to_string(),
+            "/api/files/..%2Fmissing.json".to_string(),
+        ),
+        (
+            "GET",
+            "/api/files/scenes%2F..%2F..%2Fsecret.json".into(),
+            "/api/files/scenes%2F..%2F..%2Fmissing.json".into(),
+        ),
+        (
+            "GET",
+            format!("/api/files/{}", encoded(&outside.join("secret.json"))),
+            format!("/api/files/{}", encoded(&outside.join("missing.json"))),
+        ),
+        (
+            "PUT",
+            "/api/files/..%2Fsecret.json".into(),
+            "/api/files/..%2Fmissing.json".into(),
+        ),
+    ];
+    if cfg!(unix) {
+        pairs.push((
+            "GET",
+            "/api/files/secret-link.json".into(),
+            "/api/files/missing-link.json".into(),
+        ));
+        pairs.push((
+            "PUT",
+            "/api/files/secret-dir/saved.json".into(),
+            "/api/files/missing-dir/saved.json".into(),
+        ));
+    }
+    for (method, existing, missing) in &pairs {
+        let (status, body) = send(&app, method, existing, "{}").await;
+        let there = refused(status, &body, existing);
+        let (status, body) = send(&app, method, missing, "{}").await;
+        let absent = refused(status, &body, missing);
+        assert_eq!(
+            there.replace("secret", "missing"),
+            absent,
+            "{method} {existing} and {missing} are told apart"
+        );
+    }
+    assert!(!outside.join("elsewhere/saved.json").exists());
+    // A scene's assets: the texture of a bend scene.
+    let scene: Value =
+        serde_json::from_str(&std::fs::read_to_string(repository().join("examples/bent-rectangle.json")).unwrap())
+            .unwrap();
+    let texture = |path: String| {
+        let mut scene = scene.clone();
+        scene["texture"] = path.into();
+        scene.to_string()
+    };
+    for (existing, missing) in [
+        ("../secret.png".to_string(), "../missing.png".to_string()),
+        (
+            outside.join("secret.png").display().to_string(),
+            outside.join("missing.png").display().to_string(),
+        ),
+    ] {
+        let (status, body) = send(&app, "POST", "/api/bend", texture(existing.clone())).await;
+        let there = refused(status, &body, &existing);
+        assert!(there.starts_with("texture: "), "{there}");
+        let (status, body) = send(&app, "POST", "/api/bend", texture(missing.clone())).await;
+        let absent = refused(status, &body, &missing);
+        assert_eq!(
+            there.replace("secret", "missing"),
+            absent,
+            "{existing} and {missing} are told apart"
+        );
+    }
+    // Control characters in names, refused naming the field; nothing is written.
+    for (method, uri, field) in [
+        ("PUT", "/api/files/scenes%2Fa%00b.json", "path"),
+        ("PUT", "/api/files/scenes%2Fa%0Ab.json", "path"),
+        ("GET", "/api/files/scenes%2Fa%00b.json", "path"),
+        ("POST", "/api/bend?dir=scenes%00", "dir"),
+        ("POST", "/api/relocate?from=a%1Fb&to=c", "from"),
+        ("POST", "/api/mesh?name=a%7F.obj", "name"),
+    ] {
+        let (status, body) = send(&app, method, uri, "{}").await;
+        let text = refused(status, &body, uri);
+        assert!(
+            text.starts_with(&format!("{field}: ")) && text.contains("control character"),
+            "{uri}: {text}"
+        );
+        assert!(!text.contains("tmp"), "{uri}: {text}");
+    }
+    let names: Vec<String> = std::fs::read_dir(root.join("scenes"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["bent-rectangle.json"]);
+}
