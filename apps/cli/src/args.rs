@@ -140,6 +140,35 @@ pub(crate) enum Command {
         #[command(flatten)]
         pattern: PatternArgs,
     },
+    /// Develop a target shape: the nearest surface made of exactly developable pieces,
+    /// cut along the seams drawn in the mesh (OBJ `l` polylines along its edges), each
+    /// piece moved as little as possible until every vertex inside it is flat, then
+    /// unfolded exactly. Writes model.obj (the developed shape, vt = its pattern at 1:1),
+    /// model.glb, pattern.svg/.dxf/.pdf and report.json (`develop`: angle defects before
+    /// and after, Hausdorff and mean distance to the target). Exit code 5 when a piece
+    /// stays out of tolerance (written, see the report).
+    Develop {
+        /// Target mesh file (OBJ with `l` seam polylines, PLY, STL, OFF).
+        mesh: PathBuf,
+        /// Output directory (created if missing).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Length unit of the mesh file.
+        #[arg(long, value_enum, default_value_t = Unit::Mm)]
+        units: Unit,
+        /// Smoothness against closeness: 0 moves each vertex as little as possible,
+        /// larger values spread the change over its neighbours.
+        #[arg(long, value_name = "WEIGHT", default_value_t = 0.1)]
+        smoothness: f64,
+        /// Largest angle defect accepted inside a piece (radians).
+        #[arg(long, value_name = "RADIANS", default_value_t = 1e-10)]
+        tolerance: f64,
+        /// Most Gauss-Newton steps.
+        #[arg(long, value_name = "N", default_value_t = 100)]
+        max_iterations: usize,
+        #[command(flatten)]
+        pattern: PatternArgs,
+    },
     /// Serve the web editor on this machine: bend a sheet live in the browser, on the
     /// same pipeline as `sheetform bend`; open and save the scene files of a directory.
     Serve {

@@ -165,6 +165,54 @@ pub(crate) fn flatten_command(
     Ok(ExitCode::from(run.outcome.exit_code()))
 }
 
+pub(crate) fn develop_command(
+    mesh: PathBuf,
+    output: PathBuf,
+    units: Unit,
+    mut options: sheetform::pipeline::DevelopRunOptions,
+    pattern: PatternArgs,
+    quiet: bool,
+) -> Result<ExitCode, PipelineError> {
+    options.flatten.unit = units.into();
+    options.flatten.pattern = pattern.into();
+    options.flatten.input = Some(mesh.display().to_string());
+    let model = read_mesh(&mesh)?;
+    let developed = with_progress_bar(quiet, |progress| {
+        sheetform::pipeline::run_develop(
+            model,
+            &options,
+            &run_context(scene_directory(&mesh)).with_progress(progress),
+        )
+    })?;
+    let run = &developed.run;
+    write_set(&output, &run.files, &run.report)?;
+    let figures = run.report.develop.as_ref().expect("develop reports its figures");
+    if run.outcome == Outcome::OutOfTolerance {
+        say!(
+            "sheetform: {}: a piece keeps an angle defect of {:.1e} rad (bound {:.1e}) after {} steps; written to {}, but out of tolerance: add seams where the shape is most curved, or allow more (--tolerance, --max-iterations)",
+            mesh.display(),
+            figures.angle_defect_max_rad,
+            figures.angle_defect_tolerance_rad,
+            figures.iterations,
+            output.display()
+        );
+    } else if !quiet {
+        say!(
+            "{}: developed {} pieces; angle defect max {:.1e} -> {:.1e} rad in {} steps; Hausdorff distance to the target {:.3} mm ({:.2} % of its size), mean {:.3} mm; wrote {}",
+            mesh.display(),
+            figures.piece_count,
+            figures.angle_defect_max_before_rad,
+            figures.angle_defect_max_rad,
+            figures.iterations,
+            figures.hausdorff_mm,
+            100.0 * figures.hausdorff_relative,
+            figures.distance_mean_mm,
+            output.display()
+        );
+    }
+    Ok(ExitCode::from(run.outcome.exit_code()))
+}
+
 /// The progress bar on stderr when it is a terminal (none when `quiet` or not a terminal).
 pub(crate) fn progress_bar(quiet: bool) -> Option<ProgressBar> {
     if quiet || !std::io::stderr().is_terminal() {

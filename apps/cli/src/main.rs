@@ -26,7 +26,7 @@ use args::{Cli, Command};
 use clap::Parser;
 use commands::{
     bend_command, check_command, ffd_command, flatten_command, photo_command, schema_command, serve_command,
-    slit_command, FlattenArgs,
+    slit_command, develop_command, FlattenArgs,
 };
 use std::process::ExitCode;
 
@@ -96,6 +96,29 @@ fn main() -> ExitCode {
                 charts,
                 pattern,
             },
+            cli.quiet,
+        ),
+        Command::Develop {
+            mesh,
+            output,
+            units,
+            smoothness,
+            tolerance,
+            max_iterations,
+            pattern,
+        } => develop_command(
+            mesh,
+            output,
+            units,
+            sheetform::pipeline::DevelopRunOptions {
+                develop: sheetform::pipeline::DevelopOptions {
+                    smoothness,
+                    defect_tolerance: tolerance,
+                    max_iterations,
+                },
+                ..Default::default()
+            },
+            pattern,
             cli.quiet,
         ),
         Command::Schema { format } => Ok(schema_command(format)),

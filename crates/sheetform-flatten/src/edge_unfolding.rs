@@ -560,7 +560,7 @@ fn join_pieces(
 ) {
     let mut refused: FxHashMap<usize, (usize, usize)> = FxHashMap::default();
     loop {
-        let mut cut: Vec<usize> = (0..table.len())
+        let cut: Vec<usize> = (0..table.len())
             .filter(|&e| !forced_cut[e] && !islands.is_kept(e))
             .filter(|&e| match table.sides(e) {
                 [f, g] => islands.island_of(f.face) != islands.island_of(g.face),

@@ -25,6 +25,8 @@ pub enum Command {
     Check,
     /// Any mesh laid out in the plane.
     Flatten,
+    /// A target shape made of exactly developable pieces (inverse design).
+    Develop,
     /// The printable pattern of a mesh that already has its flat layout (the bindings'
     /// `pattern`).
     Pattern,
@@ -617,6 +619,9 @@ pub struct Report {
     /// `photo`: the reconstruction from an annotated photograph.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub photo: Option<PhotoReport>,
+    /// `develop`: how far the pieces moved from the target to become developable.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub develop: Option<DevelopReport>,
     /// What the user should know of the result that no bound states (a model printed
     /// too small to fold, ...): each a sentence saying what to do.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -667,11 +672,44 @@ impl Report {
             slit: None,
             ffd: None,
             photo: None,
+            develop: None,
             warnings: vec![],
             outputs: vec![],
             timings: Timings::default(),
         }
     }
+}
+
+/// What `develop` did to the target (lengths in millimetres, angles in radians).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct DevelopReport {
+    /// Pieces the target was cut into along its seams.
+    pub piece_count: usize,
+    /// Seam edges given (OBJ `l` polylines).
+    pub seam_edge_count: usize,
+    /// Vertices inside a piece, made flat (angle sum 2π).
+    pub constrained_vertex_count: usize,
+    /// Largest angle defect inside a piece, in the target.
+    pub angle_defect_max_before_rad: f64,
+    /// Largest angle defect inside a piece, in the result (the bound is
+    /// `angle_defect_tolerance_rad`).
+    pub angle_defect_max_rad: f64,
+    /// The bound on `angle_defect_max_rad`.
+    pub angle_defect_tolerance_rad: f64,
+    /// Gauss–Newton steps.
+    pub iterations: usize,
+    /// Two-sided Hausdorff distance between the result and the target.
+    pub hausdorff_mm: f64,
+    /// `hausdorff_mm` over the target's bounding-box diagonal.
+    pub hausdorff_relative: f64,
+    /// Mean distance between the surfaces (both ways).
+    pub distance_mean_mm: f64,
+    /// `distance_mean_mm` over the target's bounding-box diagonal.
+    pub distance_mean_relative: f64,
+    /// The target's bounding-box diagonal.
+    pub bounding_box_diagonal_mm: f64,
+    /// Largest vertex displacement.
+    pub displacement_max_mm: f64,
 }
 
 /// `photo`: what the reconstruction from an annotated photograph made (system D,

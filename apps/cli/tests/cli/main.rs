@@ -6,6 +6,7 @@
 mod bend;
 mod check;
 mod common;
+mod develop;
 mod ffd;
 mod flatten;
 mod gluing;

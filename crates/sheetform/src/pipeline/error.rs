@@ -45,6 +45,9 @@ pub enum PipelineError {
     /// A mesh cannot be flattened.
     #[error(transparent)]
     Flatten(#[from] FlattenError),
+    /// The target cannot be developed (`develop`).
+    #[error(transparent)]
+    Develop(#[from] sheetform_develop::DevelopError),
     /// The result to be written is not a valid mesh (a non-finite coordinate, an index
     /// out of range): the run stops before any file is rendered, so no NaN reaches a file.
     #[error("the result cannot be written: {0}")]
@@ -153,6 +156,9 @@ impl PipelineError {
                 | sheetform_flatten::FlattenError::TooManyPieces { .. },
             ) => ErrorKind::InvalidInput,
             Self::Flatten(sheetform_flatten::FlattenError::Cancelled) => ErrorKind::Cancelled,
+            Self::Develop(sheetform_develop::DevelopError::Cancelled) => ErrorKind::Cancelled,
+            Self::Develop(sheetform_develop::DevelopError::Solver { .. }) => ErrorKind::Failed,
+            Self::Develop(_) => ErrorKind::InvalidInput,
             Self::Flatten(_) | Self::InvalidResult(_) => ErrorKind::Failed,
             Self::Photo(PhotoError::Solver(_)) | Self::Ffd(FfdError::Solver(_)) => ErrorKind::Failed,
             Self::Ffd(FfdError::Cancelled) | Self::Slit(sheetform_slit::SlitError::Cancelled) => ErrorKind::Cancelled,

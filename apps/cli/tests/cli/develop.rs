@@ -1,0 +1,114 @@
+//! `sheetform develop` (issue 36, slice 1): a target with seams drawn becomes exactly
+//! developable pieces, checked on the written model: every vertex inside a piece of the
+//! pattern (an interior vertex of the `vt` mesh) has 3D angle sum 2π, the pattern is the
+//! model at 1:1, and the model stays near the target.
+
+use crate::common::{example_mesh, obj_isometry_error, read_obj, sheetform, Obj};
+use std::collections::HashMap;
+
+/// The largest |2π − Σ θ| over the pattern's interior vertices (vt indices whose every
+/// vt edge has a face on both sides), angles measured on the 3D positions.
+fn max_interior_defect(o: &Obj) -> (f64, usize) {
+    let mut edge_faces: HashMap<(usize, usize), usize> = HashMap::new();
+    for f in &o.faces {
+        for k in 0..3 {
+            let (a, b) = (f[k].1, f[(k + 1) % 3].1);
+            *edge_faces.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    let mut boundary = vec![false; o.vt.len()];
+    for (&(a, b), &count) in &edge_faces {
+        if count < 2 {
+            boundary[a] = true;
+            boundary[b] = true;
+        }
+    }
+    let mut sums = vec![0.0; o.vt.len()];
+    for f in &o.faces {
+        for k in 0..3 {
+            let p = |i: usize| nalgebra::Vector3::from(o.v[f[(k + i) % 3].0]);
+            let (u, w) = (p(1) - p(0), p(2) - p(0));
+            sums[f[k].1] += u.cross(&w).norm().atan2(u.dot(&w));
+        }
+    }
+    let interior: Vec<usize> = (0..o.vt.len()).filter(|&t| !boundary[t] && sums[t] > 0.0).collect();
+    let worst = interior
+        .iter()
+        .map(|&t| (std::f64::consts::TAU - sums[t]).abs())
+        .fold(0.0, f64::max);
+    (worst, interior.len())
+}
+
+#[test]
+fn a_sphere_with_gore_seams_becomes_exact_globe_gores() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let mesh = example_mesh("sphere-gore-seams.obj");
+    let o = sheetform(&["develop", mesh.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let model = read_obj(&out.join("model.obj"));
+    let (defect, interior) = max_interior_defect(&model);
+    assert!(interior > 500, "{interior} interior vertices");
+    assert!(defect <= 1e-8, "angle defect {defect} rad inside a piece");
+    assert!(obj_isometry_error(&model) <= 1e-9, "{}", obj_isometry_error(&model));
+    // Globe gores of 30°: within R (1 − cos 15°) of the radius-50 sphere.
+    let bound = 50.0 * (1.0 - 15f64.to_radians().cos());
+    let off = model
+        .v
+        .iter()
+        .map(|p| (nalgebra::Vector3::from(*p).norm() - 50.0).abs())
+        .fold(0.0, f64::max);
+    assert!(off <= bound, "{off} > {bound}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["command"], "develop");
+    assert_eq!(report["status"], "ok");
+    assert_eq!(report["develop"]["piece_count"], 12);
+    // The report's distance is at least how far the written model's vertices moved off
+    // the sphere (a vertex off the surface by `off` is that far from it at least... up
+    // to the target's chord error, 50 (1 − cos 3.75°) = 0.107 mm).
+    let hausdorff = report["develop"]["hausdorff_mm"].as_f64().unwrap();
+    assert!(hausdorff + 0.11 >= off && hausdorff <= bound, "{hausdorff} vs {off}");
+    // Twelve pieces in the pattern: the SVG's cut loops.
+    let svg = std::fs::read_to_string(out.join("pattern.svg")).unwrap();
+    assert_eq!(crate::common::svg_cut_loops(&svg).len(), 12);
+}
+
+#[test]
+fn targets_develop_cannot_take_are_refused_naming_the_cause() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    // A closed sphere without seams.
+    let text = std::fs::read_to_string(example_mesh("sphere-gore-seams.obj")).unwrap();
+    let closed: String = text
+        .lines()
+        .filter(|l| !l.starts_with("l "))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let path = dir.path().join("closed.obj");
+    std::fs::write(&path, closed).unwrap();
+    let o = sheetform(&["develop", path.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"]);
+    assert_eq!(o.status.code(), Some(1), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("seams"));
+    assert!(!out.exists());
+    // A seam that does not run along an edge (vertices 1 and 300 are not neighbours).
+    let path = dir.path().join("off.obj");
+    std::fs::write(&path, format!("{text}l 1 300\n")).unwrap();
+    let o = sheetform(&["develop", path.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("not an edge of the mesh"), "{stderr}");
+    // Options out of range.
+    let mesh = example_mesh("sphere-gore-seams.obj");
+    for (option, field) in [
+        ("--smoothness=-1", "smoothness"),
+        ("--tolerance=0", "defect_tolerance"),
+        ("--max-iterations=0", "max_iterations"),
+    ] {
+        let o = sheetform(&["develop", mesh.to_str().unwrap(), "-o", out.to_str().unwrap(), option]);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{option}: {stderr}");
+        assert!(stderr.contains(field), "{option}: {stderr}");
+    }
+    assert!(!out.exists());
+}

@@ -1,0 +1,444 @@
+//! The nearest surface (in a smooth metric) whose pieces are exactly developable: a
+//! constrained Gauss–Newton (SQP) projection of the target's vertex positions onto the
+//! set where every vertex inside a piece has angle sum 2π.
+
+use crate::{DevelopError, SeamPieces};
+use faer::sparse::Pair;
+use nalgebra::Vector3;
+use sheetform_mesh::{corner_angle_gradient, EdgeTable, TriangleMesh};
+use sheetform_solve::{FactorisationFailure, KktSystem};
+use std::f64::consts::TAU;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+type Vec3 = Vector3<f64>;
+
+/// Knobs of [`develop_pieces`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DevelopOptions {
+    /// Weight of the smoothness term against closeness (dimensionless): 0 moves each
+    /// vertex as little as possible, larger values spread the change over its
+    /// neighbours (fewer crinkles, farther from the target). Default 0.1.
+    pub smoothness: f64,
+    /// Most Gauss–Newton steps. Default 100.
+    pub max_iterations: usize,
+    /// The largest angle defect accepted inside a piece (radians). Default 1e-10.
+    pub defect_tolerance: f64,
+}
+
+impl Default for DevelopOptions {
+    fn default() -> Self {
+        Self {
+            smoothness: 0.1,
+            max_iterations: 100,
+            defect_tolerance: 1e-10,
+        }
+    }
+}
+
+/// Largest [`DevelopOptions::smoothness`] accepted.
+pub const MAX_SMOOTHNESS: f64 = 1e6;
+/// Largest [`DevelopOptions::max_iterations`] accepted.
+pub const MAX_ITERATIONS: usize = 10_000;
+
+impl DevelopOptions {
+    /// Checks the ranges.
+    ///
+    /// # Errors
+    /// The option named with its value and bounds.
+    pub fn validate(&self) -> Result<(), DevelopError> {
+        if !(self.smoothness.is_finite() && (0.0..=MAX_SMOOTHNESS).contains(&self.smoothness)) {
+            return Err(DevelopError::Option {
+                option: "smoothness",
+                message: format!(
+                    "must be between 0 and {MAX_SMOOTHNESS}, got {}",
+                    sheetform_geometry::short_number(self.smoothness)
+                ),
+            });
+        }
+        if self.max_iterations == 0 || self.max_iterations > MAX_ITERATIONS {
+            return Err(DevelopError::Option {
+                option: "max_iterations",
+                message: format!("must be between 1 and {MAX_ITERATIONS}, got {}", self.max_iterations),
+            });
+        }
+        if !(self.defect_tolerance.is_finite() && self.defect_tolerance >= 1e-14 && self.defect_tolerance <= 0.1) {
+            return Err(DevelopError::Option {
+                option: "defect_tolerance",
+                message: format!(
+                    "must be between 1e-14 and 0.1 radians, got {}",
+                    sheetform_geometry::short_number(self.defect_tolerance)
+                ),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// The developed surface.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Developed {
+    /// New vertex positions (model units; the mesh's triangles and pieces unchanged).
+    pub positions: Vec<Vec3>,
+    /// Vertices inside a piece, whose angle sum was made 2π.
+    pub constrained_vertex_count: usize,
+    /// Largest angle defect inside a piece before (radians).
+    pub max_defect_before: f64,
+    /// Largest angle defect inside a piece after (radians).
+    pub max_defect: f64,
+    /// Gauss–Newton steps taken.
+    pub iterations: usize,
+    /// Whether every defect inside a piece is within the tolerance.
+    pub converged: bool,
+    /// Largest and mean vertex displacement (model units).
+    pub displacement_max: f64,
+    /// Mean vertex displacement (model units).
+    pub displacement_mean: f64,
+}
+
+/// Moves the vertices of `target` as little as possible (in the metric below) so that
+/// every vertex inside a piece of `pieces` has angle sum 2π: each piece then unfolds
+/// into the plane without stretching, and pieces still meet along their seams (they
+/// share the seam vertices, which are free).
+///
+/// **Problem.** With `x` the positions (scaled by the mean edge length `ℓ`, so every
+/// figure below is dimensionless) and `t` the target's,
+///
+/// `min ½ (x − t)ᵀ H (x − t)` subject to `g_v(x) = 2π − Σ_{corners at v} θ = 0` for every
+/// vertex `v` inside a piece,
+///
+/// `H = (M + s L) ⊗ I₃`: `M` the lumped vertex areas over their mean, `L` the graph
+/// Laplacian of the mesh's edges, `s` [`DevelopOptions::smoothness`]. `g_v` is Wang &
+/// Tang's vertex developability (2004, Eq. 2-4), the angle defect whose vanishing at every
+/// interior vertex makes a triangle mesh intrinsically flat; its exact gradient is
+/// [`corner_angle_gradient`]'s (the FFD restoration's). Seams as free boundaries of
+/// exactly developable pieces follow Stein, Grinspun & Crane (2018, §3: a piecewise
+/// developable mesh is one whose pieces' interior vertices are flat); their hinge energy
+/// flow is replaced here by the constraint itself, so the result is exact rather than
+/// near.
+///
+/// **Step** (Gauss–Newton SQP, the constraints' curvature left out):
+/// `[H Jᵀ; J −δI] [Δx; λ] = [−H(x − t); −g]`, `J = ∂g/∂x`, solved with the shared
+/// [`KktSystem`] (ordering, symbolic analysis and workspace once; LDLᵀ each step,
+/// iterative refinement). A backtracking line search on the ℓ₁ merit
+/// `½ (x − t)ᵀ H (x − t) + μ ‖g‖₁`, `μ = 2 ‖λ‖∞ + 1`, keeps the steps safe far from the
+/// constraint set. It stops when every defect is within the tolerance and the step is
+/// below `1e-9 ℓ`; steps after the last with the objective's row zeroed (the least-`H`-norm
+/// correction `J Δx = −g`) then bring the defects to the tolerance if the iterations ran
+/// out before (Newton on `g`, quadratic).
+///
+/// # Errors
+/// [`DevelopError::Option`] (the options out of range), [`DevelopError::Solver`] (the
+/// system too large or singular), [`DevelopError::Cancelled`] once `stop` is set.
+pub fn develop_pieces(
+    target: &TriangleMesh,
+    table: &EdgeTable,
+    pieces: &SeamPieces,
+    options: &DevelopOptions,
+    stop: Option<&AtomicBool>,
+) -> Result<Developed, DevelopError> {
+    options.validate()?;
+    let nv = target.positions.len();
+    let n = 3 * nv;
+    let constrained: Vec<u32> = (0..nv as u32).filter(|&v| pieces.interior[v as usize]).collect();
+    let nc = constrained.len();
+    let scale = {
+        let total: f64 = table
+            .edges
+            .iter()
+            .map(|&[a, b]| (target.positions[a as usize] - target.positions[b as usize]).norm())
+            .sum();
+        if table.is_empty() || total.is_nan() || total <= 0.0 {
+            return Err(DevelopError::Topology {
+                problem: "the mesh has no edge of positive length".into(),
+            });
+        }
+        total / table.len() as f64
+    };
+    let goal: Vec<Vec3> = target.positions.iter().map(|p| p / scale).collect();
+    // Lumped areas over their mean (vertices no face uses weigh 1 and stay put).
+    let mut mass = vec![0.0; nv];
+    for t in &target.triangles {
+        let [a, b, c] = t.map(|v| goal[v as usize]);
+        let third = (b - a).cross(&(c - a)).norm() / 6.0;
+        for &v in t {
+            mass[v as usize] += third;
+        }
+    }
+    let mean_mass = mass.iter().sum::<f64>() / nv.max(1) as f64;
+    for m in &mut mass {
+        *m = if *m > 0.0 { *m / mean_mass } else { 1.0 };
+    }
+    let mut degree = vec![0usize; nv];
+    for &[a, b] in &table.edges {
+        degree[a as usize] += 1;
+        degree[b as usize] += 1;
+    }
+    // Corners around each constrained vertex: (face, position of v in it).
+    let mut corners: Vec<Vec<(u32, u8)>> = vec![Vec::new(); nv];
+    for (f, t) in target.triangles.iter().enumerate() {
+        for (k, &v) in t.iter().enumerate() {
+            if pieces.interior[v as usize] {
+                corners[v as usize].push((f as u32, k as u8));
+            }
+        }
+    }
+    // The Jacobian row of each constraint: its star's vertices, sorted.
+    let stars: Vec<Vec<u32>> = constrained
+        .iter()
+        .map(|&v| {
+            let mut star: Vec<u32> = corners[v as usize]
+                .iter()
+                .flat_map(|&(f, _)| target.triangles[f as usize])
+                .collect();
+            star.sort_unstable();
+            star.dedup();
+            star
+        })
+        .collect();
+    // The pattern (upper triangle), in a fixed order: H's diagonal, H's edges, the
+    // Jacobian's columns, the −δ block.
+    let s = options.smoothness;
+    let mut pairs = Vec::new();
+    let mut h_values = Vec::new();
+    for v in 0..nv {
+        for k in 0..3 {
+            pairs.push(Pair {
+                row: 3 * v + k,
+                col: 3 * v + k,
+            });
+            h_values.push(mass[v] + s * degree[v] as f64);
+        }
+    }
+    if s > 0.0 {
+        for &[a, b] in &table.edges {
+            let (a, b) = (a.min(b) as usize, a.max(b) as usize);
+            for k in 0..3 {
+                pairs.push(Pair {
+                    row: 3 * a + k,
+                    col: 3 * b + k,
+                });
+                h_values.push(-s);
+            }
+        }
+    }
+    let jacobian_start = pairs.len();
+    for (c, star) in stars.iter().enumerate() {
+        for &w in star {
+            for k in 0..3 {
+                pairs.push(Pair {
+                    row: 3 * w as usize + k,
+                    col: n + c,
+                });
+            }
+        }
+    }
+    let delta_start = pairs.len();
+    for c in 0..nc {
+        pairs.push(Pair { row: n + c, col: n + c });
+    }
+    let mut blocks: Vec<usize> = (0..n).map(|i| i / 3).collect();
+    blocks.extend(constrained.iter().map(|&v| v as usize));
+    let mut kkt = KktSystem::new(n, nc, pairs, &blocks, &goal, true).map_err(|e| DevelopError::Solver {
+        message: format!("{e}: use a coarser mesh"),
+    })?;
+    let delta = 1e-12;
+    kkt.values = vec![0.0; delta_start + nc];
+    kkt.values[..h_values.len()].copy_from_slice(&h_values);
+    for value in &mut kkt.values[delta_start..] {
+        *value = -delta;
+    }
+    let geometry = Geometry {
+        triangles: &target.triangles,
+        constrained: &constrained,
+        corners: &corners,
+        stars: &stars,
+    };
+    let row_starts: Vec<usize> = stars
+        .iter()
+        .scan(jacobian_start, |start, star| {
+            let here = *start;
+            *start += 3 * star.len();
+            Some(here)
+        })
+        .collect();
+    let objective = |x: &[Vec3], h: &[f64]| -> (f64, Vec<f64>) {
+        // ½ dᵀ H d and H d with d = x − t (H from its values: diagonal, then edges).
+        let d: Vec<f64> = x
+            .iter()
+            .zip(&goal)
+            .flat_map(|(p, q)| (p - q).iter().copied().collect::<Vec<_>>())
+            .collect();
+        let mut hd: Vec<f64> = (0..n).map(|i| h[i] * d[i]).collect();
+        if s > 0.0 {
+            for (e, &[a, b]) in table.edges.iter().enumerate() {
+                let (a, b) = (a.min(b) as usize, a.max(b) as usize);
+                for k in 0..3 {
+                    let value = h[n + 3 * e + k];
+                    hd[3 * a + k] += value * d[3 * b + k];
+                    hd[3 * b + k] += value * d[3 * a + k];
+                }
+            }
+        }
+        let energy = 0.5 * d.iter().zip(&hd).map(|(a, b)| a * b).sum::<f64>();
+        (energy, hd)
+    };
+    let mut x = goal.clone();
+    let mut defects = geometry.defects(&x, None);
+    let max_defect_before = max_abs(&defects);
+    let mut iterations = 0;
+    let mut settled = false;
+    let tolerance = options.defect_tolerance;
+    let factorise = |kkt: &mut KktSystem| {
+        kkt.factorise(delta)
+            .map_err(|FactorisationFailure::Singular| DevelopError::Solver {
+                message: "the step's linear system is singular (a degenerate or flat-folded triangle)".into(),
+            })
+    };
+    while iterations < options.max_iterations {
+        if stop.is_some_and(|flag| flag.load(Ordering::Relaxed)) {
+            return Err(DevelopError::Cancelled);
+        }
+        iterations += 1;
+        defects = geometry.defects(&x, Some((&mut kkt.values, &row_starts)));
+        factorise(&mut kkt)?;
+        let (energy, hd) = objective(&x, &h_values);
+        let mut rhs: Vec<f64> = hd.iter().map(|v| -v).chain(defects.iter().map(|g| -g)).collect();
+        kkt.solve(&mut rhs);
+        let step: Vec<Vec3> = (0..nv)
+            .map(|v| Vec3::new(rhs[3 * v], rhs[3 * v + 1], rhs[3 * v + 2]))
+            .collect();
+        let multipliers = &rhs[n..];
+        let mu = 2.0 * max_abs(multipliers) + 1.0;
+        let violation: f64 = defects.iter().map(|g| g.abs()).sum();
+        let merit = energy + mu * violation;
+        let slope = hd.iter().zip(rhs[..n].iter()).map(|(a, b)| a * b).sum::<f64>() - mu * violation;
+        let mut alpha = 1.0;
+        let mut accepted = None;
+        for _ in 0..30 {
+            let trial: Vec<Vec3> = x.iter().zip(&step).map(|(p, d)| p + d * alpha).collect();
+            let trial_defects = geometry.defects(&trial, None);
+            let trial_merit = objective(&trial, &h_values).0 + mu * trial_defects.iter().map(|g| g.abs()).sum::<f64>();
+            if trial_merit.is_finite() && trial_merit <= merit + 1e-4 * alpha * slope.min(0.0) {
+                accepted = Some((trial, trial_defects));
+                break;
+            }
+            alpha *= 0.5;
+        }
+        let Some((trial, trial_defects)) = accepted else {
+            tracing::debug!(iterations, "develop: the line search found no decrease");
+            break;
+        };
+        let moved = step.iter().map(|d| d.amax()).fold(0.0, f64::max) * alpha;
+        x = trial;
+        defects = trial_defects;
+        tracing::debug!(
+            iterations,
+            alpha,
+            energy,
+            max_defect = max_abs(&defects),
+            moved,
+            "develop step"
+        );
+        if max_abs(&defects) <= tolerance && moved <= 1e-9 {
+            settled = true;
+            break;
+        }
+    }
+    // Feasibility: least-H-norm corrections J Δx = −g (Newton on g) while needed.
+    let mut corrections = 0;
+    while max_abs(&defects) > tolerance && corrections < 20 {
+        if stop.is_some_and(|flag| flag.load(Ordering::Relaxed)) {
+            return Err(DevelopError::Cancelled);
+        }
+        corrections += 1;
+        defects = geometry.defects(&x, Some((&mut kkt.values, &row_starts)));
+        factorise(&mut kkt)?;
+        let mut rhs: Vec<f64> = vec![0.0; n].into_iter().chain(defects.iter().map(|g| -g)).collect();
+        kkt.solve(&mut rhs);
+        let before = max_abs(&defects);
+        let trial: Vec<Vec3> = (0..nv)
+            .map(|v| x[v] + Vec3::new(rhs[3 * v], rhs[3 * v + 1], rhs[3 * v + 2]))
+            .collect();
+        let trial_defects = geometry.defects(&trial, None);
+        let improved = max_abs(&trial_defects) < before;
+        if !improved {
+            break;
+        }
+        x = trial;
+        defects = trial_defects;
+    }
+    let max_defect = max_abs(&defects);
+    let positions: Vec<Vec3> = x.iter().map(|p| p * scale).collect();
+    let displacements: Vec<f64> = positions
+        .iter()
+        .zip(&target.positions)
+        .map(|(p, q)| (p - q).norm())
+        .collect();
+    Ok(Developed {
+        positions,
+        constrained_vertex_count: nc,
+        max_defect_before,
+        max_defect,
+        iterations: iterations + corrections,
+        converged: max_defect <= tolerance,
+        displacement_max: displacements.iter().copied().fold(0.0, f64::max),
+        displacement_mean: displacements.iter().sum::<f64>() / nv.max(1) as f64,
+    })
+    .inspect(|developed| {
+        tracing::info!(
+            settled,
+            iterations = developed.iterations,
+            max_defect = developed.max_defect,
+            "develop: pieces made developable"
+        );
+    })
+}
+
+/// Largest absolute value (0 for none).
+fn max_abs(values: &[f64]) -> f64 {
+    values.iter().fold(0.0, |m, v| m.max(v.abs()))
+}
+
+/// What the defects are computed from.
+struct Geometry<'a> {
+    triangles: &'a [[u32; 3]],
+    constrained: &'a [u32],
+    corners: &'a [Vec<(u32, u8)>],
+    stars: &'a [Vec<u32>],
+}
+
+impl Geometry<'_> {
+    /// The defects `g_v = 2π − Σ θ` at `x`; with `jacobian`, also writes `∂g/∂x` into the
+    /// values (each constraint's row from its start, its star's vertices in order).
+    fn defects(&self, x: &[Vec3], jacobian: Option<(&mut Vec<f64>, &Vec<usize>)>) -> Vec<f64> {
+        let mut defects = vec![TAU; self.constrained.len()];
+        let mut jacobian = jacobian;
+        for (c, &v) in self.constrained.iter().enumerate() {
+            let star = &self.stars[c];
+            let mut gradient = vec![Vec3::zeros(); star.len()];
+            for &(f, k) in &self.corners[v as usize] {
+                let t = self.triangles[f as usize];
+                let k = k as usize;
+                let corner = [t[k], t[(k + 1) % 3], t[(k + 2) % 3]];
+                let (angle, grads) =
+                    corner_angle_gradient(x[corner[0] as usize], x[corner[1] as usize], x[corner[2] as usize]);
+                defects[c] -= angle;
+                if jacobian.is_some() {
+                    for (w, g) in corner.iter().zip(grads) {
+                        let i = star.binary_search(w).expect("a corner's vertices are in its star");
+                        gradient[i] -= g;
+                    }
+                }
+            }
+            if let Some((values, starts)) = jacobian.as_mut() {
+                let start = starts[c];
+                for (i, g) in gradient.iter().enumerate() {
+                    for k in 0..3 {
+                        values[start + 3 * i + k] = g[k];
+                    }
+                }
+            }
+        }
+        defects
+    }
+}

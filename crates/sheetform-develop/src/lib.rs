@@ -1,0 +1,21 @@
+//! Inverse design (issue 36): a target shape → the nearest surface made of a few exactly
+//! developable pieces, joined along their seams.
+//!
+//! - [`seam_pieces`]: the pieces a target is cut into along its seams, and the vertices
+//!   inside them;
+//! - [`develop_pieces`]: the target's vertices moved as little as possible so that every
+//!   vertex inside a piece is flat (angle sum 2π): a constrained Gauss–Newton projection
+//!   on the shared [`sheetform_solve::KktSystem`].
+//!
+//! The pieces are then unfolded exactly and laid out by the pipeline (`run_develop`),
+//! like every other system's.
+
+#![warn(missing_docs)]
+
+mod developable_projection;
+mod error;
+mod seam_pieces;
+
+pub use developable_projection::{develop_pieces, DevelopOptions, Developed, MAX_ITERATIONS, MAX_SMOOTHNESS};
+pub use error::DevelopError;
+pub use seam_pieces::{seam_pieces, SeamPieces};

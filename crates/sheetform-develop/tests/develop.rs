@@ -1,0 +1,149 @@
+//! `develop_pieces` on shapes with known answers: a developable target stays put, a
+//! perturbed cylinder becomes exactly developable again near where it was, a sphere cut
+//! into gores becomes gores within the globe-gore bound.
+
+use nalgebra::Vector3;
+use sheetform_develop::{develop_pieces, seam_pieces, DevelopOptions};
+use sheetform_mesh::{vertex_developability, EdgeTable, MeshTopology, TriangleMesh};
+
+/// A grid over `(u, v)` in `[0, 1]²`, `nu × nv` squares, each split in two.
+fn grid(nu: usize, nv: usize, surface: impl Fn(f64, f64) -> Vector3<f64>) -> TriangleMesh {
+    let mut mesh = TriangleMesh::default();
+    for i in 0..=nu {
+        for j in 0..=nv {
+            mesh.positions.push(surface(i as f64 / nu as f64, j as f64 / nv as f64));
+        }
+    }
+    let at = |i: usize, j: usize| (i * (nv + 1) + j) as u32;
+    for i in 0..nu {
+        for j in 0..nv {
+            mesh.triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            mesh.triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    mesh
+}
+
+/// A pseudo-random number in `[-0.5, 0.5)` (fixed seed).
+fn random(seed: &mut u64) -> f64 {
+    *seed = seed
+        .wrapping_mul(6_364_136_223_846_793_005)
+        .wrapping_add(1_442_695_040_888_963_407);
+    (*seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+}
+
+/// The largest angle defect over the vertices `interior` marks (radians).
+fn max_interior_defect(mesh: &TriangleMesh, interior: &[bool]) -> f64 {
+    let topology: MeshTopology = sheetform_mesh::mesh_topology(mesh);
+    let defects = vertex_developability(mesh, &topology).angle_defect;
+    defects
+        .iter()
+        .zip(interior)
+        .filter(|(_, inside)| **inside)
+        .fold(0.0, |m, (d, _)| m.max(d.abs()))
+}
+
+#[test]
+fn a_developable_target_comes_back_unchanged() {
+    // Half a cylinder of radius 30, height 50: exactly developable.
+    let mesh = grid(24, 10, |u, v| {
+        let t = std::f64::consts::PI * u;
+        Vector3::new(30.0 * t.cos(), 30.0 * t.sin(), 50.0 * v)
+    });
+    let table = EdgeTable::new(&mesh.triangles, mesh.positions.len());
+    let pieces = seam_pieces(&mesh, &table, &[]).unwrap();
+    let developed = develop_pieces(&mesh, &table, &pieces, &DevelopOptions::default(), None).unwrap();
+    assert!(developed.converged && developed.max_defect <= 1e-10, "{developed:?}");
+    assert!(
+        developed.displacement_max <= 1e-6,
+        "moved {}",
+        developed.displacement_max
+    );
+}
+
+#[test]
+fn a_perturbed_cylinder_becomes_exactly_developable_near_the_target() {
+    let mut seed = 17;
+    let mut mesh = grid(24, 12, |u, v| {
+        let t = std::f64::consts::PI * u;
+        Vector3::new(30.0 * t.cos(), 30.0 * t.sin(), 50.0 * v)
+    });
+    for p in &mut mesh.positions {
+        *p += Vector3::new(random(&mut seed), random(&mut seed), random(&mut seed)) * 0.4;
+    }
+    let table = EdgeTable::new(&mesh.triangles, mesh.positions.len());
+    let pieces = seam_pieces(&mesh, &table, &[]).unwrap();
+    let before = max_interior_defect(&mesh, &pieces.interior);
+    assert!(before > 1e-2, "{before}");
+    let developed = develop_pieces(&mesh, &table, &pieces, &DevelopOptions::default(), None).unwrap();
+    let mut result = mesh.clone();
+    result.positions = developed.positions.clone();
+    // Checked on the result's own angles, not the solver's figure.
+    let after = max_interior_defect(&result, &pieces.interior);
+    assert!(developed.converged && after <= 1e-9, "{after} {developed:?}");
+    // No farther than the noise put it (0.35 mm at most per coordinate).
+    assert!(developed.displacement_max <= 1.0, "{developed:?}");
+}
+
+#[test]
+fn a_sphere_cut_into_twelve_gores_becomes_gores_within_the_globe_bound() {
+    let (radius, rings, sections) = (50.0, 24usize, 48usize);
+    // A UV sphere without pole caps' duplicate vertices: rings of `sections` vertices and
+    // two poles.
+    let mut mesh = TriangleMesh::default();
+    mesh.positions.push(Vector3::new(0.0, 0.0, -radius));
+    for r in 1..rings {
+        let phi = std::f64::consts::PI * r as f64 / rings as f64 - std::f64::consts::FRAC_PI_2;
+        for s in 0..sections {
+            let t = std::f64::consts::TAU * s as f64 / sections as f64;
+            mesh.positions.push(Vector3::new(
+                radius * phi.cos() * t.cos(),
+                radius * phi.cos() * t.sin(),
+                radius * phi.sin(),
+            ));
+        }
+    }
+    mesh.positions.push(Vector3::new(0.0, 0.0, radius));
+    let north = (mesh.positions.len() - 1) as u32;
+    let at = |r: usize, s: usize| (1 + (r - 1) * sections + s % sections) as u32;
+    for s in 0..sections {
+        mesh.triangles.push([0, at(1, s + 1), at(1, s)]);
+        mesh.triangles.push([north, at(rings - 1, s), at(rings - 1, s + 1)]);
+    }
+    for r in 1..rings - 1 {
+        for s in 0..sections {
+            mesh.triangles.push([at(r, s), at(r, s + 1), at(r + 1, s + 1)]);
+            mesh.triangles.push([at(r, s), at(r + 1, s + 1), at(r + 1, s)]);
+        }
+    }
+    // Seams along 12 meridians, pole to pole.
+    let mut seams = Vec::new();
+    for g in 0..12 {
+        let s = g * sections / 12;
+        seams.push([0, at(1, s)]);
+        for r in 1..rings - 1 {
+            seams.push([at(r, s), at(r + 1, s)]);
+        }
+        seams.push([at(rings - 1, s), north]);
+    }
+    let table = EdgeTable::new(&mesh.triangles, mesh.positions.len());
+    let pieces = seam_pieces(&mesh, &table, &seams).unwrap();
+    assert_eq!(pieces.piece_count, 12);
+    let developed = develop_pieces(&mesh, &table, &pieces, &DevelopOptions::default(), None).unwrap();
+    let mut result = mesh.clone();
+    result.positions = developed.positions.clone();
+    let after = max_interior_defect(&result, &pieces.interior);
+    assert!(developed.converged && after <= 1e-9, "{after} {developed:?}");
+    // Globe gores of 30° keep within R (1 − cos 15°) of the sphere.
+    let bound = radius * (1.0 - 15f64.to_radians().cos());
+    let off_sphere = result
+        .positions
+        .iter()
+        .map(|p| (p.norm() - radius).abs())
+        .fold(0.0, f64::max);
+    eprintln!(
+        "gores: {} steps, defect {:.1e} -> {:.1e} rad, off the sphere {off_sphere:.3} mm (bound {bound:.3}), moved max {:.3} mean {:.3} mm",
+        developed.iterations, developed.max_defect_before, after, developed.displacement_max, developed.displacement_mean
+    );
+    assert!(off_sphere <= bound, "{off_sphere} > {bound}; {developed:?}");
+}

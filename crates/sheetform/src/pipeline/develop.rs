@@ -1,0 +1,125 @@
+//! `sheetform develop`: a target mesh → the nearest surface made of exactly developable
+//! pieces (cut along the user's seams), unfolded exactly, with the patterns of `flatten`
+//! (issue 36, slice 1: seams given by the user; automatic seams come next).
+
+use super::context::RunContext;
+use super::error::{Outcome, PipelineError};
+use super::flatten::{run_flatten, ChartMode, FlattenOptions, FlattenRun};
+use crate::report::{Command, DevelopReport, Status};
+use sheetform_develop::{develop_pieces, seam_pieces, DevelopError};
+pub use sheetform_develop::{DevelopOptions, Developed};
+use sheetform_flatten::ChartOptions;
+use sheetform_mesh::{mesh_topology_with_edges, surface_distance, SurfaceDistanceOptions, TriangleMesh};
+
+/// Knobs of `sheetform develop`.
+#[derive(Debug, Clone, Default)]
+pub struct DevelopRunOptions {
+    /// How the pieces are made developable.
+    pub develop: DevelopOptions,
+    /// How the developed pieces are unfolded and drawn: `flatten`'s options (the unit,
+    /// the pattern, the name, the size). The layout is always exact charts cut along the
+    /// seams only (`charts` and the chart options are set by `develop`).
+    pub flatten: FlattenOptions,
+}
+
+/// A finished `develop`.
+#[derive(Debug)]
+pub struct DevelopRun {
+    /// The developed mesh with its pattern, files and report (command `develop`, with
+    /// its `develop` section).
+    pub run: FlattenRun,
+    /// What the developability solve did.
+    pub developed: Developed,
+}
+
+/// Makes every piece of `target` (cut along its seams, `target.seam_edges`: OBJ `l`
+/// polylines) exactly developable by moving its vertices as little as possible
+/// ([`sheetform_develop::develop_pieces`]), then unfolds each piece exactly and renders
+/// the model and the patterns as `flatten` does ([`run_flatten`], charts cut along the
+/// seams only). The report's `develop` section gives the defects before and after and the
+/// two-sided distance to the target ([`sheetform_mesh::surface_distance`]); its status is
+/// `out of tolerance` (exit 5, everything written) when a defect inside a piece stays
+/// above the tolerance.
+///
+/// # Errors
+/// A mesh that is not a clean manifold, has no faces, or is closed without seams (slice
+/// 1 needs the seams drawn); a seam off the mesh's edges; options out of range;
+/// [`PipelineError::Cancelled`].
+pub fn run_develop(
+    target: TriangleMesh,
+    options: &DevelopRunOptions,
+    context: &RunContext,
+) -> Result<DevelopRun, PipelineError> {
+    options.develop.validate()?;
+    let unit = options.flatten.unit.millimetres();
+    if target.triangles.is_empty() {
+        return Err(DevelopError::Topology {
+            problem: "the mesh has no faces".into(),
+        }
+        .into());
+    }
+    let (topology, table) = mesh_topology_with_edges(&target);
+    let problems = topology.problems();
+    if !problems.is_empty() {
+        return Err(DevelopError::Topology {
+            problem: problems.join("; "),
+        }
+        .into());
+    }
+    if target.seam_edges.is_empty() && topology.boundary_loop_count == 0 {
+        return Err(DevelopError::Topology {
+            problem: "a closed surface cannot be developed without cuts: draw its seams as OBJ `l` polylines along mesh edges (automatic seams are not there yet)".into(),
+        }
+        .into());
+    }
+    context.progress("making the pieces developable", 0.05);
+    let pieces = seam_pieces(&target, &table, &target.seam_edges)?;
+    let developed = develop_pieces(&target, &table, &pieces, &options.develop, context.cancel)?;
+    context.check_cancelled()?;
+    let mut result = target.clone();
+    result.positions.clone_from(&developed.positions);
+    context.progress("unfolding the pieces", 0.6);
+    // The developed pieces unfold exactly: charts cut along the seams only (no crease
+    // splits them), within a distortion bound far below a cutter's resolution.
+    let flatten_options = FlattenOptions {
+        charts: ChartMode::Smooth,
+        chart_options: ChartOptions {
+            crease_angle_degrees: 180.0,
+            max_edge_distortion: 1e-6,
+            ..Default::default()
+        },
+        ..options.flatten.clone()
+    };
+    let mut run = run_flatten(result.clone(), &flatten_options, context)?;
+    let distance = surface_distance(&result, &target, &SurfaceDistanceOptions::default());
+    let (low, high) = target.positions.iter().fold(
+        (
+            nalgebra::Vector3::repeat(f64::INFINITY),
+            nalgebra::Vector3::repeat(f64::NEG_INFINITY),
+        ),
+        |(low, high), p| (low.inf(p), high.sup(p)),
+    );
+    let diagonal = (high - low).norm();
+    let report = &mut run.report;
+    report.command = Command::Develop;
+    report.develop = Some(DevelopReport {
+        piece_count: pieces.piece_count,
+        seam_edge_count: pieces.seam_edges.len(),
+        constrained_vertex_count: developed.constrained_vertex_count,
+        angle_defect_max_before_rad: developed.max_defect_before,
+        angle_defect_max_rad: developed.max_defect,
+        angle_defect_tolerance_rad: options.develop.defect_tolerance,
+        iterations: developed.iterations,
+        hausdorff_mm: distance.hausdorff * unit,
+        hausdorff_relative: distance.hausdorff / diagonal,
+        distance_mean_mm: distance.mean * unit,
+        distance_mean_relative: distance.mean / diagonal,
+        bounding_box_diagonal_mm: diagonal * unit,
+        displacement_max_mm: developed.displacement_max * unit,
+    });
+    if !developed.converged && run.outcome == Outcome::Ok {
+        run.outcome = Outcome::OutOfTolerance;
+        report.status = Status::OutOfTolerance;
+    }
+    Ok(DevelopRun { run, developed })
+}
