@@ -35,6 +35,11 @@ impl Default for DevelopOptions {
     }
 }
 
+/// The solve ends once every defect is within the tolerance and a step moves no vertex
+/// coordinate by more than this fraction of the mean edge length (a micrometre on a
+/// metre-long edge).
+pub const STEP_TOLERANCE: f64 = 1e-6;
+
 /// Largest [`DevelopOptions::smoothness`] accepted.
 pub const MAX_SMOOTHNESS: f64 = 1e6;
 /// Largest [`DevelopOptions::max_iterations`] accepted.
@@ -122,7 +127,7 @@ pub struct Developed {
 /// iterative refinement). A backtracking line search on the ℓ₁ merit
 /// `½ (x − t)ᵀ H (x − t) + μ ‖g‖₁`, `μ = 2 ‖λ‖∞ + 1`, keeps the steps safe far from the
 /// constraint set. It stops when every defect is within the tolerance and the step is
-/// below `1e-9 ℓ`; steps after the last with the objective's row zeroed (the least-`H`-norm
+/// below [`STEP_TOLERANCE`]` ℓ` (or would take a defect out of it); steps after the last with the objective's row zeroed (the least-`H`-norm
 /// correction `J Δx = −g`) then bring the defects to the tolerance if the iterations ran
 /// out before (Newton on `g`, quadratic).
 ///
@@ -328,6 +333,14 @@ pub fn develop_pieces(
             tracing::debug!(iterations, "develop: the line search found no decrease");
             break;
         };
+        // Once every defect is within the tolerance, a step that takes one out of it is
+        // not taken: the ℓ₁ merit's weight only estimates the multipliers, and far along
+        // such steps the solve traded developability for closeness (measured: from
+        // 1.5e-14 rad at step 6 back to 5e-4 rad by step 100 on the globe).
+        if max_abs(&defects) <= tolerance && max_abs(&trial_defects) > tolerance {
+            settled = true;
+            break;
+        }
         let moved = step.iter().map(|d| d.amax()).fold(0.0, f64::max) * alpha;
         x = trial;
         defects = trial_defects;
@@ -339,7 +352,7 @@ pub fn develop_pieces(
             moved,
             "develop step"
         );
-        if max_abs(&defects) <= tolerance && moved <= 1e-9 {
+        if max_abs(&defects) <= tolerance && moved <= STEP_TOLERANCE {
             settled = true;
             break;
         }

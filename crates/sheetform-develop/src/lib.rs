@@ -16,6 +16,8 @@ mod developable_projection;
 mod error;
 mod seam_pieces;
 
-pub use developable_projection::{develop_pieces, DevelopOptions, Developed, MAX_ITERATIONS, MAX_SMOOTHNESS};
+pub use developable_projection::{
+    develop_pieces, DevelopOptions, Developed, MAX_ITERATIONS, MAX_SMOOTHNESS, STEP_TOLERANCE,
+};
 pub use error::DevelopError;
 pub use seam_pieces::{seam_pieces, SeamPieces};
