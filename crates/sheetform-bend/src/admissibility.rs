@@ -1,7 +1,7 @@
 //! The admissibility test (Bo & Wang 2007, Eq. 6 and §4.3).
 
 use crate::{ruling_extent::RulingExtent, InadmissibleDetail, RulingSample};
-use sheetform_geometry::segment_intersection;
+use sheetform_geometry::{refused_number, segment_intersection, short_number};
 
 /// Admissibility of one curved region.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -59,8 +59,12 @@ pub fn check_region(
             regression_margin: margin,
             failure: Some(InadmissibleDetail {
                 message: format!(
-                    "region {region}: the curve of regression enters the sheet for s in [{:.6}, {:.6}] (Eq. 6), first at flat ({:.6}, {:.6}), {:.6} along the ruling from the geodesic",
-                    s.arc_length, samples[b].arc_length, flat.x, flat.y, l
+                    "region {region}: the curve of regression enters the sheet for s in [{}, {}] (Eq. 6), first at flat ({}, {}), {} along the ruling from the geodesic",
+                    refused_number(s.arc_length, &[samples[b].arc_length]),
+                    refused_number(samples[b].arc_length, &[s.arc_length]),
+                    short_number(flat.x),
+                    short_number(flat.y),
+                    short_number(l)
                 ),
                 region,
                 arc_length_range: [s.arc_length, samples[b].arc_length],
@@ -88,8 +92,11 @@ pub fn check_region(
                     regression_margin: margin,
                     failure: Some(InadmissibleDetail {
                         message: format!(
-                            "region {region}: the rulings at s = {:.6} and s = {:.6} cross on the sheet at flat ({:.6}, {:.6})",
-                            samples[j].arc_length, samples[j + 1].arc_length, p.x, p.y
+                            "region {region}: the rulings at s = {} and s = {} cross on the sheet at flat ({}, {})",
+                            refused_number(samples[j].arc_length, &[samples[j + 1].arc_length]),
+                            refused_number(samples[j + 1].arc_length, &[samples[j].arc_length]),
+                            short_number(p.x),
+                            short_number(p.y)
                         ),
                         region,
                         arc_length_range: [samples[j].arc_length, samples[j + 1].arc_length],

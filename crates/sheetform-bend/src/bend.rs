@@ -9,7 +9,7 @@ use crate::{
     BendError, BendModel,
 };
 use rayon::prelude::*;
-use sheetform_geometry::{RigidMotion, Vec3};
+use sheetform_geometry::{short_number, RigidMotion, Vec3};
 use sheetform_mesh::SheetMesh;
 
 /// One region's sampled rulings, their extents on the sheet and the admissibility test.
@@ -82,8 +82,10 @@ fn explain_knot_jump(region: &crate::CurvedRegion, samples: &[RulingSample], adm
             _ => String::new(),
         };
         failure.message.push_str(&format!(
-            ". Cause: the degree-{} B-spline control curve is only C² at its knot u = {knot:.6} (s = {s:.6}); its torsion jumps there and the ruling direction jumps{jump}, so rulings overlap on one side of the geodesic. Use a B-spline of degree 4 or more (C³), or a Bézier curve",
-            spline.degree()
+            ". Cause: the degree-{} B-spline control curve is only C² at its knot u = {} (s = {}); its torsion jumps there and the ruling direction jumps{jump}, so rulings overlap on one side of the geodesic. Use a B-spline of degree 4 or more (C³), or a Bézier curve",
+            spline.degree(),
+            short_number(knot),
+            short_number(s)
         ));
     }
 }
@@ -138,8 +140,9 @@ pub fn place(model: &BendModel, layout: &FlatLayout, strips: &[FoldedStrip]) -> 
     for (ci, c) in layout.cells.iter().enumerate() {
         let m = cell[ci].ok_or_else(|| BendError::Composite {
             message: format!(
-                "the part of the sheet around flat ({:.6}, {:.6}) is not connected to region 0",
-                c.sample_point.x, c.sample_point.y
+                "the part of the sheet around flat ({}, {}) is not connected to region 0",
+                short_number(c.sample_point.x),
+                short_number(c.sample_point.y)
             ),
         })?;
         let pts: Vec<Vec3> = c.vertices.iter().map(|&v| lift(layout.flat[v as usize])).collect();
@@ -150,9 +153,9 @@ pub fn place(model: &BendModel, layout: &FlatLayout, strips: &[FoldedStrip]) -> 
                 let (a, b) = (c.labels[0], (k, part));
                 return Err(BendError::Composite {
                     message: format!(
-                        "the piece around flat ({:.6}, {:.6}) is attached to region {} (`{}`) and to region {} (`{}`) along rulings whose tangent planes do not agree (they would tear it apart by {:.3e} {}); a planar piece can only follow one curved piece, or the curves must be made consistent",
-                        c.sample_point.x,
-                        c.sample_point.y,
+                        "the piece around flat ({}, {}) is attached to region {} (`{}`) and to region {} (`{}`) along rulings whose tangent planes do not agree (they would tear it apart by {:.3e} {}); a planar piece can only follow one curved piece, or the curves must be made consistent",
+                        short_number(c.sample_point.x),
+                        short_number(c.sample_point.y),
                         a.0,
                         model.regions[a.0].name,
                         b.0,

@@ -24,10 +24,12 @@ pub enum BendError {
     },
     /// The control curve's length differs from its flat geodesic segment's.
     #[error(
-        "region {region} (`{name}`): the control curve is {curve_length:.9} long but its flat geodesic \
-         segment is {flat_length:.9} long (relative difference {relative:.2e} > tolerance {tolerance:.1e}); \
+        "region {region} (`{name}`): the control curve is {} long but its flat geodesic \
+         segment is {} long (relative difference {relative:.2e} > tolerance {tolerance:.1e}); \
          bending cannot stretch the sheet. Fix the curve, move `flat_end`, or give `flat_direction` instead \
-         of `flat_end` to take the length from the curve"
+         of `flat_end` to take the length from the curve",
+        sheetform_geometry::refused_number(*.curve_length, &[*.flat_length]),
+        sheetform_geometry::refused_number(*.flat_length, &[*.curve_length])
     )]
     LengthMismatch {
         /// Region index.
@@ -44,7 +46,11 @@ pub enum BendError {
         tolerance: f64,
     },
     /// The flat geodesic segment leaves the sheet (crosses the outline or a hole).
-    #[error("region {region} (`{name}`): the flat geodesic segment leaves the sheet near ({x:.6}, {y:.6})")]
+    #[error(
+        "region {region} (`{name}`): the flat geodesic segment leaves the sheet near ({}, {})",
+        sheetform_geometry::short_number(*.x),
+        sheetform_geometry::short_number(*.y)
+    )]
     GeodesicLeavesSheet {
         /// Region index.
         region: usize,

@@ -5,8 +5,8 @@
 
 use crate::{ruling_extent::BoundaryPoint, BendError, BendModel, InadmissibleDetail, RegionGeometry};
 use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
-use sheetform_geometry::segment_intersection;
 use sheetform_geometry::Vec2;
+use sheetform_geometry::{numbers_apart, segment_intersection, short_number};
 use sheetform_mesh::{Piece, PieceKind, Ruling};
 use spade::{ConstrainedDelaunayTriangulation, HasPosition, Point2, Triangulation};
 
@@ -456,9 +456,9 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
     if (triangle_area - sheet.area()).abs() > 1e-9 * sheet.area() {
         return Err(BendError::Inadmissible(Box::new(InadmissibleDetail {
             message: format!(
-                "rulings cross inside the sheet: the pieces between them cover {:.6} {u}² instead of the sheet's {:.6} {u}²",
-                triangle_area,
-                sheet.area(),
+                "rulings cross inside the sheet: the pieces between them cover {} {u}² instead of the sheet's {} {u}²",
+                numbers_apart(triangle_area, sheet.area())[0],
+                numbers_apart(triangle_area, sheet.area())[1],
                 u = model.unit.symbol()
             ),
             region: 0,
@@ -561,8 +561,9 @@ pub fn flat_layout(model: &BendModel, geometries: &[RegionGeometry]) -> Result<F
         if c.labels.is_empty() {
             return Err(BendError::Composite {
                 message: format!(
-                    "the part of the sheet around flat ({:.6}, {:.6}) is not reached by any ruling",
-                    c.sample_point.x, c.sample_point.y
+                    "the part of the sheet around flat ({}, {}) is not reached by any ruling",
+                    short_number(c.sample_point.x),
+                    short_number(c.sample_point.y)
                 ),
             });
         }
@@ -939,8 +940,11 @@ fn check_region_crossings(model: &BendModel, geometries: &[RegionGeometry], scal
                         if [p0, p1, q0, q1].iter().all(|x| (x - p).norm() > eps) {
                             return Err(BendError::Inadmissible(Box::new(InadmissibleDetail {
                                 message: format!(
-                                    "rulings of region {a} (`{}`) and region {b} (`{}`) cross on the sheet at flat ({:.6}, {:.6}) (§4.3)",
-                                    model.regions[a].name, model.regions[b].name, p.x, p.y
+                                    "rulings of region {a} (`{}`) and region {b} (`{}`) cross on the sheet at flat ({}, {}) (§4.3)",
+                                    model.regions[a].name,
+                                    model.regions[b].name,
+                                    short_number(p.x),
+                                    short_number(p.y)
                                 ),
                                 region: b,
                                 arc_length_range: [gb.samples[j].arc_length, gb.samples[j].arc_length],

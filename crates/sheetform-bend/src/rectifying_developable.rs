@@ -2,7 +2,7 @@
 
 use crate::{curve_of_regression::regression_distance, BendError, ControlCurve, FlatPath, TessellationOptions};
 use rayon::prelude::*;
-use sheetform_geometry::{curve_frame, Vec2, Vec3};
+use sheetform_geometry::{curve_frame, numbers_apart, short_number, Vec2, Vec3};
 
 /// The rectifying developable at one ruling.
 ///
@@ -114,8 +114,12 @@ pub fn sample_rulings(
     for i in 0..=grid {
         let u = u0 + (u1 - u0) * i as f64 / grid as f64;
         let d = curve.derivatives4(u);
-        let f = curve_frame(&d)
-            .ok_or_else(|| degenerate(format!("the curve has zero speed (a cusp) at parameter {u:.6}")))?;
+        let f = curve_frame(&d).ok_or_else(|| {
+            degenerate(format!(
+                "the curve has zero speed (a cusp) at parameter {}",
+                short_number(u)
+            ))
+        })?;
         let s = if i == 0 {
             0.0
         } else {
@@ -241,8 +245,12 @@ pub fn sample_rulings(
     let mut too_curved: Option<(f64, f64, f64, f64)> = None;
     for j in 0..count {
         let d = derivatives[j];
-        let f = curve_frame(&d)
-            .ok_or_else(|| degenerate(format!("the curve has zero speed (a cusp) at s = {:.6}", lengths[j])))?;
+        let f = curve_frame(&d).ok_or_else(|| {
+            degenerate(format!(
+                "the curve has zero speed (a cusp) at s = {}",
+                short_number(lengths[j])
+            ))
+        })?;
         let ff = flat.frame(lengths[j]);
         let straight = f.curvature <= straight_limit || f.normal.is_none();
         if straight {
@@ -293,9 +301,10 @@ pub fn sample_rulings(
                     let off = prev.dot(&n_next.cross(&f.tangent)).abs();
                     if off > 1e-6 {
                         return Err(degenerate(format!(
-                            "the curve is straight for s in [{from:.6}, {:.6}] and the bends on either side have \
+                            "the curve is straight for s in [{}, {}] and the bends on either side have \
                              tangent planes {:.3} degrees apart: a planar span cannot join them",
-                            lengths[j],
+                            short_number(from),
+                            short_number(lengths[j]),
                             off.clamp(-1.0, 1.0).asin().to_degrees()
                         )));
                     }
@@ -339,14 +348,18 @@ pub fn sample_rulings(
     }
     if let Some((from, to, kappa, flat_kappa)) = too_curved {
         return Err(degenerate(format!(
-            "for s in [{from:.6}, {to:.6}] the control curve's curvature ({kappa:.6}) is not larger than the flat curve's ({:.6}): \
+            "for s in [{}, {}] the control curve's curvature ({}) is not larger than the flat curve's ({}): \
              the bent curve cannot keep that geodesic curvature (§5 needs |p''| > the flat curvature)",
-            flat_kappa.abs()
+            short_number(from),
+            short_number(to),
+            numbers_apart(kappa, flat_kappa.abs())[0],
+            numbers_apart(kappa, flat_kappa.abs())[1]
         )));
     }
     let first_curved = raw.iter().position(|x| !x.straight).ok_or_else(|| {
         degenerate(format!(
-            "the control curve is straight everywhere (s in [0, {length:.6}]): a straight line lies on every plane through it, so it does not determine a developable"
+            "the control curve is straight everywhere (s in [0, {}]): a straight line lies on every plane through it, so it does not determine a developable",
+            short_number(length)
         ))
     })?;
     // Leading straight samples take the first curved sample's normal.

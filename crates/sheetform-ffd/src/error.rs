@@ -15,7 +15,13 @@ pub enum FfdError {
         message: String,
     },
     /// A mesh vertex lies outside the deformation volume.
-    #[error("vertex {vertex} at ({x}, {y}, {z}) is outside the lattice volume (closest point {distance} away); enlarge the lattice or give a margin")]
+    #[error(
+        "vertex {vertex} at ({}, {}, {}) is outside the lattice volume (closest point {} away); enlarge the lattice or give a margin",
+        sheetform_geometry::short_number(*.x),
+        sheetform_geometry::short_number(*.y),
+        sheetform_geometry::short_number(*.z),
+        sheetform_geometry::short_number(*.distance)
+    )]
     OutsideVolume {
         /// Vertex index in the input mesh.
         vertex: usize,

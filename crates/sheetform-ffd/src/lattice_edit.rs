@@ -174,7 +174,10 @@ pub fn apply_edits(volume: &NurbsVolume, edits: &[LatticeEdit], field: &str) -> 
                 if !(value.is_finite() && *value > 0.0) {
                     return Err(FfdError::field(
                         format!("{f}.value"),
-                        format!("weight {value} must be positive"),
+                        format!(
+                            "must be a positive number, got {}",
+                            sheetform_geometry::refused_number(*value, &[0.0])
+                        ),
                     ));
                 }
                 for n in selection.indices(volume, &format!("{f}.points"))? {

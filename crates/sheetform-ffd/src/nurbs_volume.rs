@@ -419,7 +419,10 @@ pub(crate) fn check_weights(weights: &[f64]) -> Result<(), FfdError> {
     if let Some(n) = weights.iter().position(|w| !(w.is_finite() && *w > 0.0)) {
         return Err(FfdError::field(
             format!("lattice.weights[{n}]"),
-            format!("weight {} must be positive and finite", weights[n]),
+            format!(
+                "must be positive and finite, got {}",
+                sheetform_geometry::refused_number(weights[n], &[0.0])
+            ),
         ));
     }
     Ok(())

@@ -168,7 +168,7 @@ impl ProceduralModel {
                             field(name),
                             format!(
                                 "must be a positive length up to 100 000 mm, got {}",
-                                sheetform_geometry::short_number(value)
+                                sheetform_geometry::refused_number(value, &[0.0, 1e5])
                             ),
                         ));
                     }

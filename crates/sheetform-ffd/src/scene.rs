@@ -399,7 +399,13 @@ impl FfdScene {
             ("solver.selection_threshold_rad", s.selection_threshold_rad),
         ] {
             if !(v.is_finite() && v > 0.0) {
-                return Err(FfdError::field(field, format!("{v} must be positive")));
+                return Err(FfdError::field(
+                    field,
+                    format!(
+                        "must be positive, got {}",
+                        sheetform_geometry::refused_number(v, &[0.0])
+                    ),
+                ));
             }
         }
         if !(s.position_weight.is_finite() && s.position_weight >= 0.0) {
@@ -433,8 +439,8 @@ impl FfdScene {
             return Err(FfdError::field(
                 "solver.tolerance_rad",
                 format!(
-                    "at least {MIN_TOLERANCE_RAD} (angle sums are exact only to about 4e-15 rad), got {}",
-                    sheetform_geometry::short_number(s.tolerance_rad)
+                    "at least {MIN_TOLERANCE_RAD:e} (angle sums are exact only to about 4e-15 rad), got {}",
+                    sheetform_geometry::refused_number(s.tolerance_rad, &[MIN_TOLERANCE_RAD])
                 ),
             ));
         }
@@ -469,8 +475,8 @@ impl FfdScene {
                 return Err(FfdError::field(
                     "solver.continuation.sub_step_curvature",
                     format!(
-                        "{} must be positive",
-                        sheetform_geometry::short_number(c.sub_step_curvature)
+                        "must be positive, got {}",
+                        sheetform_geometry::refused_number(c.sub_step_curvature, &[0.0])
                     ),
                 ));
             }
@@ -511,7 +517,7 @@ impl FfdScene {
                 "lattice.margin",
                 format!(
                     "must be between {MIN_LATTICE_MARGIN} and {MAX_LATTICE_MARGIN} (the model's vertices on the lattice's boundary could not move outwards), got {}",
-                    sheetform_geometry::short_number(self.lattice.margin)
+                    sheetform_geometry::refused_number(self.lattice.margin, &[MIN_LATTICE_MARGIN, MAX_LATTICE_MARGIN])
                 ),
             ));
         }

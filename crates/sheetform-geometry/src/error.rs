@@ -53,7 +53,11 @@ pub enum GeometryError {
         reason: String,
     },
     /// Two edges of a polygon cross or touch.
-    #[error("{ring_a} edge {edge_a} crosses {ring_b} edge {edge_b} near ({x:.6}, {y:.6})")]
+    #[error(
+        "{ring_a} edge {edge_a} crosses {ring_b} edge {edge_b} near ({}, {})",
+        crate::short_number(*.x),
+        crate::short_number(*.y)
+    )]
     SelfIntersection {
         /// Ring of the first edge.
         ring_a: String,

@@ -27,7 +27,7 @@ impl Helix {
     pub fn new(radius: f64, rise_per_radian: f64, start_angle: f64, end_angle: f64) -> Result<Self, GeometryError> {
         if !(radius.is_finite() && radius > 0.0) {
             return Err(GeometryError::DegenerateCurve {
-                reason: format!("helix radius must be positive, got {radius}"),
+                reason: format!("helix radius must be positive, got {}", crate::short_number(radius)),
             });
         }
         if !(rise_per_radian.is_finite() && start_angle.is_finite() && end_angle.is_finite() && end_angle > start_angle)

@@ -10,36 +10,69 @@ pub struct ShortNumber(pub f64);
 
 impl fmt::Display for ShortNumber {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let x = self.0;
-        if !x.is_finite() {
-            return write!(f, "{x}");
-        }
-        let magnitude = x.abs();
-        if x == 0.0 {
-            return f.write_str("0");
-        }
-        if (1e-4..1e6).contains(&magnitude) {
-            // Six significant digits, trailing zeros dropped.
-            let decimals = (5 - magnitude.log10().floor() as i32).clamp(0, 9) as usize;
-            let text = format!("{x:.decimals$}");
-            let text = if text.contains('.') {
-                text.trim_end_matches('0').trim_end_matches('.')
-            } else {
-                &text
-            };
-            f.write_str(text)
+        f.write_str(&significant(self.0, SHORT_DIGITS))
+    }
+}
+
+/// Significant digits of a [`ShortNumber`].
+const SHORT_DIGITS: usize = 6;
+
+/// `x` in at most `digits` significant digits, trailing zeros dropped: plain between
+/// 1e-4 and 1e6, else in scientific notation (`1e300`, `-2.5e-7`).
+fn significant(x: f64, digits: usize) -> String {
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let magnitude = x.abs();
+    if (1e-4..1e6).contains(&magnitude) {
+        let decimals = (digits as i32 - 1 - magnitude.log10().floor() as i32).clamp(0, digits as i32 + 3) as usize;
+        let text = format!("{x:.decimals$}");
+        if text.contains('.') {
+            text.trim_end_matches('0').trim_end_matches('.').to_string()
         } else {
-            let text = format!("{x:.5e}");
-            let (mantissa, exponent) = text.split_once('e').expect("scientific notation");
-            let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
-            write!(f, "{mantissa}e{exponent}")
+            text
         }
+    } else {
+        let precision = digits - 1;
+        let text = format!("{x:.precision$e}");
+        let (mantissa, exponent) = text.split_once('e').expect("scientific notation");
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        format!("{mantissa}e{exponent}")
     }
 }
 
 /// `x` in at most six significant digits ([`ShortNumber`]).
 pub fn short_number(x: f64) -> ShortNumber {
     ShortNumber(x)
+}
+
+/// A `value` refused for lying outside `bounds`, for a message that names the bounds:
+/// as short as [`short_number`], but with as many more significant digits (up to 17,
+/// which tell any two numbers apart) as it takes to differ from every bound written
+/// the same way, so that 100.0001 against "at most 100" is never shown as `100`.
+pub fn refused_number(value: f64, bounds: &[f64]) -> String {
+    (SHORT_DIGITS..=17)
+        .map(|digits| significant(value, digits))
+        .enumerate()
+        .find(|(k, text)| {
+            let digits = SHORT_DIGITS + k;
+            bounds.iter().all(|&b| b == value || significant(b, digits) != *text)
+        })
+        .map_or_else(|| format!("{value:e}"), |(_, text)| text)
+}
+
+/// `value` and the computed `bound` it is refused against, both in the same number of
+/// significant digits (six or more) that tells them apart: `[value, bound]`. For bounds
+/// that are not round constants, whose short form could hide on which side the value
+/// lies (0.30000004 against a bound of 0.3000001 printed `0.3`).
+pub fn numbers_apart(value: f64, bound: f64) -> [String; 2] {
+    (SHORT_DIGITS..=17)
+        .map(|digits| [significant(value, digits), significant(bound, digits)])
+        .find(|[a, b]| a != b || value == bound)
+        .unwrap_or_else(|| [format!("{value:e}"), format!("{bound:e}")])
 }
 
 /// Most characters of a token quoted in a message.
@@ -135,6 +168,45 @@ mod tests {
         ] {
             assert_eq!(short_number(x).to_string(), text, "{x:e}");
         }
+    }
+
+    /// Issue 35: "must be between 0 and 100, got 100" for 100.0001. A refused value is
+    /// printed with the digits that tell it from its bounds, and no longer than that.
+    #[test]
+    fn refused_numbers_differ_from_their_bounds() {
+        for (value, bounds, text) in [
+            (100.0001, &[0.0, 100.0][..], "100.0001"),
+            (100.000_000_1, &[100.0][..], "100.0000001"),
+            (100.0 + 1e-12, &[100.0][..], "100.000000000001"),
+            (f64::from_bits(100f64.to_bits() + 1), &[100.0][..], "100.00000000000001"),
+            (0.009_999_999_9, &[0.01, 10.0][..], "0.0099999999"),
+            (-1e-300, &[0.0, 1.0][..], "-1e-300"),
+            (1e308, &[1e6][..], "1e308"),
+            (1_000_000.5, &[1e6][..], "1.0000005e6"),
+            (250.0, &[100.0][..], "250"),
+            (0.0, &[0.0][..], "0"),
+            (f64::NAN, &[1.0][..], "NaN"),
+        ] {
+            let refused = refused_number(value, bounds);
+            assert_eq!(refused, text, "{value:e}");
+            for &b in bounds {
+                assert!(
+                    b == value || refused.parse::<f64>().unwrap() != b,
+                    "{refused} reads as {b}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn numbers_apart_share_their_digits() {
+        assert_eq!(numbers_apart(0.300_000_04, 0.300_000_1), ["0.3", "0.3000001"]);
+        assert_eq!(
+            numbers_apart(251.327_412_3, 251.327_412_287),
+            ["251.3274123", "251.32741229"]
+        );
+        assert_eq!(numbers_apart(1e308, 2.5), ["1e308", "2.5"]);
+        assert_eq!(numbers_apart(2.0, 2.0), ["2", "2"]);
     }
 
     #[test]

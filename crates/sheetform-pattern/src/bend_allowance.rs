@@ -35,7 +35,7 @@
 //! square corner relief is cut out ([`corner_reliefs`]).
 
 use crate::{PatternError, Vec2};
-use sheetform_geometry::short_number;
+use sheetform_geometry::{refused_number, short_number};
 use sheetform_mesh::{EdgeTable, SheetMesh, UnionFind};
 use std::collections::HashMap;
 
@@ -129,7 +129,7 @@ impl BendAllowance {
                 "thickness_mm",
                 format!(
                     "must be above 0 and at most {MAX_THICKNESS_MM} mm, got {}",
-                    short_number(self.thickness_mm)
+                    refused_number(self.thickness_mm, &[0.0, MAX_THICKNESS_MM])
                 ),
             );
         }
@@ -138,14 +138,17 @@ impl BendAllowance {
                 "inner_radius_mm",
                 format!(
                     "must be between 0 and {MAX_THICKNESS_MM} mm, got {}",
-                    short_number(self.inner_radius_mm)
+                    refused_number(self.inner_radius_mm, &[0.0, MAX_THICKNESS_MM])
                 ),
             );
         }
         if !(self.k_factor.is_finite() && (0.0..=1.0).contains(&self.k_factor)) {
             return bad(
                 "k_factor",
-                format!("must be between 0 and 1, got {}", short_number(self.k_factor)),
+                format!(
+                    "must be between 0 and 1, got {}",
+                    refused_number(self.k_factor, &[0.0, 1.0])
+                ),
             );
         }
         Ok(())

@@ -6,7 +6,7 @@ use crate::seam_matching::SeamRun;
 use crate::{PatternError, Vec2};
 use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{RTree, AABB};
-use sheetform_geometry::{cross2, segment_distance, segments_cross, short_number};
+use sheetform_geometry::{cross2, refused_number, segment_distance, segments_cross, short_number};
 
 /// Which side of a seam carries the tabs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -296,7 +296,7 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
             option: "tab angle",
             message: format!(
                 "must be in (0, 90] degrees, got {}",
-                short_number(options.angle_degrees)
+                refused_number(options.angle_degrees, &[0.0, 90.0])
             ),
         });
     }
@@ -305,7 +305,7 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
             option: "tab minimum fraction",
             message: format!(
                 "must be in (0, 1] (0.4 = 40 % of the tab depth), got {}",
-                short_number(options.min_width_fraction)
+                refused_number(options.min_width_fraction, &[0.0, 1.0])
             ),
         });
     }
@@ -315,7 +315,7 @@ pub fn add_glue_tabs(loops: &[Vec<Vec2>], runs: &[SeamRun], options: &TabOptions
             message: format!(
                 "must be between 0 and {} mm, got {}",
                 crate::MAX_ALLOWANCE_MM,
-                short_number(options.clearance_mm)
+                refused_number(options.clearance_mm, &[0.0, crate::MAX_ALLOWANCE_MM])
             ),
         });
     }

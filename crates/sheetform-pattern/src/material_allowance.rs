@@ -7,7 +7,7 @@ use crate::pattern::{Fold, FoldStyle, PatternPiece};
 use crate::{PatternError, Vec2};
 use geo::algorithm::buffer::{BufferStyle, LineJoin};
 use geo::{Buffer, LineString, Polygon};
-use sheetform_geometry::short_number;
+use sheetform_geometry::{refused_number, short_number};
 
 /// What the material needs around the design lines (every command's pattern; all zero by
 /// default: the pattern is the design as it is).
@@ -55,7 +55,7 @@ impl MaterialAllowance {
                     option,
                     message: format!(
                         "must be between 0 and {MAX_ALLOWANCE_MM} mm, got {}",
-                        short_number(value)
+                        refused_number(value, &[0.0, MAX_ALLOWANCE_MM])
                     ),
                 });
             }

@@ -6,7 +6,7 @@ use crate::seam_matching::{match_seams, SeamRun};
 use crate::sheet_packing::{pack_pieces, SheetOptions};
 use crate::{PatternError, Vec2};
 use rustc_hash::{FxHashMap as HashMap, FxHashSet};
-use sheetform_geometry::short_number;
+use sheetform_geometry::{refused_number, short_number};
 use sheetform_mesh::SheetMesh;
 
 /// How a fold line is folded, seen from the pattern's printed side (the side the mesh's
@@ -391,7 +391,7 @@ pub fn pattern_from_mesh(mesh: &SheetMesh, options: &PatternOptions) -> Result<P
             option: "smooth_bend_degrees",
             message: format!(
                 "must be between 0 and 180 degrees, got {}",
-                short_number(options.smooth_bend_degrees)
+                refused_number(options.smooth_bend_degrees, &[0.0, 180.0])
             ),
         });
     }

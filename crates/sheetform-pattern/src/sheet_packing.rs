@@ -1,7 +1,7 @@
 //! Packing pattern pieces onto sheets of a given size.
 
 use crate::{Pattern, PatternError, Vec2};
-use sheetform_geometry::short_number;
+use sheetform_geometry::{refused_number, short_number};
 
 /// A sheet size as a user writes it: `a4`, `a3`, `letter` (portrait), or `WIDTHxHEIGHT`
 /// in millimetres (`600x400`).
@@ -259,7 +259,7 @@ pub fn pack_pieces(pattern: &mut Pattern, options: &SheetOptions) -> Result<(), 
             option: "sheet_gap",
             message: format!(
                 "must be between 0 and {MAX_SHEET_GAP_MM} mm (--sheet-gap), got {}",
-                short_number(gap)
+                refused_number(gap, &[0.0, MAX_SHEET_GAP_MM])
             ),
         });
     }

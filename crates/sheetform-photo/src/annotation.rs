@@ -10,6 +10,7 @@
 use crate::PhotoError;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
+use sheetform_geometry::{numbers_apart, refused_number, short_number};
 use sheetform_mesh::LengthUnit;
 
 /// A 2D point in image pixels, `[x, y]`, `y` down.
@@ -133,7 +134,7 @@ pub struct TrueSizeSpec {
     pub from: ImagePoint,
     /// Second point (pixels), on or next to a traced curve.
     pub to: ImagePoint,
-    /// Their true 3D distance, in the annotation's `units` (positive).
+    /// Their true 3D distance, in the annotation's `units` (from 1e-6 to below 1e9).
     pub length: f64,
 }
 
@@ -359,7 +360,11 @@ impl PhotoAnnotation {
             if p[0] < -d || p[1] < -d || p[0] > f64::from(w) + d || p[1] > f64::from(h) + d {
                 return Err(PhotoError::field(
                     field,
-                    format!("[{}, {}] is far outside the {w} × {h} image", p[0], p[1]),
+                    format!(
+                        "[{}, {}] is far outside the {w} × {h} image",
+                        short_number(p[0]),
+                        short_number(p[1])
+                    ),
                 ));
             }
             Ok(())
@@ -408,7 +413,10 @@ impl PhotoAnnotation {
             if c.closed && gap > 1e-9 * d {
                 return Err(PhotoError::field(
                     format!("{field}.closed"),
-                    format!("a closed curve must end where it starts (ends are {gap:.3} px apart)"),
+                    format!(
+                        "a closed curve must end where it starts (ends are {} px apart)",
+                        short_number(gap)
+                    ),
                 ));
             }
             if c.closed && n == 4 {
@@ -460,10 +468,15 @@ impl PhotoAnnotation {
         check_point("true_size.from".into(), self.true_size.from)?;
         check_point("true_size.to".into(), self.true_size.to)?;
         let t = &self.true_size;
-        if !(t.length.is_finite() && t.length > 0.0 && t.length < 1e9) {
+        // (A length of 1e-320 scaled the whole model to subnormal numbers, whose faces
+        // then had no area.)
+        if !(t.length.is_finite() && t.length >= 1e-6 && t.length < 1e9) {
             return Err(PhotoError::field(
                 "true_size.length",
-                format!("must be a positive length below 1e9 (got {})", t.length),
+                format!(
+                    "must be a length from 1e-6 to below 1e9 (got {})",
+                    refused_number(t.length, &[1e-6, 1e9])
+                ),
             ));
         }
         if (t.from[0] - t.to[0]).hypot(t.from[1] - t.to[1]) < 1.0 {
@@ -475,10 +488,19 @@ impl PhotoAnnotation {
         let a = &self.analysis;
         let positive_length = |field: &str, v: Option<f64>, lo: f64, hi: f64| -> Result<(), PhotoError> {
             match v {
-                Some(x) if !(x.is_finite() && x >= lo && x <= hi) => Err(PhotoError::field(
-                    format!("analysis.{field}"),
-                    format!("must be within {lo:.3} … {hi:.1} px for this image (got {x})"),
-                )),
+                Some(x) if !(x.is_finite() && x >= lo && x <= hi) => {
+                    // The bound crossed and the value in the digits that tell them apart.
+                    let ([got, lo_text], [_, hi_text]) = if x < lo {
+                        (numbers_apart(x, lo), numbers_apart(x, hi))
+                    } else {
+                        let [got, hi_text] = numbers_apart(x, hi);
+                        ([got, short_number(lo).to_string()], [String::new(), hi_text])
+                    };
+                    Err(PhotoError::field(
+                        format!("analysis.{field}"),
+                        format!("must be within {lo_text} … {hi_text} px for this image (got {got})"),
+                    ))
+                }
                 _ => Ok(()),
             }
         };
@@ -488,12 +510,10 @@ impl PhotoAnnotation {
         positive_length("ruling_spacing_px", a.ruling_spacing_px, d / 2_000.0, d / 3.0)?;
         let lengths = self.lengths();
         if lengths.ruling < lengths.sample {
+            let [ruling, sample] = numbers_apart(lengths.ruling, lengths.sample);
             return Err(PhotoError::field(
                 "analysis.ruling_spacing_px",
-                format!(
-                    "{:.3} px is finer than the sample spacing {:.3} px",
-                    lengths.ruling, lengths.sample
-                ),
+                format!("{ruling} px is finer than the sample spacing {sample} px"),
             ));
         }
         if !(a.dtw_smoothness_weight.is_finite() && (0.0..=1e3).contains(&a.dtw_smoothness_weight)) {

@@ -471,8 +471,11 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
             return Err(PhotoError::field(
                 field,
                 format!(
-                    "[{}, {}] is {distance:.1} px from the nearest curve (at most {tolerance:.1})",
-                    point[0], point[1]
+                    "[{}, {}] is {} px from the nearest curve (at most {})",
+                    sheetform_geometry::short_number(point[0]),
+                    sheetform_geometry::short_number(point[1]),
+                    sheetform_geometry::numbers_apart(distance, tolerance)[0],
+                    sheetform_geometry::numbers_apart(distance, tolerance)[1]
                 ),
             ));
         }

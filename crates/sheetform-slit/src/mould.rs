@@ -157,8 +157,10 @@ fn offset_profile(chain: &[Vec3], distance: f64) -> Result<Vec<Vec3>, SlitError>
         let (before, after) = ((chain[i + 1] - chain[i]).xy(), (moved[i + 1] - moved[i]).xy());
         if before.norm() > 0.0 && before.dot(&after) <= 0.0 {
             return Err(SlitError::Mould(format!(
-                "lowered by half the sheet's thickness ({distance}), the mould's top folds over itself near ({:.1}, {:.1}): the sheet bends tighter there than its thickness allows",
-                chain[i].x, chain[i].y
+                "lowered by half the sheet's thickness ({}), the mould's top folds over itself near ({}, {}): the sheet bends tighter there than its thickness allows",
+                sheetform_geometry::short_number(distance),
+                sheetform_geometry::short_number(chain[i].x),
+                sheetform_geometry::short_number(chain[i].y)
             )));
         }
     }

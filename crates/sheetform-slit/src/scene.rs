@@ -218,7 +218,8 @@ pub struct ScanSpec {
 pub struct MouldSpec {
     /// Write `mould.stl`. Default true.
     pub enabled: bool,
-    /// Thickness of the base plate under the lowest point of the shape. Default 5.
+    /// Thickness of the base plate under the lowest point of the shape (from a millionth
+    /// of the sheet's largest length to 1e6). Default 5.
     pub base_thickness: f64,
     /// Thickness of the sheet pressed onto the mould (0: a sheet of no thickness). The
     /// model is the sheet's mid-surface, which keeps its length when the sheet bends, so

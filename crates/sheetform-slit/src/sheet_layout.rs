@@ -3,7 +3,7 @@
 //! strips between two unslit side panels of length `L2`.
 
 use crate::{SheetSpec, SlitError};
-use sheetform_geometry::short_number;
+use sheetform_geometry::{refused_number, short_number};
 
 /// The flat sheet's dimensions, validated.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -57,7 +57,7 @@ impl SheetLayout {
                 format!(
                     "lengths up to {} model units, got {}",
                     short_number(MAX_LENGTH),
-                    short_number(largest)
+                    refused_number(largest, &[MAX_LENGTH])
                 ),
             ));
         }
@@ -72,7 +72,7 @@ impl SheetLayout {
                     name,
                     format!(
                         "{} is less than a millionth of the sheet's largest length {}",
-                        short_number(value),
+                        refused_number(value, &[1e-6 * largest]),
                         short_number(largest)
                     ),
                 ));
@@ -105,9 +105,9 @@ impl SheetLayout {
                 format!(
                     "{} slits of width {} take {} of the sheet's width l1_width = {}: no material is left for the strips",
                     spec.strip_count - 1,
-                    spec.l4_slit_width,
-                    slits,
-                    spec.l1_width
+                    short_number(spec.l4_slit_width),
+                    short_number(slits),
+                    short_number(spec.l1_width)
                 ),
             ));
         }

@@ -2,7 +2,7 @@
 
 use crate::SlitError;
 use nalgebra::{Vector2, Vector3};
-use sheetform_geometry::{Bezier2, ParametricCurve};
+use sheetform_geometry::{numbers_apart, short_number, Bezier2, ParametricCurve};
 
 type Vec2 = Vector2<f64>;
 type Vec3 = Vector3<f64>;
@@ -51,9 +51,10 @@ impl SidePanel {
                 return Err(SlitError::field(
                     "leg_curve",
                     format!(
-                        "the leg curve ends after about {:.6} of the side panel's length l2_panel_length = {panel_length}: \
+                        "the leg curve ends after about {} of the side panel's length l2_panel_length = {}: \
                          it must be at least as long as the panel",
-                        k as f64 * chord + (curve.point(1.0) - from).norm()
+                        numbers_apart(k as f64 * chord + (curve.point(1.0) - from).norm(), panel_length)[0],
+                        numbers_apart(k as f64 * chord + (curve.point(1.0) - from).norm(), panel_length)[1]
                     ),
                 ));
             };
@@ -73,9 +74,9 @@ impl SidePanel {
             return Err(SlitError::field(
                 "leg_curve",
                 format!(
-                    "the strips would start at x = {:.6} (where the leg curve has run l2_panel_length), on or beyond \
+                    "the strips would start at x = {} (where the leg curve has run l2_panel_length), on or beyond \
                      the symmetry plane x = 0; the leg must stay at x > 0",
-                    top.x
+                    short_number(top.x)
                 ),
             ));
         }

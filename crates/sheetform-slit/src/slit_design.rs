@@ -13,7 +13,7 @@ use crate::{
 };
 use nalgebra::{DVector, Vector2, Vector3};
 use rayon::prelude::*;
-use sheetform_geometry::Bezier2;
+use sheetform_geometry::{numbers_apart, refused_number, short_number, Bezier2};
 use sheetform_mesh::LengthUnit;
 use std::sync::atomic::AtomicBool;
 
@@ -76,10 +76,7 @@ fn planar_bezier(field: &str, points: &[[f64; 2]]) -> Result<Bezier2, SlitError>
     if let Some(i) = points.iter().position(|p| p.iter().any(|c| c.abs() > MAX_LENGTH)) {
         return Err(SlitError::field(
             format!("{field}.control_points[{i}]"),
-            format!(
-                "coordinates up to {} model units",
-                sheetform_geometry::short_number(MAX_LENGTH)
-            ),
+            format!("coordinates up to {} model units", short_number(MAX_LENGTH)),
         ));
     }
     Bezier2::new(points.iter().map(|p| Vector2::new(p[0], p[1])).collect())
@@ -171,8 +168,8 @@ impl SlitModel {
                     name,
                     format!(
                         "must be a number from 0 to {}, got {}",
-                        crate::MAX_WEIGHT,
-                        sheetform_geometry::short_number(value)
+                        short_number(crate::MAX_WEIGHT),
+                        refused_number(value, &[0.0, crate::MAX_WEIGHT])
                     ),
                 ));
             }
@@ -202,9 +199,10 @@ impl SlitModel {
             return Err(SlitError::field(
                 "leg_curve",
                 format!(
-                    "unreachable: the strips start at x = {:.6} from the symmetry plane but are only \
+                    "unreachable: the strips start at x = {} from the symmetry plane but are only \
                      l3_strip_length = {} long, so they cannot reach it",
-                    top.x, layout.strip_length
+                    numbers_apart(top.x, layout.strip_length)[0],
+                    numbers_apart(top.x, layout.strip_length)[1]
                 ),
             ));
         }
@@ -217,9 +215,12 @@ impl SlitModel {
                     return Err(SlitError::field(
                         "seat_curve",
                         format!(
-                            "misses strips: it spans z = {lo:.6} .. {hi:.6} on the symmetry plane but the strips' ends \
+                            "misses strips: it spans z = {} .. {} on the symmetry plane but the strips' ends \
                              span z = 0 .. {} (l1_width); give it control points from z = 0 to z = {}",
-                            layout.width, layout.width
+                            refused_number(lo, &[0.0]),
+                            numbers_apart(hi, layout.width)[0],
+                            short_number(layout.width),
+                            short_number(layout.width)
                         ),
                     ));
                 }
@@ -234,9 +235,14 @@ impl SlitModel {
                             return Err(SlitError::field(
                                 "seat_curve",
                                 format!(
-                                    "unreachable: at z = {z:.3} it is at height {y:.3}, {reach:.3} away from where strip \
-                                     {k} starts ({:.3}, {:.3}), but the strip is only l3_strip_length = {} long",
-                                    top.x, top.y, layout.strip_length
+                                    "unreachable: at z = {} it is at height {}, {} away from where strip \
+                                     {k} starts ({}, {}), but the strip is only l3_strip_length = {} long",
+                                    short_number(z),
+                                    short_number(y),
+                                    numbers_apart(reach, layout.strip_length)[0],
+                                    short_number(top.x),
+                                    short_number(top.y),
+                                    numbers_apart(reach, layout.strip_length)[1]
                                 ),
                             ));
                         }
@@ -246,16 +252,29 @@ impl SlitModel {
             }
             None => None,
         };
-        if !(scene.mould.base_thickness.is_finite() && scene.mould.base_thickness > 0.0) {
-            return Err(SlitError::field("mould.base_thickness", "must be a positive length"));
+        // Within the sheet's scale, as its lengths (a base of 1e308 or 1e-320 reached the
+        // mould's triangulation, which cannot take such coordinates).
+        let base = scene.mould.base_thickness;
+        let largest = layout.width.max(layout.panel_length).max(layout.strip_length);
+        if !(base.is_finite() && base >= 1e-6 * largest && base <= MAX_LENGTH) {
+            return Err(SlitError::field(
+                "mould.base_thickness",
+                format!(
+                    "must be a positive length from a millionth of the sheet's largest length ({}) to {}, got {}",
+                    short_number(1e-6 * largest),
+                    short_number(MAX_LENGTH),
+                    refused_number(base, &[1e-6 * largest, MAX_LENGTH])
+                ),
+            ));
         }
         let thickest = 0.5 * layout.strip_width;
         if !(scene.mould.sheet_thickness.is_finite() && (0.0..=thickest).contains(&scene.mould.sheet_thickness)) {
             return Err(SlitError::field(
                 "mould.sheet_thickness",
                 format!(
-                    "must be between 0 and half the strip width ({thickest}), got {}",
-                    scene.mould.sheet_thickness
+                    "must be between 0 and half the strip width ({}), got {}",
+                    numbers_apart(scene.mould.sheet_thickness, thickest)[1],
+                    numbers_apart(scene.mould.sheet_thickness, thickest)[0]
                 ),
             ));
         }
@@ -332,9 +351,9 @@ impl SlitModel {
             return Err(SlitError::field(
                 ".position",
                 format!(
-                    "unreachable: it is {:.3} from where the strip starts but no point of the strip is farther than {:.3}",
-                    (p - base).norm(),
-                    reach
+                    "unreachable: it is {} from where the strip starts but no point of the strip is farther than {}",
+                    numbers_apart((p - base).norm(), reach)[0],
+                    numbers_apart((p - base).norm(), reach)[1]
                 ),
             ));
         }

@@ -962,3 +962,129 @@ fn serde_errors_name_the_field_and_what_is_accepted() {
         assert_readable(&stderr);
     }
 }
+
+/// A run of `digits` or more digits in `message`: a number printed whole (`1e308` is 309
+/// digits in Rust's `{}` and `{:.6}`).
+fn has_long_number(message: &str, digits: usize) -> bool {
+    message
+        .split(|c: char| !c.is_ascii_digit())
+        .any(|run| run.len() >= digits)
+}
+
+/// Issue 35, messages: every number in a message is short, whatever the input; a value of
+/// 1e308 in a coordinate, a length, a weight or a tolerance was printed in 309 digits
+/// (outline crossings, the flat segment leaving the sheet, slit widths, points of a photo's
+/// curves, FFD weights and tolerances, a helix radius, an anchor out of reach).
+#[test]
+fn numbers_in_messages_are_short() {
+    let cases: Vec<(&str, &str, Vec<(&str, f64)>)> = vec![
+        (
+            "bend",
+            "examples/bent-rectangle.json",
+            vec![
+                ("/outline/1/1", 1e308),
+                ("/outline/2/0", -1e308),
+                ("/regions/0/flat_start/0", 1e308),
+                ("/regions/0/flat_start/1", -1e308),
+            ],
+        ),
+        ("bend", "examples/tube.json", vec![("/regions/0/curve/radius", -1e308)]),
+        (
+            "slit",
+            "examples/slit/bench.json",
+            vec![("/sheet/l4_slit_width", 1e308), ("/mould/sheet_thickness", 1e308)],
+        ),
+        (
+            "slit",
+            "examples/slit/monument.json",
+            vec![("/anchors/0/position/0", 1e308)],
+        ),
+        (
+            "ffd",
+            "examples/ffd/duct.json",
+            vec![("/solver/tolerance_rad", -1e308), ("/lattice/margin", -1e308)],
+        ),
+        (
+            "photo",
+            "examples/photo/tube.json",
+            vec![
+                ("/curves/0/control_points/7/1", 1e308),
+                ("/symmetry/frame/0/1/0", -1e308),
+                ("/true_size/length", -1e308),
+                ("/analysis/snap_distance_px", 1e308),
+            ],
+        ),
+    ];
+    for (command, path, settings) in cases {
+        for (pointer, value) in settings {
+            let mut scene = example(path);
+            let (parent, key) = pointer.rsplit_once('/').unwrap();
+            if scene.pointer(parent).is_none() {
+                // An optional object the example leaves out.
+                scene[parent.trim_start_matches('/')] = json!({});
+            }
+            match scene.pointer_mut(parent).unwrap() {
+                Value::Array(items) => items[key.parse::<usize>().unwrap()] = json!(value),
+                Value::Object(fields) => {
+                    fields.insert(key.to_string(), json!(value));
+                }
+                _ => panic!("{path}{pointer}"),
+            }
+            let (code, stderr) = run_scene(command, &scene, &[]);
+            assert_eq!(code, 1, "{path}{pointer} = {value:e}: {stderr}");
+            assert!(!has_long_number(&stderr, 17), "{path}{pointer} = {value:e}: {stderr}");
+            assert_readable(&stderr);
+        }
+    }
+    // The FFD's weight edit, through its own list.
+    let mut scene = example("examples/ffd/duct.json");
+    scene["deformations"][0]["edits"] = json!([{"weight": {"points": [[0, 0, 0]], "value": -1e308}}]);
+    let (code, stderr) = run_scene("ffd", &scene, &[]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("-1e308") && !has_long_number(&stderr, 17), "{stderr}");
+}
+
+/// Issue 35, messages: a value refused for crossing a bound is printed with the digits
+/// that tell it from the bound ("must be between 0 and 100, got 100" for 100.0001), in
+/// pattern options, scene fields and bounds computed from the image.
+#[test]
+fn refused_values_are_told_apart_from_their_bounds() {
+    let bend = example("examples/bent-rectangle.json");
+    for (option, value, field) in [
+        ("--kerf", "100.0001", "kerf_mm"),
+        ("--seam-allowance", "100.00000001", "seam_allowance_mm"),
+        ("--thickness", "100.0000001", "thickness_mm"),
+    ] {
+        let (code, stderr) = run_scene("bend", &bend, &[option, value]);
+        assert_eq!(code, 1, "{stderr}");
+        assert!(
+            stderr.contains(field) && stderr.contains(&format!("got {value}")),
+            "{stderr}"
+        );
+    }
+    let mut ffd = example("examples/ffd/duct.json");
+    ffd["lattice"]["margin"] = json!(10.000_000_1);
+    let mut slit = example("examples/slit/bench.json");
+    slit["weights"] = json!({"smooth": 1_000_000.5});
+    // The tube's photo is 480 × 360 px: ruling spacings up to a third of its diagonal.
+    let mut photo = example("examples/photo/tube.json");
+    photo["analysis"] = json!({"ruling_spacing_px": 200.000_000_1});
+    for (command, scene, field, shown) in [
+        ("ffd", ffd, "lattice.margin", "got 10.0000001"),
+        ("slit", slit, "weights.smooth", "got 1.0000005e6"),
+        (
+            "photo",
+            photo,
+            "analysis.ruling_spacing_px",
+            "200 px for this image (got 200.0000001)",
+        ),
+    ] {
+        let (code, stderr) = run_scene(command, &scene, &[]);
+        assert_eq!(code, 1, "{stderr}");
+        assert!(
+            stderr.contains(&format!("`{field}`")) && stderr.contains(shown),
+            "{command}: expected {shown:?} in: {stderr}"
+        );
+    }
+}
+

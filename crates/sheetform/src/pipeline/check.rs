@@ -69,7 +69,10 @@ pub(crate) fn weld_input(
         if !(w.is_finite() && w >= 0.0) {
             return Err(PipelineError::Option {
                 option: "--weld",
-                message: format!("must be a non-negative distance, got {w}"),
+                message: format!(
+                    "must be a non-negative distance, got {}",
+                    sheetform_geometry::short_number(w)
+                ),
             });
         }
     }

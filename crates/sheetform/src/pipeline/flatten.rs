@@ -155,7 +155,7 @@ pub fn run_flatten(
             option: "--crease-angle",
             message: format!(
                 "must be an angle from 0 to 180 degrees, got {}",
-                sheetform_geometry::short_number(charts.crease_angle_degrees)
+                sheetform_geometry::refused_number(charts.crease_angle_degrees, &[0.0, 180.0])
             ),
         });
     }
@@ -412,8 +412,8 @@ fn sized_to_height(options: &FlattenOptions, mesh: &TriangleMesh) -> Result<Opti
             option: "--size",
             message: format!(
                 "must be the model's height in millimetres, over 0 and at most {}, got {}",
-                MAX_MODEL_SIZE_MM,
-                sheetform_geometry::short_number(size)
+                sheetform_geometry::short_number(MAX_MODEL_SIZE_MM),
+                sheetform_geometry::refused_number(size, &[0.0, MAX_MODEL_SIZE_MM])
             ),
         });
     }
