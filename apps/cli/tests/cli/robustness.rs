@@ -1088,3 +1088,67 @@ fn refused_values_are_told_apart_from_their_bounds() {
     }
 }
 
+/// Issue 35, messages: an image that does not decode (a PNG signature followed by garbage,
+/// a PNG or JPEG cut off, a damaged chunk) was accepted with status ok and embedded in the
+/// GLB and the overlay. It is decoded to its end at load and refused naming the scene
+/// field, the file and what is wrong, nothing written; a photo is called a photo, a bend
+/// scene's image a texture.
+#[test]
+fn undecodable_images_are_refused_at_load() {
+    let png = std::fs::read(repo().join("examples/photo/tube.png")).unwrap();
+    let mut damaged = png.clone();
+    let idat = damaged.windows(4).position(|w| w == b"IDAT").unwrap();
+    damaged[idat + 40] ^= 0x55;
+    let broken: Vec<(&str, Vec<u8>)> = vec![
+        ("a PNG signature then garbage", [&png[..8], &[b'x'; 500][..]].concat()),
+        ("a PNG header then garbage", [&png[..33], &[0x5a; 500][..]].concat()),
+        ("a PNG cut in half", png[..png.len() / 2].to_vec()),
+        ("a PNG without its end", png[..png.len() - 12].to_vec()),
+        ("a PNG with damaged data", damaged),
+    ];
+    let run = |dir: &Path, args: &[&str]| {
+        let out = dir.join("out");
+        let mut all = args.to_vec();
+        all.extend(["-o", out.to_str().unwrap(), "-q"]);
+        let o = sheetform_within(&all, 120);
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+            out.exists(),
+        )
+    };
+    for (what, bytes) in &broken {
+        // A photo, named by an annotation and by a drawing.
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::copy(repo().join("examples/photo/tube.json"), dir.path().join("tube.json")).unwrap();
+        std::fs::write(dir.path().join("tube.png"), bytes).unwrap();
+        let (code, stderr, written) = run(dir.path(), &["photo", dir.path().join("tube.json").to_str().unwrap()]);
+        assert_eq!(code, Some(1), "{what}: {stderr}");
+        assert!(
+            stderr.contains("image.path: `tube.png`: the photo cannot be used: the PNG file is"),
+            "{what}: {stderr}"
+        );
+        assert!(!stderr.contains("texture") && !written, "{what}: {stderr}");
+        assert_readable(&stderr);
+        std::fs::copy(repo().join("examples/photo/coffee-cup.svg"), dir.path().join("cup.svg")).unwrap();
+        std::fs::write(dir.path().join("coffee.png"), bytes).unwrap();
+        let (code, stderr, _) = run(dir.path(), &["photo", dir.path().join("cup.svg").to_str().unwrap()]);
+        assert_eq!(code, Some(1), "{what}: {stderr}");
+        assert!(
+            stderr.contains("`coffee.png`: the photo cannot be used"),
+            "{what}: {stderr}"
+        );
+        // A bend scene's texture.
+        let mut scene = example("examples/textured-sheet.json");
+        scene["texture"] = json!("grid.png");
+        std::fs::write(dir.path().join("grid.png"), bytes).unwrap();
+        std::fs::write(dir.path().join("sheet.json"), scene.to_string()).unwrap();
+        let (code, stderr, written) = run(dir.path(), &["bend", dir.path().join("sheet.json").to_str().unwrap()]);
+        assert_eq!(code, Some(1), "{what}: {stderr}");
+        assert!(
+            stderr.contains("texture: `grid.png`: the texture cannot be used: the PNG file is") && !written,
+            "{what}: {stderr}"
+        );
+    }
+}
+

@@ -55,7 +55,7 @@ pub struct BendRun {
 /// # Errors
 /// [`PipelineError::Bend`] for invalid scenes; [`PipelineError::Inadmissible`] for shapes
 /// that cannot be made, carrying the report that says where; [`PipelineError::Asset`] and
-/// [`PipelineError::Texture`] for the texture; [`PipelineError::Option`] for too many
+/// [`PipelineError::Image`] for the texture (not a PNG or JPEG that decodes to its end); [`PipelineError::Option`] for too many
 /// animation frames; [`PipelineError::Cancelled`].
 pub fn run_bend(scene: &BendScene, options: &BendRunOptions, context: &RunContext) -> Result<BendRun, PipelineError> {
     let start = Instant::now();
@@ -67,6 +67,30 @@ pub fn run_bend(scene: &BendScene, options: &BendRunOptions, context: &RunContex
     }
     context.progress("reading scene", 0.0);
     let model = BendModel::from_scene(scene)?;
+    // The texture is read and checked with the scene, before the solve: decoded to its
+    // end when every output is made (a preview of the editor, rendered on every edit,
+    // only recognises it).
+    let texture_bytes = match &model.texture {
+        Some(relative) => Some(context.assets.read(relative, "texture")?),
+        None => None,
+    };
+    let texture = match &texture_bytes {
+        Some(bytes) => {
+            let problem = |problem| PipelineError::Image {
+                field: "texture",
+                path: model.texture.clone().unwrap_or_default(),
+                what: "the texture",
+                problem,
+            };
+            let texture = if context.renders_all() {
+                Texture::decoded(bytes).map(|(texture, _)| texture)
+            } else {
+                Texture::from_bytes(bytes).ok_or(sheetform_io::ImageError::NotAnImage)
+            };
+            Some(texture.map_err(problem)?)
+        }
+        None => None,
+    };
     let parsed = Instant::now();
     context.check_cancelled()?;
     context.progress("bending", 0.1);
@@ -83,16 +107,6 @@ pub fn run_bend(scene: &BendScene, options: &BendRunOptions, context: &RunContex
     context.check_cancelled()?;
     context.progress("exporting", 0.5);
     let name = model.name.clone().unwrap_or_else(|| "sheet".into());
-    let texture_bytes = match &model.texture {
-        Some(relative) => Some(context.assets.read(relative, "texture")?),
-        None => None,
-    };
-    let texture = match &texture_bytes {
-        Some(bytes) => Some(Texture::from_bytes(bytes).ok_or_else(|| PipelineError::Texture {
-            path: model.texture.clone().unwrap_or_default(),
-        })?),
-        None => None,
-    };
     let mut files: Vec<(String, Vec<u8>)> = Vec::new();
     if context.renders_all() {
         let mut obj = obj_string(&sheet.mesh, &name, scene.up_axis);

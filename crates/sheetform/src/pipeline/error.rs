@@ -81,11 +81,18 @@ pub enum PipelineError {
     /// The photo annotation is invalid or cannot be reconstructed.
     #[error(transparent)]
     Photo(#[from] PhotoError),
-    /// The texture is not a PNG or JPEG image.
-    #[error("texture {path}: not a PNG or JPEG image")]
-    Texture {
-        /// The file.
+    /// An image the scene names (a bend scene's texture, a photo annotation's photograph)
+    /// is not a PNG or JPEG that decodes to its end.
+    #[error("{field}: `{path}`: {what} cannot be used: {problem}")]
+    Image {
+        /// The scene field that names it (`texture`, `image.path`).
+        field: &'static str,
+        /// The path as written in the scene.
         path: String,
+        /// What the image is, in the command's terms (`the texture`, `the photo`).
+        what: &'static str,
+        /// What is wrong with it.
+        problem: sheetform_io::ImageError,
     },
     /// A file the scene names cannot be read: outside the scene's directory, not a
     /// regular file, too large or missing.
@@ -171,7 +178,7 @@ impl PipelineError {
             | Self::Ffd(_)
             | Self::Pattern(_)
             | Self::Photo(_)
-            | Self::Texture { .. }
+            | Self::Image { .. }
             | Self::Asset { .. } => ErrorKind::InvalidInput,
         }
     }

@@ -76,8 +76,8 @@ pub struct PhotoRun {
 ///
 /// # Errors
 /// [`PipelineError::Photo`] for invalid annotations (naming the field or curve),
-/// [`PipelineError::Asset`] / [`PipelineError::Texture`] for a missing, unreadable or
-/// mis-sized image, [`PipelineError::Flatten`] if a patch cannot be unfolded,
+/// [`PipelineError::Asset`] / [`PipelineError::Image`] for a missing, unreadable,
+/// undecodable or mis-sized photo, [`PipelineError::Flatten`] if a patch cannot be unfolded,
 /// [`PipelineError::Cancelled`].
 pub fn run_photo(
     input: &PhotoInput,
@@ -90,26 +90,32 @@ pub fn run_photo(
         Ok((relative.to_string(), context.assets.read(relative, "image.path")?))
     };
     let from_svg = matches!(input, PhotoInput::Drawing(_));
-    let (annotation, (image_path, image_bytes)) = match input {
+    // The photo is decoded to its end here, before anything is made from it: a file that
+    // only starts like a PNG, or was cut off, would go into the GLB and the overlay.
+    let check_photo = |(path, bytes): &(String, Vec<u8>)| -> Result<(u32, u32), PipelineError> {
+        Texture::decoded(bytes)
+            .map(|(_, size)| size)
+            .map_err(|problem| PipelineError::Image {
+                field: "image.path",
+                path: path.clone(),
+                what: "the photo",
+                problem,
+            })
+    };
+    let (annotation, (image_path, image_bytes), size) = match input {
         PhotoInput::Drawing(text) => {
             // The drawing names the photo; its pixel size maps the drawing to the image.
             let image = read_image(&svg_image_reference(text)?)?;
-            let size = Texture::from_bytes(&image.1)
-                .and_then(|t| t.size())
-                .ok_or_else(|| PipelineError::Texture { path: image.0.clone() })?;
-            (annotation_from_svg(text, size)?, image)
+            let size = check_photo(&image)?;
+            (annotation_from_svg(text, size)?, image, size)
         }
         PhotoInput::Annotation(annotation) => {
             let image = read_image(&annotation.image.path)?;
-            (annotation.as_ref().clone(), image)
+            let size = check_photo(&image)?;
+            (annotation.as_ref().clone(), image, size)
         }
     };
-    let texture = Texture::from_bytes(&image_bytes).ok_or_else(|| PipelineError::Texture {
-        path: image_path.clone(),
-    })?;
-    let size = texture.size().ok_or_else(|| PipelineError::Texture {
-        path: image_path.clone(),
-    })?;
+    let texture = Texture::from_bytes(&image_bytes).expect("decoded above");
     if size != (annotation.image.width, annotation.image.height) {
         return Err(PhotoError::field(
             "image",
@@ -379,3 +385,4 @@ pub fn run_photo(
         outcome,
     })
 }
+
