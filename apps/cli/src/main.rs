@@ -25,8 +25,8 @@ mod commands;
 use args::{Cli, Command};
 use clap::Parser;
 use commands::{
-    bend_command, check_command, ffd_command, flatten_command, photo_command, schema_command, serve_command,
-    slit_command, develop_command, FlattenArgs,
+    bend_command, check_command, develop_command, ffd_command, flatten_command, photo_command, schema_command,
+    serve_command, slit_command, FlattenArgs,
 };
 use std::process::ExitCode;
 

@@ -1151,4 +1151,3 @@ fn undecodable_images_are_refused_at_load() {
         );
     }
 }
-

@@ -385,4 +385,3 @@ pub fn run_photo(
         outcome,
     })
 }
-
