@@ -14,16 +14,16 @@ use faer::{Conj, MatMut, Par, Side};
 use nalgebra::Vector3;
 
 /// Most iterative refinement steps of [`KktSystem::solve`].
-const MAX_REFINEMENT_STEPS: usize = 10;
+pub const MAX_REFINEMENT_STEPS: usize = 10;
 /// [`KktSystem::solve`] stops refining once the componentwise backward error
 /// `max_i |r_i| / (|K| |x| + |b|)_i` is at most this.
-const REFINED_BACKWARD_ERROR: f64 = 1e-13;
+pub const REFINED_BACKWARD_ERROR: f64 = 1e-13;
 
 /// A projection step's refinement ([`KktSystem::projection`]) stops once the rows of
 /// `H` have at most this componentwise backward error (and the constraint rows are
 /// within their bound): the step is then the exact least-norm step of a metric within
 /// `1e-6` of `H` entry by entry, which changes its shape by as little.
-const PROJECTION_METRIC_BACKWARD_ERROR: f64 = 1e-6;
+pub const PROJECTION_METRIC_BACKWARD_ERROR: f64 = 1e-6;
 
 /// When [`KktSystem::solve`] stops refining.
 #[derive(Debug, Clone, Copy, PartialEq)]

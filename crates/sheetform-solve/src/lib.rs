@@ -14,7 +14,10 @@ mod sparse_cholesky;
 pub use constrained_levenberg_marquardt::{
     constrained_levenberg_marquardt, ConstrainedInfo, ConstrainedLeastSquaresProblem, ConstrainedOptions,
 };
-pub use kkt_system::{FactorisationFailure, KktError, KktSystem, SolveAccuracy, MAX_FACTOR_BYTES};
+pub use kkt_system::{
+    FactorisationFailure, KktError, KktSystem, SolveAccuracy, MAX_FACTOR_BYTES, MAX_REFINEMENT_STEPS,
+    PROJECTION_METRIC_BACKWARD_ERROR, REFINED_BACKWARD_ERROR,
+};
 pub use levenberg_marquardt::{levenberg_marquardt, LeastSquaresProblem, LevenbergMarquardtOptions};
 pub use solver_info::SolverInfo;
 pub use sparse_cholesky::{CholeskyError, SparseCholesky};
