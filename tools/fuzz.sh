@@ -16,7 +16,7 @@ target=${1:?target or all}
 seconds=${2:?seconds}
 export RUSTC_BOOTSTRAP=1
 command -v cargo-fuzz >/dev/null || cargo install --quiet --locked cargo-fuzz
-targets=(mesh_check mesh_flatten bend_scene slit_scene ffd_scene photo_annotation)
+targets=(mesh_check mesh_flatten bend_scene slit_scene ffd_scene photo_annotation serve_routes)
 [ "$target" = all ] || targets=("$target")
 seed() {
   local dir=fuzz/corpus/$1
@@ -38,6 +38,22 @@ seed() {
     slit_scene) cp examples/slit/*.json "$dir/" ;;
     ffd_scene) for f in examples/ffd/*.json; do case $f in *100k*) ;; *) cp "$f" "$dir/" ;; esac; done ;;
     photo_annotation) cp examples/photo/*.json examples/photo/*.svg examples/photo/synthetic/*.json "$dir/" 2>/dev/null || true ;;
+    serve_routes)
+      # The first byte picks the route (fuzz/fuzz_targets/serve_routes.rs): 0 bend,
+      # 1 a bend edit, 2 slit, 3 FFD, 4 photo, 5 to 8 meshes, 9 relocate, 10 save,
+      # 11 to 15 downloads.
+      { printf '\x00'; cat examples/bent-rectangle.json; } > "$dir/bend.json"
+      printf '\x01{"kind": "move_control_point", "region": 0, "index": 1, "position": [80, 20, 0]}' > "$dir/edit-move.json"
+      printf '\x01{"kind": "drag_preserving_length", "region": 0, "index": 2, "position": [150, -10, 40]}' > "$dir/edit-drag.json"
+      printf '\x01{"kind": "drag_end_handles", "region": 0}' > "$dir/edit-handles.json"
+      { printf '\x02'; cat examples/slit/chair.json; } > "$dir/slit.json"
+      { printf '\x03'; cat examples/ffd/duct.json; } > "$dir/ffd.json"
+      { printf '\x04'; cat examples/photo/coffee-cup.json; } > "$dir/photo.json"
+      { printf '\x05'; cat examples/meshes/gift-box.obj; } > "$dir/mesh.obj"
+      printf '\x06OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 1\n3 0 1 2\n3 1 3 2\n' > "$dir/mesh.off"
+      { printf '\x09'; cat examples/photo/coffee-cup.json; } > "$dir/relocate.json"
+      printf '\x0a{"a": 1}' > "$dir/save.json"
+      ;;
   esac
 }
 log=$(mktemp)
