@@ -25,9 +25,10 @@ pub const WHOLE_DOCUMENT: &str = "(document)";
 /// write one).
 ///
 /// # Errors
-/// [`JsonFieldError`] naming the field path of the first problem: for an unknown or a
-/// missing field the path ends in that field; for an unknown tag of an internally tagged
-/// enum (`{"type": "spline"}`) in the tag's key.
+/// [`JsonFieldError`] naming the field path of the first problem, with serde's message
+/// ("unknown field `colour`, expected one of ...", "missing field `regions`"): for an
+/// unknown or a missing field the path ends in that field; for an unknown tag of an
+/// internally tagged enum (`{"type": "spline"}`) in the tag's key.
 pub fn json_from_text<T: DeserializeOwned>(text: &str) -> Result<T, JsonFieldError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut deserializer = serde_json::Deserializer::from_str(text);
@@ -66,21 +67,15 @@ fn field_error(text: &str, path: &serde_path_to_error::Path, inner: &serde_json:
             }
         }
     }
-    // serde names the field of an unknown-field or missing-field error in the message;
-    // a missing one at the path of the object that lacks it: the path ends in the field.
-    let named = [
-        ("unknown field `", "unknown field"),
-        ("missing field `", "required, but missing"),
-    ];
-    for (prefix, replacement) in named {
-        if let Some(rest) = message.strip_prefix(prefix) {
-            if let Some((name, tail)) = rest.split_once('`') {
-                if !matches!(keys.last(), Some(PathKey::Key(last)) if last == name) {
-                    segments.push(format!(".{}", quoted_token(name)));
-                }
-                message = format!("{replacement}{tail}");
-                break;
+    // serde names the field of an unknown-field or missing-field error in its message
+    // (kept as it is: "missing field `regions`"); a missing one at the path of the object
+    // that lacks it: the path ends in the field.
+    for prefix in ["unknown field `", "missing field `"] {
+        if let Some((name, _)) = message.strip_prefix(prefix).and_then(|rest| rest.split_once('`')) {
+            if !matches!(keys.last(), Some(PathKey::Key(last)) if last == name) {
+                segments.push(format!(".{}", quoted_token(name)));
             }
+            break;
         }
     }
     // An internally tagged enum (`{"type": "spline", ...}`) reports an unknown tag at the
@@ -200,12 +195,13 @@ mod tests {
         let e = error(r#"{"units": "mm", "regions": [{"flat_start": [0, 0], "bogus": 1}]}"#);
         assert_eq!(e.field, "regions[0].bogus");
         assert!(
-            e.message.starts_with("unknown field, expected `flat_start` or `curve`"),
+            e.message
+                .starts_with("unknown field `bogus`, expected `flat_start` or `curve`"),
             "{e:?}"
         );
         let e = error(r#"{"units": "mm", "regions": [{"flat_start": [0, 0]}]}"#);
         assert_eq!(e.field, "regions[0].curve");
-        assert!(e.message.starts_with("required, but missing"), "{e:?}");
+        assert!(e.message.starts_with("missing field `curve` (line 1"), "{e:?}");
         let e = error(r#"{"units": "mm"}"#);
         assert_eq!(e.field, "regions");
         // Malformed JSON: the place the reader reached, and the line and column.
@@ -231,6 +227,6 @@ mod tests {
         assert!(json_from_text::<Scene>("\u{feff}{\"units\": \"cm\", \"regions\": []}").is_ok());
         let key = "k".repeat(10_000);
         let e = error(&format!("{{\"units\": \"mm\", \"{key}\": 1}}"));
-        assert!(e.field.len() < 100 && e.message.len() < 100, "{e:?}");
+        assert!(e.field.len() < 100 && e.message.len() < 200, "{e:?}");
     }
 }
