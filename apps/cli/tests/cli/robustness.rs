@@ -977,7 +977,9 @@ fn has_long_number(message: &str, digits: usize) -> bool {
 /// curves, FFD weights and tolerances, a helix radius, an anchor out of reach).
 #[test]
 fn numbers_in_messages_are_short() {
-    let cases: Vec<(&str, &str, Vec<(&str, f64)>)> = vec![
+    // (command, field, [(value, bound)]): a table of cases.
+    type Case<'a> = (&'a str, &'a str, Vec<(&'a str, f64)>);
+    let cases: Vec<Case> = vec![
         (
             "bend",
             "examples/bent-rectangle.json",
