@@ -865,7 +865,10 @@ fn triangulate_face(
     let mut conflict = false;
     let cdt = ConstrainedDelaunayTriangulation::<LayoutVertex>::try_bulk_load_cdt(vertices, cons, |_| conflict = true)
         .map_err(|e| BendError::Composite {
-            message: format!("triangulating a piece of the sheet failed: {e}"),
+            message: format!(
+                "triangulating a piece of the sheet failed: {}",
+                sheetform_geometry::triangulation_problem(&e)
+            ),
         })?;
     if conflict || cdt.num_vertices() != local.len() {
         return Err(BendError::Inadmissible(Box::new(InadmissibleDetail {

@@ -148,12 +148,28 @@ fn finite(values: &[f64], field: &str) -> Result<(), FfdError> {
     Ok(())
 }
 
+/// The error for an edit that moves a control point to a non-finite place (finite
+/// numbers whose sum or product overflows), naming the edit's field: the lattice's own
+/// `lattice.control_points` may not be in the scene at all.
+fn check_moved(volume: &NurbsVolume, points: &[Vec3], chosen: &[usize], field: &str) -> Result<(), FfdError> {
+    let Some(&n) = chosen.iter().find(|&&n| !points[n].iter().all(|c| c.is_finite())) else {
+        return Ok(());
+    };
+    let [nu, nv, _] = volume.counts();
+    let (i, j, k) = (n % nu, (n / nu) % nv, n / (nu * nv));
+    Err(FfdError::field(
+        field,
+        format!("moves control point [{i}, {j}, {k}] beyond the largest numbers (its coordinates overflow): give a smaller edit"),
+    ))
+}
+
 /// Applies `edits` in order to a copy of the lattice; `field` is the JSON path of the
 /// edit list (for messages such as `deformations[0].edits[2].move.points[1]`).
 ///
 /// # Errors
 /// Selections outside the lattice, non-finite numbers, non-positive weights or scale
-/// factors, a zero rotation axis, a singular matrix.
+/// factors, a zero rotation axis, a singular matrix, an edit that moves a control point
+/// to a non-finite place: each named by the edit's field.
 pub fn apply_edits(volume: &NurbsVolume, edits: &[LatticeEdit], field: &str) -> Result<NurbsVolume, FfdError> {
     let mut points = volume.control_points().to_vec();
     let mut weights = volume.weights().to_vec();
@@ -162,9 +178,11 @@ pub fn apply_edits(volume: &NurbsVolume, edits: &[LatticeEdit], field: &str) -> 
             LatticeEdit::Move { points: selection, by } => {
                 let f = format!("{field}[{e}].move");
                 finite(by, &format!("{f}.by"))?;
-                for n in selection.indices(volume, &format!("{f}.points"))? {
+                let chosen = selection.indices(volume, &format!("{f}.points"))?;
+                for &n in &chosen {
                     points[n] += Vec3::from(*by);
                 }
+                check_moved(volume, &points, &chosen, &format!("{f}.by"))?;
             }
             LatticeEdit::Weight {
                 points: selection,
@@ -227,9 +245,10 @@ pub fn apply_edits(volume: &NurbsVolume, edits: &[LatticeEdit], field: &str) -> 
                     }
                     None => chosen.iter().map(|&n| points[n]).sum::<Vec3>() / chosen.len() as f64,
                 };
-                for n in chosen {
+                for &n in &chosen {
                     points[n] = c + linear * (points[n] - c) + t;
                 }
+                check_moved(volume, &points, &chosen, &f)?;
             }
         }
     }
@@ -265,5 +284,41 @@ mod tests {
             serde_json::from_str(r#"[{"move": {"points": [[3, 0, 0]], "by": [0, 0, 1]}}]"#).unwrap();
         let e = apply_edits(&v, &bad, "deformations[0].edits").unwrap_err();
         assert!(e.to_string().contains("deformations[0].edits[0].move.points[0]"), "{e}");
+    }
+
+    /// Issue 35: edits of finite numbers that together send a control point beyond the
+    /// largest numbers were reported at `lattice.control_points[16]`, a field the scene
+    /// does not have (its lattice is made from a box): the edit is named, and the point.
+    #[test]
+    fn an_overflowing_edit_is_named_not_the_lattice() {
+        let v = NurbsVolume::parallelepiped(
+            Vec3::zeros(),
+            [Vec3::x(), Vec3::y(), Vec3::z()],
+            [2, 2, 2],
+            [3, 3, 3],
+            None,
+        )
+        .unwrap();
+        for (edits, field, point) in [
+            (
+                r#"[{"move": {"points": [[1, 1, 1]], "by": [1.5e308, 0, 0]}},
+                    {"move": {"points": {"i": [1, 1]}, "by": [1.5e308, 0, 0]}}]"#,
+                "deformations[0].edits[1].move.by",
+                "[1, 1, 1]",
+            ),
+            (
+                r#"[{"transform": {"points": [[2, 2, 2], [0, 0, 0]], "scale": [1e300, 1, 1]}},
+                    {"transform": {"points": [[2, 2, 2], [0, 0, 0]], "scale": [1e300, 1, 1]}}]"#,
+                "deformations[0].edits[1].transform",
+                "[2, 2, 2]",
+            ),
+        ] {
+            let edits: Vec<LatticeEdit> = serde_json::from_str(edits).unwrap();
+            let e = apply_edits(&v, &edits, "deformations[0].edits")
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(&format!("`{field}`")) && e.contains(point), "{e}");
+            assert!(!e.contains("lattice"), "{e}");
+        }
     }
 }

@@ -28,6 +28,10 @@ pub struct NurbsVolume {
 /// The three parameter directions' names (for messages).
 pub const DIRECTION_NAMES: [&str; 3] = ["u", "v", "w"];
 
+/// The scene field named when a [`NurbsVolume::parallelepiped`] box has no volume (the
+/// box's far corner; a scene without a box names its model instead).
+pub(crate) const NO_VOLUME_FIELD: &str = "lattice.box_max";
+
 impl NurbsVolume {
     /// Builds a volume from its degrees, full knot vectors, control-point counts, control
     /// points (in `i + n_u (j + n_v k)` order) and weights.
@@ -101,7 +105,7 @@ impl NurbsVolume {
         knots: Option<[Vec<f64>; 3]>,
     ) -> Result<Self, FfdError> {
         if Matrix3::from_columns(&axes).determinant().abs() <= 1e-12 * axes.iter().map(|a| a.norm()).product::<f64>() {
-            return Err(FfdError::field("lattice.box", "the lattice box has no volume"));
+            return Err(FfdError::field(NO_VOLUME_FIELD, "the lattice box has no volume"));
         }
         let bases = match knots {
             Some(knots) => Self::new(

@@ -1,5 +1,6 @@
 //! The FFD scene file (`sheetform ffd SCENE.json`).
 
+use crate::nurbs_volume::NO_VOLUME_FIELD;
 use crate::procedural_panels::ProceduralModel;
 use crate::{FfdError, LatticeEdit, NurbsVolume};
 use nalgebra::Vector3;
@@ -557,6 +558,9 @@ impl FfdScene {
                 l.weights.clone().unwrap_or_else(|| vec![1.0; total]),
             );
         }
+        // A problem with the box is named by the fields that made it: the scene's box, or
+        // (no box given) the model, whose extent grown by the margin is the box.
+        let explicit_box = l.box_min.is_some() || l.box_max.is_some();
         let (lo, hi) = match (l.box_min, l.box_max) {
             (Some(a), Some(b)) => (Vec3::from(a), Vec3::from(b)),
             (None, None) => {
@@ -569,18 +573,29 @@ impl FfdScene {
                 let grow = (hi - lo).norm() * l.margin;
                 (lo - Vec3::repeat(grow), hi + Vec3::repeat(grow))
             }
-            _ => {
+            (given, _) => {
                 return Err(FfdError::field(
-                    "lattice.box_min",
+                    if given.is_some() {
+                        "lattice.box_min"
+                    } else {
+                        "lattice.box_max"
+                    },
                     "give both box_min and box_max, or neither",
                 ))
             }
         };
         if (0..3).any(|d| hi[d] <= lo[d] || !(hi[d] - lo[d]).is_finite()) {
-            return Err(FfdError::field(
-                "lattice.box_max",
-                "the box must be larger than box_min in every direction",
-            ));
+            return Err(if explicit_box {
+                FfdError::field(
+                    "lattice.box_max",
+                    "the box must be larger than box_min in every direction (by a finite length)",
+                )
+            } else {
+                FfdError::field(
+                    "model",
+                    "has no extent to put a lattice around (no vertices, or coordinates too large to measure)",
+                )
+            });
         }
         let size = hi - lo;
         let volume = NurbsVolume::parallelepiped(
@@ -589,10 +604,63 @@ impl FfdScene {
             l.degrees,
             l.counts,
             l.knots.clone(),
-        )?;
+        )
+        .map_err(|e| match e {
+            // The box's volume under- or overflows (sides of 1e-120 or 1e120).
+            FfdError::Field { field, .. } if field == NO_VOLUME_FIELD => {
+                let message = "the lattice box is too small or too large: its volume is not a finite positive number";
+                if explicit_box {
+                    FfdError::field("lattice.box_max", message)
+                } else {
+                    FfdError::field(
+                        "model",
+                        format!("{message} (the box is the model's extent grown by lattice.margin): scale the model"),
+                    )
+                }
+            }
+            other => other,
+        })?;
         match &l.weights {
             Some(w) => volume.with_control_net(volume.control_points().to_vec(), w.clone()),
             None => Ok(volume),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn duct() -> FfdScene {
+        let path = format!("{}/../../examples/ffd/duct.json", env!("CARGO_MANIFEST_DIR"));
+        FfdScene::from_json(&std::fs::read_to_string(path).unwrap()).unwrap()
+    }
+
+    /// Issue 35: a lattice made from the model (no box in the scene) that cannot be built
+    /// named `lattice.box` (no such field) or `lattice.box_max` (not in the scene): the
+    /// model is named, and a box given in part names the part given.
+    #[test]
+    fn a_box_problem_names_the_fields_the_scene_has() {
+        let scene = duct();
+        for positions in [
+            vec![Vec3::new(-1e308, 0.0, 0.0), Vec3::new(1e308, 1.0, 1.0)],
+            vec![Vec3::zeros(), Vec3::repeat(1e-110)],
+            vec![],
+        ] {
+            let e = scene.lattice(&positions).unwrap_err().to_string();
+            assert!(e.starts_with("scene field `model`"), "{e}");
+        }
+        let points = [Vec3::zeros(), Vec3::repeat(1.0)];
+        let mut scene = duct();
+        scene.lattice.box_max = Some([2.0; 3]);
+        let e = scene.lattice(&points).unwrap_err().to_string();
+        assert!(e.contains("`lattice.box_max`") && e.contains("give both"), "{e}");
+        scene.lattice.box_min = Some([0.0; 3]);
+        scene.lattice.box_max = Some([1e-120; 3]);
+        let e = scene.lattice(&points).unwrap_err().to_string();
+        assert!(
+            e.contains("`lattice.box_max`") && e.contains("too small or too large"),
+            "{e}"
+        );
     }
 }

@@ -29,8 +29,8 @@ pub use frame::{curve_frame, CurveFrame, CurveFrameDerivatives};
 pub use helix::Helix;
 pub use json_document::{json_from_text, JsonFieldError, WHOLE_DOCUMENT};
 pub use message_text::{
-    numbers_apart, quoted_token, refused_number, short_number, shortened_message, xml_escaped, ShortNumber,
-    QUOTED_TOKEN_CHARS,
+    numbers_apart, quoted_token, refused_number, short_number, shortened_message, triangulation_problem, xml_escaped,
+    ShortNumber, QUOTED_TOKEN_CHARS,
 };
 pub use polygon::{
     convex_hull, cross2, fits_turned, fitting_rotation, hull_fits_rectangle, rings_contain, segment_distance,

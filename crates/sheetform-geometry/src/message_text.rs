@@ -75,6 +75,22 @@ pub fn numbers_apart(value: f64, bound: f64) -> [String; 2] {
         .unwrap_or_else(|| [format!("{value:e}"), format!("{bound:e}")])
 }
 
+/// Why the constrained Delaunay triangulation (spade) refused a point, in words for a
+/// message (spade's own text is its variant's name: `TooLarge`, `TooSmall`, `NAN`).
+pub fn triangulation_problem(error: &spade::InsertionError) -> String {
+    match error {
+        spade::InsertionError::TooSmall => format!(
+            "a coordinate is nearer to zero than {} without being zero, which the triangulation cannot take",
+            short_number(spade::MIN_ALLOWED_VALUE)
+        ),
+        spade::InsertionError::TooLarge => format!(
+            "a coordinate is larger than {}, which the triangulation cannot take",
+            short_number(spade::MAX_ALLOWED_VALUE)
+        ),
+        spade::InsertionError::NAN => "a coordinate is not a number".to_string(),
+    }
+}
+
 /// Most characters of a token quoted in a message.
 pub const QUOTED_TOKEN_CHARS: usize = 40;
 
@@ -207,6 +223,21 @@ mod tests {
         );
         assert_eq!(numbers_apart(1e308, 2.5), ["1e308", "2.5"]);
         assert_eq!(numbers_apart(2.0, 2.0), ["2", "2"]);
+    }
+
+    #[test]
+    fn triangulation_problems_are_words() {
+        for e in [
+            spade::InsertionError::TooSmall,
+            spade::InsertionError::TooLarge,
+            spade::InsertionError::NAN,
+        ] {
+            let text = triangulation_problem(&e);
+            assert!(
+                text.starts_with("a coordinate") && !text.contains(&format!("{e:?}")),
+                "{text}"
+            );
+        }
     }
 
     #[test]

@@ -294,14 +294,25 @@ pub fn solve_energy(energy: &Energy, priors: &[&[f64]]) -> Result<Vec<Vec<f64>>,
     for k in 0..n {
         triplets.push(Triplet::new(k, k, epsilon));
     }
-    let llt = SparseCholesky::new(n, &triplets).map_err(|e| PhotoError::Solver(e.to_string()))?;
+    let llt = SparseCholesky::new(n, &triplets).map_err(|e| {
+        tracing::debug!("photo: the 3D curves' system: {e:?}");
+        PhotoError::Solver(
+            "the 3D curves cannot be found from the drawing: their system has no solution in finite numbers \
+             (control points or weights far out of scale?)"
+                .into(),
+        )
+    })?;
     priors
         .iter()
         .map(|prior| {
             let rhs: Vec<f64> = (0..n).map(|k| atb[k] + epsilon * prior[k]).collect();
             let out = llt.solve(&rhs);
             if out.iter().any(|v| !v.is_finite()) {
-                return Err(PhotoError::Solver("the solution is not finite".into()));
+                return Err(PhotoError::Solver(
+                    "the 3D curves found from the drawing are not finite (control points or weights far out of \
+                     scale?)"
+                        .into(),
+                ));
             }
             Ok(out)
         })
@@ -311,4 +322,29 @@ pub fn solve_energy(energy: &Energy, priors: &[&[f64]]) -> Result<Vec<Vec<f64>>,
 /// The prior of the Tikhonov term: the traced points at depth 0.
 pub fn image_prior(network: &CurveNetwork) -> Vec<f64> {
     network.points.iter().flat_map(|p| [p.x, p.y, 0.0]).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 35: the factorisation's "pivot 96084 is not positive" reached the user; a
+    /// system that cannot be solved is told in the drawing's terms.
+    #[test]
+    fn an_unsolvable_system_is_told_in_the_drawings_terms() {
+        let energy = Energy {
+            rows: vec![EnergyRow {
+                term: EnergyTerm::Projection,
+                coefficients: vec![(0, f64::NAN), (1, 1.0)],
+                rhs: 1.0,
+            }],
+            unknown_count: 3,
+        };
+        let prior = [0.0; 3];
+        let text = solve_energy(&energy, &[&prior]).unwrap_err().to_string();
+        assert!(
+            text.contains("3D curves") && !text.contains("pivot") && !text.contains("matrix"),
+            "{text}"
+        );
+    }
 }

@@ -341,7 +341,14 @@ pub fn refine_developability(
             })
             .collect()
     };
-    let llt = SparseCholesky::new(n, &triplets).map_err(|e| PhotoError::Solver(e.to_string()))?;
+    let llt = SparseCholesky::new(n, &triplets).map_err(|e| {
+        tracing::debug!("photo: the developability refinement's system: {e:?}");
+        PhotoError::Solver(
+            "the developability refinement cannot start: its system has no solution in finite numbers (the \
+             3D curves found from the drawing are degenerate)"
+                .into(),
+        )
+    })?;
     let h_times = |x: &[f64]| -> Vec<f64> {
         let mut out = vec![0.0; n];
         for row in &energy.rows {

@@ -25,6 +25,15 @@ pub enum PhotoError {
     /// The curves close no surface patch at all.
     #[error("the curves close no surface patch: {0}")]
     NoPatch(String),
+    /// A surface patch the curves close cannot be meshed or unfolded.
+    #[error("patch `{patch}`: {message}")]
+    Patch {
+        /// The patch, as the outputs name it (`patch-03`, or its number in the curve
+        /// network).
+        patch: String,
+        /// What is wrong, and what to change in the drawing.
+        message: String,
+    },
     /// A linear solve failed (should not happen for a valid annotation).
     #[error("solver: {0}")]
     Solver(String),

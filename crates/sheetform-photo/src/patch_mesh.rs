@@ -126,8 +126,7 @@ impl SampleVertices {
 /// Meshes every material patch. `x` holds the solved 3D control points.
 ///
 /// # Errors
-/// [`PhotoError::Curve`]-free; [`PhotoError::Solver`] if a fill's solve fails,
-/// [`PhotoError::NoPatch`] if a filled patch cannot be triangulated, and
+/// [`PhotoError::Patch`] if a filled patch cannot be triangulated or its fill solved, and
 /// [`PhotoError::Field`] on `analysis.sample_spacing_px` when the fills would need more
 /// than [`MAX_FILL_VERTICES`] interior vertices (a lower bound from the patches' areas
 /// is checked before any fill, the count before each patch's solve).
@@ -312,12 +311,18 @@ fn fill_patch(
     let mut conflict = false;
     let mut cdt =
         ConstrainedDelaunayTriangulation::<FillVertex>::try_bulk_load_cdt(vertices, constraints, |_| conflict = true)
-            .map_err(|e| PhotoError::NoPatch(format!("patch {} cannot be triangulated: {e}", patch + 1)))?;
+            .map_err(|e| PhotoError::Patch {
+            patch: format!("{}", patch + 1),
+            message: format!(
+                "its outline cannot be triangulated: {}",
+                sheetform_geometry::triangulation_problem(&e)
+            ),
+        })?;
     if conflict || cdt.num_vertices() != n {
-        return Err(PhotoError::NoPatch(format!(
-            "patch {}'s outline touches itself and cannot be triangulated",
-            patch + 1
-        )));
+        return Err(PhotoError::Patch {
+            patch: format!("{}", patch + 1),
+            message: "its outline touches itself and cannot be triangulated".into(),
+        });
     }
     let area_limit = 2.0 * spacing * spacing;
     let result = cdt.refine(
@@ -382,8 +387,16 @@ fn fill_patch(
                 }
             }
         }
-        let llt = SparseCholesky::new(interior, &triplets)
-            .map_err(|e| PhotoError::Solver(format!("minimal-surface fill: {e}")))?;
+        let llt = SparseCholesky::new(interior, &triplets).map_err(|e| {
+            tracing::debug!("photo: the minimal-surface fill of patch {}: {e:?}", patch + 1);
+            PhotoError::Patch {
+                patch: format!("{}", patch + 1),
+                message: "its inside cannot be filled with a smooth surface: the fill's system has no \
+                              solution (its outline collapses or doubles back on itself); look at the curves \
+                              around it"
+                    .into(),
+            }
+        })?;
         let x = llt.solve_columns(Mat::from_fn(interior, 3, |k, axis| rhs[k][axis]).as_ref());
         for (k, &vertex) in index[n..].iter().enumerate() {
             mesh.positions[vertex as usize] = Vec3::new(x[(k, 0)], x[(k, 1)], x[(k, 2)]);

@@ -496,7 +496,11 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
     }
     times.meshing_ms = milliseconds(start);
     if mesh.positions.iter().any(|p| !p.iter().all(|v| v.is_finite())) {
-        return Err(PhotoError::Solver("the mesh has non-finite positions".into()));
+        return Err(PhotoError::Solver(
+            "the reconstructed surface has points at no finite place (control points or weights far out of \
+             scale?)"
+                .into(),
+        ));
     }
     Ok(PhotoReconstruction {
         network,

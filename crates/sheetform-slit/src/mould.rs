@@ -90,7 +90,12 @@ fn wall(
     let mut conflict = false;
     let cdt =
         ConstrainedDelaunayTriangulation::<WallVertex>::try_bulk_load_cdt(vertices, constraints, |_| conflict = true)
-            .map_err(|e| SlitError::Mould(format!("the {name} cannot be triangulated: {e}")))?;
+            .map_err(|e| {
+            SlitError::Mould(format!(
+                "the {name} cannot be triangulated: {}",
+                sheetform_geometry::triangulation_problem(&e)
+            ))
+        })?;
     if conflict || cdt.num_vertices() != n {
         return Err(SlitError::Mould(format!(
             "the {name}'s outline crosses or touches itself (a strip curls over itself or below the base), so no \

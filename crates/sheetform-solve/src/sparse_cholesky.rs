@@ -19,8 +19,10 @@ pub enum CholeskyError {
     /// The symbolic analysis failed (the pattern is too large).
     #[error("cannot analyse the matrix: {0}")]
     Symbolic(String),
-    /// A pivot was not positive: the matrix is singular or indefinite.
-    #[error("the matrix is not positive definite: {0}")]
+    /// A pivot was not positive: the matrix is singular or indefinite. The message says
+    /// so in words for people; the solver's detail (which pivot) is kept for logs, and a
+    /// `tracing` debug line gives it where it happens.
+    #[error("the linear system has no unique solution (singular, or not positive definite)")]
     NotPositiveDefinite(String),
 }
 
@@ -43,13 +45,19 @@ fn assemble(n: usize, triplets: &[Triplet<usize, usize, f64>]) -> Result<SparseC
     })
 }
 
-fn not_positive_definite(e: faer::sparse::linalg::LltError) -> CholeskyError {
-    CholeskyError::NotPositiveDefinite(match e {
+fn not_positive_definite(e: faer::sparse::linalg::LltError, n: usize) -> CholeskyError {
+    match e {
         faer::sparse::linalg::LltError::Numeric(faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot {
             index,
-        }) => format!("pivot {index} is not positive"),
-        faer::sparse::linalg::LltError::Generic(_) => "the factor is too large for this machine".to_string(),
-    })
+        }) => {
+            let detail = format!("pivot {index} of {n} is not positive");
+            tracing::debug!("sparse Cholesky: {detail}");
+            CholeskyError::NotPositiveDefinite(detail)
+        }
+        faer::sparse::linalg::LltError::Generic(_) => {
+            CholeskyError::Symbolic(format!("a {n} × {n} factor is too large for this machine"))
+        }
+    }
 }
 
 impl SparseCholesky {
@@ -63,7 +71,7 @@ impl SparseCholesky {
         let symbolic = SymbolicLlt::try_new(matrix.symbolic(), Side::Lower)
             .map_err(|_| CholeskyError::Symbolic(format!("a {n} × {n} factor is too large for this machine")))?;
         let llt = Llt::try_new_with_symbolic(symbolic.clone(), matrix.as_ref(), Side::Lower)
-            .map_err(not_positive_definite)?;
+            .map_err(|e| not_positive_definite(e, n))?;
         Ok(Self { symbolic, llt, n })
     }
 
@@ -75,7 +83,7 @@ impl SparseCholesky {
     pub fn refactor(&mut self, triplets: &[Triplet<usize, usize, f64>]) -> Result<(), CholeskyError> {
         let matrix = assemble(self.n, triplets)?;
         self.llt = Llt::try_new_with_symbolic(self.symbolic.clone(), matrix.as_ref(), Side::Lower)
-            .map_err(not_positive_definite)?;
+            .map_err(|e| not_positive_definite(e, self.n))?;
         Ok(())
     }
 
@@ -135,10 +143,11 @@ mod tests {
         let columns =
             cholesky.solve_columns(Mat::from_fn(n, 2, |i, j| if j == 0 { b[i] } else { 2.0 * b[i] }).as_ref());
         assert!((columns[(7, 1)] - 2.0 * columns[(7, 0)]).abs() < 1e-12);
-        assert!(matches!(
-            SparseCholesky::new(n, &lower(-3.0)),
-            Err(CholeskyError::NotPositiveDefinite(_))
-        ));
+        // Issue 35: the message is for people ("pivot 96084 is not positive" was shown);
+        // the pivot stays in the detail, for logs.
+        let refused = SparseCholesky::new(n, &lower(-3.0)).unwrap_err();
+        assert!(!refused.to_string().contains("pivot"), "{refused}");
+        assert!(matches!(&refused, CholeskyError::NotPositiveDefinite(detail) if detail.starts_with("pivot ")));
         assert!(matches!(
             SparseCholesky::new(3, &[Triplet::new(5, 0, 1.0)]),
             Err(CholeskyError::Assembly(_))

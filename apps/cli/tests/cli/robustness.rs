@@ -977,7 +977,7 @@ fn has_long_number(message: &str, digits: usize) -> bool {
 /// curves, FFD weights and tolerances, a helix radius, an anchor out of reach).
 #[test]
 fn numbers_in_messages_are_short() {
-    // (command, field, [(value, bound)]): a table of cases.
+    // (command, example, [(JSON pointer, value)])
     type Case<'a> = (&'a str, &'a str, Vec<(&'a str, f64)>);
     let cases: Vec<Case> = vec![
         (
@@ -1152,4 +1152,29 @@ fn undecodable_images_are_refused_at_load() {
             "{what}: {stderr}"
         );
     }
+}
+
+/// Issue 35, messages: a piece that cannot be unfolded is explained in the terms of the
+/// command that ran. An FFD panel that is not disk-like (a closed box) was told to "cut it
+/// into charts first", the `flatten` command's advice: it is told to split the panel.
+#[test]
+fn unfolding_advice_fits_the_command() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(repo().join("examples/meshes/gift-box.obj"), dir.path().join("box.obj")).unwrap();
+    let scene = json!({"name": "box", "units": "mm", "model": {"mesh": "box.obj"},
+        "deformations": [{"name": "d", "edits": [{"move": {"points": {"k": [3, 3]}, "by": [5, 0, 0]}}]}]});
+    let path = dir.path().join("box.json");
+    std::fs::write(&path, scene.to_string()).unwrap();
+    let out = dir.path().join("out");
+    let o = sheetform_within(&["ffd", path.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"], 120);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("panel `") && stderr.contains("split it along a seam"),
+        "{stderr}"
+    );
+    assert!(
+        !stderr.contains("charts") && !stderr.contains("--"),
+        "flatten's advice: {stderr}"
+    );
 }

@@ -3,7 +3,7 @@
 use crate::report::{ChartMethod, Command, FfdReport, FfdStepReport, Report, Status, Timings};
 use sheetform_ffd::{run_design_resuming, FfdDesign, FfdError, FfdScene, ModelSource, SolverMethod};
 use sheetform_flatten::Chart;
-use sheetform_flatten::{distortion, exact_unfold, ChartSet, UnfoldOptions};
+use sheetform_flatten::{distortion, exact_unfold, ChartSet, FlattenError, UnfoldOptions};
 use sheetform_io::{glb_bytes, obj_string, stl_bytes};
 use sheetform_io::{glb_vertex_colours, mesh_from_bytes, ply_vertex_colours};
 use sheetform_mesh::{mesh_topology, SheetMesh};
@@ -53,6 +53,32 @@ pub struct FfdRun {
     pub report: Report,
     /// How the run ended (the report's `status` says the same).
     pub outcome: Outcome,
+}
+
+/// Why a restored panel cannot be unfolded, in the FFD scene's terms: the flattening's own
+/// advice ("cut it into charts") is the `flatten` command's; here the panels are the
+/// scene's model, each one piece of the pattern.
+fn panel_unfolding_failed(panel: &str, error: FlattenError) -> PipelineError {
+    let message = match error {
+        FlattenError::Cancelled => return PipelineError::Cancelled,
+        FlattenError::NotADisk { boundary_loops, .. } => format!(
+            "cannot be unfolded into one piece of the pattern: it is not disk-like ({boundary_loops} boundary \
+             loops; a closed or tube-like panel has none or two); split it along a seam into panels that each \
+             open flat (an OBJ group per panel)"
+        ),
+        FlattenError::Topology { problem } => format!("cannot be unfolded: {problem}"),
+        FlattenError::Solver { message } => {
+            tracing::debug!(panel, message, "ffd: the exact unfolding of a panel failed");
+            "cannot be unfolded: the restored panel has collapsed triangles (its unfolding has no solution); \
+             undo the edit that squashes it"
+                .to_string()
+        }
+        other => format!("cannot be unfolded: {other}"),
+    };
+    PipelineError::Ffd(FfdError::Panel {
+        panel: panel.to_string(),
+        message,
+    })
 }
 
 /// Runs system C on a scene: build (or read, through the context's assets) the panels,
@@ -127,12 +153,8 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
         let mut charts = Vec::with_capacity(assembly.panels.len());
         for (k, panel) in assembly.panels.iter().enumerate() {
             let panel_mesh = assembly.panel_mesh(k, positions);
-            let unfolding = exact_unfold(&panel_mesh, &UnfoldOptions::default()).map_err(|e| {
-                PipelineError::Ffd(FfdError::Panel {
-                    panel: panel.name.clone(),
-                    message: format!("cannot be unfolded: {e}"),
-                })
-            })?;
+            let unfolding = exact_unfold(&panel_mesh, &UnfoldOptions::default())
+                .map_err(|e| panel_unfolding_failed(&panel.name, e))?;
             let d = distortion(&panel_mesh, &unfolding.flat);
             charts.push(Chart {
                 faces: panel.faces.clone(),
@@ -342,3 +364,31 @@ pub fn run_ffd(scene: &FfdScene, options: &FfdRunOptions, context: &RunContext) 
 /// Angle defects below this count as developable in the FFD colour maps and `D[M]`
 /// (radians; the paper's `λ`).
 pub const FFD_DEFECT_TOLERANCE: f64 = 1e-8;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 35: a panel that cannot be unfolded got the `flatten` command's advice ("cut
+    /// it into charts first") and could get a solver's pivot: it is told in the scene's
+    /// terms.
+    #[test]
+    fn a_panel_that_cannot_be_unfolded_is_explained_in_the_scenes_terms() {
+        for error in [
+            FlattenError::NotADisk {
+                components: 1,
+                boundary_loops: 0,
+                euler: 2,
+            },
+            FlattenError::Solver {
+                message: "the linear system has no unique solution (pivot 7 of 9 is not positive)".into(),
+            },
+        ] {
+            let text = panel_unfolding_failed("front", error).to_string();
+            assert!(text.starts_with("panel `front`: cannot be unfolded"), "{text}");
+            for flatten_words in ["charts", "--", "pivot"] {
+                assert!(!text.contains(flatten_words), "{text}");
+            }
+        }
+    }
+}

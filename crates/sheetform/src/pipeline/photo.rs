@@ -3,7 +3,7 @@
 use crate::report::{ChartMethod, Command, PhotoReport, Report, Status, Timings};
 use base64::Engine as _;
 use sheetform_flatten::Chart;
-use sheetform_flatten::{distortion, exact_unfold, lscm, ChartSet, UnfoldOptions};
+use sheetform_flatten::{distortion, exact_unfold, lscm, ChartSet, FlattenError, UnfoldOptions};
 use sheetform_io::{glb_bytes_projected, UpAxis};
 use sheetform_io::{obj_string, stl_bytes, Texture};
 use sheetform_mesh::{Ruling, SheetMesh, TriangleMesh};
@@ -69,6 +69,37 @@ pub struct PhotoRun {
     pub outcome: Outcome,
 }
 
+/// Why a patch of the reconstruction cannot be unfolded, in the terms of a drawing over a
+/// photo: the flattening's own advice ("cut it into charts") is the `flatten` command's,
+/// whose user gave the mesh; here the mesh comes from the curves, and the curves are what
+/// to change.
+fn patch_unfolding_failed(patch: &str, error: FlattenError) -> PipelineError {
+    let message = match error {
+        FlattenError::Cancelled => return PipelineError::Cancelled,
+        FlattenError::NotADisk { boundary_loops, .. } => format!(
+            "cannot be unfolded flat: it is not one disk-like piece ({boundary_loops} boundary loops, as a band \
+             round a tube has two); trace a seam curve across it, from one of its boundary curves to another, so \
+             that it opens into one piece"
+        ),
+        FlattenError::Topology { problem } => format!(
+            "cannot be unfolded flat: the surface made from its curves is not clean ({problem}); look for curves \
+             that cross or overlap around it, or a curve traced twice"
+        ),
+        FlattenError::Solver { message } => {
+            tracing::debug!(patch, message, "photo: the least-squares flattening of a patch failed");
+            "cannot be unfolded flat: its least-squares flattening has no solution (the surface made from its \
+             curves has collapsed triangles); look for curves around it that nearly touch or double back"
+                .to_string()
+        }
+        other => format!("cannot be unfolded flat: {other}"),
+    };
+    PhotoError::Patch {
+        patch: patch.to_string(),
+        message,
+    }
+    .into()
+}
+
 /// Runs system D on an annotation (or a drawing): read the photograph through the
 /// context's assets, reconstruct (Fondevilla et al.), unfold every patch and write the
 /// model (OBJ, GLB with the photo projected onto it, STL), the pattern, the overlay over
@@ -77,7 +108,8 @@ pub struct PhotoRun {
 /// # Errors
 /// [`PipelineError::Photo`] for invalid annotations (naming the field or curve),
 /// [`PipelineError::Asset`] / [`PipelineError::Image`] for a missing, unreadable,
-/// undecodable or mis-sized photo, [`PipelineError::Flatten`] if a patch cannot be unfolded,
+/// undecodable or mis-sized photo, [`PipelineError::Photo`] naming a patch that cannot be
+/// unfolded,
 /// [`PipelineError::Cancelled`].
 pub fn run_photo(
     input: &PhotoInput,
@@ -185,7 +217,7 @@ pub fn run_photo(
         let (flat, solver, method) = match exact_unfold(&patch_mesh, &UnfoldOptions::default()) {
             Ok(u) => (u.flat, u.solver, ChartMethod::Exact),
             Err(_) => {
-                let u = lscm(&patch_mesh)?;
+                let u = lscm(&patch_mesh).map_err(|e| patch_unfolding_failed(&groups[g as usize], e))?;
                 (u.flat, u.solver, ChartMethod::Lscm)
             }
         };
@@ -384,4 +416,40 @@ pub fn run_photo(
         report,
         outcome,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 35: a patch that cannot be unfolded was explained with the `flatten`
+    /// command's advice ("cut it into charts first") and a solver's pivot: every failure
+    /// of the flattening is told in the drawing's terms, naming the patch.
+    #[test]
+    fn a_patch_that_cannot_be_unfolded_is_explained_in_the_drawings_terms() {
+        for error in [
+            FlattenError::NotADisk {
+                components: 1,
+                boundary_loops: 2,
+                euler: 0,
+            },
+            FlattenError::Topology {
+                problem: "face 3 has zero area".into(),
+            },
+            FlattenError::Solver {
+                message: "the linear system has no unique solution (pivot 96084 of 96100 is not positive)".into(),
+            },
+        ] {
+            let text = patch_unfolding_failed("patch-03", error).to_string();
+            assert!(text.starts_with("patch `patch-03`: cannot be unfolded flat"), "{text}");
+            assert!(text.contains("curve"), "{text}");
+            for flatten_words in ["charts", "--", "pivot", "mesh"] {
+                assert!(!text.contains(flatten_words), "{text}");
+            }
+        }
+        assert!(matches!(
+            patch_unfolding_failed("patch-01", FlattenError::Cancelled),
+            PipelineError::Cancelled
+        ));
+    }
 }
