@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Fuzzes one target (or all) of fuzz/ with cargo-fuzz (libFuzzer), on stable Rust
-# (RUSTC_BOOTSTRAP=1, as ../shared/DEPENDENCIES.md says), from seed corpora built out of
+# (RUSTC_BOOTSTRAP=1: cargo-fuzz works on stable that way), from seed corpora built out of
 # the bundled examples and test meshes.
 #
 #   tools/fuzz.sh TARGET|all SECONDS

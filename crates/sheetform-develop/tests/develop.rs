@@ -6,22 +6,9 @@ use nalgebra::Vector3;
 use sheetform_develop::{develop_pieces, seam_pieces, DevelopOptions};
 use sheetform_mesh::{vertex_developability, EdgeTable, MeshTopology, TriangleMesh};
 
-/// A grid over `(u, v)` in `[0, 1]²`, `nu × nv` squares, each split in two.
+/// A grid over `(u, v)` in `[0, 1]²` ([`TriangleMesh::grid`]).
 fn grid(nu: usize, nv: usize, surface: impl Fn(f64, f64) -> Vector3<f64>) -> TriangleMesh {
-    let mut mesh = TriangleMesh::default();
-    for i in 0..=nu {
-        for j in 0..=nv {
-            mesh.positions.push(surface(i as f64 / nu as f64, j as f64 / nv as f64));
-        }
-    }
-    let at = |i: usize, j: usize| (i * (nv + 1) + j) as u32;
-    for i in 0..nu {
-        for j in 0..nv {
-            mesh.triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-            mesh.triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-        }
-    }
-    mesh
+    TriangleMesh::grid(nu, nv, |u, v| surface(u, v).into())
 }
 
 /// A pseudo-random number in `[-0.5, 0.5)` (fixed seed).

@@ -601,19 +601,9 @@ mod tests {
                 .wrapping_add(1_442_695_040_888_963_407);
             (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
         };
-        let mut mesh = TriangleMesh::default();
-        for i in 0..=n {
-            for j in 0..=n {
-                mesh.positions
-                    .push(nalgebra::Vector3::new(i as f64, j as f64, 2.0 * noise * random()));
-            }
-        }
-        let at = |i: usize, j: usize| (i * (n + 1) + j) as u32;
-        for i in 0..n {
-            for j in 0..n {
-                mesh.triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-                mesh.triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-            }
+        let mut mesh = TriangleMesh::grid(n, n, |u, v| [u * n as f64, v * n as f64, 0.0]);
+        for p in &mut mesh.positions {
+            p.z = 2.0 * noise * random();
         }
         mesh
     }
