@@ -115,21 +115,22 @@ impl ArcLengthTable {
                 reason: format!("its arc length is {coarse:.1e}, nothing next to its size"),
             });
         }
-        let mut params = vec![u0];
-        let mut lengths = vec![0.0];
+        let mut refine = Refine {
+            options,
+            length_per_parameter: coarse / (u1 - u0),
+            params: vec![u0],
+            lengths: vec![0.0],
+        };
         for w in cuts.windows(2) {
             let n = options.initial_intervals.max(1);
             for i in 0..n {
                 let a = w[0] + (w[1] - w[0]) * i as f64 / n as f64;
                 let b = w[0] + (w[1] - w[0]) * (i + 1) as f64 / n as f64;
                 let whole = gauss_legendre_length(curve, a, b);
-                let refine = Refine {
-                    options,
-                    length_per_parameter: coarse / (u1 - u0),
-                };
-                refine.run(curve, a, b, whole, 0, &mut params, &mut lengths)?;
+                refine.run(curve, a, b, whole, 0)?;
             }
         }
+        let Refine { params, lengths, .. } = refine;
         let total = *lengths.last().expect("non-empty");
         if !(total.is_finite() && total > 0.0) {
             return Err(GeometryError::DegenerateCurve {
@@ -196,22 +197,22 @@ impl ArcLengthTable {
 }
 
 /// One adaptive bisection of [`ArcLengthTable::new`]: the options and the global error
-/// budget (the coarse length of the curve per unit parameter).
+/// budget (the coarse length of the curve per unit parameter), and the table it builds.
 struct Refine {
     options: ArcLengthOptions,
     length_per_parameter: f64,
+    params: Vec<f64>,
+    lengths: Vec<f64>,
 }
 
 impl Refine {
     fn run<const D: usize, C: ParametricCurve<D> + ?Sized>(
-        &self,
+        &mut self,
         curve: &C,
         a: f64,
         b: f64,
         whole: f64,
         depth: u32,
-        params: &mut Vec<f64>,
-        lengths: &mut Vec<f64>,
     ) -> Result<(), GeometryError> {
         let options = self.options;
         let m = 0.5 * (a + b);
@@ -222,7 +223,7 @@ impl Refine {
                 reason: "its arc length is not finite (coordinates too large?)".into(),
             });
         }
-        if params.len() >= options.max_intervals {
+        if self.params.len() >= options.max_intervals {
             return Err(GeometryError::DegenerateCurve {
                 reason: format!(
                     "its arc length does not converge within {} intervals (a cusp, or coordinates too large or too far apart)",
@@ -233,15 +234,15 @@ impl Refine {
         let scale = whole.abs().max(self.length_per_parameter * (b - a)).max(1e-300);
         let accept = (left + right - whole).abs() <= options.relative_tolerance * scale || depth >= options.max_depth;
         if accept {
-            let base = *lengths.last().expect("non-empty");
-            params.push(m);
-            lengths.push(base + left);
-            params.push(b);
-            lengths.push(base + left + right);
+            let base = *self.lengths.last().expect("non-empty");
+            self.params.push(m);
+            self.lengths.push(base + left);
+            self.params.push(b);
+            self.lengths.push(base + left + right);
             Ok(())
         } else {
-            self.run(curve, a, m, left, depth + 1, params, lengths)?;
-            self.run(curve, m, b, right, depth + 1, params, lengths)
+            self.run(curve, a, m, left, depth + 1)?;
+            self.run(curve, m, b, right, depth + 1)
         }
     }
 }
