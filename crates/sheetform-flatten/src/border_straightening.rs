@@ -170,8 +170,7 @@ pub(crate) fn straighten_chart_borders(
                 })
                 .collect::<Vec<_>>()
         };
-        let vertices =
-            crate::shortest_edge_path::shortest_edge_path([source as u32], |v| v as usize == target, steps, old_length);
+        let vertices = sheetform_mesh::shortest_edge_path([source as u32], |v| v as usize == target, steps, old_length);
         let Some(path) =
             vertices.and_then(|p| p.windows(2).map(|w| table.find(w[0], w[1])).collect::<Option<Vec<_>>>())
         else {

@@ -486,7 +486,7 @@ fn open_to_disk(sub: &TriangleMesh) -> Option<(TriangleMesh, Vec<u32>, crate::Un
             break;
         }
         // The shortest edge path from the tree to the nearest target joins the tree.
-        let path = crate::shortest_edge_path::shortest_edge_path(
+        let path = sheetform_mesh::shortest_edge_path(
             (0..nv as u32).filter(|&v| in_tree[v as usize]),
             |v| is_target(v as usize, &in_tree),
             |v| adjacency[v as usize].iter().copied(),

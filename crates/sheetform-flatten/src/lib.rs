@@ -15,7 +15,6 @@ mod exact_unfolding;
 mod island_joining;
 mod layout_choice;
 mod lscm;
-mod shortest_edge_path;
 mod user_seams;
 
 pub use alignment::{align_rigid, RigidAlignment};

@@ -11,7 +11,7 @@ use std::collections::{BinaryHeap, HashMap};
 /// distances are broken towards the lower vertex index). `None` when no target is
 /// reachable within `limit`. Distances are kept for the vertices reached only, so a
 /// search over a small part of a large mesh costs that part.
-pub(crate) fn shortest_edge_path<S: IntoIterator<Item = (u32, f64)>>(
+pub fn shortest_edge_path<S: IntoIterator<Item = (u32, f64)>>(
     sources: impl IntoIterator<Item = u32>,
     is_target: impl Fn(u32) -> bool,
     steps: impl Fn(u32) -> S,
