@@ -140,10 +140,11 @@ pub(crate) enum Command {
         #[command(flatten)]
         pattern: PatternArgs,
     },
-    /// Develop a target shape: the nearest surface made of exactly developable pieces,
-    /// cut along the seams drawn in the mesh (OBJ `l` polylines along its edges), each
-    /// piece moved as little as possible until every vertex inside it is flat, then
-    /// unfolded exactly. Writes model.obj (the developed shape, vt = its pattern at 1:1),
+    /// Develop a target shape: the nearest surface made of exactly developable pieces.
+    /// The target is cut into a few pieces that are each close to a cone, cylinder or
+    /// plane (automatic seams, always including those drawn in the mesh as OBJ `l`
+    /// polylines along its edges), each piece is moved as little as possible until every
+    /// vertex inside it is flat, then unfolded exactly. Writes model.obj (the developed shape, vt = its pattern at 1:1),
     /// model.glb, pattern.svg/.dxf/.pdf and report.json (`develop`: angle defects before
     /// and after, Hausdorff and mean distance to the target). Exit code 5 when a piece
     /// stays out of tolerance (written, see the report).
@@ -156,6 +157,17 @@ pub(crate) enum Command {
         /// Length unit of the mesh file.
         #[arg(long, value_enum, default_value_t = Unit::Mm)]
         units: Unit,
+        /// Where to cut: `automatic` finds seams (the drawn ones among them), `drawn`
+        /// cuts along the OBJ `l` polylines only.
+        #[arg(long, value_enum, default_value_t = Seams::Automatic)]
+        seams: Seams,
+        /// Most pieces for automatic seams (pieces the drawn seams make count too).
+        #[arg(long, value_name = "N", default_value_t = 12)]
+        max_pieces: usize,
+        /// Automatic seams: add pieces (up to --max-pieces) until every piece's normals
+        /// are within this RMS angle of a cone, cylinder or plane (degrees).
+        #[arg(long, value_name = "DEGREES", default_value_t = 2.0)]
+        normal_tolerance: f64,
         /// Smoothness against closeness: 0 moves each vertex as little as possible,
         /// larger values spread the change over its neighbours.
         #[arg(long, value_name = "WEIGHT", default_value_t = 0.1)]
@@ -384,6 +396,24 @@ impl From<PatternArgs> for PatternOutputOptions {
                 }),
             },
             smooth_bend_degrees: a.smooth_folds,
+        }
+    }
+}
+
+/// Where `develop` cuts the target.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum Seams {
+    /// Seams found automatically, the drawn ones among them.
+    Automatic,
+    /// The drawn seams (OBJ `l` polylines) only.
+    Drawn,
+}
+
+impl From<Seams> for sheetform::pipeline::SeamSource {
+    fn from(seams: Seams) -> Self {
+        match seams {
+            Seams::Automatic => Self::Automatic,
+            Seams::Drawn => Self::Drawn,
         }
     }
 }

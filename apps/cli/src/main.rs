@@ -102,6 +102,9 @@ fn main() -> ExitCode {
             mesh,
             output,
             units,
+            seams,
+            max_pieces,
+            normal_tolerance,
             smoothness,
             tolerance,
             max_iterations,
@@ -111,6 +114,12 @@ fn main() -> ExitCode {
             output,
             units,
             sheetform::pipeline::DevelopRunOptions {
+                seams: seams.into(),
+                segmentation: sheetform::pipeline::SegmentationOptions {
+                    max_pieces,
+                    normal_tolerance_degrees: normal_tolerance,
+                    ..Default::default()
+                },
                 develop: sheetform::pipeline::DevelopOptions {
                     smoothness,
                     defect_tolerance: tolerance,

@@ -3,6 +3,8 @@
 //!
 //! - [`seam_pieces`]: the pieces a target is cut into along its seams, and the vertices
 //!   inside them;
+//! - [`segment_developable`]: automatic seams, the target cut into a few pieces whose
+//!   normals lie close to a cone's (a developable's Gauss image is a curve);
 //! - [`develop_pieces`]: the target's vertices moved as little as possible so that every
 //!   vertex inside a piece is flat (angle sum 2π): a constrained Gauss–Newton projection
 //!   on the shared [`sheetform_solve::KktSystem`].
@@ -13,11 +15,15 @@
 #![warn(missing_docs)]
 
 mod developable_projection;
+mod developable_segmentation;
 mod error;
 mod seam_pieces;
 
 pub use developable_projection::{
-    develop_pieces, DevelopOptions, Developed, MAX_ITERATIONS, MAX_SMOOTHNESS, STEP_TOLERANCE,
+    develop_pieces, DevelopOptions, Developed, MAX_ITERATIONS, MAX_SMOOTHNESS, STEP_REACH, STEP_TOLERANCE,
+};
+pub use developable_segmentation::{
+    segment_developable, ConeProxy, Segmentation, SegmentationOptions, MAX_SEGMENTATION_PIECES,
 };
 pub use error::DevelopError;
 pub use seam_pieces::{seam_pieces, SeamPieces};

@@ -683,10 +683,24 @@ impl Report {
 /// What `develop` did to the target (lengths in millimetres, angles in radians).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct DevelopReport {
+    /// Where the target was cut: `automatic` (found, with the drawn seams among them) or
+    /// `drawn` (the OBJ `l` polylines only).
+    pub seams: crate::pipeline::SeamSource,
     /// Pieces the target was cut into along its seams.
     pub piece_count: usize,
-    /// Seam edges given (OBJ `l` polylines).
+    /// Seam edges.
     pub seam_edge_count: usize,
+    /// Total length of the seams, on the target.
+    pub seam_length_mm: f64,
+    /// `seam_length_mm` over the target's bounding-box diagonal.
+    pub seam_length_relative: f64,
+    /// Automatic seams: the area-weighted RMS angle between the target's face normals and
+    /// the cone fitted to their piece, for the worst piece (how far from developable the
+    /// pieces were before they were made exact).
+    pub normal_deviation_rms_deg: Option<f64>,
+    /// Automatic seams: slits cut from cone points inside a piece (a box's corner) to
+    /// its border, so they need not be flattened (counted in `seam_edge_count`).
+    pub slit_count: usize,
     /// Vertices inside a piece, made flat (angle sum 2π).
     pub constrained_vertex_count: usize,
     /// Largest angle defect inside a piece, in the target.

@@ -1,7 +1,7 @@
-//! `sheetform develop` (issue 36, slice 1): a target with seams drawn becomes exactly
-//! developable pieces, checked on the written model: every vertex inside a piece of the
-//! pattern (an interior vertex of the `vt` mesh) has 3D angle sum 2π, the pattern is the
-//! model at 1:1, and the model stays near the target.
+//! `sheetform develop` (issue 36): a target, with seams drawn or found automatically,
+//! becomes exactly developable pieces, checked on the written model: every vertex inside
+//! a piece of the pattern (an interior vertex of the `vt` mesh) has 3D angle sum 2π, the
+//! pattern is the model at 1:1, and the model stays near the target.
 
 use crate::common::{example_mesh, obj_isometry_error, read_obj, sheetform, Obj};
 use std::collections::HashMap;
@@ -87,9 +87,17 @@ fn targets_develop_cannot_take_are_refused_naming_the_cause() {
         .collect();
     let path = dir.path().join("closed.obj");
     std::fs::write(&path, closed).unwrap();
-    let o = sheetform(&["develop", path.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"]);
+    let o = sheetform(&[
+        "develop",
+        path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+        "--seams",
+        "drawn",
+    ]);
     assert_eq!(o.status.code(), Some(1), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("seams"));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--seams automatic"));
     assert!(!out.exists());
     // A seam that does not run along an edge (vertices 1 and 300 are not neighbours).
     let path = dir.path().join("off.obj");
@@ -104,6 +112,8 @@ fn targets_develop_cannot_take_are_refused_naming_the_cause() {
         ("--smoothness=-1", "smoothness"),
         ("--tolerance=0", "defect_tolerance"),
         ("--max-iterations=0", "max_iterations"),
+        ("--max-pieces=0", "max_pieces"),
+        ("--normal-tolerance=91", "normal_tolerance_degrees"),
     ] {
         let o = sheetform(&["develop", mesh.to_str().unwrap(), "-o", out.to_str().unwrap(), option]);
         let stderr = String::from_utf8_lossy(&o.stderr);
@@ -111,4 +121,99 @@ fn targets_develop_cannot_take_are_refused_naming_the_cause() {
         assert!(stderr.contains(field), "{option}: {stderr}");
     }
     assert!(!out.exists());
+}
+
+/// The pattern's cut edges (vt edges with a face on one side only), as pairs of 3D
+/// vertex indices.
+fn cut_edges(o: &Obj) -> Vec<(usize, usize)> {
+    let mut edge_faces: HashMap<(usize, usize), (usize, usize, usize)> = HashMap::new();
+    for f in &o.faces {
+        for k in 0..3 {
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            let entry = edge_faces.entry((a.1.min(b.1), a.1.max(b.1))).or_insert((a.0, b.0, 0));
+            entry.2 += 1;
+        }
+    }
+    edge_faces.values().filter(|e| e.2 == 1).map(|e| (e.0, e.1)).collect()
+}
+
+/// Automatic seams on a closed box: each side whole (no cut across a side's diagonal,
+/// where a maker would never cut), the box's corners freed by slits, and the model the
+/// box itself (it is developable piecewise already: nothing moves).
+#[test]
+fn a_closed_box_is_cut_along_its_edges_into_whole_sides() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let mesh = example_mesh("gift-box.obj");
+    let o = sheetform(&["develop", mesh.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let model = read_obj(&out.join("model.obj"));
+    let target: Vec<nalgebra::Vector3<f64>> = std::fs::read_to_string(&mesh)
+        .unwrap()
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| nalgebra::Vector3::from_iterator(l.split_whitespace().map(|x| x.parse::<f64>().unwrap())))
+        .collect();
+    // The model's vertices (split along the seams) are the box's corners.
+    for p in &model.v {
+        let moved = target
+            .iter()
+            .map(|q| (nalgebra::Vector3::from(*p) - q).norm())
+            .fold(f64::INFINITY, f64::min);
+        assert!(moved < 1e-9, "a box corner moved by {moved}");
+    }
+    assert!(obj_isometry_error(&model) <= 1e-9);
+    let cuts = cut_edges(&model);
+    assert!(!cuts.is_empty());
+    for (a, b) in cuts {
+        let (p, q) = (model.v[a], model.v[b]);
+        let differing = (0..3).filter(|&k| (p[k] - q[k]).abs() > 1e-9).count();
+        assert_eq!(differing, 1, "a cut across a side, from {p:?} to {q:?}");
+    }
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["status"], "ok");
+    assert_eq!(report["develop"]["seams"], "automatic");
+    assert_eq!(report["develop"]["hausdorff_mm"], 0.0);
+    let pieces = report["develop"]["piece_count"].as_u64().unwrap();
+    assert!((2..=6).contains(&pieces), "{pieces} pieces");
+    let svg = std::fs::read_to_string(out.join("pattern.svg")).unwrap();
+    assert_eq!(crate::common::svg_cut_loops(&svg).len() as u64, pieces);
+}
+
+/// Automatic seams on a closed sphere (no seam drawn): at most the budget of pieces,
+/// every one exact, the pattern the model at 1:1, and the model near the sphere.
+#[test]
+fn a_closed_sphere_gets_automatic_seams_and_exact_pieces() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let text = std::fs::read_to_string(example_mesh("sphere-gore-seams.obj")).unwrap();
+    let closed: String = text
+        .lines()
+        .filter(|l| !l.starts_with("l "))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let path = dir.path().join("sphere.obj");
+    std::fs::write(&path, closed).unwrap();
+    let o = sheetform(&["develop", path.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let model = read_obj(&out.join("model.obj"));
+    let (defect, interior) = max_interior_defect(&model);
+    assert!(interior > 500, "{interior} interior vertices");
+    assert!(defect <= 1e-8, "angle defect {defect} rad inside a piece");
+    assert!(obj_isometry_error(&model) <= 1e-9, "{}", obj_isometry_error(&model));
+    // Within 6 % of the radius of the radius-50 sphere (2.3 mm measured with the default
+    // 12 pieces; globe gores drawn by hand reach R (1 − cos 15°) = 1.7 mm).
+    let off = model
+        .v
+        .iter()
+        .map(|p| (nalgebra::Vector3::from(*p).norm() - 50.0).abs())
+        .fold(0.0, f64::max);
+    assert!(off <= 3.0, "{off} mm off the sphere");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let pieces = report["develop"]["piece_count"].as_u64().unwrap();
+    assert!((2..=12).contains(&pieces), "{pieces} pieces");
+    let svg = std::fs::read_to_string(out.join("pattern.svg")).unwrap();
+    assert!(crate::common::svg_cut_loops(&svg).len() as u64 >= pieces);
 }

@@ -1,19 +1,36 @@
 //! `sheetform develop`: a target mesh → the nearest surface made of exactly developable
 //! pieces (cut along the user's seams), unfolded exactly, with the patterns of `flatten`
-//! (issue 36, slice 1: seams given by the user; automatic seams come next).
+//! (issue 36: automatic seams, or the user's only).
 
 use super::context::RunContext;
 use super::error::{Outcome, PipelineError};
 use super::flatten::{run_flatten, ChartMode, FlattenOptions, FlattenRun};
 use crate::report::{Command, DevelopReport, Status};
-use sheetform_develop::{develop_pieces, seam_pieces, DevelopError};
-pub use sheetform_develop::{DevelopOptions, Developed};
+use sheetform_develop::{develop_pieces, seam_pieces, segment_developable, DevelopError};
+pub use sheetform_develop::{DevelopOptions, Developed, SegmentationOptions};
 use sheetform_flatten::ChartOptions;
 use sheetform_mesh::{mesh_topology_with_edges, surface_distance, SurfaceDistanceOptions, TriangleMesh};
+
+/// Where `develop` cuts the target.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum SeamSource {
+    /// Seams found by [`sheetform_develop::segment_developable`], as many pieces as the
+    /// budget allows until each is close to a developable; the drawn seams (OBJ `l`) are
+    /// always among them.
+    #[default]
+    Automatic,
+    /// Only the drawn seams.
+    Drawn,
+}
 
 /// Knobs of `sheetform develop`.
 #[derive(Debug, Clone, Default)]
 pub struct DevelopRunOptions {
+    /// Where the target is cut.
+    pub seams: SeamSource,
+    /// How automatic seams are found (the piece budget, the fit).
+    pub segmentation: SegmentationOptions,
     /// How the pieces are made developable.
     pub develop: DevelopOptions,
     /// How the developed pieces are unfolded and drawn: `flatten`'s options (the unit,
@@ -32,19 +49,21 @@ pub struct DevelopRun {
     pub developed: Developed,
 }
 
-/// Makes every piece of `target` (cut along its seams, `target.seam_edges`: OBJ `l`
-/// polylines) exactly developable by moving its vertices as little as possible
+/// Cuts `target` into pieces (automatic seams by
+/// [`sheetform_develop::segment_developable`], the drawn ones among them; or the drawn
+/// seams only, `target.seam_edges`: OBJ `l` polylines), makes every piece exactly
+/// developable by moving its vertices as little as possible
 /// ([`sheetform_develop::develop_pieces`]), then unfolds each piece exactly and renders
 /// the model and the patterns as `flatten` does ([`run_flatten`], charts cut along the
-/// seams only). The report's `develop` section gives the defects before and after and the
-/// two-sided distance to the target ([`sheetform_mesh::surface_distance`]); its status is
-/// `out of tolerance` (exit 5, everything written) when a defect inside a piece stays
-/// above the tolerance.
+/// seams only). The report's `develop` section gives the seams, the defects before and
+/// after and the two-sided distance to the target
+/// ([`sheetform_mesh::surface_distance`]); its status is `out of tolerance` (exit 5,
+/// everything written) when a defect inside a piece stays above the tolerance.
 ///
 /// # Errors
-/// A mesh that is not a clean manifold, has no faces, or is closed without seams (slice
-/// 1 needs the seams drawn); a seam off the mesh's edges; options out of range;
-/// [`PipelineError::Cancelled`].
+/// A mesh that is not a clean manifold or has no faces; a closed mesh without drawn
+/// seams when only those are asked for; a seam off the mesh's edges; options out of
+/// range; [`PipelineError::Cancelled`].
 pub fn run_develop(
     target: TriangleMesh,
     options: &DevelopRunOptions,
@@ -66,18 +85,35 @@ pub fn run_develop(
         }
         .into());
     }
-    if target.seam_edges.is_empty() && topology.boundary_loop_count == 0 {
-        return Err(DevelopError::Topology {
-            problem: "a closed surface cannot be developed without cuts: draw its seams as OBJ `l` polylines along mesh edges (automatic seams are not there yet)".into(),
+    context.progress("finding the seams", 0.02);
+    let (seams, segmentation) = match options.seams {
+        SeamSource::Drawn => {
+            if target.seam_edges.is_empty() && topology.boundary_loop_count == 0 {
+                return Err(DevelopError::Topology {
+                    problem: "a closed surface cannot be developed without cuts: draw its seams as OBJ `l` polylines along mesh edges, or let develop find them (--seams automatic)".into(),
+                }
+                .into());
+            }
+            (target.seam_edges.clone(), None)
         }
-        .into());
-    }
-    context.progress("making the pieces developable", 0.05);
-    let pieces = seam_pieces(&target, &table, &target.seam_edges)?;
+        SeamSource::Automatic => {
+            // The drawn seams are checked (and named when off the mesh) as seams of their own.
+            let drawn = seam_pieces(&target, &table, &target.seam_edges)?;
+            let mut hard = vec![false; table.len()];
+            for &e in &drawn.seam_edges {
+                hard[e] = true;
+            }
+            let segmentation = segment_developable(&target, &table, &hard, &options.segmentation, context.cancel)?;
+            (segmentation.seams.clone(), Some(segmentation))
+        }
+    };
+    context.progress("making the pieces developable", 0.1);
+    let pieces = seam_pieces(&target, &table, &seams)?;
     let developed = develop_pieces(&target, &table, &pieces, &options.develop, context.cancel)?;
     context.check_cancelled()?;
     let mut result = target.clone();
     result.positions.clone_from(&developed.positions);
+    result.seam_edges = seams;
     context.progress("unfolding the pieces", 0.6);
     // The developed pieces unfold exactly: charts cut along the seams only (no crease
     // splits them), within a distortion bound far below a cutter's resolution.
@@ -102,9 +138,23 @@ pub fn run_develop(
     let diagonal = (high - low).norm();
     let report = &mut run.report;
     report.command = Command::Develop;
+    let seam_length: f64 = pieces
+        .seam_edges
+        .iter()
+        .map(|&e| {
+            let [a, b] = table.edges[e];
+            (target.positions[a as usize] - target.positions[b as usize]).norm()
+        })
+        .sum::<f64>()
+        + 0.0; // an empty sum is −0.0
     report.develop = Some(DevelopReport {
+        seams: options.seams,
         piece_count: pieces.piece_count,
         seam_edge_count: pieces.seam_edges.len(),
+        seam_length_mm: seam_length * unit,
+        seam_length_relative: seam_length / diagonal,
+        normal_deviation_rms_deg: segmentation.as_ref().map(|s| s.normal_deviation_rms.to_degrees()),
+        slit_count: segmentation.as_ref().map_or(0, |s| s.slit_count),
         constrained_vertex_count: developed.constrained_vertex_count,
         angle_defect_max_before_rad: developed.max_defect_before,
         angle_defect_max_rad: developed.max_defect,
