@@ -49,8 +49,8 @@ pub enum LatticeEdit {
         /// Displacement (model units).
         by: [f64; 3],
     },
-    /// Set the weights of the selected control points (positive): a weight above 1
-    /// pulls the volume towards the point.
+    /// Set the weights of the selected control points (positive, at most
+    /// [`crate::MAX_WEIGHT`]): a weight above 1 pulls the volume towards the point.
     Weight {
         /// The control points.
         points: ControlPointSelection,
@@ -167,9 +167,10 @@ fn check_moved(volume: &NurbsVolume, points: &[Vec3], chosen: &[usize], field: &
 /// edit list (for messages such as `deformations[0].edits[2].move.points[1]`).
 ///
 /// # Errors
-/// Selections outside the lattice, non-finite numbers, non-positive weights or scale
-/// factors, a zero rotation axis, a singular matrix, an edit that moves a control point
-/// to a non-finite place: each named by the edit's field.
+/// Selections outside the lattice, non-finite numbers, weights that are not positive or
+/// exceed [`crate::MAX_WEIGHT`], non-positive scale factors, a zero rotation axis, a
+/// singular matrix, an edit that moves a control point to a non-finite place: each named
+/// by the edit's field.
 pub fn apply_edits(volume: &NurbsVolume, edits: &[LatticeEdit], field: &str) -> Result<NurbsVolume, FfdError> {
     let mut points = volume.control_points().to_vec();
     let mut weights = volume.weights().to_vec();
@@ -189,15 +190,7 @@ pub fn apply_edits(volume: &NurbsVolume, edits: &[LatticeEdit], field: &str) -> 
                 value,
             } => {
                 let f = format!("{field}[{e}].weight");
-                if !(value.is_finite() && *value > 0.0) {
-                    return Err(FfdError::field(
-                        format!("{f}.value"),
-                        format!(
-                            "must be a positive number, got {}",
-                            sheetform_geometry::refused_number(*value, &[0.0])
-                        ),
-                    ));
-                }
+                crate::scene::check_weight(&format!("{f}.value"), *value, crate::scene::WeightSign::Positive)?;
                 for n in selection.indices(volume, &format!("{f}.points"))? {
                     weights[n] = *value;
                 }
@@ -319,6 +312,42 @@ mod tests {
                 .to_string();
             assert!(e.contains(&format!("`{field}`")) && e.contains(point), "{e}");
             assert!(!e.contains("lattice"), "{e}");
+        }
+    }
+
+    /// Issue 35: a weight edit had no upper bound (1e300 left the panels collapsed and
+    /// was reported as that): it is refused at the edit's own field with its value and
+    /// the bounds, never at `lattice.weights`, which the scene may not have.
+    #[test]
+    fn a_weight_edit_past_the_bound_names_the_edit() {
+        let v = NurbsVolume::parallelepiped(
+            Vec3::zeros(),
+            [Vec3::x(), Vec3::y(), Vec3::z()],
+            [2, 2, 2],
+            [3, 3, 3],
+            None,
+        )
+        .unwrap();
+        let edit = |value: f64| -> Vec<LatticeEdit> {
+            serde_json::from_value(serde_json::json!([
+                {"move": {"points": [[1, 1, 1]], "by": [0, 0, 0.1]}},
+                {"weight": {"points": [[1, 1, 1]], "value": value}}
+            ]))
+            .unwrap()
+        };
+        let out = apply_edits(&v, &edit(crate::MAX_WEIGHT), "deformations[0].edits").unwrap();
+        assert_eq!(out.weights()[v.index(1, 1, 1)], crate::MAX_WEIGHT);
+        for (value, shown) in [(1e300, "1e300"), (1_000_001.0, "1.000001e6"), (0.0, "0")] {
+            let e = apply_edits(&v, &edit(value), "deformations[0].edits")
+                .unwrap_err()
+                .to_string();
+            assert_eq!(
+                e,
+                format!(
+                    "scene field `deformations[0].edits[1].weight.value`: must be a positive number up to 1e6, got \
+                     {shown}"
+                )
+            );
         }
     }
 }

@@ -40,7 +40,7 @@ impl NurbsVolume {
     /// A field error naming `lattice.degrees`, `lattice.knots[d]`, `lattice.counts`,
     /// `lattice.control_points[n]` or `lattice.weights[n]`: too few control points for
     /// the degree, wrong knot counts, decreasing knots, non-finite points, weights that are
-    /// not positive and finite.
+    /// not positive or exceed [`crate::MAX_WEIGHT`].
     pub fn new(
         degrees: [usize; 3],
         knots: [Vec<f64>; 3],
@@ -193,7 +193,8 @@ impl NurbsVolume {
     /// Replaces control points and weights (same lattice size), e.g. after edits.
     ///
     /// # Errors
-    /// Wrong sizes, non-finite points, weights that are not positive.
+    /// Wrong sizes, non-finite points, weights that are not positive or exceed
+    /// [`crate::MAX_WEIGHT`].
     pub fn with_control_net(&self, control_points: Vec<Vec3>, weights: Vec<f64>) -> Result<Self, FfdError> {
         Self::new(
             self.degrees(),
@@ -418,16 +419,11 @@ impl NurbsVolume {
     }
 }
 
-/// Every weight positive and finite, or a field error naming the first bad one.
+/// Every weight positive and at most [`crate::MAX_WEIGHT`], or a field error naming the
+/// first bad one.
 pub(crate) fn check_weights(weights: &[f64]) -> Result<(), FfdError> {
-    if let Some(n) = weights.iter().position(|w| !(w.is_finite() && *w > 0.0)) {
-        return Err(FfdError::field(
-            format!("lattice.weights[{n}]"),
-            format!(
-                "must be positive and finite, got {}",
-                sheetform_geometry::refused_number(weights[n], &[0.0])
-            ),
-        ));
+    for (n, &w) in weights.iter().enumerate() {
+        crate::scene::check_weight(&format!("lattice.weights[{n}]"), w, crate::scene::WeightSign::Positive)?;
     }
     Ok(())
 }

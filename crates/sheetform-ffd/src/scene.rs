@@ -92,7 +92,7 @@ pub struct LatticeSpec {
     /// then found by Newton's method).
     #[serde(default)]
     pub control_points: Option<Vec<[f64; 3]>>,
-    /// Weights (default 1).
+    /// Weights, one per control point (positive, at most 1e6; default 1).
     #[serde(default)]
     pub weights: Option<Vec<f64>>,
 }
@@ -159,7 +159,7 @@ pub struct SolverSpec {
     /// every defect over its tolerance is in the set.
     #[serde(default = "default_selection")]
     pub selection_threshold_rad: f64,
-    /// Weight of the proximity term of the constrained solver.
+    /// Weight of the proximity term of the constrained solver (0 to 1e6, default 0.01).
     #[serde(default = "default_position_weight")]
     pub position_weight: f64,
     /// Most iterations (constrained) or penalty updates (paper, `N_max`).
@@ -173,7 +173,8 @@ pub struct SolverSpec {
     /// the panels' area over their squared mean edge length so that it means the same
     /// at every resolution (default 3e-3: smooth results in 3–9 full steps; 0: springs
     /// alone, as in the paper, which fold the panels into node-scale zig-zags and need
-    /// several times more iterations; see `fold_angle_max_after_rad` in the report).
+    /// several times more iterations; see `fold_angle_max_after_rad` in the report; at
+    /// most 1e6).
     #[serde(default = "default_bending_weight")]
     pub bending_weight: f64,
     /// Memory of the constrained solver's non-monotone line search: a step is accepted
@@ -185,9 +186,9 @@ pub struct SolverSpec {
     pub line_search_memory: usize,
     /// Bending weight the constrained solver switches on when the restoration stalls
     /// (five steps in a row cut to 1/64 or less) with `bending_weight` 0; 0: never
-    /// (default 3e-3). Fine meshes restored with the springs alone need it; the report's
-    /// steps say when it happened (`bending_fallback_iteration`). A stall with nothing
-    /// left to switch on ends the restoration, not converged.
+    /// (default 3e-3, at most 1e6). Fine meshes restored with the springs alone need it;
+    /// the report's steps say when it happened (`bending_fallback_iteration`). A stall
+    /// with nothing left to switch on ends the restoration, not converged.
     #[serde(default = "default_stall_bending_weight")]
     pub stall_bending_weight: f64,
     /// Restore along the deformation's path in adaptive sub-steps (continuation, the
@@ -224,6 +225,47 @@ pub const MAX_CHORD_STEPS: usize = 100;
 pub const MIN_TOLERANCE_RAD: f64 = 1e-14;
 /// Most deformations in one scene (each is one restoration).
 pub const MAX_DEFORMATIONS: usize = 1_000;
+
+/// The largest weight a scene may set, as the slit and photo systems' weights: the
+/// solver's (`solver.position_weight`, `solver.bending_weight`,
+/// `solver.stall_bending_weight`), the lattice's (`lattice.weights`) and a `weight`
+/// edit's `value`. Larger ones overflow when squared or summed in the restoration (a
+/// bending weight of 1e300 was reported as a singular system, a lattice weight of 1e300
+/// as collapsed panels, a position weight of 1e300 ended `ok` with nothing restored).
+pub const MAX_WEIGHT: f64 = 1e6;
+
+/// Which weights [`check_weight`] accepts at the low end.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum WeightSign {
+    /// 0 switches the term off.
+    ZeroOrPositive,
+    /// A NURBS weight: 0 would take the control point out of the volume.
+    Positive,
+}
+
+/// A weight within `0 ..= MAX_WEIGHT` (above 0 when `sign` is [`WeightSign::Positive`]),
+/// or a field error naming `field`, the value and the bounds.
+pub(crate) fn check_weight(field: &str, value: f64, sign: WeightSign) -> Result<(), FfdError> {
+    let low_ok = match sign {
+        WeightSign::ZeroOrPositive => value >= 0.0,
+        WeightSign::Positive => value > 0.0,
+    };
+    if value.is_finite() && low_ok && value <= MAX_WEIGHT {
+        return Ok(());
+    }
+    let range = match sign {
+        WeightSign::ZeroOrPositive => "a number from 0 to",
+        WeightSign::Positive => "a positive number up to",
+    };
+    Err(FfdError::field(
+        field,
+        format!(
+            "must be {range} {}, got {}",
+            sheetform_geometry::short_number(MAX_WEIGHT),
+            sheetform_geometry::refused_number(value, &[0.0, MAX_WEIGHT])
+        ),
+    ))
+}
 
 /// Continuation along the deformation (`solver.continuation`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -409,17 +451,17 @@ impl FfdScene {
                 ));
             }
         }
-        if !(s.position_weight.is_finite() && s.position_weight >= 0.0) {
-            return Err(FfdError::field("solver.position_weight", "must be zero or positive"));
+        for (field, value) in [
+            ("solver.position_weight", s.position_weight),
+            ("solver.bending_weight", s.bending_weight),
+            ("solver.stall_bending_weight", s.stall_bending_weight),
+        ] {
+            check_weight(field, value, WeightSign::ZeroOrPositive)?;
         }
-        if !(s.bending_weight.is_finite() && s.bending_weight >= 0.0) {
-            return Err(FfdError::field("solver.bending_weight", "must be zero or positive"));
-        }
-        if !(s.stall_bending_weight.is_finite() && s.stall_bending_weight >= 0.0) {
-            return Err(FfdError::field(
-                "solver.stall_bending_weight",
-                "must be zero or positive",
-            ));
+        if let Some(weights) = &self.lattice.weights {
+            for (n, &value) in weights.iter().enumerate() {
+                check_weight(&format!("lattice.weights[{n}]"), value, WeightSign::Positive)?;
+            }
         }
         if s.chord_steps > MAX_CHORD_STEPS {
             return Err(FfdError::field(
@@ -634,6 +676,60 @@ mod tests {
     fn duct() -> FfdScene {
         let path = format!("{}/../../examples/ffd/duct.json", env!("CARGO_MANIFEST_DIR"));
         FfdScene::from_json(&std::fs::read_to_string(path).unwrap()).unwrap()
+    }
+
+    /// Issue 35: the FFD's weights had no upper bound (a bending weight of 1e300 was
+    /// reported as a singular system, a position weight of 1e300 ended `ok`); every weight
+    /// a scene sets is bounded at `MAX_WEIGHT`, as the slit and photo weights are, and
+    /// refused naming the field, its value and the bounds. The bounds themselves pass.
+    #[test]
+    fn every_weight_is_bounded_and_refused_naming_field_value_and_bounds() {
+        type Set = fn(&mut FfdScene, f64);
+        let fields: [(&str, Set, f64); 4] = [
+            ("solver.position_weight", |s, v| s.solver.position_weight = v, 0.0),
+            ("solver.bending_weight", |s, v| s.solver.bending_weight = v, 0.0),
+            (
+                "solver.stall_bending_weight",
+                |s, v| s.solver.stall_bending_weight = v,
+                0.0,
+            ),
+            (
+                "lattice.weights[5]",
+                |s, v| {
+                    let mut w = vec![1.0; 64];
+                    w[5] = v;
+                    s.lattice.weights = Some(w);
+                },
+                1e-300,
+            ),
+        ];
+        for (field, set, lowest) in fields {
+            for fine in [lowest, MAX_WEIGHT] {
+                let mut scene = duct();
+                set(&mut scene, fine);
+                assert_eq!(scene.validate(), Ok(()), "{field} = {fine:e}");
+            }
+            for (bad, shown) in [
+                (1e300, "got 1e300"),
+                (1_000_000.5, "got 1.0000005e6"),
+                (f64::INFINITY, "got inf"),
+                (-1.0, "got -1"),
+            ] {
+                let mut scene = duct();
+                set(&mut scene, bad);
+                let e = scene.validate().unwrap_err().to_string();
+                assert!(e.starts_with(&format!("scene field `{field}`: must be ")), "{e}");
+                assert!(e.contains("to 1e6, got") && e.ends_with(shown), "{e}");
+            }
+        }
+        // A lattice weight of 0 takes its control point out of the volume.
+        let mut scene = duct();
+        scene.lattice.weights = Some(vec![0.0; 64]);
+        let e = scene.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("`lattice.weights[0]`: must be a positive number up to 1e6, got 0"),
+            "{e}"
+        );
     }
 
     /// Issue 35: a lattice made from the model (no box in the scene) that cannot be built

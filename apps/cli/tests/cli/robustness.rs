@@ -1046,6 +1046,39 @@ fn numbers_in_messages_are_short() {
     assert!(stderr.contains("-1e308") && !has_long_number(&stderr, 17), "{stderr}");
 }
 
+/// Issue 35: the FFD's weights had no upper bound, as the slit weights had none: a
+/// bending weight of 1e300 was reported as a singular system, a lattice weight of 1e300
+/// as collapsed panels, and a position weight of 1e300 ended `ok` (exit 0). Every weight
+/// an FFD scene sets is bounded at 1e6, as the slit and photo weights, and a weight past
+/// it is refused (exit 1) naming the field, its value and the bounds.
+#[test]
+fn ffd_weights_past_their_bound_are_refused_naming_field_value_and_bounds() {
+    let duct = example("examples/ffd/duct.json");
+    let mut cases: Vec<(Value, String)> = Vec::new();
+    for key in ["position_weight", "bending_weight", "stall_bending_weight"] {
+        let mut s = duct.clone();
+        s["solver"] = json!({ key: 1e300 });
+        cases.push((s, format!("solver.{key}")));
+    }
+    let mut s = duct.clone();
+    let mut weights = vec![1.0; 64];
+    weights[7] = 1e300;
+    s["lattice"]["weights"] = json!(weights);
+    cases.push((s, "lattice.weights[7]".into()));
+    let mut s = duct.clone();
+    s["deformations"][0]["edits"] = json!([{"weight": {"points": {"k": [3, 3]}, "value": 1e300}}]);
+    cases.push((s, "deformations[0].edits[0].weight.value".into()));
+    for (scene, field) in cases {
+        let (code, stderr) = run_scene("ffd", &scene, &[]);
+        assert_eq!(code, 1, "{field} = 1e300: {stderr}");
+        assert!(
+            stderr.contains(&format!("`{field}`: must be ")) && stderr.contains("to 1e6, got 1e300"),
+            "{field}: {stderr}"
+        );
+        assert_readable(&stderr);
+    }
+}
+
 /// Issue 35, messages: a value refused for crossing a bound is printed with the digits
 /// that tell it from the bound ("must be between 0 and 100, got 100" for 100.0001), in
 /// pattern options, scene fields and bounds computed from the image.
