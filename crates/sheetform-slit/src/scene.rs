@@ -221,7 +221,8 @@ pub struct MouldSpec {
     /// Thickness of the base plate under the lowest point of the shape (from a millionth
     /// of the sheet's largest length to 1e6). Default 5.
     pub base_thickness: f64,
-    /// Thickness of the sheet pressed onto the mould (0: a sheet of no thickness). The
+    /// Thickness of the sheet pressed onto the mould (0: a sheet of no thickness; else from
+    /// a millionth of the sheet's largest length to half the strip width). The
     /// model is the sheet's mid-surface, which keeps its length when the sheet bends, so
     /// the pattern is exact there; the mould's top lies half this much below it, where
     /// the sheet's underside rests (the paper's §4.2 found its pattern short for not

@@ -267,14 +267,28 @@ impl SlitModel {
                 ),
             ));
         }
+        // 0 (a sheet of no thickness), or within the sheet's scale as the base: a
+        // thickness of 1e-320 reached the mould's triangulation, which refused its
+        // coordinates without naming the field.
         let thickest = 0.5 * layout.strip_width;
-        if !(scene.mould.sheet_thickness.is_finite() && (0.0..=thickest).contains(&scene.mould.sheet_thickness)) {
+        let thinnest = 1e-6 * largest;
+        let sheet = scene.mould.sheet_thickness;
+        if !(sheet.is_finite() && (sheet == 0.0 || (thinnest..=thickest).contains(&sheet))) {
+            let [shown, bound] = if sheet > thickest {
+                numbers_apart(sheet, thickest)
+            } else {
+                numbers_apart(sheet, thinnest)
+            };
+            let (thinnest, thickest) = if sheet > thickest {
+                (short_number(thinnest).to_string(), bound)
+            } else {
+                (bound, short_number(thickest).to_string())
+            };
             return Err(SlitError::field(
                 "mould.sheet_thickness",
                 format!(
-                    "must be between 0 and half the strip width ({}), got {}",
-                    numbers_apart(scene.mould.sheet_thickness, thickest)[1],
-                    numbers_apart(scene.mould.sheet_thickness, thickest)[0]
+                    "must be 0 (a sheet of no thickness) or from a millionth of the sheet's largest length ({thinnest}) \
+                     to half the strip width ({thickest}), got {shown}"
                 ),
             ));
         }

@@ -206,6 +206,38 @@ fn mould_is_closed_and_outward() {
     assert!(error.to_string().contains("mould.sheet_thickness"), "{error}");
 }
 
+/// Issue 35: a sheet thickness of 1e-320 (a subnormal) passed the check (it lies between 0
+/// and half a strip) and was refused by the mould's triangulation without naming the
+/// field. A thickness is 0 or within the sheet's scale, as the base's, and a refusal
+/// names `mould.sheet_thickness`, its bounds and the value.
+#[test]
+fn a_sheet_thickness_off_the_sheets_scale_is_refused_naming_the_field_and_its_bounds() {
+    let chair = || SlitScene::from_json(include_str!("../../../examples/slit/chair.json")).unwrap();
+    for fine in [0.0, 2.0] {
+        let mut scene = chair();
+        scene.mould.sheet_thickness = fine;
+        assert!(SlitModel::from_scene(&scene, None).is_ok(), "{fine}");
+    }
+    for (thickness, shown) in [
+        // Subnormals, printed as the doubles they are (1e-320 is 9.99989e-321).
+        (1e-320, "got 9.99989e-321"),
+        (5e-324, "got 4.94066e-324"),
+        (1e-12, "got 1e-12"),
+        (-1.0, "got -1"),
+        (1e6, "got 1e6"),
+    ] {
+        let mut scene = chair();
+        scene.mould.sheet_thickness = thickness;
+        let e = SlitModel::from_scene(&scene, None).unwrap_err().to_string();
+        assert!(
+            e.contains("`mould.sheet_thickness`: must be 0 (a sheet of no thickness) or from a millionth of the sheet's largest length (")
+                && e.contains(") to half the strip width (")
+                && e.ends_with(shown),
+            "{thickness:e}: {e}"
+        );
+    }
+}
+
 #[test]
 fn fits_a_point_cloud_sampled_from_another_design() {
     // Points on the chair's strips; a model with a different seat curve pulled to them.

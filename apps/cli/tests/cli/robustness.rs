@@ -1079,6 +1079,25 @@ fn ffd_weights_past_their_bound_are_refused_naming_field_value_and_bounds() {
     }
 }
 
+/// Issue 35: a slit scene's `mould.sheet_thickness` of 1e-320 (a subnormal) lay between 0
+/// and half a strip, passed, and was refused by the mould's triangulation ("a coordinate
+/// is nearer to zero than …") without naming the field. It is refused naming
+/// `mould.sheet_thickness` and its bounds, nothing written.
+#[test]
+fn a_subnormal_sheet_thickness_is_refused_naming_the_field() {
+    let mut scene = example("examples/slit/bench.json");
+    scene["mould"] = json!({"sheet_thickness": 1e-320});
+    let (code, stderr) = run_scene("slit", &scene, &[]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(
+        stderr.contains("`mould.sheet_thickness`: must be 0 (a sheet of no thickness) or from a millionth")
+            && stderr.contains(") to half the strip width (43.125), got 9.99989e-321"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("triangulat"), "{stderr}");
+    assert_readable(&stderr);
+}
+
 /// Issue 35, messages: a value refused for crossing a bound is printed with the digits
 /// that tell it from the bound ("must be between 0 and 100, got 100" for 100.0001), in
 /// pattern options, scene fields and bounds computed from the image.
