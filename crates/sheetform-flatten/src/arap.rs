@@ -89,7 +89,9 @@ pub fn arap(mesh: &TriangleMesh, options: &ArapOptions) -> Result<Unfolding, Fla
             }
         }
     }
-    let llt = SparseCholesky::new(n, &triplets).map_err(|e| FlattenError::Solver { message: e.to_string() })?;
+    let llt = SparseCholesky::new(n, &triplets).map_err(|e| FlattenError::Solver {
+        message: format!("the layout solver failed: {e}"),
+    })?;
 
     let mut u = start.flat;
     let pin = u[0];

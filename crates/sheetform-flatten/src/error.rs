@@ -21,10 +21,11 @@ pub enum FlattenError {
         /// Euler characteristic.
         euler: i64,
     },
-    /// The sparse solver failed.
-    #[error("the layout solver failed: {message}")]
+    /// The layout could not be computed (its linear system has no unique solution).
+    #[error("{message}")]
     Solver {
-        /// The solver's message.
+        /// Why, in the mesh's terms where they are known (a needle-thin triangle), else
+        /// the solver's.
         message: String,
     },
     /// The pattern would have more pieces than a pattern may have, or the mesh has more

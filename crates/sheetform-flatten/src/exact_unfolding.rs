@@ -195,8 +195,11 @@ pub fn exact_unfold(mesh: &TriangleMesh, options: &UnfoldOptions) -> Result<Unfo
             Some(c) => c.refactor(&triplets).map(|()| c),
             None => SparseCholesky::new(unknowns, &triplets).map(|c| cholesky.insert(c)),
         };
-        let llt = factorised.map_err(|e| FlattenError::Solver {
-            message: format!("factorisation failed ({e}): the mesh is not rigid in the plane"),
+        let llt = factorised.map_err(|e| {
+            tracing::debug!(error = %e, "exact unfolding: the layout's normal equations did not factorise");
+            FlattenError::Solver {
+                message: layout_not_fixed(mesh),
+            }
         })?;
         let delta = llt.solve(&rhs);
         // Damped step: halve until the cost does not grow.
@@ -241,6 +244,44 @@ pub fn exact_unfold(mesh: &TriangleMesh, options: &UnfoldOptions) -> Result<Unfo
         solver: info,
         max_relative_residual,
     })
+}
+
+/// A triangle whose width (its height over its longest edge) is below this fraction of its
+/// length is needle-thin: the refinement's normal equations of a mesh holding one
+/// (measured: a 25 mm edge with its third corner 2.5e-8 mm off it, 1e-9) do not factorise.
+const NEEDLE_WIDTH: f64 = 1e-6;
+
+/// Why the edge lengths of `mesh` leave its flat layout free (the refinement's normal
+/// equations are singular), in the mesh's terms and with what to do: its thinnest
+/// triangle when that one is needle-thin, its corners almost in a line.
+fn layout_not_fixed(mesh: &TriangleMesh) -> String {
+    let short = sheetform_geometry::short_number;
+    let thinnest = (0..mesh.triangles.len())
+        .filter_map(|f| {
+            let [a, b, c] = mesh.triangles[f].map(|v| mesh.positions[v as usize]);
+            let longest = (b - a).norm().max((c - b).norm()).max((a - c).norm());
+            let width = 2.0 * mesh.face_area(f) / longest;
+            (longest > 0.0 && width.is_finite()).then_some((f, width, longest, (a + b + c) / 3.0))
+        })
+        .min_by(|x, y| (x.1 / x.2).total_cmp(&(y.1 / y.2)));
+    match thinnest {
+        Some((face, width, longest, centre)) if width < NEEDLE_WIDTH * longest => format!(
+            "the mesh cannot be laid flat as it is: it has needle-thin triangles, their three corners almost \
+             in a line, whose edge lengths do not hold the pattern in shape (the thinnest, face {face} near \
+             ({}, {}, {}), is {} wide across its longest edge of {}); remove such triangles (collapse their \
+             shortest edge, as a mesh editor's clean-up of degenerate faces does, or remesh) and try again",
+            short(centre.x),
+            short(centre.y),
+            short(centre.z),
+            short(width),
+            short(longest)
+        ),
+        _ => "the mesh cannot be laid flat as it is: its edge lengths do not hold the pattern in shape (laid \
+              flat, some of its triangles are squashed into lines, as happens to a surface far from \
+              developable); repair or remesh it, or cut it into pieces that are each nearly developable, and \
+              try again"
+            .to_string(),
+    }
 }
 
 /// The point at distances `li` from `pi` and `lj` from `pj`, to the left of `pi → pj`.

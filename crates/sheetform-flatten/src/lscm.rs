@@ -122,7 +122,9 @@ pub fn lscm(mesh: &TriangleMesh) -> Result<Unfolding, FlattenError> {
             }
         }
     }
-    let llt = SparseCholesky::new(2 * n, &triplets).map_err(|e| FlattenError::Solver { message: e.to_string() })?;
+    let llt = SparseCholesky::new(2 * n, &triplets).map_err(|e| FlattenError::Solver {
+        message: format!("the layout solver failed: {e}"),
+    })?;
     let x = llt.solve(&rhs);
     let mut flat: Vec<Vec2> = (0..nv)
         .map(|v| {

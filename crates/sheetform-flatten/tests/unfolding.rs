@@ -72,6 +72,55 @@ fn unfolding_is_scale_invariant() {
     }
 }
 
+/// The paraboloid cap of [`dome`] with one more triangle on its border: a needle whose
+/// third corner lies `offset` off the middle of a 25 mm border edge (face 32).
+fn dome_with_a_needle(offset: f64) -> TriangleMesh {
+    let mut m = dome(4);
+    let (i, j) = m
+        .triangles
+        .iter()
+        .find_map(|t| {
+            (0..3).find_map(|k| {
+                let (i, j) = (t[k], t[(k + 1) % 3]);
+                (m.positions[i as usize].y == -50.0 && m.positions[j as usize].y == -50.0).then_some((j, i))
+            })
+        })
+        .unwrap();
+    let middle = (m.positions[i as usize] + m.positions[j as usize]) * 0.5;
+    m.positions.push(middle - Vector3::y() * offset);
+    m.triangles.push([i, j, (m.positions.len() - 1) as u32]);
+    m.face_groups.push(0);
+    m
+}
+
+/// Issue 35, messages: a mesh whose edge lengths do not fix its flat layout was refused as
+/// "factorisation failed (the linear system has no unique solution …): the mesh is not
+/// rigid in the plane", the solver's words. A needle-thin triangle (its corners almost in
+/// a line) does that: the refusal says so, names the thinnest triangle and where it is,
+/// and what to do.
+#[test]
+fn a_needle_thin_triangle_is_named_in_the_meshs_terms() {
+    // Less thin, the same mesh unfolds (as a least-squares layout: the cap is curved).
+    assert!(exact_unfold(&dome_with_a_needle(2.5e-4), &UnfoldOptions::default()).is_ok());
+    let message = match exact_unfold(&dome_with_a_needle(2.5e-8), &UnfoldOptions::default()) {
+        Err(e @ FlattenError::Solver { .. }) => e.to_string(),
+        other => panic!("{:?}", other.map(|u| u.max_relative_residual)),
+    };
+    assert!(
+        message.contains("needle-thin triangles, their three corners almost in a line")
+            && message.contains("(the thinnest, face 32 near (-37.5, -50, ")
+            && message.contains("is 2.5e-8 wide across its longest edge of 25.6"),
+        "{message}"
+    );
+    assert!(
+        message.starts_with("the mesh cannot be laid flat as it is: "),
+        "{message}"
+    );
+    for internal in ["solver", "factoris", "linear system", "singular", "pivot", "rigid"] {
+        assert!(!message.contains(internal), "`{internal}` in: {message}");
+    }
+}
+
 #[test]
 fn closed_and_non_manifold_meshes_are_refused() {
     // A tetrahedron: closed.

@@ -1206,6 +1206,73 @@ fn undecodable_images_are_refused_at_load() {
     }
 }
 
+/// Issue 35, messages: `flatten` of a mesh whose edge lengths do not fix its flat layout
+/// said "the layout solver failed: factorisation failed (the linear system has no unique
+/// solution (singular, or not positive definite)): the mesh is not rigid in the plane".
+/// A needle-thin triangle does that (here one on the border of a curved cap, its third
+/// corner 2.5e-8 mm off a 25 mm edge): the user is told what is wrong with the mesh,
+/// which triangle and where, and what to do, in no solver's words.
+#[test]
+fn a_mesh_that_cannot_be_laid_flat_is_explained_in_its_own_terms() {
+    let n = 4;
+    let mut positions: Vec<[f64; 3]> = Vec::new();
+    for i in 0..=n {
+        for j in 0..=n {
+            let (x, y) = (i as f64 / n as f64 - 0.5, j as f64 / n as f64 - 0.5);
+            positions.push([x * 100.0, y * 100.0, 30.0 * (1.0 - x * x - y * y)]);
+        }
+    }
+    let id = |i: usize, j: usize| i * (n + 1) + j;
+    let mut faces = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            faces.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            faces.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    // The needle, on the border edge from (-25, -50) to (-50, -50).
+    let (a, b) = (id(1, 0), id(0, 0));
+    let middle: Vec<f64> = (0..3).map(|c| 0.5 * (positions[a][c] + positions[b][c])).collect();
+    positions.push([middle[0], middle[1] - 2.5e-8, middle[2]]);
+    faces.push([a, b, positions.len() - 1]);
+    let mut obj = String::new();
+    for p in &positions {
+        obj.push_str(&format!("v {:?} {:?} {:?}\n", p[0], p[1], p[2]));
+    }
+    for f in &faces {
+        obj.push_str(&format!("f {} {} {}\n", f[0] + 1, f[1] + 1, f[2] + 1));
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("cap.obj");
+    std::fs::write(&mesh, obj).unwrap();
+    let out = dir.path().join("out");
+    let o = sheetform_within(
+        &[
+            "flatten",
+            mesh.to_str().unwrap(),
+            "--charts",
+            "never",
+            "-o",
+            out.to_str().unwrap(),
+            "-q",
+        ],
+        120,
+    );
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("sheetform: the mesh cannot be laid flat as it is: it has needle-thin triangles")
+            && stderr.contains("the thinnest, face 32 near (-37.5, -50, ")
+            && stderr.contains("remove such triangles"),
+        "{stderr}"
+    );
+    for internal in ["solver", "factoris", "linear system", "singular", "rigid"] {
+        assert!(!stderr.contains(internal), "`{internal}` in: {stderr}");
+    }
+    assert!(!out.exists(), "{stderr}");
+    assert_readable(&stderr);
+}
+
 /// Issue 35, messages: a piece that cannot be unfolded is explained in the terms of the
 /// command that ran. An FFD panel that is not disk-like (a closed box) was told to "cut it
 /// into charts first", the `flatten` command's advice: it is told to split the panel.
