@@ -145,7 +145,8 @@ pub(crate) enum Command {
     /// plane (automatic seams, always including those drawn in the mesh as OBJ `l`
     /// polylines along its edges), each piece is moved as little as possible until every
     /// vertex inside it is flat, then unfolded exactly. Writes model.obj (the developed shape, vt = its pattern at 1:1),
-    /// model.glb, pattern.svg/.dxf/.pdf and report.json (`develop`: angle defects before
+    /// model.glb, pattern.svg/.dxf/.pdf, distance.ply/.glb (a colour map of each
+    /// vertex's distance to the target) and report.json (`develop`: angle defects before
     /// and after, Hausdorff and mean distance to the target). Exit code 5 when a piece
     /// stays out of tolerance (written, see the report).
     Develop {

@@ -216,4 +216,44 @@ fn a_closed_sphere_gets_automatic_seams_and_exact_pieces() {
     assert!((2..=12).contains(&pieces), "{pieces} pieces");
     let svg = std::fs::read_to_string(out.join("pattern.svg")).unwrap();
     assert!(crate::common::svg_cut_loops(&svg).len() as u64 >= pieces);
+    // The distance colour map: each vertex's distance to the target is its offset from
+    // the sphere (up to the target's chord error, 0.107 mm), red where it is largest.
+    let ply = std::fs::read_to_string(out.join("distance.ply")).unwrap();
+    let body = ply.split("end_header\n").nth(1).unwrap();
+    let count: usize = ply
+        .lines()
+        .find_map(|l| l.strip_prefix("element vertex "))
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(ply.contains("property double distance_mm"));
+    let rows: Vec<Vec<f64>> = body
+        .lines()
+        .take(count)
+        .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+        .collect();
+    let mut largest = (0.0, [0.0; 3]);
+    for row in &rows {
+        let offset = (nalgebra::Vector3::new(row[0], row[1], row[2]).norm() - 50.0).abs();
+        assert!(
+            (row[6] - offset).abs() <= 0.11,
+            "distance {} at offset {offset}",
+            row[6]
+        );
+        if row[6] > largest.0 {
+            largest = (row[6], [row[3], row[4], row[5]]);
+        }
+    }
+    let hausdorff = report["develop"]["hausdorff_mm"].as_f64().unwrap();
+    assert!(
+        largest.0 > 0.5 && largest.0 <= hausdorff + 1e-9,
+        "{} vs {hausdorff}",
+        largest.0
+    );
+    assert!(
+        largest.1[0] > 150.0 && largest.1[2] < 100.0,
+        "the farthest vertex is {:?}",
+        largest.1
+    );
+    crate::common::validate_glb(&[out.join("distance.glb")]);
 }

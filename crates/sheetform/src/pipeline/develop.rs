@@ -2,14 +2,19 @@
 //! pieces (cut along the user's seams), unfolded exactly, with the patterns of `flatten`
 //! (issue 36: automatic seams, or the user's only).
 
+use super::check::mesh_name;
 use super::context::RunContext;
 use super::error::{Outcome, PipelineError};
 use super::flatten::{run_flatten, ChartMode, FlattenOptions, FlattenRun};
+use super::outputs::output_names;
 use crate::report::{Command, DevelopReport, Status};
 use sheetform_develop::{develop_pieces, seam_pieces, segment_developable, DevelopError};
 pub use sheetform_develop::{DevelopOptions, Developed, SegmentationOptions};
 use sheetform_flatten::ChartOptions;
-use sheetform_mesh::{mesh_topology_with_edges, surface_distance, SurfaceDistanceOptions, TriangleMesh};
+use sheetform_io::{colour_ramp, glb_vertex_colours, ply_vertex_colours, UpAxis};
+use sheetform_mesh::{
+    mesh_topology_with_edges, surface_distance, vertex_distances, SurfaceDistanceOptions, SurfaceIndex, TriangleMesh,
+};
 
 /// Where `develop` cuts the target.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
@@ -136,6 +141,27 @@ pub fn run_develop(
         |(low, high), p| (low.inf(p), high.sup(p)),
     );
     let diagonal = (high - low).norm();
+    // The distance colour map: each developed vertex's distance to the target, blue at
+    // none, red at the largest (PLY with the value in mm per vertex, and GLB).
+    let distances = vertex_distances(&result, &SurfaceIndex::new(&target));
+    let top = distances.iter().copied().filter(|d| d.is_finite()).fold(0.0, f64::max);
+    let colours: Vec<[f32; 3]> = distances
+        .iter()
+        .map(|d| colour_ramp(if top > 0.0 { d / top } else { 0.0 }))
+        .collect();
+    let name = mesh_name(options.flatten.name.as_deref(), options.flatten.input.as_deref());
+    if context.renders_all() {
+        let millimetres: Vec<f64> = distances.iter().map(|d| d * unit).collect();
+        run.files.push((
+            "distance.ply".to_string(),
+            ply_vertex_colours(&result, &colours, &millimetres, "distance_mm").into_bytes(),
+        ));
+    }
+    run.files.push((
+        "distance.glb".to_string(),
+        glb_vertex_colours(&result, &colours, unit / 1000.0, &name, UpAxis::Y),
+    ));
+    run.report.outputs = output_names(&run.files);
     let report = &mut run.report;
     report.command = Command::Develop;
     let seam_length: f64 = pieces
