@@ -24,8 +24,9 @@
 //! refused (DNS rebinding, cross-site posts). Every request is bounded ([`ServeOptions::max_request_bytes`]), and so
 //! are the bodies held at once over all requests ([`ServeOptions::max_buffered_bytes`]),
 //! the time a client may take to send its headers and its body
-//! ([`ServeOptions::header_read_timeout`], [`ServeOptions::body_read_timeout`]) and the
-//! connections open at once ([`ServeOptions::max_connections`]). Solves, and the parsing
+//! ([`ServeOptions::header_read_timeout`], [`ServeOptions::body_read_timeout`]) or to take
+//! a reply ([`ServeOptions::write_timeout`]) and the connections open at once
+//! ([`ServeOptions::max_connections`]). Solves, and the parsing
 //! of the scenes they solve, run on a blocking pool at most
 //! [`ServeOptions::max_concurrent_solves`] at a time, and a malformed, hostile or failing
 //! request gets an error reply (`{"error": {"kind", "message"}}`, with the report when a
@@ -41,6 +42,7 @@ mod files;
 mod mesh;
 mod photo;
 mod slit;
+mod write_timeout;
 
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 use std::path::PathBuf;
@@ -86,6 +88,11 @@ pub struct ServeOptions {
     /// (default 60 s): the request is then answered 408 (kind `timeout`) and its
     /// connection closed.
     pub body_read_timeout: Duration,
+    /// Longest time a reply may wait for the client to take more of it (default 30 s):
+    /// a client that stops reading has its connection closed ([`Server`]). The clock
+    /// runs only while a write waits on the client, so a slow reader that keeps reading
+    /// and a reply waiting on its solve are never cut off.
+    pub write_timeout: Duration,
     /// Most connections open at once (default 256): more wait in the system's queue of
     /// connections until one closes ([`Server`]).
     pub max_connections: usize,
@@ -102,6 +109,7 @@ impl Default for ServeOptions {
             max_concurrent_solves: 2,
             header_read_timeout: Duration::from_secs(30),
             body_read_timeout: Duration::from_secs(60),
+            write_timeout: Duration::from_secs(30),
             max_connections: 256,
         }
     }
@@ -238,6 +246,7 @@ async fn this_machine_only(request: axum::extract::Request, next: axum::middlewa
 #[derive(Debug, Clone, Copy)]
 struct ConnectionLimits {
     header_read_timeout: Duration,
+    write_timeout: Duration,
     max_connections: usize,
 }
 
@@ -271,6 +280,7 @@ impl Server {
             router,
             limits: ConnectionLimits {
                 header_read_timeout: options.header_read_timeout,
+                write_timeout: options.write_timeout,
                 max_connections: options.max_connections.max(1),
             },
         })
@@ -309,8 +319,10 @@ impl Server {
 /// Accepts connections until `stop` ends, at most `limits.max_connections` open at once
 /// (the next is accepted when one closes; until then it waits in the system's queue),
 /// each served by hyper's HTTP/1 connection with its header read timeout (`axum::serve`
-/// sets none: a client sending its headers a byte at a time held its socket for good);
-/// then waits for the requests under way.
+/// sets none: a client sending its headers a byte at a time held its socket for good)
+/// over a socket whose writes give up after the write timeout (hyper has none: a client
+/// that never read its reply held its socket for good); then waits for the requests
+/// under way.
 async fn serve(
     listener: tokio::net::TcpListener,
     router: axum::Router,
@@ -347,6 +359,7 @@ async fn serve(
             tracing::debug!(%error, "TCP_NODELAY not set");
         }
         let service = hyper_util::service::TowerToHyperService::new(router.clone());
+        let stream = write_timeout::WriteTimeout::new(stream, limits.write_timeout);
         let connection = graceful.watch(http.serve_connection(hyper_util::rt::TokioIo::new(stream), service));
         tokio::spawn(async move {
             if let Err(error) = connection.await {

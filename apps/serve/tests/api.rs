@@ -881,6 +881,50 @@ fn slow_clients_are_cut_off_at_the_header_and_body_timeouts() {
     assert!(http(address, "GET", "/api/files", b"").starts_with("HTTP/1.1 200"));
 }
 
+/// Issue 35: no write timeout. A client that asked for a large file and never read the
+/// reply held its connection (and the reply) for good; it is now closed once the reply
+/// has waited on the client for the write timeout (1 s here): reading afterwards gets
+/// what the socket buffers held, then the end, never the whole file. A client that does
+/// read gets all of it.
+#[test]
+fn a_client_that_does_not_read_its_reply_is_cut_off_at_the_write_timeout() {
+    use std::io::{Read, Write};
+    let (_dir, root) = served();
+    // Larger than both sockets' buffers on any loopback (a few MiB each).
+    let size = 48usize << 20;
+    std::fs::write(root.join("large.stl"), vec![b'x'; size]).unwrap();
+    let address = running(ServeOptions {
+        root,
+        write_timeout: std::time::Duration::from_secs(1),
+        ..Default::default()
+    });
+    let request = b"GET /api/files/large.stl HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+    let read_all = |stream: &mut std::net::TcpStream| {
+        stream
+            .set_read_timeout(Some(std::time::Duration::from_secs(30)))
+            .unwrap();
+        let mut received = 0usize;
+        let mut buffer = vec![0u8; 1 << 16];
+        // Until the end, a reset, or 30 s without a byte.
+        while let Ok(n @ 1..) = stream.read(&mut buffer) {
+            received += n;
+        }
+        received
+    };
+    let mut reader = std::net::TcpStream::connect(address).unwrap();
+    reader.write_all(request).unwrap();
+    assert!(read_all(&mut reader) > size, "a client that reads gets the whole file");
+    let mut stalled = std::net::TcpStream::connect(address).unwrap();
+    stalled.write_all(request).unwrap();
+    std::thread::sleep(std::time::Duration::from_secs(4));
+    let received = read_all(&mut stalled);
+    assert!(
+        received < size,
+        "a client that stopped reading for 4 s still got the whole reply ({received} bytes)"
+    );
+    assert!(http(address, "GET", "/api/files", b"").starts_with("HTTP/1.1 200"));
+}
+
 /// Issue 35: connections were not capped. Past the cap (2 here) a connection waits until
 /// one closes, then is served.
 #[test]
