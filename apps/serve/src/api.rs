@@ -357,9 +357,10 @@ impl<T> std::ops::Deref for Buffered<T> {
 
 /// A request body, bounded three ways, each refusal answered as JSON: its size
 /// ([`crate::ServeOptions::max_request_bytes`], 413), the bytes held over all requests
-/// ([`crate::ServeOptions::max_buffered_bytes`]: its share is taken before it is read,
-/// 503 `busy` when the budget is spent) and its time
-/// ([`crate::ServeOptions::body_read_timeout`], 408 `timeout`).
+/// ([`crate::ServeOptions::max_buffered_bytes`]: a body's share is taken before it is read
+/// when it declares its length, as it arrives when it does not; 503 `busy` when the
+/// budget is spent) and its time ([`crate::ServeOptions::body_read_timeout`], 408
+/// `timeout`).
 pub(crate) struct ApiBody<T>(pub Buffered<T>);
 
 impl<T> axum::extract::FromRequest<Arc<AppState>> for ApiBody<T>
@@ -370,22 +371,32 @@ where
     type Rejection = ApiError;
 
     async fn from_request(request: axum::extract::Request, state: &Arc<AppState>) -> Result<Self, Self::Rejection> {
-        let share = body_share(&request, state)?;
-        let read = tokio::time::timeout(state.body_read_timeout, T::from_request(request, state));
-        match read.await {
-            Ok(Ok(value)) => Ok(Self(Buffered { value, _share: share })),
-            Ok(Err(rejection)) => {
-                let response = rejection.into_response();
-                let status = response.status();
-                let bytes = axum::body::to_bytes(response.into_body(), 4096)
-                    .await
-                    .unwrap_or_default();
-                Err(ApiError::new(
-                    status,
-                    "invalid_input",
-                    format!("the request body: {}", String::from_utf8_lossy(&bytes)),
-                ))
+        let read = async {
+            let (request, share) = match declared_length(&request) {
+                Some(declared) => {
+                    let share = body_share(declared, state)?;
+                    (request, share)
+                }
+                None => buffered_as_it_arrives(request, state).await?,
+            };
+            match T::from_request(request, state).await {
+                Ok(value) => Ok(Self(Buffered { value, _share: share })),
+                Err(rejection) => {
+                    let response = rejection.into_response();
+                    let status = response.status();
+                    let bytes = axum::body::to_bytes(response.into_body(), 4096)
+                        .await
+                        .unwrap_or_default();
+                    Err(ApiError::new(
+                        status,
+                        "invalid_input",
+                        format!("the request body: {}", String::from_utf8_lossy(&bytes)),
+                    ))
+                }
             }
+        };
+        match tokio::time::timeout(state.body_read_timeout, read).await {
+            Ok(result) => result,
             Err(_) => Err(ApiError::new(
                 StatusCode::REQUEST_TIMEOUT,
                 "timeout",
@@ -398,29 +409,43 @@ where
     }
 }
 
-/// The share of the body budget `request`'s body takes: its declared length, or the
-/// largest body when it declares none (a chunked body). Refused at once when the body is
-/// declared larger than the largest (413) or when the budget is spent (503).
-fn body_share(
-    request: &axum::extract::Request,
-    state: &AppState,
-) -> Result<tokio::sync::OwnedSemaphorePermit, ApiError> {
+/// The length `request`'s body declares (`Content-Length`), if it declares one (not a
+/// chunked body).
+fn declared_length(request: &axum::extract::Request) -> Option<usize> {
     use axum::body::HttpBody;
-    let hint = request.body().size_hint();
+    request
+        .body()
+        .size_hint()
+        .exact()
+        .map(|bytes| usize::try_from(bytes).unwrap_or(usize::MAX))
+}
+
+/// The refusal of a body larger than the largest a request may carry (413): `size` is
+/// its declared length, or none when it declares none.
+fn too_large(size: Option<usize>, largest: usize) -> ApiError {
+    let size = size.map_or(String::new(), |bytes| format!("{bytes} bytes, "));
+    ApiError::new(
+        StatusCode::PAYLOAD_TOO_LARGE,
+        "invalid_input",
+        format!("the request body: {size}more than the {largest} bytes a request may carry"),
+    )
+}
+
+/// The share of the body budget a body declared `declared` bytes long takes before it is
+/// read. Refused at once when it is larger than the largest (413) or when the budget is
+/// spent (503).
+fn body_share(declared: usize, state: &AppState) -> Result<tokio::sync::OwnedSemaphorePermit, ApiError> {
     let largest = state.max_request_bytes;
-    let declared = usize::try_from(hint.lower()).unwrap_or(usize::MAX);
     if declared > largest {
-        return Err(ApiError::new(
-            StatusCode::PAYLOAD_TOO_LARGE,
-            "invalid_input",
-            format!("the request body: {declared} bytes, more than the {largest} bytes a request may carry"),
-        ));
+        return Err(too_large(Some(declared), largest));
     }
-    let bytes = hint
-        .upper()
-        .and_then(|upper| usize::try_from(upper).ok())
-        .map_or(largest, |upper| upper.min(largest));
-    let units = u32::try_from(budget_units(bytes)).unwrap_or(u32::MAX);
+    take_budget(budget_units(declared), declared, state)
+}
+
+/// `units` more of the body budget (for a body that would then hold `bytes`), or the
+/// refusal when the budget is spent (503, `busy`).
+fn take_budget(units: usize, bytes: usize, state: &AppState) -> Result<tokio::sync::OwnedSemaphorePermit, ApiError> {
+    let units = u32::try_from(units).unwrap_or(u32::MAX);
     state.body_budget.clone().try_acquire_many_owned(units).map_err(|_| {
         let held = state
             .body_budget_bytes
@@ -437,6 +462,43 @@ fn body_share(
             ),
         )
     })
+}
+
+/// Reads a body that declares no length (a chunked one) into one buffer, taking its share
+/// of the body budget as the buffer grows: a small body takes a small share, where
+/// taking the largest body's share up front let four such requests hold the whole budget
+/// (256 MiB) and every other body be refused. The buffer at least doubles when it grows
+/// (no quadratic copying), up to the largest body; its share is its capacity. Refused
+/// once it passes the largest body (413) or finds the budget spent (503). The request is
+/// given back with the buffer as its body, for the extractor to take at once.
+async fn buffered_as_it_arrives(
+    request: axum::extract::Request,
+    state: &AppState,
+) -> Result<(axum::extract::Request, tokio::sync::OwnedSemaphorePermit), ApiError> {
+    use futures_util::StreamExt;
+    let largest = state.max_request_bytes;
+    let (parts, body) = request.into_parts();
+    let mut share = take_budget(0, 0, state)?;
+    let mut buffer: Vec<u8> = Vec::new();
+    let mut chunks = body.into_data_stream();
+    while let Some(chunk) = chunks.next().await {
+        let chunk = chunk.map_err(|e| ApiError::invalid(format!("the request body: {e}")))?;
+        let length = buffer.len().saturating_add(chunk.len());
+        if length > largest {
+            return Err(too_large(None, largest));
+        }
+        if length > buffer.capacity() {
+            let capacity = length.max(2 * buffer.capacity()).max(8 * BUDGET_UNIT).min(largest);
+            let more = budget_units(capacity).saturating_sub(share.num_permits());
+            share.merge(take_budget(more, capacity, state)?);
+            buffer.reserve_exact(capacity - buffer.len());
+        }
+        buffer.extend_from_slice(&chunk);
+    }
+    Ok((
+        axum::extract::Request::from_parts(parts, axum::body::Body::from(buffer)),
+        share,
+    ))
 }
 
 /// Bytes in MiB, for messages.

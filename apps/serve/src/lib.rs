@@ -73,10 +73,11 @@ pub struct ServeOptions {
     pub max_request_bytes: usize,
     /// Most bytes of request bodies held in memory at once, over all requests (default
     /// [`DEFAULT_MAX_BUFFERED_BYTES`]; never less than `max_request_bytes`). A body takes
-    /// its declared length (`Content-Length`; `max_request_bytes` when it declares none)
-    /// from this budget before it is read and gives it back when its request is answered,
-    /// so requests waiting for a solve slot do not pile up bodies; a request that finds
-    /// the budget spent is refused at once (503, kind `busy`).
+    /// its declared length (`Content-Length`) from this budget before it is read, or, when
+    /// it declares none (chunked), what its buffer holds as it grows, and gives it back
+    /// when its request is answered, so requests waiting for a solve slot do not pile up
+    /// bodies; a request that finds the budget spent is refused at once (503, kind
+    /// `busy`).
     pub max_buffered_bytes: usize,
     /// Solves running at the same time; more wait their turn.
     pub max_concurrent_solves: usize,
