@@ -187,7 +187,22 @@ pub(crate) fn develop_command(
     let run = &developed.run;
     write_set(&output, &run.files, &run.report)?;
     let figures = run.report.develop.as_ref().expect("develop reports its figures");
-    if run.outcome == Outcome::OutOfTolerance {
+    let too_far = figures.max_distance_mm.filter(|&bound| figures.hausdorff_mm > bound);
+    if let (Outcome::OutOfTolerance, Some(bound), true) = (
+        run.outcome,
+        too_far,
+        figures.angle_defect_max_rad <= figures.angle_defect_tolerance_rad,
+    ) {
+        say!(
+            "sheetform: {}: the closest result found, {} pieces, is {:.3} mm from the target (bound {:.3} mm) after {} tries; written to {}, but out of tolerance: allow more pieces (--max-pieces) or a larger distance",
+            mesh.display(),
+            figures.piece_count,
+            figures.hausdorff_mm,
+            bound,
+            figures.attempt_count,
+            output.display()
+        );
+    } else if run.outcome == Outcome::OutOfTolerance {
         say!(
             "sheetform: {}: a piece keeps an angle defect of {:.1e} rad (bound {:.1e}) after {} steps; written to {}, but out of tolerance: add seams where the shape is most curved, or allow more (--tolerance, --max-iterations)",
             mesh.display(),

@@ -105,6 +105,7 @@ fn main() -> ExitCode {
             seams,
             max_pieces,
             normal_tolerance,
+            max_distance,
             smoothness,
             tolerance,
             max_iterations,
@@ -115,6 +116,7 @@ fn main() -> ExitCode {
             units,
             sheetform::pipeline::DevelopRunOptions {
                 seams: seams.into(),
+                max_distance,
                 segmentation: sheetform::pipeline::SegmentationOptions {
                     max_pieces,
                     normal_tolerance_degrees: normal_tolerance,

@@ -724,6 +724,11 @@ pub struct DevelopReport {
     pub bounding_box_diagonal_mm: f64,
     /// Largest vertex displacement.
     pub displacement_max_mm: f64,
+    /// The bound on `hausdorff_mm` asked for (`--max-distance`), if any: above it the
+    /// status is `out of tolerance`.
+    pub max_distance_mm: Option<f64>,
+    /// Segmentations tried (more pieces each time, while a distance bound was not met).
+    pub attempt_count: usize,
 }
 
 /// `photo`: what the reconstruction from an annotated photograph made (system D,

@@ -114,6 +114,8 @@ fn targets_develop_cannot_take_are_refused_naming_the_cause() {
         ("--max-iterations=0", "max_iterations"),
         ("--max-pieces=0", "max_pieces"),
         ("--normal-tolerance=91", "normal_tolerance_degrees"),
+        ("--max-distance=0", "max_distance"),
+        ("--max-distance=200%", "max_distance"),
     ] {
         let o = sheetform(&["develop", mesh.to_str().unwrap(), "-o", out.to_str().unwrap(), option]);
         let stderr = String::from_utf8_lossy(&o.stderr);
@@ -256,4 +258,77 @@ fn a_closed_sphere_gets_automatic_seams_and_exact_pieces() {
         largest.1
     );
     crate::common::validate_glb(&[out.join("distance.glb")]);
+}
+
+/// The largest per-vertex distance in `distance.ply` (mm).
+fn largest_ply_distance(dir: &std::path::Path) -> f64 {
+    let ply = std::fs::read_to_string(dir.join("distance.ply")).unwrap();
+    let count: usize = ply
+        .lines()
+        .find_map(|l| l.strip_prefix("element vertex "))
+        .unwrap()
+        .parse()
+        .unwrap();
+    ply.split("end_header\n")
+        .nth(1)
+        .unwrap()
+        .lines()
+        .take(count)
+        .map(|l| l.split_whitespace().nth(6).unwrap().parse::<f64>().unwrap())
+        .fold(0.0, f64::max)
+}
+
+/// `--max-distance`: pieces are added until the developed surface is within the bound
+/// (the coarse bunny needs several tries), and a bound no budget meets is `out of
+/// tolerance`, exit 5, with the closest result written.
+#[test]
+fn a_distance_bound_adds_pieces_until_it_holds() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = example_mesh("bunny-99.stl");
+    let out = dir.path().join("near");
+    let o = sheetform(&[
+        "develop",
+        mesh.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+        "--max-distance",
+        "0.2%",
+        "--max-pieces",
+        "30",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let d = &r["develop"];
+    let bound = d["max_distance_mm"].as_f64().unwrap();
+    let diagonal = d["bounding_box_diagonal_mm"].as_f64().unwrap();
+    assert!((bound - 0.002 * diagonal).abs() < 1e-12 * diagonal);
+    assert!(d["attempt_count"].as_u64().unwrap() > 1, "{d}");
+    assert!(d["hausdorff_mm"].as_f64().unwrap() <= bound);
+    assert!(largest_ply_distance(&out) <= bound);
+    let model = read_obj(&out.join("model.obj"));
+    assert!(max_interior_defect(&model).0 <= 1e-8);
+
+    let out = dir.path().join("far");
+    let o = sheetform(&[
+        "develop",
+        mesh.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--max-distance",
+        "0.001%",
+        "--max-pieces",
+        "4",
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(5), "{stderr}");
+    assert!(stderr.contains("--max-pieces"), "{stderr}");
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(r["status"], "out of tolerance");
+    let d = &r["develop"];
+    assert!(d["hausdorff_mm"].as_f64().unwrap() > d["max_distance_mm"].as_f64().unwrap());
+    assert!(largest_ply_distance(&out) > d["max_distance_mm"].as_f64().unwrap());
+    assert!(out.join("model.obj").exists() && out.join("pattern.svg").exists());
 }

@@ -29,11 +29,53 @@ pub enum SeamSource {
     Drawn,
 }
 
+/// How far the developed surface may be from the target (two-sided Hausdorff distance).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum DistanceBound {
+    /// A fraction of the target's bounding-box diagonal (0.01 = 1 %).
+    Relative(f64),
+    /// A length in the mesh's units.
+    Absolute(f64),
+}
+
+impl DistanceBound {
+    /// The bound in the mesh's units, for a target of bounding-box `diagonal`.
+    pub fn in_model_units(&self, diagonal: f64) -> f64 {
+        match *self {
+            Self::Relative(fraction) => fraction * diagonal,
+            Self::Absolute(length) => length,
+        }
+    }
+
+    fn validate(&self) -> Result<(), DevelopError> {
+        let (value, ok) = match *self {
+            Self::Relative(f) => (f, f.is_finite() && f > 0.0 && f <= 1.0),
+            Self::Absolute(l) => (l, l.is_finite() && l > 0.0 && l <= 1e12),
+        };
+        if ok {
+            Ok(())
+        } else {
+            Err(DevelopError::Option {
+                option: "max_distance",
+                message: format!(
+                    "must be a positive length, or a fraction of the size up to 100 %, got {}",
+                    sheetform_geometry::short_number(value)
+                ),
+            })
+        }
+    }
+}
+
 /// Knobs of `sheetform develop`.
 #[derive(Debug, Clone, Default)]
 pub struct DevelopRunOptions {
     /// Where the target is cut.
     pub seams: SeamSource,
+    /// The largest distance to the target accepted. With automatic seams, pieces are
+    /// added (up to the budget) until it holds; a result still farther is `out of
+    /// tolerance` (exit 5), the closest one written. `None`: no bound.
+    pub max_distance: Option<DistanceBound>,
     /// How automatic seams are found (the piece budget, the fit).
     pub segmentation: SegmentationOptions,
     /// How the pieces are made developable.
@@ -42,6 +84,18 @@ pub struct DevelopRunOptions {
     /// the pattern, the name, the size). The layout is always exact charts cut along the
     /// seams only (`charts` and the chart options are set by `develop`).
     pub flatten: FlattenOptions,
+}
+
+/// Pieces of the first attempt under a distance bound.
+const FIRST_PIECE_COUNT: usize = 4;
+
+/// One segmentation and development of the target.
+struct Attempt {
+    result: TriangleMesh,
+    segmentation: Option<sheetform_develop::Segmentation>,
+    pieces: sheetform_develop::SeamPieces,
+    developed: Developed,
+    distance: sheetform_mesh::SurfaceDistance,
 }
 
 /// A finished `develop`.
@@ -75,6 +129,10 @@ pub fn run_develop(
     context: &RunContext,
 ) -> Result<DevelopRun, PipelineError> {
     options.develop.validate()?;
+    options.segmentation.validate()?;
+    if let Some(bound) = &options.max_distance {
+        bound.validate()?;
+    }
     let unit = options.flatten.unit.millimetres();
     if target.triangles.is_empty() {
         return Err(DevelopError::Topology {
@@ -90,35 +148,102 @@ pub fn run_develop(
         }
         .into());
     }
-    context.progress("finding the seams", 0.02);
-    let (seams, segmentation) = match options.seams {
-        SeamSource::Drawn => {
-            if target.seam_edges.is_empty() && topology.boundary_loop_count == 0 {
-                return Err(DevelopError::Topology {
-                    problem: "a closed surface cannot be developed without cuts: draw its seams as OBJ `l` polylines along mesh edges, or let develop find them (--seams automatic)".into(),
-                }
-                .into());
-            }
-            (target.seam_edges.clone(), None)
+    let (low, high) = target.positions.iter().fold(
+        (
+            nalgebra::Vector3::repeat(f64::INFINITY),
+            nalgebra::Vector3::repeat(f64::NEG_INFINITY),
+        ),
+        |(low, high), p| (low.inf(p), high.sup(p)),
+    );
+    let diagonal = (high - low).norm();
+    let bound = options.max_distance.map(|b| b.in_model_units(diagonal));
+    // The drawn seams are checked (and named when off the mesh) as seams of their own.
+    let drawn = seam_pieces(&target, &table, &target.seam_edges)?;
+    let mut hard = vec![false; table.len()];
+    for &e in &drawn.seam_edges {
+        hard[e] = true;
+    }
+    if options.seams == SeamSource::Drawn && target.seam_edges.is_empty() && topology.boundary_loop_count == 0 {
+        return Err(DevelopError::Topology {
+            problem: "a closed surface cannot be developed without cuts: draw its seams as OBJ `l` polylines along mesh edges, or let develop find them (--seams automatic)".into(),
         }
-        SeamSource::Automatic => {
-            // The drawn seams are checked (and named when off the mesh) as seams of their own.
-            let drawn = seam_pieces(&target, &table, &target.seam_edges)?;
-            let mut hard = vec![false; table.len()];
-            for &e in &drawn.seam_edges {
-                hard[e] = true;
+        .into());
+    }
+    let attempt_with = |segmentation: &SegmentationOptions, progress: f64| -> Result<Attempt, PipelineError> {
+        context.progress("finding the seams", progress);
+        let (seams, segmentation) = match options.seams {
+            SeamSource::Drawn => (target.seam_edges.clone(), None),
+            SeamSource::Automatic => {
+                let found = segment_developable(&target, &table, &hard, segmentation, context.cancel)?;
+                (found.seams.clone(), Some(found))
             }
-            let segmentation = segment_developable(&target, &table, &hard, &options.segmentation, context.cancel)?;
-            (segmentation.seams.clone(), Some(segmentation))
-        }
+        };
+        context.progress("making the pieces developable", progress + 0.02);
+        let pieces = seam_pieces(&target, &table, &seams)?;
+        let developed = develop_pieces(&target, &table, &pieces, &options.develop, context.cancel)?;
+        context.check_cancelled()?;
+        let mut result = target.clone();
+        result.positions.clone_from(&developed.positions);
+        result.seam_edges = seams;
+        let distance = surface_distance(&result, &target, &SurfaceDistanceOptions::default());
+        Ok(Attempt {
+            result,
+            segmentation,
+            pieces,
+            developed,
+            distance,
+        })
     };
-    context.progress("making the pieces developable", 0.1);
-    let pieces = seam_pieces(&target, &table, &seams)?;
-    let developed = develop_pieces(&target, &table, &pieces, &options.develop, context.cancel)?;
-    context.check_cancelled()?;
-    let mut result = target.clone();
-    result.positions.clone_from(&developed.positions);
-    result.seam_edges = seams;
+    // With a distance bound and automatic seams: from a few pieces (at most 4, fewer when
+    // the pieces fit cones within the normal tolerance), more pieces (half as many again
+    // each time, the normal tolerance lifted so the count is used) until the bound holds
+    // or the budget is spent; the closest developed attempt is kept. Without a bound:
+    // one attempt, the budget used until the normal tolerance holds.
+    let first = match (bound, options.seams) {
+        (Some(_), SeamSource::Automatic) => SegmentationOptions {
+            max_pieces: options.segmentation.max_pieces.min(FIRST_PIECE_COUNT),
+            ..options.segmentation
+        },
+        _ => options.segmentation,
+    };
+    let mut best = attempt_with(&first, 0.02)?;
+    let mut attempts = 1;
+    if let (Some(bound), SeamSource::Automatic) = (bound, options.seams) {
+        let budget = options.segmentation.max_pieces;
+        let mut count = best.pieces.piece_count;
+        while best.distance.hausdorff > bound && count < budget {
+            count = (count + count.div_ceil(2)).min(budget);
+            let segmentation = SegmentationOptions {
+                max_pieces: count,
+                normal_tolerance_degrees: 0.0,
+                ..options.segmentation
+            };
+            let next = attempt_with(&segmentation, (0.02 + 0.1 * attempts as f64).min(0.5))?;
+            attempts += 1;
+            tracing::debug!(
+                pieces = next.pieces.piece_count,
+                hausdorff = next.distance.hausdorff,
+                converged = next.developed.converged,
+                "develop: an attempt with more pieces"
+            );
+            let grew = next.pieces.piece_count > best.pieces.piece_count;
+            let closer = next.developed.converged >= best.developed.converged
+                && (next.distance.hausdorff < best.distance.hausdorff || !best.developed.converged);
+            if closer {
+                best = next;
+            }
+            if !grew {
+                break;
+            }
+        }
+    }
+    let Attempt {
+        result,
+        segmentation,
+        pieces,
+        developed,
+        distance,
+    } = best;
     context.progress("unfolding the pieces", 0.6);
     // The developed pieces unfold exactly: charts cut along the seams only (no crease
     // splits them), within a distortion bound far below a cutter's resolution.
@@ -132,15 +257,6 @@ pub fn run_develop(
         ..options.flatten.clone()
     };
     let mut run = run_flatten(result.clone(), &flatten_options, context)?;
-    let distance = surface_distance(&result, &target, &SurfaceDistanceOptions::default());
-    let (low, high) = target.positions.iter().fold(
-        (
-            nalgebra::Vector3::repeat(f64::INFINITY),
-            nalgebra::Vector3::repeat(f64::NEG_INFINITY),
-        ),
-        |(low, high), p| (low.inf(p), high.sup(p)),
-    );
-    let diagonal = (high - low).norm();
     // The distance colour map: each developed vertex's distance to the target, blue at
     // none, red at the largest (PLY with the value in mm per vertex, and GLB).
     let distances = vertex_distances(&result, &SurfaceIndex::new(&target));
@@ -192,8 +308,11 @@ pub fn run_develop(
         distance_mean_relative: distance.mean / diagonal,
         bounding_box_diagonal_mm: diagonal * unit,
         displacement_max_mm: developed.displacement_max * unit,
+        max_distance_mm: bound.map(|b| b * unit),
+        attempt_count: attempts,
     });
-    if !developed.converged && run.outcome == Outcome::Ok {
+    let too_far = bound.is_some_and(|b| distance.hausdorff > b);
+    if (!developed.converged || too_far) && run.outcome == Outcome::Ok {
         run.outcome = Outcome::OutOfTolerance;
         report.status = Status::OutOfTolerance;
     }
