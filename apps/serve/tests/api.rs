@@ -1369,3 +1369,79 @@ async fn refusals_of_paths_outside_do_not_tell_whether_a_file_exists() {
         .collect();
     assert_eq!(names, ["bent-rectangle.json"]);
 }
+
+/// The addresses of the fuzz target `serve_routes` (its `ROUTES` table).
+fn fuzzed_routes() -> Vec<String> {
+    let target = std::fs::read_to_string(repository().join("fuzz/fuzz_targets/serve_routes.rs")).unwrap();
+    let table = target.split("const ROUTES").nth(1).unwrap().split("];").next().unwrap();
+    table
+        .lines()
+        .filter_map(|line| {
+            Some(
+                line.trim()
+                    .strip_prefix("(\"")?
+                    .split("\", \"")
+                    .nth(1)?
+                    .split('"')
+                    .next()?
+                    .to_string(),
+            )
+        })
+        .collect()
+}
+
+/// Issue 35: the fuzz target of the server's routes must exercise every route the
+/// editor's front end sends a body to, for each mode, and every layout its mesh mode
+/// offers; the "whole" layout (`charts=never`) was missing. Read from the front end's
+/// own files, so a route or a layout added there without the fuzz target fails here.
+#[test]
+fn the_routes_fuzz_target_exercises_every_route_and_layout_the_editor_uses() {
+    let web = repository().join("apps/serve/web/src");
+    let script = std::fs::read_to_string(web.join("editor.js")).unwrap();
+    let page = std::fs::read_to_string(web.join("index.html")).unwrap();
+    let routes = fuzzed_routes();
+    assert!(routes.len() >= 16, "{routes:?}");
+    let fuzzed = |address: &str| routes.iter().any(|route| route.starts_with(address));
+    // The addresses the script writes out (`/api/ffd${dirQuery()}`, `/api/mesh?${…}`):
+    // up to the first substitution or query.
+    for (at, _) in script.match_indices("/api/") {
+        let address: String = script[at..]
+            .chars()
+            .take_while(|c| !matches!(c, '$' | '?' | '`' | '\'' | '"'))
+            .collect();
+        if address != "/api/" {
+            assert!(fuzzed(&address), "{address} is not fuzzed: {routes:?}");
+        }
+    }
+    // The addresses it makes from the mode (`/api/${mode}`, `/api/${state.mode}/file/…`).
+    let modes: Vec<&str> = page
+        .split("data-mode=\"")
+        .skip(1)
+        .filter_map(|rest| rest.split('"').next())
+        .collect();
+    assert!(modes.len() >= 5, "{modes:?}");
+    for mode in modes {
+        for address in [format!("/api/{mode}"), format!("/api/{mode}/file/")] {
+            assert!(fuzzed(&address), "{address} is not fuzzed: {routes:?}");
+        }
+    }
+    // The mesh mode's layouts (`auto`, the default, is the route without `charts`).
+    let select = page
+        .split("<select id=\"charts\">")
+        .nth(1)
+        .unwrap()
+        .split("</select>")
+        .next()
+        .unwrap();
+    for layout in select
+        .split("value=\"")
+        .skip(1)
+        .filter_map(|rest| rest.split('"').next())
+    {
+        let fuzzed = routes.iter().any(|route| {
+            route.starts_with("/api/mesh?")
+                && (route.contains(&format!("charts={layout}")) || layout == "auto" && !route.contains("charts="))
+        });
+        assert!(fuzzed, "the mesh layout `{layout}` is not fuzzed: {routes:?}");
+    }
+}
