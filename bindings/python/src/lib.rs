@@ -30,6 +30,7 @@ fn native_module(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(systems::photo, module)?)?;
     module.add_function(wrap_pyfunction!(mesh_functions::check, module)?)?;
     module.add_function(wrap_pyfunction!(mesh_functions::flatten, module)?)?;
+    module.add_function(wrap_pyfunction!(mesh_functions::develop, module)?)?;
     module.add_function(wrap_pyfunction!(mesh_functions::pattern, module)?)?;
     module.add_class::<run::Run>()?;
     module.add_class::<run::Mesh>()?;

@@ -1,5 +1,6 @@
 //! Functions on any mesh given as numpy arrays (from trimesh, libigl, Open3D, …), without
-//! files: `check`, `flatten` (whole, in smooth charts or as a net) and `pattern`.
+//! files: `check`, `flatten` (whole, in smooth charts or as a net), `develop` (a target
+//! made of exactly developable pieces) and `pattern`.
 
 use crate::convert::{float_rows, index_list, index_rows};
 use crate::errors::{invalid_argument, python_error};
@@ -9,8 +10,9 @@ use pyo3::prelude::*;
 use sheetform::flatten::ChartOptions;
 use sheetform::mesh::LengthUnit;
 use sheetform::pipeline::{
-    mesh_from_arrays, run_check, run_flatten, run_pattern, seam_edges_from_array, sheet_mesh_from_arrays, ChartMode,
-    CheckOptions, FlattenMethod, FlattenOptions, DEFAULT_ANGLE_TOLERANCE,
+    mesh_from_arrays, run_check, run_develop, run_flatten, run_pattern, seam_edges_from_array, sheet_mesh_from_arrays,
+    ChartMode, CheckOptions, DevelopOptions, DevelopRunOptions, DistanceBound, FlattenMethod, FlattenOptions,
+    SeamSource, SegmentationOptions, DEFAULT_ANGLE_TOLERANCE,
 };
 
 fn length_unit(unit: &str) -> PyResult<LengthUnit> {
@@ -186,6 +188,117 @@ pub(crate) fn flatten(
     let mut parts = RunParts::of_sheet(&run.sheet, run.files, run.report, run.outcome, seconds);
     parts.source_vertices = Some(&run.source_vertices);
     Run::new(py, parts)
+}
+
+/// Develops a target shape, as `sheetform develop`: the nearest surface made of exactly
+/// developable pieces, unfolded exactly, with the patterns.
+///
+/// `seams`: `(k, 2)` vertex pairs drawn as seams (an OBJ's `l` lines); with
+/// `automatic_seams` (the default) develop adds its own, up to `max_pieces` pieces each
+/// within `normal_tolerance` degrees (RMS) of a cone, cylinder or plane; otherwise it
+/// cuts along the drawn seams only. `max_distance`: the farthest the result may be from
+/// the target, a length in `unit`s (`2.0`) or a percentage of the bounding-box diagonal
+/// (`"0.5%"`); pieces are added until it holds. `smoothness`, `tolerance` (radians) and
+/// `max_iterations` steer the developability solve.
+///
+/// Returns a `Run` (`uv` the pattern at 1:1, `face_pieces` the piece of each face,
+/// `source_vertices` the target vertex each output vertex copies); its report's
+/// `develop` section has the figures. `outcome` is `"out_of_tolerance"` when a piece
+/// keeps a defect above `tolerance` or the distance bound is not met (the closest
+/// result is returned).
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, *, seams=None, automatic_seams=true, max_pieces=12, normal_tolerance=2.0, max_distance=None, smoothness=0.1, tolerance=1e-10, max_iterations=100, unit="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn develop(
+    py: Python<'_>,
+    vertices: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+    seams: Option<&Bound<'_, PyAny>>,
+    automatic_seams: bool,
+    max_pieces: usize,
+    normal_tolerance: f64,
+    max_distance: Option<&Bound<'_, PyAny>>,
+    smoothness: f64,
+    tolerance: f64,
+    max_iterations: usize,
+    unit: &str,
+    size: Option<f64>,
+    name: &str,
+    outputs: &str,
+    progress: Option<Py<PyAny>>,
+    pattern: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Run> {
+    let v = float_rows("vertices", vertices, 3)?;
+    let f = index_rows("faces", faces, 3)?;
+    let outputs = output_set(outputs)?;
+    let pattern = pattern_argument(py, pattern)?;
+    let max_distance = max_distance.map(distance_bound).transpose()?;
+    let options = DevelopRunOptions {
+        seams: if automatic_seams {
+            SeamSource::Automatic
+        } else {
+            SeamSource::Drawn
+        },
+        max_distance,
+        segmentation: SegmentationOptions {
+            max_pieces,
+            normal_tolerance_degrees: normal_tolerance,
+            ..Default::default()
+        },
+        develop: DevelopOptions {
+            smoothness,
+            defect_tolerance: tolerance,
+            max_iterations,
+        },
+        flatten: FlattenOptions {
+            pattern: pattern.options,
+            net_tabs: pattern.net_tabs,
+            unit: length_unit(unit)?,
+            input: None,
+            name: Some(name.to_string()),
+            size_mm: size,
+            ..Default::default()
+        },
+    };
+    let (v, f) = (v.as_slice()?, f.as_slice()?);
+    let seams = seams.map(|s| index_rows("seams", s, 2)).transpose()?;
+    let seams = seams.as_ref().map(|s| s.as_slice()).transpose()?;
+    // (Read with the interpreter's lock held, as in `check`.)
+    let mesh = mesh_from_arrays(v, f, name)
+        .and_then(|mut mesh| {
+            if let Some(seams) = seams {
+                mesh.seam_edges = seam_edges_from_array(&mesh, seams)?;
+            }
+            Ok(mesh)
+        })
+        .map_err(|e| python_error(py, e))?;
+    let (developed, seconds) = run_interruptibly(py, progress, |controls| {
+        run_develop(mesh, &options, &controls.context(".", outputs))
+    })?;
+    let run = developed.run;
+    let mut parts = RunParts::of_sheet(&run.sheet, run.files, run.report, run.outcome, seconds);
+    parts.source_vertices = Some(&run.source_vertices);
+    Run::new(py, parts)
+}
+
+/// `max_distance`: a length (a number) or a percentage of the size (`"0.5%"`).
+fn distance_bound(value: &Bound<'_, PyAny>) -> PyResult<DistanceBound> {
+    if let Ok(length) = value.extract::<f64>() {
+        return Ok(DistanceBound::Absolute(length));
+    }
+    let refused = || {
+        invalid_argument(
+            "max_distance",
+            "a length in the mesh's units (2.0) or a percentage of its size (\"0.5%\")".to_string(),
+        )
+    };
+    let text: String = value.extract().map_err(|_| refused())?;
+    let percent: f64 = text
+        .trim()
+        .strip_suffix('%')
+        .and_then(|p| p.trim().parse().ok())
+        .ok_or_else(refused)?;
+    Ok(DistanceBound::Relative(percent / 100.0))
 }
 
 /// The printable pattern of a mesh that already has its flat layout (`uv`, `(n, 2)` at

@@ -215,3 +215,45 @@ def test_a_name_is_kept_whole_in_the_pieces():
     box = trimesh.creation.box()
     run = sheetform.flatten(box.vertices, box.faces, name="part.v2", outputs="preview")
     assert run.pieces == ["part.v2-01"] or all(p.startswith("part.v2") for p in run.pieces), run.pieces
+
+
+def test_develop_of_arrays_equals_the_cli_on_the_same_mesh(cli, tmp_path):
+    """A closed box with automatic seams: the same report and files as the CLI, whole
+    sides, nothing moved, every piece unfolded exactly."""
+    path = REPO / "examples/meshes/gift-box.obj"
+    vertices, _, faces = read_obj(path)
+    out = tmp_path / "out"
+    done = cli("develop", path.relative_to(REPO), "-o", out)
+    assert done.returncode == 0, done.stderr
+    run = sheetform.develop(vertices, faces, name="gift-box")
+    expected = without_timings(read_report(out))
+    actual = without_timings(run.report)
+    assert actual.pop("input") is None and expected.pop("input") == str(path.relative_to(REPO))
+    assert_close(actual, expected)
+    assert run.outcome == "ok"
+    assert run.report["develop"]["seams"] == "automatic"
+    for name in ("pattern.svg", "model.obj", "distance.ply"):
+        assert run.files[name] == (out / name).read_bytes(), name
+    # Nothing moved: every output vertex is the target vertex it copies.
+    np.testing.assert_allclose(run.vertices, vertices[run.source_vertices], rtol=0, atol=1e-12)
+    # The pattern is the model at 1:1.
+    uv3 = np.column_stack([run.uv, np.zeros(len(run.uv))])
+    np.testing.assert_allclose(edge_lengths(uv3, run.faces), edge_lengths(run.vertices, run.faces), rtol=1e-9)
+
+
+def test_develop_with_a_distance_bound_and_its_refusals():
+    """A trimesh sphere within 3 % of its size, and an impossible bound: out of
+    tolerance, the closest result returned; bad arguments named."""
+    sphere = trimesh.creation.icosphere(subdivisions=2, radius=50.0)
+    run = sheetform.develop(sphere.vertices, sphere.faces, max_distance="3%", max_pieces=20, outputs="preview")
+    develop = run.report["develop"]
+    assert run.outcome == "ok", develop
+    assert develop["hausdorff_relative"] <= 0.03
+    assert develop["angle_defect_max_rad"] <= 1e-10
+    far = sheetform.develop(sphere.vertices, sphere.faces, max_distance=0.001, max_pieces=3, outputs="preview")
+    assert far.outcome == "out_of_tolerance"
+    assert far.report["develop"]["hausdorff_mm"] > far.report["develop"]["max_distance_mm"]
+    with pytest.raises(sheetform.InvalidInputError, match="max_distance"):
+        sheetform.develop(sphere.vertices, sphere.faces, max_distance="far")
+    with pytest.raises(sheetform.InvalidInputError, match="max_pieces"):
+        sheetform.develop(sphere.vertices, sphere.faces, max_pieces=0)

@@ -8,7 +8,8 @@ mesh that carries its exact flat pattern, over the same library pipeline as the
 - ``slit(scene)``: furniture from one sheet with parallel slits (Tsuruta et al.);
 - ``ffd(scene)``: panels deformed in a lattice, developability restored (Wang & Tang);
 - ``photo(annotation)``: a developable model and pattern from a photograph (Fondevilla et al.);
-- ``check(V, F)``, ``flatten(V, F)``, ``pattern(V, F, UV)``: any mesh as numpy arrays;
+- ``check(V, F)``, ``flatten(V, F)``, ``develop(V, F)``, ``pattern(V, F, UV)``: any mesh
+  as numpy arrays;
 - ``BendEditor``: the web editor's curve edits, for notebooks.
 
 Every function returns a ``Run``: ``vertices`` (n, 3), ``faces`` (m, 3), ``uv`` (n, 2) the
@@ -42,6 +43,7 @@ from ._native import (
     bend,
     check,
     ffd,
+    develop,
     flatten,
     pattern,
     photo,
@@ -63,6 +65,7 @@ __all__ = [
     "bend",
     "check",
     "ffd",
+    "develop",
     "flatten",
     "pattern",
     "photo",

@@ -15,6 +15,7 @@ __all__ = [
     "photo",
     "check",
     "flatten",
+    "develop",
     "pattern",
     "Run",
     "Mesh",
@@ -218,6 +219,29 @@ def flatten(
 ) -> Run:
     """Lays a mesh out flat, as ``sheetform flatten`` (``size``: the model's height as
     printed in mm, as ``--size``)."""
+
+def develop(
+    vertices: npt.ArrayLike,
+    faces: npt.ArrayLike,
+    *,
+    seams: Optional[npt.ArrayLike] = None,
+    automatic_seams: bool = True,
+    max_pieces: int = 12,
+    normal_tolerance: float = 2.0,
+    max_distance: Optional[Union[float, str]] = None,
+    smoothness: float = 0.1,
+    tolerance: float = 1e-10,
+    max_iterations: int = 100,
+    unit: _Unit = "mm",
+    size: Optional[float] = None,
+    name: str = "mesh",
+    outputs: _Outputs = "all",
+    progress: Optional[Callable[[str, float], Any]] = None,
+    pattern: Optional[Union[PatternOptions, dict[str, Any]]] = None,
+) -> Run:
+    """Develops a target shape, as ``sheetform develop``: the nearest surface made of
+    exactly developable pieces, unfolded exactly (``max_distance``: a length in ``unit``
+    or a percentage of the size, ``"0.5%"``)."""
 
 def pattern(
     vertices: npt.ArrayLike,
