@@ -232,7 +232,8 @@ pub(crate) struct PatternArgs {
     #[arg(long)]
     pub(crate) no_seam_labels: bool,
     /// Glue tabs along seams: on one side of each seam, alternating between seams, or
-    /// none; `auto`: on one side of each seam of a net (`flatten`), none otherwise.
+    /// none; `auto`: on one side of each seam of a net (`flatten`) and of the pieces of
+    /// `develop`, none otherwise.
     #[arg(long, value_enum, default_value_t = Tabs::Auto)]
     pub(crate) tabs: Tabs,
     /// Glue tab depth (mm).

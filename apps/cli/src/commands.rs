@@ -174,6 +174,13 @@ pub(crate) fn develop_command(
     quiet: bool,
 ) -> Result<ExitCode, PipelineError> {
     options.flatten.unit = units.into();
+    // `--tabs auto`: the pieces get tabs on one side of every seam, as a net does.
+    options.flatten.net_tabs = (pattern.tabs == Tabs::Auto).then_some(TabOptions {
+        width_mm: pattern.tab_width,
+        angle_degrees: pattern.tab_angle,
+        sides: TabSides::One,
+        ..Default::default()
+    });
     options.flatten.pattern = pattern.into();
     options.flatten.input = Some(mesh.display().to_string());
     let model = read_mesh(&mesh)?;

@@ -305,3 +305,27 @@ fn a_bent_tube_and_packed_charts_carry_one_tab_per_glued_pair() {
     assert!(count(&a, "pairs_tab_none") * 20 <= count(&a, "glued_edge_pairs"), "{a}");
     assert!(count(&r["pattern"], "seam_id_missing_count") <= 2, "{r}");
 }
+
+/// `develop`'s pieces are glued along their seams: with `--tabs auto` they get a tab on
+/// one side of every glued edge pair, as a net does, and pass every check of a gluable
+/// pattern (the box's slit at a corner too).
+#[test]
+fn develop_pieces_get_glue_tabs_on_every_seam() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, units) in [("gift-box.obj", "mm"), ("bunny-99.stl", "m")] {
+        let out = dir.path().join(name);
+        let o = sheetform(&[
+            "develop",
+            example_mesh(name).to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "-q",
+            "--units",
+            units,
+        ]);
+        assert!(o.status.success(), "{name}: {}", String::from_utf8_lossy(&o.stderr));
+        let (_, a) = assert_gluable(name, &out);
+        assert!(count(&a, "glued_edge_pairs") > 0, "{name}: {a}");
+        assert_eq!(count(&a, "pairs_tab_one"), count(&a, "glued_edge_pairs"), "{name}: {a}");
+    }
+}

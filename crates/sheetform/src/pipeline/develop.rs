@@ -247,7 +247,15 @@ pub fn run_develop(
     context.progress("unfolding the pieces", 0.6);
     // The developed pieces unfold exactly: charts cut along the seams only (no crease
     // splits them), within a distortion bound far below a cutter's resolution.
+    // The pieces are glued along their seams: they get the tabs a net gets (one side of
+    // every seam) unless the pattern options ask for others, none, a seam allowance or a
+    // sheet thickness.
+    let mut pattern = options.flatten.pattern;
+    if pattern.tabs.is_none() && pattern.allowance.seam_allowance_mm == 0.0 && pattern.allowance.bend.is_none() {
+        pattern.tabs = options.flatten.net_tabs;
+    }
     let flatten_options = FlattenOptions {
+        pattern,
         charts: ChartMode::Smooth,
         chart_options: ChartOptions {
             crease_angle_degrees: 180.0,
