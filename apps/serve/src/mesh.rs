@@ -1,7 +1,9 @@
 //! The mesh mode's routes: a mesh file's bytes in (OBJ, PLY, STL, OFF, as `sheetform
-//! check` and `sheetform flatten` read them), its developability, the flattened model
-//! and its pattern out; and any file `sheetform flatten` writes, for download. Both run
-//! the library's `run_check` and `run_flatten`; nothing of a pipeline is repeated here.
+//! check` and `sheetform flatten` read them), its developability, the flattened (or,
+//! with the `develop` layout, developed) model and its pattern out; and any file
+//! `sheetform flatten` or `sheetform develop` writes, for download. Both run the
+//! library's `run_check` and `run_flatten` or `run_develop`; nothing of a pipeline is
+//! repeated here.
 
 use crate::api::{attachment, output_file, pattern_svg, printable, solve, ApiBody, ApiError, ApiQuery, MeshArrays};
 use crate::AppState;
@@ -13,8 +15,8 @@ use axum::{Json, Router};
 use serde::{Deserialize, Serialize};
 use sheetform::mesh::{LengthUnit, TriangleMesh};
 use sheetform::pipeline::{
-    run_check, run_flatten, ChartMode, CheckOptions, FlattenMethod, FlattenOptions, OutputSet, PipelineError,
-    RunContext,
+    run_check, run_develop, run_flatten, ChartMode, CheckOptions, DevelopRunOptions, FlattenMethod, FlattenOptions,
+    FlattenRun, OutputSet, PipelineError, RunContext,
 };
 use sheetform::report::Report;
 use std::sync::Arc;
@@ -33,7 +35,8 @@ pub(crate) fn routes() -> Router<Arc<AppState>> {
 struct MeshQuery {
     /// The file's name (`box.obj`): its extension picks the format.
     name: String,
-    /// `auto` (default), `smooth`, `net` or `never` (`--charts`).
+    /// `auto` (default), `smooth`, `net` or `never` (`sheetform flatten --charts`), or
+    /// `develop` (`sheetform develop` with its defaults: automatic seams, exact pieces).
     #[serde(default)]
     charts: Option<String>,
     /// `exact` (default), `lscm` or `arap` (`--method`).
@@ -52,13 +55,14 @@ impl MeshQuery {
     fn flatten_options(&self) -> Result<FlattenOptions, ApiError> {
         printable("name", &self.name)?;
         let charts = match self.charts.as_deref().unwrap_or("auto") {
-            "auto" => ChartMode::Auto,
+            // develop lays its pieces out itself; the other options are flatten's.
+            "auto" | "develop" => ChartMode::Auto,
             "smooth" => ChartMode::Smooth,
             "net" => ChartMode::Net,
             "never" => ChartMode::Never,
             other => {
                 return Err(ApiError::invalid(format!(
-                    "charts: `{}` is not auto, smooth, net or never",
+                    "charts: `{}` is not auto, smooth, net, never or develop",
                     short(other)
                 )))
             }
@@ -99,6 +103,20 @@ impl MeshQuery {
         })
     }
 
+    /// Lays `mesh` out as asked: `run_flatten`, or `run_develop` for the `develop` layout.
+    fn lay_out(&self, mesh: TriangleMesh, context: &RunContext) -> Result<FlattenRun, ApiError> {
+        let flatten = self.flatten_options()?;
+        if self.charts.as_deref() == Some("develop") {
+            let options = DevelopRunOptions {
+                flatten,
+                ..Default::default()
+            };
+            Ok(run_develop(mesh, &options, context)?.run)
+        } else {
+            Ok(run_flatten(mesh, &flatten, context)?)
+        }
+    }
+
     /// The mesh in the body, read by the CLI's reader for the name's extension.
     fn read(&self, body: &[u8]) -> Result<TriangleMesh, ApiError> {
         let name = std::path::Path::new(&self.name);
@@ -130,10 +148,11 @@ struct CheckedMesh {
 struct MeshReply {
     /// The mesh as read (and welded), with its angle defects.
     input: CheckedMesh,
-    /// The flattened model: cut where the layout cut it, `flat` its pattern at 1:1.
+    /// The flattened (or developed) model: cut where the layout cut it, `flat` its
+    /// pattern at 1:1.
     model: MeshArrays,
     pattern_svg: String,
-    /// `sheetform flatten`'s report.
+    /// `sheetform flatten`'s (or `sheetform develop`'s) report.
     report: Report,
     /// `sheetform check`'s report.
     check_report: Report,
@@ -163,7 +182,7 @@ fn check_and_flatten(
         },
         &context,
     )?;
-    let run = run_flatten(mesh, &options, &context)?;
+    let run = query.lay_out(mesh, &context)?;
     Ok(MeshReply {
         input: CheckedMesh {
             positions: check.mesh.positions.iter().flat_map(|p| [p.x, p.y, p.z]).collect(),
@@ -189,7 +208,8 @@ async fn mesh(
     Ok(Json(reply).into_response())
 }
 
-/// `POST /api/mesh/file/{name}?name=…&charts=…`: one file `sheetform flatten` writes.
+/// `POST /api/mesh/file/{name}?name=…&charts=…`: one file `sheetform flatten` (or
+/// `sheetform develop`) writes.
 async fn mesh_file(
     State(state): State<Arc<AppState>>,
     Path(file): Path<String>,
@@ -199,10 +219,14 @@ async fn mesh_file(
     let root = state.root.clone();
     let wanted = file.clone();
     let bytes = solve(&state, move |cancel| {
-        let options = query.flatten_options()?;
         let mesh = query.read(&body)?;
-        let run = run_flatten(mesh, &options, &RunContext::new(root).with_cancel(cancel))?;
-        output_file(run.files, &run.report, &wanted, "flatten")
+        let run = query.lay_out(mesh, &RunContext::new(root).with_cancel(cancel))?;
+        let command = if query.charts.as_deref() == Some("develop") {
+            "develop"
+        } else {
+            "flatten"
+        };
+        output_file(run.files, &run.report, &wanted, command)
     })
     .await?;
     Ok(attachment(&file, bytes))

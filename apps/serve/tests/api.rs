@@ -346,6 +346,32 @@ async fn a_mesh_is_checked_and_flattened_into_a_pattern_isometric_to_it() {
             "{uri}: {reply}"
         );
     }
+    // The `develop` layout (issue 36): the box as exact pieces of whole sides, unmoved,
+    // its files for download those of `sheetform develop`.
+    let (status, body) = send(&app, "POST", "/api/mesh?name=gift-box.obj&charts=develop", gift.clone()).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let reply = json(&body);
+    assert_eq!(reply["report"]["command"], "develop");
+    assert_eq!(reply["report"]["status"], "ok");
+    assert_eq!(reply["report"]["develop"]["hausdorff_mm"], 0.0);
+    assert!(isometry_error(&reply["model"]) < 1e-9);
+    let positions: Vec<f64> = serde_json::from_value(reply["model"]["positions"].clone()).unwrap();
+    let corners: Vec<f64> = serde_json::from_value(reply["input"]["positions"].clone()).unwrap();
+    for p in positions.chunks(3) {
+        assert!(
+            corners.chunks(3).any(|q| (0..3).all(|k| (p[k] - q[k]).abs() < 1e-9)),
+            "a developed vertex off the box's corners: {p:?}"
+        );
+    }
+    let (status, body) = send(
+        &app,
+        "POST",
+        "/api/mesh/file/distance.ply?name=gift-box.obj&charts=develop",
+        gift.clone(),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(String::from_utf8_lossy(&body).contains("property double distance_mm"));
     // A closed box cannot be laid out whole.
     let (status, body) = send(&app, "POST", "/api/mesh?name=gift-box.obj&charts=never", gift).await;
     assert!(status.is_client_error(), "{status}: {}", String::from_utf8_lossy(&body));

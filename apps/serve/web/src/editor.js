@@ -799,10 +799,14 @@ function showMeshReport(reply) {
   const r = reply.report;
   const d = reply.check_report.angle_defects || {};
   const pieces = new Set(reply.model.face_pieces).size;
+  const developed = r.develop
+    ? `developed: ${r.develop.piece_count} exact piece${r.develop.piece_count === 1 ? '' : 's'}, ` +
+      `${short(100 * r.develop.hausdorff_relative, 2)} % from the target`
+    : null;
   const parts = [
     state.mesh.name,
     `${r.status}`,
-    `${r.layout || ''} ${pieces} piece${pieces === 1 ? '' : 's'}`.trim(),
+    developed || `${r.layout || ''} ${pieces} piece${pieces === 1 ? '' : 's'}`.trim(),
     `${reply.check_report.face_count} faces`,
     d.max_rad === undefined ? null : `largest angle defect ${short(d.max_rad, 2)} rad`,
     `isometry error ${short(r.isometry_error_max_relative, 2)}`,
@@ -1453,7 +1457,7 @@ function meshQuery(options) {
 async function solveMesh(options) {
   const generation = state.generation;
   state.inFlight = true;
-  showStatus('busy', `flattening ${state.mesh.name}…`);
+  showStatus('busy', `${options.charts === 'develop' ? 'developing' : 'flattening'} ${state.mesh.name}…`);
   try {
     const response = await fetch(`/api/mesh?${meshQuery(options)}`, { method: 'POST', body: state.mesh.bytes });
     const body = await response.json();

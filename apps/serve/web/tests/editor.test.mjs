@@ -18,7 +18,7 @@
 // the depth flipped, each undone; a deleted silhouette refused, a curve added with four
 // clicks sent; a new annotation started on a photograph, traced curve by curve. In mesh mode: a
 // bundled mesh is checked and flattened exactly, a mesh dropped on the 3D view replaces
-// it, a layout change is undone exactly, an impossible layout and a malformed mesh are
+// it, a layout change is undone exactly, the box developed into exact pieces, an impossible layout and a malformed mesh are
 // refused with the last result kept, and the OBJ downloads. A textured scene saved into
 // another directory names its texture from there. The server refuses files outside its
 // directory and hostile requests and keeps serving. Measures an edit's round
@@ -640,6 +640,21 @@ try {
   assert.equal(await page.inputValue('#charts'), 'auto');
   await answered(() => page.click('#redo'));
   assert.deepEqual((await meshReply()).model, smooth.model);
+
+  // Develop (issue 36): the box as the nearest exactly developable pieces — whole sides,
+  // nothing moved, unfolded exactly — and undone back to the smooth charts.
+  await answered(() => page.selectOption('#charts', 'develop'));
+  const developed = await meshReply();
+  assert.equal(developed.report.command, 'develop');
+  assert.equal(developed.report.status, 'ok');
+  assert.equal(developed.report.develop.hausdorff_mm, 0);
+  assert.equal(new Set(developed.model.face_pieces).size, developed.report.develop.piece_count);
+  assert.ok((await page.evaluate(() => window.sheetformEditor.isometryError())) < 1e-9);
+  assert.match(await page.textContent('#status'), /developed: \d+ exact pieces/);
+  await page.screenshot({ path: join(outputDir, 'mesh-develop.png') });
+  await answered(() => page.click('#undo'));
+  assert.deepEqual((await meshReply()).model, smooth.model);
+  assert.equal(await page.inputValue('#charts'), 'smooth');
 
   // Refusals: a closed box cannot lie whole; a malformed mesh is not a mesh.
   const refusalsBeforeMesh = await page.evaluate(() => window.sheetformEditor.state.refusals);
