@@ -20,7 +20,8 @@ mod error;
 mod seam_pieces;
 
 pub use developable_projection::{
-    develop_pieces, DevelopOptions, Developed, MAX_ITERATIONS, MAX_SMOOTHNESS, STEP_REACH, STEP_TOLERANCE,
+    develop_pieces, DevelopOptions, Developed, MAX_ITERATIONS, MAX_SMOOTHNESS, POLISH_STEPS, STALL_DEFECT, STALL_STEPS,
+    STALL_TOLERANCE, STEP_REACH, STEP_TOLERANCE,
 };
 pub use developable_segmentation::{
     segment_developable, ConeProxy, Segmentation, SegmentationOptions, MAX_SEGMENTATION_PIECES,
