@@ -195,7 +195,15 @@ pub(crate) fn develop_command(
     write_set(&output, &run.files, &run.report)?;
     let figures = run.report.develop.as_ref().expect("develop reports its figures");
     let too_far = figures.max_distance_mm.filter(|&bound| figures.hausdorff_mm > bound);
-    if let (Outcome::OutOfTolerance, Some(bound), true) = (
+    if run.outcome == Outcome::OutOfTolerance && figures.pieces_fit_sheet == Some(false) {
+        say!(
+            "sheetform: {}: a piece of the {} still does not fit on the sheet after {} tries; the pattern is written to {} without the sheets, but out of tolerance: allow more pieces (--max-pieces) or a larger --sheet",
+            mesh.display(),
+            figures.piece_count,
+            figures.attempt_count,
+            output.display()
+        );
+    } else if let (Outcome::OutOfTolerance, Some(bound), true) = (
         run.outcome,
         too_far,
         figures.angle_defect_max_rad <= figures.angle_defect_tolerance_rad,

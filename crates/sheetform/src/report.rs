@@ -727,8 +727,13 @@ pub struct DevelopReport {
     /// The bound on `hausdorff_mm` asked for (`--max-distance`), if any: above it the
     /// status is `out of tolerance`.
     pub max_distance_mm: Option<f64>,
-    /// Segmentations tried (more pieces each time, while a distance bound was not met).
+    /// Segmentations tried (more pieces each time, while a distance bound was not met or
+    /// a piece did not fit the sheet).
     pub attempt_count: usize,
+    /// With a sheet (`--sheet`): whether every piece fits on it. `false`: no piece budget
+    /// made them fit; the pattern is written without the sheets and the status is `out of
+    /// tolerance`.
+    pub pieces_fit_sheet: Option<bool>,
 }
 
 /// `photo`: what the reconstruction from an annotated photograph made (system D,

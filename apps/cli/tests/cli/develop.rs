@@ -353,3 +353,79 @@ fn the_wing_nut_develops_into_exact_pieces() {
     assert!(r["develop"]["slit_count"].as_u64().unwrap() > 0);
     assert!(r["develop"]["hausdorff_relative"].as_f64().unwrap() < 0.01);
 }
+
+/// `--sheet`: with automatic seams, a piece too large for the sheet asks for more pieces
+/// until every one fits (the sheets are written); when no budget makes them fit, the
+/// pattern is written without the sheets and the status is `out of tolerance` (exit 5).
+#[test]
+fn pieces_are_added_until_they_fit_the_sheet() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = example_mesh("bunny-99.stl");
+    let run = |sheet: &str, out: &std::path::Path| {
+        sheetform(&[
+            "develop",
+            mesh.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "-q",
+            "--units",
+            "m",
+            "--max-pieces",
+            "30",
+            "--max-distance",
+            "5%",
+            "--sheet",
+            sheet,
+        ])
+    };
+    let report = |out: &std::path::Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap()
+    };
+    let loose = dir.path().join("loose");
+    let o = sheetform(&[
+        "develop",
+        mesh.to_str().unwrap(),
+        "-o",
+        loose.to_str().unwrap(),
+        "-q",
+        "--units",
+        "m",
+        "--max-pieces",
+        "30",
+        "--max-distance",
+        "5%",
+    ]);
+    assert!(o.status.success());
+    let without_sheet = report(&loose)["develop"]["piece_count"].as_u64().unwrap();
+
+    let fitted = dir.path().join("fitted");
+    let o = run("150x150", &fitted);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let d = &report(&fitted)["develop"];
+    assert_eq!(d["pieces_fit_sheet"], true);
+    assert!(d["piece_count"].as_u64().unwrap() > without_sheet, "{d}");
+    let sheets: Vec<_> = std::fs::read_dir(fitted.join("sheets")).unwrap().collect();
+    assert!(!sheets.is_empty());
+    // Every sheet is the size asked for.
+    for sheet in sheets {
+        let path = sheet.unwrap().path();
+        if path.extension().is_some_and(|e| e == "svg") {
+            let svg = std::fs::read_to_string(&path).unwrap();
+            assert!(
+                svg.contains("width=\"150.0000mm\" height=\"150.0000mm\""),
+                "{}",
+                path.display()
+            );
+        }
+    }
+
+    let tight = dir.path().join("tight");
+    let o = run("100x100", &tight);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(5), "{stderr}");
+    assert!(stderr.contains("does not fit on the sheet"), "{stderr}");
+    let r = report(&tight);
+    assert_eq!(r["status"], "out of tolerance");
+    assert_eq!(r["develop"]["pieces_fit_sheet"], false);
+    assert!(tight.join("pattern.svg").exists() && !tight.join("sheets").exists());
+}

@@ -15,6 +15,7 @@ use sheetform_io::{colour_ramp, glb_vertex_colours, ply_vertex_colours, UpAxis};
 use sheetform_mesh::{
     mesh_topology_with_edges, surface_distance, vertex_distances, SurfaceDistanceOptions, SurfaceIndex, TriangleMesh,
 };
+use sheetform_pattern::PatternError;
 
 /// Where `develop` cuts the target.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
@@ -237,13 +238,6 @@ pub fn run_develop(
             }
         }
     }
-    let Attempt {
-        result,
-        segmentation,
-        pieces,
-        developed,
-        distance,
-    } = best;
     context.progress("unfolding the pieces", 0.6);
     // The developed pieces unfold exactly: charts cut along the seams only (no crease
     // splits them), within a distortion bound far below a cutter's resolution.
@@ -264,7 +258,49 @@ pub fn run_develop(
         },
         ..options.flatten.clone()
     };
-    let mut run = run_flatten(result.clone(), &flatten_options, context)?;
+    // With a sheet (`--sheet`) and automatic seams, a piece too large for it asks for
+    // more pieces (half as many again each time, up to the budget), as a maker cuts a
+    // large panel in two.
+    let unpacked = |result: &TriangleMesh| {
+        let mut options = flatten_options.clone();
+        options.pattern.sheet = None;
+        run_flatten(result.clone(), &options, context)
+    };
+    let (fits_sheet, mut run) = loop {
+        match run_flatten(best.result.clone(), &flatten_options, context) {
+            Err(PipelineError::Pattern(PatternError::PieceTooLarge { .. }))
+                if options.seams == SeamSource::Automatic
+                    && best.pieces.piece_count < options.segmentation.max_pieces =>
+            {
+                let count = best.pieces.piece_count;
+                let segmentation = SegmentationOptions {
+                    max_pieces: (count + count.div_ceil(2)).min(options.segmentation.max_pieces),
+                    normal_tolerance_degrees: 0.0,
+                    ..options.segmentation
+                };
+                let next = attempt_with(&segmentation, 0.5)?;
+                attempts += 1;
+                tracing::debug!(
+                    pieces = next.pieces.piece_count,
+                    "develop: more pieces to fit the sheet"
+                );
+                if next.pieces.piece_count <= count {
+                    break (false, unpacked(&best.result)?);
+                }
+                best = next;
+            }
+            // No budget left: the pattern without the sheets, out of tolerance.
+            Err(PipelineError::Pattern(PatternError::PieceTooLarge { .. })) => break (false, unpacked(&best.result)?),
+            other => break (true, other?),
+        }
+    };
+    let Attempt {
+        result,
+        segmentation,
+        pieces,
+        developed,
+        distance,
+    } = best;
     // The distance colour map: each developed vertex's distance to the target, blue at
     // none, red at the largest (PLY with the value in mm per vertex, and GLB).
     let distances = vertex_distances(&result, &SurfaceIndex::new(&target));
@@ -318,9 +354,10 @@ pub fn run_develop(
         displacement_max_mm: developed.displacement_max * unit,
         max_distance_mm: bound.map(|b| b * unit),
         attempt_count: attempts,
+        pieces_fit_sheet: options.flatten.pattern.sheet.map(|_| fits_sheet),
     });
     let too_far = bound.is_some_and(|b| distance.hausdorff > b);
-    if (!developed.converged || too_far) && run.outcome == Outcome::Ok {
+    if (!developed.converged || too_far || !fits_sheet) && run.outcome == Outcome::Ok {
         run.outcome = Outcome::OutOfTolerance;
         report.status = Status::OutOfTolerance;
     }
