@@ -91,6 +91,18 @@ fn field_error(text: &str, path: &serde_path_to_error::Path, inner: &serde_json:
             }
         }
     }
+    // Inside an internally tagged enum (`{"type": "bspline", "degree": "three"}`) serde
+    // reads the object whole and loses the path at it: a wrong value is found again in
+    // the object by what the message says of it, and named when it is the only match.
+    if let Ok(document) = serde_json::from_str::<serde_json::Value>(text) {
+        if let Some(object @ serde_json::Value::Object(_)) = value_at(&document, &keys) {
+            if object.get("type").is_some_and(serde_json::Value::is_string) {
+                if let Some(inner) = offending_value_path(object, &message) {
+                    segments.push(inner);
+                }
+            }
+        }
+    }
     let mut field = segments.concat();
     if let Some(stripped) = field.strip_prefix('.') {
         field = stripped.to_string();
@@ -103,6 +115,64 @@ fn field_error(text: &str, path: &serde_path_to_error::Path, inner: &serde_json:
         message.push_str(&format!(" (line {line}, column {column})"));
     }
     JsonFieldError { field, message }
+}
+
+/// The path (`.degree`, `.control_points[1]`) inside `object` of the one value serde's
+/// `message` describes: `invalid type: string "three", ...` (a string, integer, floating
+/// point or boolean value, found by its value) or `invalid length 2, ...` (an array of
+/// that length); `None` when the message names no value or several match.
+fn offending_value_path(object: &serde_json::Value, message: &str) -> Option<String> {
+    use serde_json::Value;
+    let matches: Box<dyn Fn(&Value) -> bool> = if let Some(rest) = message.strip_prefix("invalid length ") {
+        let length: usize = rest.split(',').next()?.trim().parse().ok()?;
+        Box::new(move |v: &Value| v.as_array().is_some_and(|a| a.len() == length))
+    } else {
+        let rest = message
+            .strip_prefix("invalid type: ")
+            .or_else(|| message.strip_prefix("invalid value: "))?;
+        let (unexpected, _) = rest.split_once(", expected")?;
+        if let Some(text) = unexpected.strip_prefix("string ") {
+            let text: String = serde_json::from_str(text).ok()?;
+            Box::new(move |v: &Value| v.as_str() == Some(text.as_str()))
+        } else if let Some(number) = unexpected
+            .strip_prefix("integer `")
+            .or_else(|| unexpected.strip_prefix("floating point `"))
+        {
+            let number: f64 = number.strip_suffix('`')?.parse().ok()?;
+            Box::new(move |v: &Value| v.as_f64() == Some(number))
+        } else if let Some(flag) = unexpected.strip_prefix("boolean `") {
+            let flag: bool = flag.strip_suffix('`')?.parse().ok()?;
+            Box::new(move |v: &Value| v.as_bool() == Some(flag))
+        } else {
+            return None;
+        }
+    };
+    let mut found = Vec::new();
+    let mut stack = vec![(String::new(), object)];
+    while let Some((path, value)) = stack.pop() {
+        if !path.is_empty() && matches(value) {
+            found.push(path.clone());
+        }
+        match value {
+            Value::Object(map) => {
+                for (key, inner) in map {
+                    if key != "type" {
+                        stack.push((format!("{path}.{}", quoted_token(key)), inner));
+                    }
+                }
+            }
+            Value::Array(items) => {
+                for (i, inner) in items.iter().enumerate() {
+                    stack.push((format!("{path}[{i}]"), inner));
+                }
+            }
+            _ => {}
+        }
+    }
+    match found.as_slice() {
+        [one] => Some(one.clone()),
+        _ => None,
+    }
 }
 
 /// One step of a path into a JSON value.
@@ -220,6 +290,29 @@ mod tests {
             assert_eq!(e.field, WHOLE_DOCUMENT, "{text}");
             assert!(e.message.contains(problem), "{e:?}");
         }
+    }
+
+    /// Issue 35: inside an internally tagged enum serde loses the path at the object; the
+    /// wrong value is named when it is the only one the message describes.
+    #[test]
+    fn a_wrong_value_inside_a_tagged_object_is_named() {
+        let region =
+            |curve: &str| format!(r#"{{"units": "mm", "regions": [{{"flat_start": [0, 0], "curve": {curve}}}]}}"#);
+        let e = error(&region(r#"{"type": "helix", "radius": "two"}"#));
+        assert_eq!(e.field, "regions[0].curve.radius", "{e:?}");
+        assert!(
+            e.message.starts_with("invalid type: string \"two\", expected f64"),
+            "{e:?}"
+        );
+        let e = error(&region(
+            r#"{"type": "bezier", "control_points": [[0, 0, 0], [1, 2], [3, 4, 5]]}"#,
+        ));
+        assert_eq!(e.field, "regions[0].curve.control_points[1]", "{e:?}");
+        let e = error(&region(r#"{"type": "helix", "radius": true}"#));
+        assert_eq!(e.field, "regions[0].curve.radius", "{e:?}");
+        // Two values the message could mean: the object is named, not a guess.
+        let e = error(&region(r#"{"type": "bezier", "control_points": [[0, 0], [1, 2]]}"#));
+        assert_eq!(e.field, "regions[0].curve", "{e:?}");
     }
 
     #[test]

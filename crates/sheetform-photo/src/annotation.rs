@@ -519,7 +519,10 @@ impl PhotoAnnotation {
         if !(a.dtw_smoothness_weight.is_finite() && (0.0..=1e3).contains(&a.dtw_smoothness_weight)) {
             return Err(PhotoError::field(
                 "analysis.dtw_smoothness_weight",
-                "must be within 0 … 1000",
+                format!(
+                    "must be within 0 … 1000, got {}",
+                    refused_number(a.dtw_smoothness_weight, &[0.0, 1e3])
+                ),
             ));
         }
         let wts = &a.weights;
@@ -534,7 +537,7 @@ impl PhotoAnnotation {
             if !(v.is_finite() && (0.0..=1e6).contains(&v)) {
                 return Err(PhotoError::field(
                     format!("analysis.weights.{name}"),
-                    "must be within 0 … 1e6",
+                    format!("must be within 0 … 1e6, got {}", refused_number(v, &[0.0, 1e6])),
                 ));
             }
         }

@@ -133,6 +133,12 @@ fn sizes_over_their_documented_maxima_are_refused_naming_the_field() {
     let mut s = photo.clone();
     s["self_symmetric_curves"] = json!(["rim", "bottom", "rim"]);
     assert_refused("photo", &s, "self_symmetric_curves[2]");
+    // A weight past its bound: the field, the bounds and the value refused.
+    let mut s = photo.clone();
+    s["analysis"]["weights"]["symmetry"] = json!(1e300);
+    assert_refused("photo", &s, "analysis.weights.symmetry");
+    let (_, stderr) = run_scene("photo", &s, &[]);
+    assert!(stderr.contains("0 … 1e6, got 1e300"), "{stderr}");
 
     let slit = example("examples/slit/bench.json");
     let mut s = slit.clone();
