@@ -128,6 +128,15 @@ fn check_jpeg(bytes: &[u8]) -> Result<(u32, u32), ImageError> {
     let mut reader = reader();
     reader.limits(limits);
     let image = reader.decode().map_err(corrupt)?;
+    // The decoder fills a scan cut short near its end with grey and says nothing; a JPEG
+    // ends its last scan with the end-of-image marker (FF D9; inside the entropy-coded
+    // data every FF is followed by 00 or a restart marker), which a cut file lacks.
+    // Bytes after it (a camera's trailer) are kept.
+    let last_scan = bytes.windows(2).rposition(|w| w == [0xFF, 0xDA]);
+    let ended = last_scan.is_some_and(|at| bytes[at..].windows(2).any(|w| w == [0xFF, 0xD9]));
+    if !ended {
+        return Err(ImageError::Truncated { format: "JPEG" });
+    }
     Ok((image.width(), image.height()))
 }
 
@@ -193,5 +202,17 @@ mod tests {
         for cut in [3, 30, good.len() / 3] {
             assert!(Texture::decoded(&good[..cut]).is_err(), "JPEG cut at {cut}");
         }
+        // Cut near its end (the decoder alone accepted these, filling the rest with grey).
+        for missing in [1, 2, 8] {
+            assert_eq!(
+                Texture::decoded(&good[..good.len() - missing]).unwrap_err(),
+                ImageError::Truncated { format: "JPEG" },
+                "{missing} bytes missing"
+            );
+        }
+        // A trailer after the end-of-image marker is kept.
+        let mut trailer = good.clone();
+        trailer.extend_from_slice(b"camera trailer");
+        assert_eq!(Texture::decoded(&trailer).unwrap().1, (64, 48));
     }
 }
