@@ -173,7 +173,7 @@ pub(crate) enum Command {
         /// Hausdorff distance): a length in the mesh's units (`2`) or a percentage of its
         /// bounding-box diagonal (`0.5%`). With automatic seams, pieces are added (up to
         /// --max-pieces) until it holds; farther: exit 5, the closest result written.
-        #[arg(long, value_name = "DISTANCE", value_parser = parse_distance_bound)]
+        #[arg(long, value_name = "DISTANCE", value_parser = str::parse::<sheetform::pipeline::DistanceBound>)]
         max_distance: Option<sheetform::pipeline::DistanceBound>,
         /// Smoothness against closeness: 0 moves each vertex as little as possible,
         /// larger values spread the change over its neighbours.
@@ -406,23 +406,6 @@ impl From<PatternArgs> for PatternOutputOptions {
             smooth_bend_degrees: a.smooth_folds,
         }
     }
-}
-
-/// `--max-distance`: `0.5%` (of the bounding-box diagonal) or `2` (mesh units).
-fn parse_distance_bound(text: &str) -> Result<sheetform::pipeline::DistanceBound, String> {
-    use sheetform::pipeline::DistanceBound;
-    let (number, relative) = match text.trim().strip_suffix('%') {
-        Some(percent) => (percent.trim(), true),
-        None => (text.trim(), false),
-    };
-    let value: f64 = number.parse().map_err(|_| {
-        format!("`{text}` is not a distance: give a length in the mesh's units (2) or a percentage of its size (0.5%)")
-    })?;
-    Ok(if relative {
-        DistanceBound::Relative(value / 100.0)
-    } else {
-        DistanceBound::Absolute(value)
-    })
 }
 
 /// Where `develop` cuts the target.

@@ -94,12 +94,7 @@ pub(crate) fn flatten_command(
         Method::Arap => FlattenMethod::Arap,
     };
     // `--tabs auto`: a net gets tabs on one side of every seam.
-    let net_tabs = (pattern.tabs == Tabs::Auto).then_some(TabOptions {
-        width_mm: pattern.tab_width,
-        angle_degrees: pattern.tab_angle,
-        sides: TabSides::One,
-        ..Default::default()
-    });
+    let net_tabs = auto_tabs(&pattern);
     let options = FlattenOptions {
         weld,
         unit: units.into(),
@@ -165,6 +160,17 @@ pub(crate) fn flatten_command(
     Ok(ExitCode::from(run.outcome.exit_code()))
 }
 
+/// The tabs `--tabs auto` gives a net's or `develop`'s pieces: one side of every seam,
+/// the width and angle asked for.
+fn auto_tabs(pattern: &PatternArgs) -> Option<TabOptions> {
+    (pattern.tabs == Tabs::Auto).then_some(TabOptions {
+        width_mm: pattern.tab_width,
+        angle_degrees: pattern.tab_angle,
+        sides: TabSides::One,
+        ..Default::default()
+    })
+}
+
 pub(crate) fn develop_command(
     mesh: PathBuf,
     output: PathBuf,
@@ -175,12 +181,7 @@ pub(crate) fn develop_command(
 ) -> Result<ExitCode, PipelineError> {
     options.flatten.unit = units.into();
     // `--tabs auto`: the pieces get tabs on one side of every seam, as a net does.
-    options.flatten.net_tabs = (pattern.tabs == Tabs::Auto).then_some(TabOptions {
-        width_mm: pattern.tab_width,
-        angle_degrees: pattern.tab_angle,
-        sides: TabSides::One,
-        ..Default::default()
-    });
+    options.flatten.net_tabs = auto_tabs(&pattern);
     options.flatten.pattern = pattern.into();
     options.flatten.input = Some(mesh.display().to_string());
     let model = read_mesh(&mesh)?;

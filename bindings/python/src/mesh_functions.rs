@@ -15,6 +15,28 @@ use sheetform::pipeline::{
     SeamSource, SegmentationOptions, DEFAULT_ANGLE_TOLERANCE,
 };
 
+/// The mesh of `vertices` and `faces` with its drawn `seams` (`(k, 2)` vertex pairs), read
+/// with the interpreter's lock held, as in `check` (the arrays are the caller's).
+fn mesh_with_seams(
+    py: Python<'_>,
+    vertices: &numpy::PyReadonlyArray2<'_, f64>,
+    faces: &numpy::PyReadonlyArray2<'_, i64>,
+    seams: Option<&Bound<'_, PyAny>>,
+    name: &str,
+) -> PyResult<sheetform::mesh::TriangleMesh> {
+    let (v, f) = (vertices.as_slice()?, faces.as_slice()?);
+    let seams = seams.map(|s| index_rows("seams", s, 2)).transpose()?;
+    let seams = seams.as_ref().map(|s| s.as_slice()).transpose()?;
+    mesh_from_arrays(v, f, name)
+        .and_then(|mut mesh| {
+            if let Some(seams) = seams {
+                mesh.seam_edges = seam_edges_from_array(&mesh, seams)?;
+            }
+            Ok(mesh)
+        })
+        .map_err(|e| python_error(py, e))
+}
+
 fn length_unit(unit: &str) -> PyResult<LengthUnit> {
     match unit {
         "mm" => Ok(LengthUnit::Mm),
@@ -170,18 +192,7 @@ pub(crate) fn flatten(
         name: Some(name.to_string()),
         size_mm: size,
     };
-    let (v, f) = (v.as_slice()?, f.as_slice()?);
-    let seams = seams.map(|s| index_rows("seams", s, 2)).transpose()?;
-    let seams = seams.as_ref().map(|s| s.as_slice()).transpose()?;
-    // (Read with the interpreter's lock held, as in `check`.)
-    let mesh = mesh_from_arrays(v, f, name)
-        .and_then(|mut mesh| {
-            if let Some(seams) = seams {
-                mesh.seam_edges = seam_edges_from_array(&mesh, seams)?;
-            }
-            Ok(mesh)
-        })
-        .map_err(|e| python_error(py, e))?;
+    let mesh = mesh_with_seams(py, &v, &f, seams, name)?;
     let (run, seconds) = run_interruptibly(py, progress, |controls| {
         run_flatten(mesh, &options, &controls.context(".", outputs))
     })?;
@@ -260,18 +271,7 @@ pub(crate) fn develop(
             ..Default::default()
         },
     };
-    let (v, f) = (v.as_slice()?, f.as_slice()?);
-    let seams = seams.map(|s| index_rows("seams", s, 2)).transpose()?;
-    let seams = seams.as_ref().map(|s| s.as_slice()).transpose()?;
-    // (Read with the interpreter's lock held, as in `check`.)
-    let mesh = mesh_from_arrays(v, f, name)
-        .and_then(|mut mesh| {
-            if let Some(seams) = seams {
-                mesh.seam_edges = seam_edges_from_array(&mesh, seams)?;
-            }
-            Ok(mesh)
-        })
-        .map_err(|e| python_error(py, e))?;
+    let mesh = mesh_with_seams(py, &v, &f, seams, name)?;
     let (developed, seconds) = run_interruptibly(py, progress, |controls| {
         run_develop(mesh, &options, &controls.context(".", outputs))
     })?;
@@ -281,24 +281,17 @@ pub(crate) fn develop(
     Run::new(py, parts)
 }
 
-/// `max_distance`: a length (a number) or a percentage of the size (`"0.5%"`).
+/// `max_distance`: a length (a number) or a percentage of the size (`"0.5%"`), parsed as
+/// the CLI parses `--max-distance`.
 fn distance_bound(value: &Bound<'_, PyAny>) -> PyResult<DistanceBound> {
     if let Ok(length) = value.extract::<f64>() {
         return Ok(DistanceBound::Absolute(length));
     }
-    let refused = || {
-        invalid_argument(
-            "max_distance",
-            "a length in the mesh's units (2.0) or a percentage of its size (\"0.5%\")".to_string(),
-        )
-    };
-    let text: String = value.extract().map_err(|_| refused())?;
-    let percent: f64 = text
-        .trim()
-        .strip_suffix('%')
-        .and_then(|p| p.trim().parse().ok())
-        .ok_or_else(refused)?;
-    Ok(DistanceBound::Relative(percent / 100.0))
+    let text: String = value
+        .extract()
+        .map_err(|_| invalid_argument("max_distance", "a length (2.0) or a percentage of the size (\"0.5%\")"))?;
+    text.parse()
+        .map_err(|message: String| invalid_argument("max_distance", message))
 }
 
 /// The printable pattern of a mesh that already has its flat layout (`uv`, `(n, 2)` at

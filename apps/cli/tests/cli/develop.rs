@@ -59,8 +59,7 @@ fn a_sphere_with_gore_seams_becomes_exact_globe_gores() {
         .map(|p| (nalgebra::Vector3::from(*p).norm() - 50.0).abs())
         .fold(0.0, f64::max);
     assert!(off <= bound, "{off} > {bound}");
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let report: serde_json::Value = crate::common::report(&out);
     assert_eq!(report["command"], "develop");
     assert_eq!(report["status"], "ok");
     assert_eq!(report["develop"]["piece_count"], 12);
@@ -172,8 +171,7 @@ fn a_closed_box_is_cut_along_its_edges_into_whole_sides() {
         let differing = (0..3).filter(|&k| (p[k] - q[k]).abs() > 1e-9).count();
         assert_eq!(differing, 1, "a cut across a side, from {p:?} to {q:?}");
     }
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let report: serde_json::Value = crate::common::report(&out);
     assert_eq!(report["status"], "ok");
     assert_eq!(report["develop"]["seams"], "automatic");
     assert_eq!(report["develop"]["hausdorff_mm"], 0.0);
@@ -212,8 +210,7 @@ fn a_closed_sphere_gets_automatic_seams_and_exact_pieces() {
         .map(|p| (nalgebra::Vector3::from(*p).norm() - 50.0).abs())
         .fold(0.0, f64::max);
     assert!(off <= 3.0, "{off} mm off the sphere");
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let report: serde_json::Value = crate::common::report(&out);
     let pieces = report["develop"]["piece_count"].as_u64().unwrap();
     assert!((2..=12).contains(&pieces), "{pieces} pieces");
     let svg = std::fs::read_to_string(out.join("pattern.svg")).unwrap();
@@ -298,8 +295,7 @@ fn a_distance_bound_adds_pieces_until_it_holds() {
         "30",
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let r: serde_json::Value = crate::common::report(&out);
     let d = &r["develop"];
     let bound = d["max_distance_mm"].as_f64().unwrap();
     let diagonal = d["bounding_box_diagonal_mm"].as_f64().unwrap();
@@ -324,8 +320,7 @@ fn a_distance_bound_adds_pieces_until_it_holds() {
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(5), "{stderr}");
     assert!(stderr.contains("--max-pieces"), "{stderr}");
-    let r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let r: serde_json::Value = crate::common::report(&out);
     assert_eq!(r["status"], "out of tolerance");
     let d = &r["develop"];
     assert!(d["hausdorff_mm"].as_f64().unwrap() > d["max_distance_mm"].as_f64().unwrap());
@@ -348,8 +343,7 @@ fn the_wing_nut_develops_into_exact_pieces() {
     assert!(interior > 2000, "{interior} interior vertices");
     assert!(defect <= 1e-8, "angle defect {defect} rad inside a piece");
     assert!(obj_isometry_error(&model) <= 1e-9, "{}", obj_isometry_error(&model));
-    let r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let r: serde_json::Value = crate::common::report(&out);
     assert!(r["develop"]["slit_count"].as_u64().unwrap() > 0);
     assert!(r["develop"]["hausdorff_relative"].as_f64().unwrap() < 0.01);
 }
@@ -378,9 +372,7 @@ fn pieces_are_added_until_they_fit_the_sheet() {
             sheet,
         ])
     };
-    let report = |out: &std::path::Path| -> serde_json::Value {
-        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap()
-    };
+    let report = crate::common::report;
     let loose = dir.path().join("loose");
     let o = sheetform(&[
         "develop",

@@ -40,6 +40,30 @@ pub enum DistanceBound {
     Absolute(f64),
 }
 
+impl std::str::FromStr for DistanceBound {
+    type Err = String;
+
+    /// `0.5%` (a percentage of the bounding-box diagonal) or `2` (a length in the mesh's
+    /// units), as `--max-distance` and the Python binding's `max_distance` spell it.
+    fn from_str(text: &str) -> Result<Self, String> {
+        let (number, relative) = match text.trim().strip_suffix('%') {
+            Some(percent) => (percent.trim(), true),
+            None => (text.trim(), false),
+        };
+        let value: f64 = number.parse().map_err(|_| {
+            format!(
+                "`{}` is not a distance: give a length in the mesh's units (2) or a percentage of its size (0.5%)",
+                sheetform_geometry::shortened_message(text)
+            )
+        })?;
+        Ok(if relative {
+            Self::Relative(value / 100.0)
+        } else {
+            Self::Absolute(value)
+        })
+    }
+}
+
 impl DistanceBound {
     /// The bound in the mesh's units, for a target of bounding-box `diagonal`.
     pub fn in_model_units(&self, diagonal: f64) -> f64 {
