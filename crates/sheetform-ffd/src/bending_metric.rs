@@ -4,6 +4,7 @@
 
 use crate::{DevelopabilityProblem, Evaluation};
 use nalgebra::Vector3;
+use sheetform_mesh::signed_fold_angle_gradients;
 
 type Vec3 = Vector3<f64>;
 
@@ -23,16 +24,8 @@ type Vec3 = Vector3<f64>;
 /// panels' area and `l̄` the mean edge length there; `γ` is dimensionless. This is the
 /// Gauss–Newton matrix of the discrete-shells bending energy `Σ_e w_e (θ_e − θ⁰_e)²`
 /// (Grinspun, Hirani, Desbrun & Schröder, "Discrete shells", SCA 2003, Eq. 2 with
-/// `3|e|²/A_e`) at `θ = θ⁰`. The gradients are those of Bridson, Marino & Fedkiw
-/// ("Simulation of clothing with folds and wrinkles", SCA 2003, §4): with
-/// `N₁ = (c − a) × (c − b)`, `N₂ = (d − b) × (d − a)`, `ê = (b − a)/|b − a|`,
-///
-/// `∇_cθ = |e| N₁/|N₁|²`, `∇_dθ = |e| N₂/|N₂|²`,
-/// `∇_aθ = ((c − b)·ê) N₁/|N₁|² + ((d − b)·ê) N₂/|N₂|²`,
-/// `∇_bθ = −((c − a)·ê) N₁/|N₁|² − ((d − a)·ê) N₂/|N₂|²`
-///
-/// (they sum to zero: a translation does not bend; a sign common to all four does not
-/// matter here).
+/// `3|e|²/A_e`) at `θ = θ⁰`. The gradients are `sheetform_mesh::signed_fold_angle_gradients`
+/// (Bridson, Marino & Fedkiw, SCA 2003, §4; shared with `develop`'s bending term).
 ///
 /// Why: with springs alone, moving a node along the normal changes edge lengths only to
 /// second order, so the least-`H`-norm projection uses large single-node normal moves.
@@ -163,7 +156,7 @@ impl BendingMetric {
         for (h, hinge) in self.hinges.iter().enumerate() {
             let ids = &self.hinge_blocks[self.hinge_block_start[h]..self.hinge_block_start[h + 1]];
             let w = self.hinge_weights[h];
-            let gradients = dihedral_angle_gradients(hinge.map(|n| e.positions[n as usize]));
+            let gradients = signed_fold_angle_gradients(hinge.map(|n| e.positions[n as usize]));
             parts.clear();
             for (&v, g) in self.hinge_variables[h].iter().zip(&gradients) {
                 if v != u32::MAX {
@@ -198,34 +191,12 @@ impl BendingMetric {
     }
 }
 
-/// The gradients of the dihedral angle at edge `a → b` between triangles `(a, b, c)` and
-/// `(b, a, d)` with respect to `[a, b, c, d]` (radians per model unit; Bridson, Marino &
-/// Fedkiw 2003, §4; see [`BendingMetric`]). Zero for a degenerate triangle.
-pub(crate) fn dihedral_angle_gradients([a, b, c, d]: [Vec3; 4]) -> [Vec3; 4] {
-    let edge = b - a;
-    let length = edge.norm();
-    let n1 = (c - a).cross(&(c - b));
-    let n2 = (d - b).cross(&(d - a));
-    let (s1, s2) = (n1.norm_squared(), n2.norm_squared());
-    if length == 0.0 || s1 == 0.0 || s2 == 0.0 {
-        return [Vec3::zeros(); 4];
-    }
-    let (m1, m2) = (n1 / s1, n2 / s2);
-    let unit = edge / length;
-    [
-        m1 * (c - b).dot(&unit) + m2 * (d - b).dot(&unit),
-        -(m1 * (c - a).dot(&unit) + m2 * (d - a).dot(&unit)),
-        m1 * length,
-        m2 * length,
-    ]
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::procedural_panels::ProceduralModel;
     use crate::{apply_edits, embed_points, FfdScene, PanelAssembly, ProblemOptions};
-    use sheetform_pattern::signed_fold_angle;
+    use sheetform_mesh::signed_fold_angle;
 
     /// The change of the dihedral angle at edge `a → b` between triangles `(a, b, c)` and
     /// `(b, a, d)` along a displacement `δ` of the four points, by central differences of
@@ -234,39 +205,6 @@ mod tests {
         let t = 1e-6;
         let moved = |s: f64| signed_fold_angle(std::array::from_fn(|i| points[i] + s * delta[i]));
         (moved(t) - moved(-t)) / (2.0 * t)
-    }
-
-    /// The gradients match finite differences of the dihedral angle (up to one sign
-    /// common to every hinge and direction), flat and folded, and sum to zero.
-    #[test]
-    fn dihedral_angle_gradients_match_finite_differences() {
-        let mut sign = 0.0;
-        for (fold, skew) in [(0.0, 0.0), (0.4, 0.3), (-1.1, -0.2), (2.0, 0.7)] {
-            let points = [
-                Vec3::new(0.1, -0.2, 0.05),
-                Vec3::new(1.3, 0.1, -0.1),
-                Vec3::new(0.5 + skew, 1.0, 0.2),
-                Vec3::new(0.7, -f64::cos(fold), f64::sin(fold)),
-            ];
-            let gradients = dihedral_angle_gradients(points);
-            let sum: Vec3 = gradients.iter().sum();
-            assert!(sum.norm() < 1e-12, "{sum}");
-            for k in 0..6 {
-                let delta: [Vec3; 4] = std::array::from_fn(|i| {
-                    let x = (k * 4 + i) as f64;
-                    Vec3::new((0.7 * x).sin(), (1.3 * x + 0.5).cos(), (2.1 * x).sin())
-                });
-                let linear: f64 = gradients.iter().zip(&delta).map(|(g, d)| g.dot(d)).sum();
-                let difference = angle_change(points, delta);
-                if sign == 0.0 {
-                    sign = (linear / difference).signum();
-                }
-                assert!(
-                    (linear - sign * difference).abs() < 1e-7 * (1.0 + difference.abs()),
-                    "fold {fold}: {linear} vs {difference}"
-                );
-            }
-        }
     }
 
     /// The pushed entries are the upper triangle of `γ Σ_e w_e r_eᵀ r_e`: the quadratic

@@ -10,6 +10,7 @@ mod developability;
 mod edge_cut;
 mod edge_table;
 mod error;
+mod fold_angle;
 mod metrics;
 pub mod primitives;
 mod sheet_mesh;
@@ -26,6 +27,7 @@ pub use developability::{developability_summary, vertex_developability, Developa
 pub use edge_cut::{cut_along_edges, CutMesh};
 pub use edge_table::{EdgeSide, EdgeTable};
 pub use error::MeshError;
+pub use fold_angle::{signed_fold_angle, signed_fold_angle_gradients};
 pub use metrics::{developability_error, isometry_error, IsometryError, RulingNormalError};
 pub use sheet_mesh::{Piece, PieceKind, Ruling, SheetMesh};
 pub use shortest_edge_path::shortest_edge_path;

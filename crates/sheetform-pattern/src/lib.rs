@@ -24,8 +24,8 @@ pub use glue_tabs::{
 };
 pub use material_allowance::{MaterialAllowance, MAX_ALLOWANCE_MM};
 pub use pattern::{
-    pattern_from_mesh, point_bounds, signed_fold_angle, Fold, FoldStyle, Label, LabelKind, Pattern, PatternOptions,
-    PatternPiece, PatternTexture, Placement,
+    pattern_from_mesh, point_bounds, Fold, FoldStyle, Label, LabelKind, Pattern, PatternOptions, PatternPiece,
+    PatternTexture, Placement,
 };
 pub use pdf_tiles::{pdf_tiled, PageSize, PdfOptions, TiledPdf, DEFAULT_MAX_PAGES, MAX_PAGES, MAX_TEXTURE_PIXELS};
 pub use seam_matching::{match_seams, SeamRun};

@@ -7,7 +7,7 @@ use crate::sheet_packing::{pack_pieces, SheetOptions};
 use crate::{PatternError, Vec2};
 use rustc_hash::{FxHashMap as HashMap, FxHashSet};
 use sheetform_geometry::{refused_number, short_number};
-use sheetform_mesh::SheetMesh;
+use sheetform_mesh::{signed_fold_angle, SheetMesh};
 
 /// How a fold line is folded, seen from the pattern's printed side (the side the mesh's
 /// face normals point to).
@@ -349,24 +349,6 @@ pub fn point_bounds<'a>(points: impl IntoIterator<Item = &'a Vec2>) -> (Vec2, Ve
         (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
         |(lo, hi), p| (lo.inf(p), hi.sup(p)),
     )
-}
-
-/// Signed dihedral fold angle (radians) across the edge `a → b` shared by triangles
-/// `(a, b, c)` and `(b, a, d)`: positive when the surface bends away from the side the
-/// normals point to (a mountain seen from that side), negative for a valley, 0 when flat.
-pub fn signed_fold_angle(p: [nalgebra::Vector3<f64>; 4]) -> f64 {
-    let [a, b, c, d] = p;
-    let n1 = (b - a).cross(&(c - a));
-    let n2 = (a - b).cross(&(d - b));
-    let (l1, l2) = (n1.norm(), n2.norm());
-    if l1 == 0.0 || l2 == 0.0 {
-        return 0.0;
-    }
-    let (n1, n2) = (n1 / l1, n2 / l2);
-    let e = (b - a).normalize();
-    // Angle from n1 to n2 about e: positive when the second face turns away from the
-    // first one's normal side (a ridge seen from that side).
-    n1.cross(&n2).dot(&e).atan2(n1.dot(&n2))
 }
 
 /// The pattern of a mesh in millimetres (`mesh.unit`) times `options.scale`: one piece per
@@ -1159,21 +1141,6 @@ fn mesh_scale(mesh: &SheetMesh) -> f64 {
 mod tests {
     use super::*;
     type Vec3 = nalgebra::Vector3<f64>;
-
-    #[test]
-    fn fold_sign_follows_the_normal_side() {
-        // Two triangles over the x axis; the second one dips down (away from the +z
-        // normal of the first): a mountain seen from above.
-        let (a, b) = (Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0));
-        let c = Vec3::new(0.5, 1.0, 0.0);
-        let down = Vec3::new(0.5, -1.0, -1.0);
-        let up = Vec3::new(0.5, -1.0, 1.0);
-        let m = signed_fold_angle([a, b, c, down]);
-        let v = signed_fold_angle([a, b, c, up]);
-        assert!((m - std::f64::consts::FRAC_PI_4).abs() < 1e-12, "{m}");
-        assert!((v + std::f64::consts::FRAC_PI_4).abs() < 1e-12, "{v}");
-        assert_eq!(signed_fold_angle([a, b, c, Vec3::new(0.5, -1.0, 0.0)]), 0.0);
-    }
 
     /// Two unit squares hinged along the x axis, the second one turned by `angle`
     /// (radians, positive = down, away from the +z normals): a mountain.
