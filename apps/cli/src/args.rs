@@ -169,6 +169,13 @@ pub(crate) enum Command {
         /// are within this RMS angle of a cone, cylinder or plane (degrees).
         #[arg(long, value_name = "DEGREES", default_value_t = 2.0)]
         normal_tolerance: f64,
+        /// Automatic seams: a vertex inside a piece whose angle defect is larger than
+        /// this (degrees) is a cone point (a box's corner) and gets a slit to its piece's
+        /// border instead of being flattened. Smaller values bring the pieces closer to
+        /// the target, at the price of more slits and, where the slits make a piece
+        /// overlap itself in the plane, more pieces.
+        #[arg(long, value_name = "DEGREES", default_value_t = 60.0)]
+        cone_angle: f64,
         /// The farthest the developed surface may be from the target (two-sided
         /// Hausdorff distance): a length in the mesh's units (`2`) or a percentage of its
         /// bounding-box diagonal (`0.5%`). With automatic seams, pieces are added (up to

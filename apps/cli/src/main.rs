@@ -105,6 +105,7 @@ fn main() -> ExitCode {
             seams,
             max_pieces,
             normal_tolerance,
+            cone_angle,
             max_distance,
             smoothness,
             tolerance,
@@ -120,6 +121,7 @@ fn main() -> ExitCode {
                 segmentation: sheetform::pipeline::SegmentationOptions {
                     max_pieces,
                     normal_tolerance_degrees: normal_tolerance,
+                    cone_point_radians: cone_angle.to_radians(),
                     ..Default::default()
                 },
                 develop: sheetform::pipeline::DevelopOptions {

@@ -206,8 +206,9 @@ pub(crate) fn flatten(
 ///
 /// `seams`: `(k, 2)` vertex pairs drawn as seams (an OBJ's `l` lines); with
 /// `automatic_seams` (the default) develop adds its own, up to `max_pieces` pieces each
-/// within `normal_tolerance` degrees (RMS) of a cone, cylinder or plane; otherwise it
-/// cuts along the drawn seams only. `max_distance`: the farthest the result may be from
+/// within `normal_tolerance` degrees (RMS) of a cone, cylinder or plane, with a slit from
+/// every vertex inside a piece whose angle defect exceeds `cone_angle` degrees; otherwise
+/// it cuts along the drawn seams only. `max_distance`: the farthest the result may be from
 /// the target, a length in `unit`s (`2.0`) or a percentage of the bounding-box diagonal
 /// (`"0.5%"`); pieces are added until it holds. `smoothness`, `tolerance` (radians) and
 /// `max_iterations` steer the developability solve.
@@ -218,7 +219,7 @@ pub(crate) fn flatten(
 /// keeps a defect above `tolerance` or the distance bound is not met (the closest
 /// result is returned).
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, *, seams=None, automatic_seams=true, max_pieces=12, normal_tolerance=2.0, max_distance=None, smoothness=0.1, tolerance=1e-10, max_iterations=100, unit="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None))]
+#[pyo3(signature = (vertices, faces, *, seams=None, automatic_seams=true, max_pieces=12, normal_tolerance=2.0, cone_angle=60.0, max_distance=None, smoothness=0.1, tolerance=1e-10, max_iterations=100, unit="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn develop(
     py: Python<'_>,
@@ -228,6 +229,7 @@ pub(crate) fn develop(
     automatic_seams: bool,
     max_pieces: usize,
     normal_tolerance: f64,
+    cone_angle: f64,
     max_distance: Option<&Bound<'_, PyAny>>,
     smoothness: f64,
     tolerance: f64,
@@ -254,6 +256,7 @@ pub(crate) fn develop(
         segmentation: SegmentationOptions {
             max_pieces,
             normal_tolerance_degrees: normal_tolerance,
+            cone_point_radians: cone_angle.to_radians(),
             ..Default::default()
         },
         develop: DevelopOptions {

@@ -686,8 +686,16 @@ pub struct DevelopReport {
     /// Where the target was cut: `automatic` (found, with the drawn seams among them) or
     /// `drawn` (the OBJ `l` polylines only).
     pub seams: crate::pipeline::SeamSource,
-    /// Pieces the target was cut into along its seams.
+    /// Pieces in the pattern: the `seam_piece_count` pieces the seams cut, and
+    /// `overlap_split_count` more where a developed piece would overlap itself in the
+    /// plane (a band that unrolls into more than a full turn) and its unfolding was cut
+    /// in two.
     pub piece_count: usize,
+    /// Pieces the target was cut into along its seams.
+    pub seam_piece_count: usize,
+    /// Pieces added by the unfolding, which cuts a developed piece that would overlap
+    /// itself in the plane.
+    pub overlap_split_count: usize,
     /// Seam edges.
     pub seam_edge_count: usize,
     /// Total length of the seams, on the target.

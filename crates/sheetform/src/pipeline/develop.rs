@@ -153,6 +153,7 @@ pub fn run_develop(
     options: &DevelopRunOptions,
     context: &RunContext,
 ) -> Result<DevelopRun, PipelineError> {
+    let started = std::time::Instant::now();
     options.develop.validate()?;
     options.segmentation.validate()?;
     if let Some(bound) = &options.max_distance {
@@ -263,6 +264,7 @@ pub fn run_develop(
         }
     }
     context.progress("unfolding the pieces", 0.6);
+    let developing_ms = started.elapsed().as_secs_f64() * 1e3;
     // The developed pieces unfold exactly: charts cut along the seams only (no crease
     // splits them), within a distortion bound far below a cutter's resolution.
     // The pieces are glued along their seams: they get the tabs a net gets (one side of
@@ -357,9 +359,16 @@ pub fn run_develop(
         })
         .sum::<f64>()
         + 0.0; // an empty sum is −0.0
+               // The solve's time is develop's as much as the unfolding's.
+    report.timings.solve_ms += developing_ms;
+    report.timings.total_ms = started.elapsed().as_secs_f64() * 1e3;
+    report.timings.export_ms = (report.timings.total_ms - report.timings.parse_ms - report.timings.solve_ms).max(0.0);
+    let pattern_piece_count = run.sheet.pieces.len();
     report.develop = Some(DevelopReport {
         seams: options.seams,
-        piece_count: pieces.piece_count,
+        piece_count: pattern_piece_count,
+        seam_piece_count: pieces.piece_count,
+        overlap_split_count: pattern_piece_count.saturating_sub(pieces.piece_count),
         seam_edge_count: pieces.seam_edges.len(),
         seam_length_mm: seam_length * unit,
         seam_length_relative: seam_length / diagonal,
