@@ -2,6 +2,7 @@
 //! (its Gauss image close to a circle), so that [`crate::develop_pieces`] has little to
 //! move.
 
+use crate::cone_slits::cut_slits;
 use crate::DevelopError;
 use nalgebra::{Matrix3, Vector3};
 use sheetform_mesh::{EdgeTable, TriangleMesh, UnionFind};
@@ -449,7 +450,25 @@ pub fn segment_developable(
                 _ => false,
             };
     }
-    let slit_count = slit_cone_points(mesh, table, &graph, &mut seam, options.cone_point_radians);
+    // Cone points: inside a piece (not on a seam or the boundary), sharper than the
+    // threshold, the sharpest first (a later one may end its slit on an earlier one's).
+    let mut on_seam = vec![false; mesh.positions.len()];
+    for (e, &cut) in seam.iter().enumerate() {
+        if cut || table.sides(e).len() != 2 {
+            for v in table.edges[e] {
+                on_seam[v as usize] = true;
+            }
+        }
+    }
+    let mut cones: Vec<u32> = (0..mesh.positions.len() as u32)
+        .filter(|&v| !on_seam[v as usize] && graph.defects[v as usize].abs() > options.cone_point_radians)
+        .collect();
+    cones.sort_by(|&a, &b| {
+        graph.defects[b as usize]
+            .abs()
+            .total_cmp(&graph.defects[a as usize].abs())
+    });
+    let slit_count = cut_slits(mesh, table, &mut seam, &cones);
     let seams = (0..table.len()).filter(|&e| seam[e]).map(|e| table.edges[e]).collect();
     Ok(Segmentation {
         slit_count,
@@ -485,66 +504,6 @@ fn piece_curvatures(mesh: &TriangleMesh, graph: &FaceGraph, face_piece: &[u32], 
         }
     }
     curvature
-}
-
-/// Cuts a slit from every cone point inside a piece (|defect| above `threshold`, every
-/// edge round it inside the piece) along the shortest edge path, through the piece, to a
-/// vertex on a seam, a slit or the mesh's boundary; marks the path's edges in `seam`.
-/// Returns the slits cut.
-fn slit_cone_points(
-    mesh: &TriangleMesh,
-    table: &EdgeTable,
-    graph: &FaceGraph,
-    seam: &mut [bool],
-    threshold: f64,
-) -> usize {
-    let nv = mesh.positions.len();
-    let mut on_border = vec![false; nv];
-    // Edges inside a piece, per vertex: (other vertex, edge).
-    let mut inner: Vec<Vec<(u32, usize)>> = vec![Vec::new(); nv];
-    for (e, &cut) in seam.iter().enumerate() {
-        let [a, b] = table.edges[e];
-        if cut || table.sides(e).len() != 2 {
-            on_border[a as usize] = true;
-            on_border[b as usize] = true;
-        } else {
-            inner[a as usize].push((b, e));
-            inner[b as usize].push((a, e));
-        }
-    }
-    let mut cones: Vec<usize> = (0..nv)
-        .filter(|&v| !on_border[v] && !inner[v].is_empty() && graph.defects[v].abs() > threshold)
-        .collect();
-    // The sharpest first: a later cone point may end its slit on an earlier one's.
-    cones.sort_by(|&a, &b| graph.defects[b].abs().total_cmp(&graph.defects[a].abs()));
-    let mut slits = 0;
-    for v in cones {
-        if on_border[v] {
-            continue;
-        }
-        let length = |a: u32, b: u32| (mesh.positions[a as usize] - mesh.positions[b as usize]).norm();
-        let steps = |w: u32| {
-            inner[w as usize]
-                .iter()
-                .filter(|&&(_, e)| !seam[e])
-                .map(|&(x, _)| (x, length(w, x)))
-                .collect::<Vec<_>>()
-        };
-        let Some(path) =
-            sheetform_mesh::shortest_edge_path([v as u32], |w| on_border[w as usize], steps, f64::INFINITY)
-        else {
-            continue;
-        };
-        for pair in path.windows(2) {
-            if let Some(e) = table.find(pair[0], pair[1]) {
-                seam[e] = true;
-            }
-            on_border[pair[0] as usize] = true;
-            on_border[pair[1] as usize] = true;
-        }
-        slits += 1;
-    }
-    slits
 }
 
 /// How well one piece fits its cone.

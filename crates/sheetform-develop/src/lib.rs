@@ -7,18 +7,21 @@
 //!   normals lie close to a cone's (a developable's Gauss image is a curve);
 //! - [`develop_pieces`]: the target's vertices moved as little as possible so that every
 //!   vertex inside a piece is flat (angle sum 2π): a constrained Gauss–Newton projection
-//!   on the shared [`sheetform_solve::KktSystem`].
+//!   on the shared [`sheetform_solve::KktSystem`];
+//! - [`slit_unflattened_vertices`]: slits from the cone points a solve could not flatten.
 //!
 //! The pieces are then unfolded exactly and laid out by the pipeline (`run_develop`),
 //! like every other system's.
 
 #![warn(missing_docs)]
 
+mod cone_slits;
 mod developable_projection;
 mod developable_segmentation;
 mod error;
 mod seam_pieces;
 
+pub use cone_slits::slit_unflattened_vertices;
 pub use developable_projection::{
     develop_pieces, DevelopOptions, Developed, MAX_ITERATIONS, MAX_SMOOTHNESS, POLISH_STEPS, STALL_DEFECT, STALL_STEPS,
     STALL_TOLERANCE, STEP_REACH, STEP_TOLERANCE,

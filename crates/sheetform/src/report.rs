@@ -718,7 +718,8 @@ pub struct DevelopReport {
     pub angle_defect_max_rad: f64,
     /// The bound on `angle_defect_max_rad`.
     pub angle_defect_tolerance_rad: f64,
-    /// Gauss–Newton steps.
+    /// Gauss–Newton steps (over every solve: a solve that left cone points unflattened is
+    /// run again after slits from them, counted in `slit_count`).
     pub iterations: usize,
     /// Two-sided Hausdorff distance between the result and the target.
     pub hausdorff_mm: f64,

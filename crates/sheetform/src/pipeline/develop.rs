@@ -8,7 +8,7 @@ use super::error::{Outcome, PipelineError};
 use super::flatten::{run_flatten, ChartMode, FlattenOptions, FlattenRun};
 use super::outputs::output_names;
 use crate::report::{Command, DevelopReport, Status};
-use sheetform_develop::{develop_pieces, seam_pieces, segment_developable, DevelopError};
+use sheetform_develop::{develop_pieces, seam_pieces, segment_developable, slit_unflattened_vertices, DevelopError};
 pub use sheetform_develop::{DevelopOptions, Developed, SegmentationOptions};
 use sheetform_flatten::ChartOptions;
 use sheetform_io::{colour_ramp, glb_vertex_colours, ply_vertex_colours, UpAxis};
@@ -114,6 +114,11 @@ pub struct DevelopRunOptions {
 /// Pieces of the first attempt under a distance bound.
 const FIRST_PIECE_COUNT: usize = 4;
 
+/// With automatic seams, a solve that leaves defects above the tolerance is tried again
+/// at most this many times, each time with slits from the vertices it could not flatten
+/// (those within a tenth of the largest defect left).
+const SLIT_ROUNDS: usize = 3;
+
 /// One segmentation and development of the target.
 struct Attempt {
     result: TriangleMesh,
@@ -121,6 +126,8 @@ struct Attempt {
     pieces: sheetform_develop::SeamPieces,
     developed: Developed,
     distance: sheetform_mesh::SurfaceDistance,
+    /// Slits cut after a solve left cone points unflattened.
+    late_slit_count: usize,
 }
 
 /// A finished `develop`.
@@ -205,9 +212,36 @@ pub fn run_develop(
             }
         };
         context.progress("making the pieces developable", progress + 0.02);
-        let pieces = seam_pieces(&target, &table, &seams)?;
-        let developed = develop_pieces(&target, &table, &pieces, &options.develop, context.cancel)?;
+        let mut pieces = seam_pieces(&target, &table, &seams)?;
+        let mut developed = develop_pieces(&target, &table, &pieces, &options.develop, context.cancel)?;
         context.check_cancelled()?;
+        // Cone points the solve could not flatten (a saddle where a handle meets a body,
+        // a tip below the cone angle) get slits, and the pieces are solved again.
+        let mut seams = seams;
+        let mut late_slit_count = 0;
+        let mut steps = developed.iterations;
+        for _ in 0..SLIT_ROUNDS {
+            if developed.converged || options.seams != SeamSource::Automatic {
+                break;
+            }
+            let threshold = (0.1 * developed.max_defect).max(options.develop.defect_tolerance);
+            let (more, slits) = slit_unflattened_vertices(&target, &developed.positions, &table, &pieces, threshold);
+            if slits == 0 {
+                break;
+            }
+            tracing::debug!(
+                slits,
+                max_defect = developed.max_defect,
+                "develop: slits from cone points left"
+            );
+            late_slit_count += slits;
+            seams = more;
+            pieces = seam_pieces(&target, &table, &seams)?;
+            developed = develop_pieces(&target, &table, &pieces, &options.develop, context.cancel)?;
+            context.check_cancelled()?;
+            steps += developed.iterations;
+            developed.iterations = steps;
+        }
         let mut result = target.clone();
         result.positions.clone_from(&developed.positions);
         result.seam_edges = seams;
@@ -218,6 +252,7 @@ pub fn run_develop(
             pieces,
             developed,
             distance,
+            late_slit_count,
         })
     };
     // With a distance bound and automatic seams: from a few pieces (at most 4, fewer when
@@ -326,6 +361,7 @@ pub fn run_develop(
         pieces,
         developed,
         distance,
+        late_slit_count,
     } = best;
     // The distance colour map: each developed vertex's distance to the target, blue at
     // none, red at the largest (PLY with the value in mm per vertex, and GLB).
@@ -373,7 +409,7 @@ pub fn run_develop(
         seam_length_mm: seam_length * unit,
         seam_length_relative: seam_length / diagonal,
         normal_deviation_rms_deg: segmentation.as_ref().map(|s| s.normal_deviation_rms.to_degrees()),
-        slit_count: segmentation.as_ref().map_or(0, |s| s.slit_count),
+        slit_count: segmentation.as_ref().map_or(0, |s| s.slit_count) + late_slit_count,
         constrained_vertex_count: developed.constrained_vertex_count,
         angle_defect_max_before_rad: developed.max_defect_before,
         angle_defect_max_rad: developed.max_defect,

@@ -1,0 +1,94 @@
+//! Slits from cone points: a vertex inside a piece that no small move makes flat is cut
+//! free along the shortest edge path to its piece's border.
+
+use crate::SeamPieces;
+use nalgebra::Vector3;
+use sheetform_mesh::{corner_angle, EdgeTable, TriangleMesh};
+use std::f64::consts::TAU;
+
+type Vec3 = Vector3<f64>;
+
+/// Cuts a slit from each of `cones` in turn (vertices inside a piece: every edge round
+/// them inside the piece) along the shortest edge path, through the piece, to a vertex on
+/// a seam, a slit or the mesh's boundary; marks the path's edges in `seam` (one flag per
+/// edge of `table`). A cone point already reached by an earlier slit is skipped. Returns
+/// the slits cut.
+pub(crate) fn cut_slits(mesh: &TriangleMesh, table: &EdgeTable, seam: &mut [bool], cones: &[u32]) -> usize {
+    let nv = mesh.positions.len();
+    let mut on_border = vec![false; nv];
+    // Edges inside a piece, per vertex: (other vertex, edge).
+    let mut inner: Vec<Vec<(u32, usize)>> = vec![Vec::new(); nv];
+    for (e, &cut) in seam.iter().enumerate() {
+        let [a, b] = table.edges[e];
+        if cut || table.sides(e).len() != 2 {
+            on_border[a as usize] = true;
+            on_border[b as usize] = true;
+        } else {
+            inner[a as usize].push((b, e));
+            inner[b as usize].push((a, e));
+        }
+    }
+    let mut slits = 0;
+    for &v in cones {
+        if on_border[v as usize] || inner[v as usize].is_empty() {
+            continue;
+        }
+        let length = |a: u32, b: u32| (mesh.positions[a as usize] - mesh.positions[b as usize]).norm();
+        let steps = |w: u32| {
+            inner[w as usize]
+                .iter()
+                .filter(|&&(_, e)| !seam[e])
+                .map(|&(x, _)| (x, length(w, x)))
+                .collect::<Vec<_>>()
+        };
+        let Some(path) = sheetform_mesh::shortest_edge_path([v], |w| on_border[w as usize], steps, f64::INFINITY)
+        else {
+            continue;
+        };
+        for pair in path.windows(2) {
+            if let Some(e) = table.find(pair[0], pair[1]) {
+                seam[e] = true;
+            }
+            on_border[pair[0] as usize] = true;
+            on_border[pair[1] as usize] = true;
+        }
+        slits += 1;
+    }
+    slits
+}
+
+/// The seams of `pieces` with a slit added from every vertex inside a piece whose angle
+/// defect at `positions` (the developed shape) is still above `threshold` radians, the
+/// largest first: the cone points the developability solve could not flatten (a sharp
+/// tip, a saddle where a handle meets a body). Cutting them frees the solve of those
+/// constraints; every other vertex inside a piece stays constrained to be flat.
+///
+/// Returns the seams (vertex pairs, for [`crate::seam_pieces`]) and the slits cut (0:
+/// no vertex was above the threshold or none could be reached).
+pub fn slit_unflattened_vertices(
+    mesh: &TriangleMesh,
+    positions: &[Vec3],
+    table: &EdgeTable,
+    pieces: &SeamPieces,
+    threshold: f64,
+) -> (Vec<[u32; 2]>, usize) {
+    let mut angle_sum = vec![0.0; mesh.positions.len()];
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            let [a, b, c] = [t[k], t[(k + 1) % 3], t[(k + 2) % 3]].map(|v| positions[v as usize]);
+            angle_sum[t[k] as usize] += corner_angle(a, b, c);
+        }
+    }
+    let defect = |v: u32| (TAU - angle_sum[v as usize]).abs();
+    let mut cones: Vec<u32> = (0..mesh.positions.len() as u32)
+        .filter(|&v| pieces.interior[v as usize] && defect(v) > threshold)
+        .collect();
+    cones.sort_by(|&a, &b| defect(b).total_cmp(&defect(a)));
+    let mut seam = vec![false; table.len()];
+    for &e in &pieces.seam_edges {
+        seam[e] = true;
+    }
+    let slits = cut_slits(mesh, table, &mut seam, &cones);
+    let seams = (0..table.len()).filter(|&e| seam[e]).map(|e| table.edges[e]).collect();
+    (seams, slits)
+}
