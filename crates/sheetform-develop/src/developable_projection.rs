@@ -60,6 +60,12 @@ pub const STALL_TOLERANCE: f64 = 1e-3;
 pub const STALL_STEPS: usize = 3;
 /// See [`STALL_TOLERANCE`] (radians).
 pub const STALL_DEFECT: f64 = 0.05;
+/// The steps also end after [`STALL_STEPS`] in a row that move no vertex coordinate by
+/// more than this fraction of the mean edge length (the line search cutting each step
+/// to a sliver; the feasibility polish then takes over). Measured (benchmarks.md,
+/// session 25): the koala's solve spent 20 of its 38 steps at `α` below 0.03 with its
+/// largest defect stuck at 1.64 rad, and the polish finished from there.
+pub const STALL_MOVE: f64 = 1e-3;
 /// Most steps of the feasibility polish (least-norm corrections `J Δx = −g`, each
 /// damped by halving until `Σ |g|` decreases, from at most [`STEP_REACH`]` ℓ`). Measured:
 /// undamped, the polish stopped at its first non-improving step and the wing nut stayed
@@ -386,9 +392,10 @@ pub fn develop_pieces(
             break;
         }
         // Closeness has stopped improving: the feasibility polish below finishes faster
-        // than more of these linearly converging steps.
+        // than more of these linearly converging steps. So it does when the line search
+        // keeps only slivers of the steps (see `STALL_MOVE`).
         let now = objective(&x, &h_values).0;
-        if (now - energy).abs() <= STALL_TOLERANCE * now && max_abs(&defects) < STALL_DEFECT {
+        if moved <= STALL_MOVE || (now - energy).abs() <= STALL_TOLERANCE * now && max_abs(&defects) < STALL_DEFECT {
             stalled += 1;
             if stalled >= STALL_STEPS {
                 break;
