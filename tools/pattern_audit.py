@@ -29,9 +29,14 @@ input, not a result). Prints one JSON object:
 - `dxf`: the layers of the DXF's entities and whether each layer holds one kind of line
   of the SVG (`layers_apart`): cut, mountain, valley, tab score, guide, ... never mixed.
 
-Pieces are registered onto the SVG one by one (each may have been turned and moved by
-sheet packing): rotations from matching edge lengths, translations by voting, verified
-by every boundary point of the piece lying on the printed outline.
+Pieces are registered onto the SVG (each may have been turned and moved by sheet
+packing): every place a piece fits is found (its vertices and edges on the printed cut
+loops and tab bases, no printed crease through it off its interior edges), then the
+pieces are assigned to places all together, no printed vertex under two pieces
+(congruent pieces fit each other's places: registered one by one, the first could take
+a place only a later one fits). Geometry decides; where congruent pieces could swap
+places (no printed name inside either), the cut loop's `data-mesh-pieces` (the web
+editor's link from a loop to its mesh piece) breaks the tie.
 """
 import json
 import math
@@ -47,7 +52,9 @@ SVG = "{http://www.w3.org/2000/svg}"
 
 
 def read_obj(path):
-    v, vt, faces, unit, group, groups = [], [], [], "mm", "", []
+    """Positions, flat positions, faces (v, vt index pairs), unit and each face's group:
+    (its name, the number of `g` lines before it less one: the writer's mesh piece)."""
+    v, vt, faces, unit, group, groups = [], [], [], "mm", ("", -1), []
     for line in open(path):
         if line.startswith("# units:"):
             unit = line.split()[2]
@@ -63,7 +70,7 @@ def read_obj(path):
             faces.append([(int(c[0]) - 1, int(c[1]) - 1) for c in corners])
             groups.append(group)
         elif p[0] == "g":
-            group = " ".join(p[1:])
+            group = (" ".join(p[1:]), group[1] + 1)
     return v, np.array(vt), faces, unit, groups
 
 
@@ -77,12 +84,17 @@ def parse_svg(path):
         if g.get("id"):
             layers[g.get("id")] = g
     view = [float(x) for x in root.get("viewBox").split()]
-    loops = []
+    loops, loop_pieces = [], []
     for p in layers["cut"].iter(SVG + "path"):
+        # The mesh pieces the loop's piece holds, as the file says (`data-mesh-pieces`,
+        # the web editor's too): only a tie-break between congruent pieces.
+        held = p.get("data-mesh-pieces")
+        held = frozenset(int(x) for x in held.split()) if held is not None else None
         for ring in p.get("d").split("Z"):
             pts = [(float(x), -float(y)) for x, y in re.findall(r"[ML]\s*([-\d.e+]+),([-\d.e+]+)", ring)]
             if pts:
                 loops.append(np.array(pts))
+                loop_pieces.append(held)
     lines = defaultdict(list)
     for lid, g in layers.items():
         for ln in g.findall(SVG + "line"):
@@ -97,7 +109,7 @@ def parse_svg(path):
             angle = -math.radians(float(m.group(1))) if m else 0.0
             texts.append({"class": t.get("class"), "text": t.text or "", "centre": np.array([x, -y]),
                           "size": size, "angle": angle})
-    return view, loops, lines, texts
+    return view, loops, loop_pieces, lines, texts
 
 
 def point_segment_distance(p, a, b):
@@ -145,101 +157,333 @@ class SegmentIndex:
         return found
 
 
-def register(piece_points, piece_edges, outline, claimed, folds=(), fold_index=None, near=None, tolerance=2e-3):
-    """The rigid motions (R, t, outline points landed on) putting every point of the
-    piece on the printed outline, on points no piece registered before has claimed, and
-    the middle of every fold edge of the piece (`folds`) on a printed fold line (a piece
-    whose outline is symmetric goes the one way its folds are drawn). With `near`
-    (centre, radius), only the outline within the radius of the centre votes (a piece
-    whose name is printed: it lies around its name)."""
-    outline_segments, outline_points, keys, point_index = outline
-    voting_segments = outline_segments
-    if near is not None:
-        centre, radius = near
-        close = [ab for ab in outline_segments if np.linalg.norm((ab[0] + ab[1]) / 2 - centre) <= radius]
-        if close:
-            voting_segments = close
-            outline_points = np.array([p for ab in close for p in ab])
-    seg = np.array([[a, b] for a, b in voting_segments])
-    seg_len = np.linalg.norm(seg[:, 1] - seg[:, 0], axis=1)
-    seg_angle = np.arctan2(seg[:, 1, 1] - seg[:, 0, 1], seg[:, 1, 0] - seg[:, 0, 0])
-    order = np.argsort(seg_len)
-    sorted_len = seg_len[order]
-    votes = Counter()
-    # An exact angle of each bin (a bin is 1e-4 rad wide: 0.025 mm at 250 mm).
-    exact = {0: 0.0}
-    for a, b in piece_edges[:400]:
-        d = b - a
-        length = float(np.hypot(*d))
-        lo, hi = np.searchsorted(sorted_len, [length - tolerance, length + tolerance])
-        for k in order[lo:hi]:
-            theta = (seg_angle[k] - math.atan2(d[1], d[0])) % (2 * math.pi)
-            key = round(theta / 1e-4) % round(2 * math.pi / 1e-4)
-            votes[key] += 1
-            exact[key] = theta
-    # (Without a name to look near, congruent pieces turned every way vote for many
-    # rotations: more are tried.)
-    candidates = [0] + [k for k, _ in votes.most_common(8 if near is not None else 16)]
-    found = []
-    for k in candidates:
-        theta = exact.get(k, k * 1e-4)
-        c, s = math.cos(theta), math.sin(theta)
-        R = np.array([[c, -s], [s, c]])
-        turned = piece_points @ R.T
-        sample = turned[:: max(1, len(turned) // 60)]
-        differences = np.round((outline_points[None, :, :] - sample[:, None, :]) / tolerance).astype(np.int64)
-        # One integer per translation (2^30 steps of the tolerance either way).
-        code = (differences[..., 0] + (1 << 30)) * (1 << 31) + (differences[..., 1] + (1 << 30))
-        codes, counts = np.unique(code.ravel(), return_counts=True)
-        # Every translation voted for by most of the sample (a congruent piece elsewhere
-        # gets as many votes as the right place).
-        order = np.argsort(-counts)
-        best = codes[order][counts[order] >= 0.25 * counts.max()][:400]
-        translations = [np.array([(int(c) >> 31) - (1 << 30), (int(c) & ((1 << 31) - 1)) - (1 << 30)]) * tolerance
-                        for c in best]
-        if counts.max() < 3:
-            # Too few of the piece's points are vertices of the printed outline (a small
-            # piece whose sides run on in tabs): every outline point under each of its
-            # points.
-            translations = [q - p for p in turned[:12] for q in outline_points]
-        for t in translations:
-            moved = turned + t
-            ok = True
-            landed = []
-            for p in moved:
-                key = tuple(np.round(p / tolerance).astype(int))
-                if key in keys:
-                    if key in claimed:
-                        ok = False
-                        break
-                    landed.append(key)
-                    continue
-                near = point_index.near(p - 0.01, p + 0.01)
-                if not any(point_segment_distance(p, *outline_segments[i]) <= 0.01 for i in near):
-                    ok = False
-                    break
-            if ok:
-                # The middle of every boundary edge on the outline too (a piece moved by
-                # one face along a row of congruent faces has its points on other
-                # pieces' outlines, its edges across them).
-                for a, b in piece_edges:
-                    m = ((a + b) / 2) @ R.T + t
-                    near = point_index.near(m - 0.01, m + 0.01)
-                    if not any(point_segment_distance(m, *outline_segments[i]) <= 0.01 for i in near):
-                        ok = False
-                        break
-            if ok:
-                # How many of the piece's folds lie on printed fold lines: the turn of a
-                # symmetric outline that matches its folds is preferred (folds under the
-                # pattern's smallest fold angle are not drawn: a preference, not a test).
-                on_folds = 0
-                if fold_index is not None:
-                    for m in np.array(list(folds)).reshape(-1, 2) @ R.T + t:
-                        near = fold_index.near(m - 0.01, m + 0.01)
-                        on_folds += any(point_segment_distance(m, *fold_index.segments[i]) <= 0.01 for i in near)
-                found.append((R, t, landed, on_folds))
-    found.sort(key=lambda m: -m[3])
-    return [m[:3] for m in found]
+def encode(cells):
+    """One integer per grid cell (2^30 cells either way)."""
+    return (cells[..., 0] + (1 << 30)) * (1 << 31) + (cells[..., 1] + (1 << 30))
+
+
+class Outline:
+    """The printed outline pieces are registered on: the cut loops and the tab bases (an
+    edge under a tab lies on its base, and a vertex between two tabs merged into one lies
+    on their bases only); their distinct vertices, each with the printed lines leaving it
+    (direction and length) and the `data-mesh-pieces` of its loop (None for a tab base's
+    end off the loops)."""
+
+    CELL = 0.05
+
+    def __init__(self, loops, loop_pieces, tab_bases):
+        self.loop_segments = [(l[i], l[(i + 1) % len(l)]) for l in loops for i in range(len(l))]
+        self.segments = self.loop_segments + list(tab_bases)
+        self.loop_index = SegmentIndex(self.loop_segments, 10.0)
+        self.index = SegmentIndex(self.segments, 10.0)
+        self.points, self.mesh_pieces, self.cells = [], [], defaultdict(list)
+        lines = []
+        for l, held in zip(loops, loop_pieces):
+            ids = [self._vertex(p, held) for p in l]
+            n = len(l)
+            for i in range(n):
+                for j in ((i + 1) % n, (i - 1) % n):
+                    d = l[j] - l[i]
+                    lines.append((ids[i], math.atan2(d[1], d[0]), float(np.hypot(*d))))
+        for a, b in tab_bases:
+            for p, q in ((a, b), (b, a)):
+                k = self._vertex(p, None)
+                d = q - p
+                lines.append((k, math.atan2(d[1], d[0]), float(np.hypot(*d))))
+        self.points = np.array(self.points).reshape(-1, 2)
+        self.line_vertex = np.array([x[0] for x in lines], dtype=np.int64)
+        self.line_angle = np.array([x[1] for x in lines])
+        self.line_length = np.array([x[2] for x in lines])
+        # For a coarse test at 0.05 and 0.2 mm: the cells of that size holding a vertex
+        # and their neighbours (a point that close to a vertex lies in one of them).
+        self.coarse = {}
+        for size in (0.05, 0.2):
+            base = np.floor(self.points / size).astype(np.int64)
+            self.coarse[size] = np.unique(np.concatenate(
+                [encode(base + np.array([dx, dy])) for dx in (-1, 0, 1) for dy in (-1, 0, 1)]))
+
+    def _vertex(self, p, held):
+        """The vertex at p (within 2e-3 mm), added if new."""
+        k = self.vertex_at(p, 2e-3)
+        if k is None:
+            k = len(self.points)
+            self.points.append(p)
+            self.mesh_pieces.append(held)
+            self.cells[tuple(np.floor(p / self.CELL).astype(int))].append(k)
+        return k
+
+    def vertex_at(self, p, tolerance):
+        """The printed vertex nearest p within the tolerance (at most CELL), or None."""
+        cx, cy = np.floor(p / self.CELL).astype(int)
+        best, best_d = None, tolerance
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                for k in self.cells.get((cx + dx, cy + dy), ()):
+                    d = float(np.linalg.norm(self.points[k] - p))
+                    if d <= best_d:
+                        best, best_d = k, d
+        return best
+
+    def near_vertices(self, P, size):
+        """For each of the points P (… × 2): may it lie within `size` (0.05 or 0.2 mm)
+        of a vertex? (True for each point that does, and for some up to twice as far.)"""
+        cells, codes = self.coarse[size], encode(np.floor(P / size).astype(np.int64))
+        return cells[np.minimum(np.searchsorted(cells, codes), len(cells) - 1)] == codes
+
+    def on_loop(self, p, tolerance=0.01):
+        return any(point_segment_distance(p, *self.loop_segments[i]) <= tolerance
+                   for i in self.loop_index.near(p - tolerance, p + tolerance))
+
+    def on_outline(self, p, tolerance=0.01):
+        return any(point_segment_distance(p, *self.segments[i]) <= tolerance
+                   for i in self.index.near(p - tolerance, p + tolerance))
+
+
+def segment_distances(p, segments):
+    """The distances from p to each of the segments (n × 2 × 2)."""
+    a, d = segments[:, 0], segments[:, 1] - segments[:, 0]
+    n = np.einsum("ij,ij->i", d, d)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(n > 0, np.clip(np.einsum("ij,ij->i", p - a, d) / n, 0.0, 1.0), 0.0)
+    return np.linalg.norm(p - (a + t[:, None] * d), axis=1)
+
+
+def rotation(angle):
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, -s], [s, c]])
+
+
+def fit_motion(pairs):
+    """The rigid motion (no reflection) taking the first points of the pairs closest to
+    the second (Procrustes)."""
+    P, Q = np.array([a for a, _ in pairs]), np.array([b for _, b in pairs])
+    pc, qc = P.mean(axis=0), Q.mean(axis=0)
+    H = (P - pc).T @ (Q - qc)
+    R = rotation(math.atan2(H[0, 1] - H[1, 0], H[0, 0] + H[1, 1]))
+    return R, qc - pc @ R.T
+
+
+def corners(points, edges):
+    """The piece's corners (vertices where its boundary turns: the printed outline has a
+    vertex there, as the writer drops points on straight runs) and, for each, the corner
+    the boundary runs straight to next."""
+    following = dict(edges)
+    preceding = {b: a for a, b in edges}
+    corner = []
+    for v in range(len(points)):
+        if v not in following or v not in preceding:
+            continue
+        p, q, r = points[preceding[v]], points[v], points[following[v]]
+        d1, d2 = q - p, r - q
+        turn = abs(d1[0] * d2[1] - d1[1] * d2[0])
+        if turn > 1e-7 * float((r - p) @ (r - p)) or d1 @ d2 <= 0:
+            corner.append(v)
+    is_corner = set(corner)
+    runs = []
+    for a in corner:
+        b, steps = following[a], 0
+        while b not in is_corner and steps < len(points):
+            b, steps = following.get(b, a), steps + 1
+        if b != a:
+            runs.append((a, b))
+    return corner, runs
+
+
+def placements(points, edges, outline, folds=(), fold_index=None, accept=None):
+    """Every place the piece fits on the printed outline: rigid motions (R, t) putting each
+    of its boundary vertices (`points`) and the middle of each of its boundary edges
+    (`edges`, index pairs into `points`) on a cut loop or a tab base, and at least one
+    of its vertices on a cut loop (a piece with a tab on every edge is not found on its
+    tab bases alone where its cut loop is printed elsewhere).
+
+    Each is found from an anchor: a corner a of the piece and the straight run of its
+    boundary to the next corner b, laid on a printed vertex along one of the printed
+    lines leaving it (a cut segment or a tab base, no longer than the run: shorter where
+    a tab begins or a narrowed tab's base ends); kept when the corners nearest a and up
+    to 16 more spread over the piece land near printed vertices (one of four or more may
+    miss); then refined on the
+    corners near a and on every vertex (Procrustes) and verified. The three longest runs,
+    each from both ends, are anchors: the piece is found wherever one of them is printed
+    as drawn. No candidate is pruned by a vote over the whole sheet, so every place of a
+    congruent piece is found; which piece takes which place is decided afterwards, for
+    all pieces together (`assign`).
+
+    `accept(R, t)`, if given, must hold too (the printed creases agree with the piece).
+
+    Returns [(R, t, landed, on_folds)] one per place (`landed`: the printed vertices
+    under the piece's vertices, a frozenset; `on_folds`: how many of the piece's fold
+    edges' middles lie on printed fold lines: of a symmetric piece's turns at one place,
+    the one that matches its folds is kept; folds under the pattern's smallest fold angle
+    are not drawn, so a preference, not a test)."""
+    corner, runs = corners(points, edges)
+    if not runs:
+        return []
+    length = {run: float(np.linalg.norm(points[run[1]] - points[run[0]])) for run in runs}
+    runs.sort(key=lambda run: -length[run])
+    anchors = [(a, b, length[(a, b)]) for a, b in runs[:3]] + [(b, a, length[(a, b)]) for a, b in runs[:3]]
+    seen = set()
+    places = {}
+    for a, b, run in anchors:
+        d = points[b] - points[a]
+        # Lines of at least 0.2 mm (or the whole run when it is shorter) give the turn
+        # within 4e-4 rad: 0.008 mm at the 20 mm around a, the coarser test farther.
+        take = (outline.line_length <= run + 0.01) & (outline.line_length >= min(run, 0.2) - 0.01)
+        q = outline.points[outline.line_vertex[take]]
+        theta = outline.line_angle[take] - math.atan2(d[1], d[0])
+
+        def land(i, k):
+            """Where the vertices i land by the candidates k."""
+            u = points[i] - points[a]
+            cos, sin = np.cos(theta[k])[:, None], np.sin(theta[k])[:, None]
+            return q[k][:, None, :] + np.stack([cos * u[:, 0] - sin * u[:, 1], sin * u[:, 0] + cos * u[:, 1]], axis=-1)
+        others = [c for c in corner if c != a]
+        distance = np.linalg.norm(points[others] - points[a], axis=1)
+        by_distance = np.argsort(distance, kind="stable")
+        nearest = [others[i] for i in by_distance[:8] if distance[i] <= 20.0]
+        # Up to 16 more corners spread over the piece (to 500 mm: the coarser test).
+        rest = [i for i in by_distance[len(nearest):] if distance[i] <= 500.0]
+        spread = [others[rest[j]] for j in np.unique(np.linspace(0, len(rest) - 1, 16).astype(int))] if rest else []
+        allowed = 1 if len(nearest) + len(spread) >= 4 else 0
+        kept = np.arange(len(q))
+        misses = np.zeros(len(q), dtype=int)
+        for check, size in ((nearest, 0.05), (spread, 0.2)):
+            if check:
+                misses = misses + np.sum(~outline.near_vertices(land(np.array(check), kept), size), axis=1)
+                kept, misses = kept[misses <= allowed], misses[misses <= allowed]
+        for k in kept:
+            angle = float(theta[k]) % (2 * math.pi)
+            R = rotation(angle)
+            t = q[k] - points[a] @ R.T
+            key = (round(angle / 1e-3) % round(2 * math.pi / 1e-3), *np.round(t / 0.05).astype(int))
+            if key in seen:
+                continue
+            seen.add(key)
+            found = verify(points, edges, outline, R, t, [a] + nearest)
+            if found is None:
+                continue
+            R, t, landed = found
+            if accept is not None and not accept(R, t):
+                continue
+            on_folds = 0
+            if fold_index is not None:
+                for m in np.array(list(folds)).reshape(-1, 2) @ R.T + t:
+                    near = fold_index.near(m - 0.01, m + 0.01)
+                    on_folds += any(point_segment_distance(m, *fold_index.segments[i]) <= 0.01 for i in near)
+            if landed not in places or on_folds > places[landed][3]:
+                places[landed] = (R, t, landed, on_folds)
+    return list(places.values())
+
+
+def verify(points, edges, outline, R, t, around):
+    """(R, t refined, landed vertices) when the motion puts the piece on the outline;
+    refined first on the vertices `around` the anchor, then on all."""
+    for check in (around, range(len(points))):
+        moved = points[list(check)] @ R.T + t
+        matched = []
+        for p0, p in zip(points[list(check)], moved):
+            k = outline.vertex_at(p, 0.05)
+            if k is not None:
+                matched.append((p0, outline.points[k]))
+            elif not outline.on_outline(p, 0.05):
+                return None
+        if len(matched) >= 2:
+            R, t = fit_motion(matched)
+    moved = points @ R.T + t
+    landed = set()
+    for p in moved:
+        k = outline.vertex_at(p, 0.01)
+        if k is not None:
+            landed.add(k)
+        elif not outline.on_outline(p):
+            return None
+    for a, b in edges:
+        if not outline.on_outline((moved[a] + moved[b]) / 2):
+            return None
+    if not any(outline.on_loop(p) for p in moved):
+        return None
+    return R, t, frozenset(landed)
+
+
+def assign(domains):
+    """Pieces to places: `domains[i]` lists the places piece i fits (frozensets of printed
+    vertices), best first. Congruent pieces fit each other's places, so each is not
+    placed on its own, greedily: the pieces are assigned together so that no printed
+    vertex is claimed by two pieces (an assignment problem, solved by backtracking over
+    the candidate places, most constrained piece first, bounded by a maximum matching of
+    the rest onto the places still free). Where geometry allows several complete
+    assignments (congruent pieces swapped), each piece's places are tried in its order:
+    the order is the tie-break. Returns {piece: index into its domain} placing as many pieces
+    as can be placed."""
+    parent = list(range(len(domains)))
+
+    def find(x):
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+    owner = {}
+    for i, places in enumerate(domains):
+        for place in places:
+            for k in place:
+                if k in owner:
+                    parent[find(i)] = find(owner[k])
+                else:
+                    owner[k] = i
+    components = defaultdict(list)
+    for i in range(len(domains)):
+        components[find(i)].append(i)
+    result = {}
+    for component in components.values():
+        result.update(assign_component(domains, component))
+    return result
+
+
+def assign_component(domains, component):
+    used = set()
+    chosen, best = {}, {}
+    budget = [100000]
+
+    def free(i):
+        return [k for k, place in enumerate(domains[i]) if used.isdisjoint(place)]
+
+    def bound(rest):
+        """The most of `rest` that can still be placed, counting places that overlap
+        without being equal as apart (an upper bound)."""
+        options = {i: [domains[i][k] for k in free(i)] for i in rest}
+        match = {}
+
+        def augment(i, seen):
+            for place in options[i]:
+                if place not in seen:
+                    seen.add(place)
+                    if place not in match or augment(match[place], seen):
+                        match[place] = i
+                        return True
+            return False
+        return sum(augment(i, set()) for i in rest)
+
+    def search(rest):
+        nonlocal best
+        if budget[0] <= 0 or len(chosen) + bound(rest) <= len(best):
+            return
+        budget[0] -= 1
+        if not rest:
+            best = dict(chosen)
+            return
+        options = {i: free(i) for i in rest}
+        i = min(rest, key=lambda j: (len(options[j]), j))
+        others = [j for j in rest if j != i]
+        for k in options[i]:
+            chosen[i] = k
+            used.update(domains[i][k])
+            search(others)
+            used.difference_update(domains[i][k])
+            del chosen[i]
+            if len(best) == len(component):
+                return
+        search(others)
+    search(list(component))
+    return best
 
 
 def audit(out, clearance):
@@ -249,7 +493,7 @@ def audit(out, clearance):
         scale = json.load(open(report_path)).get("pattern", {}).get("scale", 1.0)
     v, vt, faces, unit, face_groups = read_obj(os.path.join(out, "model.obj"))
     flat = vt * UNIT_MM[unit] * scale
-    view, loops, lines, texts = parse_svg(os.path.join(out, "pattern.svg"))
+    view, loops, loop_pieces, lines, texts = parse_svg(os.path.join(out, "pattern.svg"))
     tab_bases = lines.get("fold-tab", [])
     # Boundary half-edges of the flat pattern (vt indices) and their 3D ends.
     half = {}
@@ -293,13 +537,9 @@ def audit(out, clearance):
     for t, piece in vt_piece.items():
         members[piece].append(t)
     # Register each piece on the printed outline.
-    outline = [(l[i], l[(i + 1) % len(l)]) for l in loops for i in range(len(l))] + list(tab_bases)
+    outline = Outline(loops, loop_pieces, tab_bases)
     outline_points = np.array([p for l in loops for p in l] + [p for ab in tab_bases for p in ab])
-    outline_keys = {tuple(np.round(p / 2e-3).astype(int)) for p in outline_points}
-    outline = (outline, outline_points, outline_keys, SegmentIndex(outline, 10.0))
     placed = {}
-    claimed = set()
-    unregistered = 0
     # Without packing, every piece sits where the mesh's layout put it: one translation
     # (found by a vote over all boundary points) places them all; it is tried first.
     boundary_points = flat[sorted({t for e in boundary for t in e})]
@@ -312,8 +552,6 @@ def audit(out, clearance):
     codes, inverse, counts = np.unique(code, return_inverse=True, return_counts=True)
     shared_t = np.median(raw[inverse.ravel() == np.argmax(counts)], axis=0)
 
-    def on_printed_outline(p):
-        return any(point_segment_distance(p, *outline[0][i]) <= 0.01 for i in outline[3].near(p - 0.01, p + 0.01))
     # The middles of each piece's fold edges (interior edges folded by more than 2°),
     # and the printed fold lines.
     fold_lines = [ab for lid in ("fold-mountain", "fold-valley", "fold-guide") for ab in lines.get(lid, [])]
@@ -338,91 +576,104 @@ def audit(out, clearance):
         edges = [(a, b) for a, b in boundary if vt_piece[a] == piece]
         idx = sorted({t for e in edges for t in e})
         piece_points.append((edges, idx))
-    # The shared translation holds only when it puts every piece on the outline.
-    shared = all(on_printed_outline(flat[i] + shared_t) for _, idx in piece_points for i in idx)
-    ambiguous = []
+    # The shared translation holds only when it puts every piece on the outline as
+    # `placements` does: each vertex and edge's middle on a cut loop or a tab base, a
+    # vertex of each piece on a cut loop.
+    shared = all(outline.on_outline(flat[i] + shared_t) for _, idx in piece_points for i in idx) and \
+        all(outline.on_outline((flat[a] + flat[b]) / 2 + shared_t) for edges, _ in piece_points for a, b in edges) and \
+        all(any(outline.on_loop(flat[i] + shared_t) for i in idx) for _, idx in piece_points)
 
-    def settle(piece, points, idx, motion):
-        R, t, landed = motion
-        claimed.update(landed)
-        # Refined: the mean offset from the moved points to the outline points they
-        # landed on (the vote's bins are coarser than the drawing's rounding).
+    def settle(piece, points, R, t):
+        # Refined on the printed vertices the piece's vertices landed on (Procrustes: the
+        # candidates' turns come from a few printed points, rounded by the drawing).
         matched = []
         for p0, p in zip(points, points @ R.T + t):
-            near = outline[3].near(p - 0.01, p + 0.01)
-            ends = [e for i in near for e in outline[0][i] if np.linalg.norm(e - p) <= 0.01]
-            if ends:
-                matched.append((p0, min(ends, key=lambda e: np.linalg.norm(e - p))))
+            k = outline.vertex_at(p, 0.01)
+            if k is not None:
+                matched.append((p0, outline.points[k]))
         if len(matched) >= 2:
-            # The rigid motion fitting them best (Procrustes, no reflection).
-            P, Q = np.array([a for a, _ in matched]), np.array([b for _, b in matched])
-            pc, qc = P.mean(axis=0), Q.mean(axis=0)
-            H = (P - pc).T @ (Q - qc)
-            angle = math.atan2(H[0, 1] - H[1, 0], H[0, 0] + H[1, 1])
-            R = np.array([[math.cos(angle), -math.sin(angle)], [math.sin(angle), math.cos(angle)]])
-            t = qc - pc @ R.T
+            R, t = fit_motion(matched)
         for i in members[piece]:
             placed[i] = flat[i] @ R.T + t
+    # The mesh pieces each piece holds (the OBJ's groups, numbered in the file's order as
+    # the SVG's `data-mesh-pieces` numbers them) and its names.
+    piece_groups = defaultdict(set)
+    for f, face in enumerate(faces):
+        piece_groups[vt_piece[face[0][1]]].add(face_groups[f])
+    # The printed creases (mountain and valley lines), each along interior edges of its
+    # piece; and each piece's interior edges.
+    creases = [ab for lid in ("fold-mountain", "fold-valley") for ab in lines.get(lid, [])]
+    crease_index = SegmentIndex(creases, 10.0) if creases else None
+    piece_inner = defaultdict(list)
+    for (ta, tb) in half:
+        if ta < tb and (tb, ta) in half:
+            piece_inner[vt_piece[ta]].append((flat[ta], flat[tb]))
+    domains, motions = [], []
     for piece, (edges, idx) in enumerate(piece_points):
         points = flat[idx]
-        edge_points = [(flat[a], flat[b]) for a, b in edges]
         if shared:
-            motions = [(np.eye(2), shared_t, [tuple(np.round((p + shared_t) / 2e-3).astype(int)) for p in points])]
-        else:
-            # Where the piece's own name is printed, if it is.
-            names = {face_groups[f] for f, face in enumerate(faces) if vt_piece[face[0][1]] == piece}
-            name_at = [t["centre"] for t in texts if t["class"] == "piece" and t["text"] in names]
-            diameter = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
-            motions = []
-            if len(name_at) == 1:
-                motions = register(points, edge_points, outline, claimed, piece_folds[piece], fold_index,
-                                   near=(name_at[0], diameter + 1.0))
-            if not motions:
-                motions = register(points, edge_points, outline, claimed, piece_folds[piece], fold_index)
-        if not motions:
-            unregistered += 1
+            settle(piece, points, np.eye(2), shared_t)
             continue
-        # Congruent pieces: the place where the piece's own name is printed inside it.
-        names = {face_groups[f] for f, face in enumerate(faces) if vt_piece[face[0][1]] == piece}
-        triangles = [flat[[c[1] for c in face]] for f, face in enumerate(faces)
-                     if vt_piece[face[0][1]] == piece]
+        local = {t: k for k, t in enumerate(idx)}
+        triangles = np.array([flat[[c[1] for c in face]] for face in faces if vt_piece[face[0][1]] == piece])
+        inner = np.array(piece_inner[piece]).reshape(-1, 2, 2)
+        rim = np.array([(flat[a], flat[b]) for a, b in edges])
+
+        def creases_agree(R, t):
+            """No printed crease runs through the placed piece off its interior edges (an
+            outline printed away from its piece's creases is not that piece's place)."""
+            if crease_index is None:
+                return True
+            moved = triangles @ R.T + t
+            lo, hi = moved.min(axis=(0, 1)), moved.max(axis=(0, 1))
+            for i in crease_index.near(lo, hi):
+                m = (creases[i][0] + creases[i][1]) / 2
+                if np.any(m < lo) or np.any(m > hi) or not any(inside_triangle(m, *tri) for tri in moved):
+                    continue
+                if segment_distances(m, rim @ R.T + t).min() <= 0.01:
+                    continue
+                if not len(inner) or segment_distances(m, inner @ R.T + t).min() > 0.01:
+                    return False
+            return True
+        found = placements(points, [(local[a], local[b]) for a, b in edges], outline, piece_folds[piece], fold_index,
+                           creases_agree)
+        # A piece whose own name is printed: the places with the name inside it (where
+        # there are any).
+        names = {name for name, _ in piece_groups[piece]}
         name_points = [t["centre"] for t in texts if t["class"] == "piece" and t["text"] in names]
 
         def named_here(motion):
-            R, t, _ = motion
-            moved = np.array(triangles) @ R.T + t
+            R, t = motion[0], motion[1]
+            moved = triangles @ R.T + t
             lo, hi = moved.min(axis=(0, 1)), moved.max(axis=(0, 1))
-            for q in name_points:
-                if np.all(q >= lo) and np.all(q <= hi):
-                    if any(inside_triangle(q, *tri) for tri in moved):
-                        return True
-            return False
-        named = [m for m in motions if named_here(m)]
-        if named or len(motions) == 1:
-            settle(piece, points, idx, (named or motions)[0])
-        else:
-            ambiguous.append((piece, points, idx, edges, motions))
-    # Congruent pieces with no name printed, last: each where the seam IDs near its edges
-    # agree with those near their partners already placed (for a maker, IDs are what tell
-    # such pieces apart).
-    seam_texts = [t for t in texts if t["class"] == "seam"]
+            return any(np.all(q >= lo) and np.all(q <= hi) and any(inside_triangle(q, *tri) for tri in moved)
+                       for q in name_points)
+        found = [m for m in found if named_here(m)] or found
+        # Best first. Geometry decides which places a piece fits, and the assignment below
+        # which of them it takes; only where congruent pieces could swap places does this
+        # order decide: first the places with more of the piece's folds on printed fold
+        # lines (geometry still), then, as the tie-break, the places whose cut loop the
+        # SVG says holds this piece (`data-mesh-pieces`, the file's own word).
+        held = {number for _, number in piece_groups[piece]}
 
-    def ids_near(p, q):
-        m = (p + q) / 2
-        return {t["text"] for t in seam_texts if np.linalg.norm(t["centre"] - m) <= 4 * t["size"] + 2}
-    for piece, points, idx, edges, motions in ambiguous:
-        free = [m for m in motions if not claimed.intersection(m[2])] or motions
-
-        def agreement(motion):
-            R, t, _ = motion
-            spot = {i: flat[i] @ R.T + t for i in idx}
-            score = 0
-            for a, b in edges:
-                other = partner.get((a, b))
-                if other and other[0] in placed and other[1] in placed:
-                    score += bool(ids_near(spot[a], spot[b]) & ids_near(placed[other[0]], placed[other[1]]))
-            return score
-        settle(piece, points, idx, max(free, key=agreement))
+        def says_here(motion):
+            loops_held = {outline.mesh_pieces[k] for k in motion[2]} - {None}
+            return loops_held == {frozenset(held)}
+        found.sort(key=lambda m: (-m[3], not says_here(m)))
+        domains.append([m[2] for m in found])
+        motions.append(found)
+    unregistered = 0
+    if not shared:
+        # Congruent pieces fit each other's places: all pieces are placed together, no
+        # printed vertex under two of them (registering them one by one, the first could
+        # take a place only a later one fits).
+        chosen = assign(domains)
+        for piece, (edges, idx) in enumerate(piece_points):
+            if piece in chosen:
+                R, t = motions[piece][chosen[piece]][:2]
+                settle(piece, flat[idx], R, t)
+            else:
+                unregistered += 1
     result = {"pieces": len(piece_of), "pieces_unregistered": unregistered, "glued_edge_pairs": len(pairs)}
     if unregistered:
         return result
