@@ -158,6 +158,11 @@ pub(crate) enum Command {
         /// Length unit of the mesh file.
         #[arg(long, value_enum, default_value_t = Unit::Mm)]
         units: Unit,
+        /// The model's final height as printed (mm, along +y, the up axis of OBJ and
+        /// glTF): the pattern is scaled to it, whatever the file's unit (instead of
+        /// --scale).
+        #[arg(long, value_name = "HEIGHT")]
+        size: Option<f64>,
         /// Where to cut: `automatic` finds seams (the drawn ones among them), `drawn`
         /// cuts along the OBJ `l` polylines only.
         #[arg(long, value_enum, default_value_t = Seams::Automatic)]

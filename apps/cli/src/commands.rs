@@ -175,11 +175,13 @@ pub(crate) fn develop_command(
     mesh: PathBuf,
     output: PathBuf,
     units: Unit,
+    size: Option<f64>,
     mut options: sheetform::pipeline::DevelopRunOptions,
     pattern: PatternArgs,
     quiet: bool,
 ) -> Result<ExitCode, PipelineError> {
     options.flatten.unit = units.into();
+    options.flatten.size_mm = size;
     // `--tabs auto`: the pieces get tabs on one side of every seam, as a net does.
     options.flatten.net_tabs = auto_tabs(&pattern);
     options.flatten.pattern = pattern.into();

@@ -102,6 +102,7 @@ fn main() -> ExitCode {
             mesh,
             output,
             units,
+            size,
             seams,
             max_pieces,
             normal_tolerance,
@@ -115,6 +116,7 @@ fn main() -> ExitCode {
             mesh,
             output,
             units,
+            size,
             sheetform::pipeline::DevelopRunOptions {
                 seams: seams.into(),
                 max_distance,

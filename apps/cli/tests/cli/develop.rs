@@ -420,9 +420,55 @@ fn cone_points_the_solve_leaves_get_slits_and_the_cup_comes_out_exact() {
     let d = &r["develop"];
     assert_eq!(r["status"], "ok");
     assert!(d["slit_count"].as_u64().unwrap() > 1, "{d}");
-    assert_eq!(d["piece_count"].as_u64().unwrap() as usize, pattern_piece_count(&model), "{d}");
+    assert_eq!(
+        d["piece_count"].as_u64().unwrap() as usize,
+        pattern_piece_count(&model),
+        "{d}"
+    );
     assert!(d["piece_count"].as_u64().unwrap() <= 30, "{d}");
     assert!(d["hausdorff_relative"].as_f64().unwrap() < 0.02, "{d}");
+}
+
+/// `--size`, as `flatten` has it: the pattern scaled so that the model prints at that
+/// height (along +y), whatever the file's unit; with `--scale` too it is refused.
+#[test]
+fn develop_prints_the_model_at_the_height_asked() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = example_mesh("bunny-99.stl");
+    let out = dir.path().join("sized");
+    let o = sheetform(&[
+        "develop",
+        mesh.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+        "--units",
+        "m",
+        "--size",
+        "150",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let model = read_obj(&out.join("model.obj"));
+    let (low, high) = model.v.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
+        (l.min(p[1]), h.max(p[1]))
+    });
+    let r: serde_json::Value = crate::common::report(&out);
+    // model.obj is in the file's unit (m); the pattern is scaled by `pattern.scale`.
+    let printed = (high - low) * 1000.0 * r["pattern"]["scale"].as_f64().unwrap();
+    assert!((printed - 150.0).abs() < 1e-6, "{printed} mm");
+    let o = sheetform(&[
+        "develop",
+        mesh.to_str().unwrap(),
+        "-o",
+        dir.path().join("both").to_str().unwrap(),
+        "--size",
+        "150",
+        "--scale",
+        "2",
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("--size") && stderr.contains("not both"), "{stderr}");
 }
 
 /// `--sheet`: with automatic seams, a piece too large for the sheet asks for more pieces
