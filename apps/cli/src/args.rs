@@ -187,6 +187,11 @@ pub(crate) enum Command {
         /// --max-pieces) until it holds; farther: exit 5, the closest result written.
         #[arg(long, value_name = "DISTANCE", value_parser = str::parse::<sheetform::pipeline::DistanceBound>)]
         max_distance: Option<sheetform::pipeline::DistanceBound>,
+        /// Keep the faces of this mesh group (OBJ `g` name) where they are: their
+        /// vertices do not move (repeat for more groups). A region that is not
+        /// developable itself gets slits with automatic seams.
+        #[arg(long, value_name = "GROUP")]
+        fixed: Vec<String>,
         /// Smoothness against closeness: 0 moves each vertex as little as possible,
         /// larger values spread the change over its neighbours.
         #[arg(long, value_name = "WEIGHT", default_value_t = 0.1)]

@@ -107,6 +107,7 @@ fn main() -> ExitCode {
             max_pieces,
             normal_tolerance,
             cone_angle,
+            fixed,
             max_distance,
             smoothness,
             tolerance,
@@ -126,6 +127,7 @@ fn main() -> ExitCode {
                     cone_point_radians: cone_angle.to_radians(),
                     ..Default::default()
                 },
+                fixed_groups: fixed,
                 develop: sheetform::pipeline::DevelopOptions {
                     smoothness,
                     defect_tolerance: tolerance,

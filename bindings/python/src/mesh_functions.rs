@@ -219,7 +219,7 @@ pub(crate) fn flatten(
 /// keeps a defect above `tolerance` or the distance bound is not met (the closest
 /// result is returned).
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, *, seams=None, automatic_seams=true, max_pieces=12, normal_tolerance=2.0, cone_angle=60.0, max_distance=None, smoothness=0.1, tolerance=1e-10, max_iterations=100, unit="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None))]
+#[pyo3(signature = (vertices, faces, *, seams=None, automatic_seams=true, max_pieces=12, normal_tolerance=2.0, cone_angle=60.0, fixed=None, max_distance=None, smoothness=0.1, tolerance=1e-10, max_iterations=100, unit="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn develop(
     py: Python<'_>,
@@ -230,6 +230,7 @@ pub(crate) fn develop(
     max_pieces: usize,
     normal_tolerance: f64,
     cone_angle: f64,
+    fixed: Option<&Bound<'_, PyAny>>,
     max_distance: Option<&Bound<'_, PyAny>>,
     smoothness: f64,
     tolerance: f64,
@@ -246,7 +247,15 @@ pub(crate) fn develop(
     let outputs = output_set(outputs)?;
     let pattern = pattern_argument(py, pattern)?;
     let max_distance = max_distance.map(distance_bound).transpose()?;
+    let fixed_vertices = match fixed {
+        None => Vec::new(),
+        Some(array) => index_list("fixed", array)?
+            .into_iter()
+            .map(|v| u32::try_from(v).map_err(|_| invalid_argument("fixed", format!("vertex {v} is out of range"))))
+            .collect::<PyResult<_>>()?,
+    };
     let options = DevelopRunOptions {
+        fixed_vertices,
         seams: if automatic_seams {
             SeamSource::Automatic
         } else {
@@ -273,6 +282,7 @@ pub(crate) fn develop(
             size_mm: size,
             ..Default::default()
         },
+        ..Default::default()
     };
     let mesh = mesh_with_seams(py, &v, &f, seams, name)?;
     let (developed, seconds) = run_interruptibly(py, progress, |controls| {

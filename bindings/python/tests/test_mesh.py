@@ -241,6 +241,24 @@ def test_develop_of_arrays_equals_the_cli_on_the_same_mesh(cli, tmp_path):
     np.testing.assert_allclose(edge_lengths(uv3, run.faces), edge_lengths(run.vertices, run.faces), rtol=1e-9)
 
 
+def test_develop_keeps_fixed_vertices_exactly_where_they_are():
+    """`fixed=`: the vertices listed do not move (the output's copies of them sit exactly
+    where they were); the rest is made developable around them. Out of range refused."""
+    sphere = trimesh.creation.icosphere(subdivisions=2, radius=50.0)
+    fixed = np.flatnonzero(sphere.vertices[:, 2] > 35.0)
+    run = sheetform.develop(sphere.vertices, sphere.faces, fixed=fixed, outputs="preview")
+    assert run.report["develop"]["fixed_vertex_count"] == len(fixed)
+    assert run.report["develop"]["angle_defect_max_rad"] <= 1e-10
+    kept = np.isin(run.source_vertices, fixed)
+    assert kept.sum() >= len(fixed)
+    np.testing.assert_array_equal(run.vertices[kept], sphere.vertices[run.source_vertices[kept]])
+    free = sheetform.develop(sphere.vertices, sphere.faces, outputs="preview")
+    moved = np.isin(free.source_vertices, fixed)
+    assert np.abs(free.vertices[moved] - sphere.vertices[free.source_vertices[moved]]).max() > 1e-3
+    with pytest.raises(sheetform.InvalidInputError, match="fixed"):
+        sheetform.develop(sphere.vertices, sphere.faces, fixed=[len(sphere.vertices)])
+
+
 def test_develop_with_a_distance_bound_and_its_refusals():
     """A trimesh sphere within 3 % of its size, and an impossible bound: out of
     tolerance, the closest result returned; bad arguments named."""

@@ -5,7 +5,7 @@
 use crate::{DevelopError, SeamPieces};
 use faer::sparse::Pair;
 use nalgebra::Vector3;
-use sheetform_mesh::{corner_angle_gradient, EdgeTable, TriangleMesh};
+use sheetform_mesh::{corner_angle, corner_angle_gradient, EdgeTable, TriangleMesh};
 use sheetform_solve::{FactorisationFailure, KktSystem};
 use std::f64::consts::TAU;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -164,20 +164,51 @@ pub struct Developed {
 /// (the least-`H`-norm correction `J Δx = −g`, damped; at most [`POLISH_STEPS`]) then
 /// bring the defects to the tolerance (Newton on `g`, quadratic near the solution).
 ///
+/// **Fixed vertices** (`fixed`, one flag per vertex, or empty for none: a region the
+/// designer keeps where it is) do not move: their rows of the step's system are the
+/// identity with a zero right-hand side, their columns of `H` and `J` zero, so every step
+/// leaves them exactly in place. A vertex inside a piece whose whole star is fixed cannot
+/// be flattened: it is not constrained, but its defect counts in
+/// [`Developed::max_defect`] (a fixed region that is not developable is out of
+/// tolerance, and the pipeline cuts it a slit).
+///
 /// # Errors
-/// [`DevelopError::Option`] (the options out of range), [`DevelopError::Solver`] (the
-/// system too large or singular), [`DevelopError::Cancelled`] once `stop` is set.
+/// [`DevelopError::Option`] (the options out of range, `fixed` of the wrong length),
+/// [`DevelopError::Solver`] (the system too large or singular),
+/// [`DevelopError::Cancelled`] once `stop` is set.
 pub fn develop_pieces(
     target: &TriangleMesh,
     table: &EdgeTable,
     pieces: &SeamPieces,
+    fixed: &[bool],
     options: &DevelopOptions,
     stop: Option<&AtomicBool>,
 ) -> Result<Developed, DevelopError> {
     options.validate()?;
     let nv = target.positions.len();
+    if !fixed.is_empty() && fixed.len() != nv {
+        return Err(DevelopError::Option {
+            option: "fixed",
+            message: format!("must have one flag per vertex ({nv}), got {}", fixed.len()),
+        });
+    }
+    let is_fixed = |v: u32| fixed.get(v as usize).copied().unwrap_or(false);
     let n = 3 * nv;
-    let constrained: Vec<u32> = (0..nv as u32).filter(|&v| pieces.interior[v as usize]).collect();
+    // A vertex inside a piece with its whole star fixed cannot move towards flatness.
+    let mut star_moves = vec![false; nv];
+    for t in &target.triangles {
+        if t.iter().any(|&v| !is_fixed(v)) {
+            for &v in t {
+                star_moves[v as usize] = true;
+            }
+        }
+    }
+    let pinned: Vec<u32> = (0..nv as u32)
+        .filter(|&v| pieces.interior[v as usize] && !star_moves[v as usize])
+        .collect();
+    let constrained: Vec<u32> = (0..nv as u32)
+        .filter(|&v| pieces.interior[v as usize] && star_moves[v as usize])
+        .collect();
     let nc = constrained.len();
     let scale = {
         let total: f64 = table
@@ -249,13 +280,15 @@ pub fn develop_pieces(
     }
     if s > 0.0 {
         for &[a, b] in &table.edges {
+            // A fixed vertex's row is the identity: no coupling to its neighbours.
+            let coupling = if is_fixed(a) || is_fixed(b) { 0.0 } else { -s };
             let (a, b) = (a.min(b) as usize, a.max(b) as usize);
             for k in 0..3 {
                 pairs.push(Pair {
                     row: 3 * a + k,
                     col: 3 * b + k,
                 });
-                h_values.push(-s);
+                h_values.push(coupling);
             }
         }
     }
@@ -285,11 +318,13 @@ pub fn develop_pieces(
     for value in &mut kkt.values[delta_start..] {
         *value = -delta;
     }
+    let fixed_flags: Vec<bool> = (0..nv as u32).map(is_fixed).collect();
     let geometry = Geometry {
         triangles: &target.triangles,
         constrained: &constrained,
         corners: &corners,
         stars: &stars,
+        fixed: &fixed_flags,
     };
     let row_starts: Vec<usize> = stars
         .iter()
@@ -322,7 +357,24 @@ pub fn develop_pieces(
     };
     let mut x = goal.clone();
     let mut defects = geometry.defects(&x, None);
-    let max_defect_before = max_abs(&defects);
+    // The vertices inside a piece that a fixed region pins (unconstrained) count too.
+    let pinned_defect = |x: &[Vec3]| {
+        pinned
+            .iter()
+            .map(|&v| {
+                let sum: f64 = corners[v as usize]
+                    .iter()
+                    .map(|&(f, k)| {
+                        let t = target.triangles[f as usize];
+                        let k = k as usize;
+                        corner_angle(x[t[k] as usize], x[t[(k + 1) % 3] as usize], x[t[(k + 2) % 3] as usize])
+                    })
+                    .sum();
+                (TAU - sum).abs()
+            })
+            .fold(0.0, f64::max)
+    };
+    let max_defect_before = max_abs(&defects).max(pinned_defect(&x));
     let mut iterations = 0;
     let mut settled = false;
     let tolerance = options.defect_tolerance;
@@ -342,6 +394,9 @@ pub fn develop_pieces(
         factorise(&mut kkt)?;
         let (energy, hd) = objective(&x, &h_values);
         let mut rhs: Vec<f64> = hd.iter().map(|v| -v).chain(defects.iter().map(|g| -g)).collect();
+        for (v, _) in fixed_flags.iter().enumerate().filter(|(_, &f)| f) {
+            rhs[3 * v..3 * v + 3].fill(0.0);
+        }
         kkt.solve(&mut rhs);
         let step: Vec<Vec3> = (0..nv)
             .map(|v| Vec3::new(rhs[3 * v], rhs[3 * v + 1], rhs[3 * v + 2]))
@@ -438,8 +493,14 @@ pub fn develop_pieces(
         x = trial;
         defects = trial_defects;
     }
-    let max_defect = max_abs(&defects);
-    let positions: Vec<Vec3> = x.iter().map(|p| p * scale).collect();
+    let max_defect = max_abs(&defects).max(pinned_defect(&x));
+    // Fixed vertices stay exactly where they were (not rescaled).
+    let positions: Vec<Vec3> = x
+        .iter()
+        .zip(&target.positions)
+        .zip(&fixed_flags)
+        .map(|((p, q), &f)| if f { *q } else { p * scale })
+        .collect();
     let displacements: Vec<f64> = positions
         .iter()
         .zip(&target.positions)
@@ -476,6 +537,8 @@ struct Geometry<'a> {
     constrained: &'a [u32],
     corners: &'a [Vec<(u32, u8)>],
     stars: &'a [Vec<u32>],
+    /// Fixed vertices: their Jacobian columns are zero.
+    fixed: &'a [bool],
 }
 
 impl Geometry<'_> {
@@ -503,7 +566,8 @@ impl Geometry<'_> {
             }
             if let Some((values, starts)) = jacobian.as_mut() {
                 let start = starts[c];
-                for (i, g) in gradient.iter().enumerate() {
+                for (i, (g, &w)) in gradient.iter().zip(star).enumerate() {
+                    let g = if self.fixed[w as usize] { Vec3::zeros() } else { *g };
                     for k in 0..3 {
                         values[start + 3 * i + k] = g[k];
                     }

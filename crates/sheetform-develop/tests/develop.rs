@@ -39,7 +39,7 @@ fn a_developable_target_comes_back_unchanged() {
     });
     let table = EdgeTable::new(&mesh.triangles, mesh.positions.len());
     let pieces = seam_pieces(&mesh, &table, &[]).unwrap();
-    let developed = develop_pieces(&mesh, &table, &pieces, &DevelopOptions::default(), None).unwrap();
+    let developed = develop_pieces(&mesh, &table, &pieces, &[], &DevelopOptions::default(), None).unwrap();
     assert!(developed.converged && developed.max_defect <= 1e-10, "{developed:?}");
     assert!(
         developed.displacement_max <= 1e-6,
@@ -62,7 +62,7 @@ fn a_perturbed_cylinder_becomes_exactly_developable_near_the_target() {
     let pieces = seam_pieces(&mesh, &table, &[]).unwrap();
     let before = max_interior_defect(&mesh, &pieces.interior);
     assert!(before > 1e-2, "{before}");
-    let developed = develop_pieces(&mesh, &table, &pieces, &DevelopOptions::default(), None).unwrap();
+    let developed = develop_pieces(&mesh, &table, &pieces, &[], &DevelopOptions::default(), None).unwrap();
     let mut result = mesh.clone();
     result.positions = developed.positions.clone();
     // Checked on the result's own angles, not the solver's figure.
@@ -116,7 +116,7 @@ fn a_sphere_cut_into_twelve_gores_becomes_gores_within_the_globe_bound() {
     let table = EdgeTable::new(&mesh.triangles, mesh.positions.len());
     let pieces = seam_pieces(&mesh, &table, &seams).unwrap();
     assert_eq!(pieces.piece_count, 12);
-    let developed = develop_pieces(&mesh, &table, &pieces, &DevelopOptions::default(), None).unwrap();
+    let developed = develop_pieces(&mesh, &table, &pieces, &[], &DevelopOptions::default(), None).unwrap();
     let mut result = mesh.clone();
     result.positions = developed.positions.clone();
     let after = max_interior_defect(&result, &pieces.interior);
@@ -133,4 +133,58 @@ fn a_sphere_cut_into_twelve_gores_becomes_gores_within_the_globe_bound() {
         developed.iterations, developed.max_defect_before, after, developed.displacement_max, developed.displacement_mean
     );
     assert!(off_sphere <= bound, "{off_sphere} > {bound}; {developed:?}");
+}
+
+/// Fixed vertices do not move at all while the rest of the perturbed cylinder is made
+/// developable; a fixed patch that is not developable itself (its vertices inside
+/// perturbed, their whole stars fixed) cannot be flattened and is reported out of
+/// tolerance rather than hidden.
+#[test]
+fn fixed_vertices_stay_exactly_where_they_are() {
+    let mut seed = 5;
+    let mut mesh = grid(24, 12, |u, v| {
+        let t = std::f64::consts::PI * u;
+        Vector3::new(30.0 * t.cos(), 30.0 * t.sin(), 50.0 * v)
+    });
+    let target = mesh.positions.clone();
+    // The strip u ≤ 1/4 is fixed (developable: still on the cylinder).
+    let fixed: Vec<bool> = target
+        .iter()
+        .map(|p| p.x >= 30.0 * (std::f64::consts::PI / 4.0).cos() - 1e-9 && p.y >= 0.0)
+        .collect();
+    for (p, &f) in mesh.positions.iter_mut().zip(&fixed) {
+        if !f {
+            *p += Vector3::new(random(&mut seed), random(&mut seed), random(&mut seed)) * 0.4;
+        }
+    }
+    let table = EdgeTable::new(&mesh.triangles, mesh.positions.len());
+    let pieces = seam_pieces(&mesh, &table, &[]).unwrap();
+    let developed = develop_pieces(&mesh, &table, &pieces, &fixed, &DevelopOptions::default(), None).unwrap();
+    let mut result = mesh.clone();
+    result.positions = developed.positions.clone();
+    assert!(
+        developed.converged && max_interior_defect(&result, &pieces.interior) <= 1e-9,
+        "{developed:?}"
+    );
+    assert!(fixed.iter().filter(|&&f| f).count() > 20);
+    for ((p, q), &f) in developed.positions.iter().zip(&mesh.positions).zip(&fixed) {
+        if f {
+            assert_eq!(p, q);
+        }
+    }
+    // The same strip bent out of developability (a bump in the middle of it): pinned.
+    let mut bumped = mesh.clone();
+    let middle = (0..bumped.positions.len())
+        .filter(|&v| fixed[v] && pieces.interior[v])
+        .max_by(|&a, &b| {
+            (target[a].z - 25.0)
+                .abs()
+                .total_cmp(&(target[b].z - 25.0).abs())
+                .reverse()
+        })
+        .unwrap();
+    bumped.positions[middle] += Vector3::new(2.0, 0.0, 0.0);
+    let developed = develop_pieces(&bumped, &table, &pieces, &fixed, &DevelopOptions::default(), None).unwrap();
+    assert!(!developed.converged && developed.max_defect > 1e-3, "{developed:?}");
+    assert_eq!(developed.positions[middle], bumped.positions[middle]);
 }

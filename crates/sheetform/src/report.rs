@@ -739,6 +739,8 @@ pub struct DevelopReport {
     /// Segmentations tried (more pieces each time, while a distance bound was not met or
     /// a piece did not fit the sheet).
     pub attempt_count: usize,
+    /// Vertices kept where they are (`--fixed` groups): they do not move at all.
+    pub fixed_vertex_count: usize,
     /// With a sheet (`--sheet`): whether every piece fits on it. `false`: no piece budget
     /// made them fit; the pattern is written without the sheets and the status is `out of
     /// tolerance`.

@@ -471,6 +471,106 @@ fn develop_prints_the_model_at_the_height_asked() {
     assert!(stderr.contains("--size") && stderr.contains("not both"), "{stderr}");
 }
 
+/// A 100 mm square sheet, 20 × 20 quads, with a bump in the middle (a doubly curved cap
+/// of radius 25 mm, 10 mm high) and flat wings at |x| ≥ 30 mm in the OBJ group `wings`.
+fn bump_with_wings(path: &std::path::Path) -> Vec<[f64; 3]> {
+    let n = 20;
+    let mut text = String::new();
+    let mut points = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, y) = (-50.0 + 100.0 * i as f64 / n as f64, -50.0 + 100.0 * j as f64 / n as f64);
+            let r2 = (x * x + y * y) / (25.0 * 25.0);
+            let z = if r2 < 1.0 { 10.0 * (1.0 - r2) * (1.0 - r2) } else { 0.0 };
+            text += &format!("v {x} {y} {z}\n");
+            points.push([x, y, z]);
+        }
+    }
+    let id = |i: usize, j: usize| j * (n + 1) + i + 1;
+    let (mut wings, mut middle) = (String::new(), String::new());
+    for j in 0..n {
+        for i in 0..n {
+            let faces = format!(
+                "f {} {} {}\nf {} {} {}\n",
+                id(i, j),
+                id(i + 1, j),
+                id(i + 1, j + 1),
+                id(i, j),
+                id(i + 1, j + 1),
+                id(i, j + 1)
+            );
+            let x = |i: usize| -50.0 + 100.0 * i as f64 / n as f64;
+            if x(i).abs() >= 30.0 - 1e-9 && x(i + 1).abs() >= 30.0 - 1e-9 {
+                wings += &faces;
+            } else {
+                middle += &faces;
+            }
+        }
+    }
+    text += &format!("g middle\n{middle}g wings\n{wings}");
+    std::fs::write(path, text).unwrap();
+    points
+}
+
+/// `--fixed GROUP`: the faces of that OBJ group stay where they are (their vertices in
+/// model.obj are the input's, exactly), the rest is developed exact around them; without
+/// it the same wings move. An unknown group is refused naming the mesh's groups.
+#[test]
+fn a_fixed_region_stays_where_it_is() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("bump.obj");
+    let points = bump_with_wings(&mesh);
+    let wing = |p: &[f64; 3]| p[0].abs() >= 30.0 - 1e-9;
+    let mut moved_wings = Vec::new();
+    for (name, extra) in [("free", &[][..]), ("fixed", &["--fixed", "wings"][..])] {
+        let out = dir.path().join(name);
+        let mut args = vec!["develop", mesh.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"];
+        args.extend_from_slice(extra);
+        let o = sheetform(&args);
+        assert!(o.status.success(), "{name}: {}", String::from_utf8_lossy(&o.stderr));
+        let model = read_obj(&out.join("model.obj"));
+        assert!(max_interior_defect(&model).0 <= 1e-8, "{name}");
+        assert!(obj_isometry_error(&model) <= 1e-9, "{name}");
+        // Each wing vertex's distance to its nearest copy in model.obj (seam vertices
+        // have a copy per piece; the grid's 5 mm spacing keeps a moved copy nearest).
+        let moved = points
+            .iter()
+            .filter(|p| wing(p))
+            .map(|p| {
+                model
+                    .v
+                    .iter()
+                    .map(|q| (0..3).map(|k| (p[k] - q[k]).abs()).fold(0.0, f64::max))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(0.0, f64::max);
+        moved_wings.push(moved);
+        let r: serde_json::Value = crate::common::report(&out);
+        let fixed = r["develop"]["fixed_vertex_count"].as_u64().unwrap() as usize;
+        assert_eq!(
+            fixed,
+            if name == "fixed" {
+                points.iter().filter(|p| wing(p)).count()
+            } else {
+                0
+            }
+        );
+    }
+    assert!(moved_wings[0] > 1e-3, "the free run moves the wings: {moved_wings:?}");
+    assert_eq!(moved_wings[1], 0.0, "{moved_wings:?}");
+    let o = sheetform(&[
+        "develop",
+        mesh.to_str().unwrap(),
+        "-o",
+        dir.path().join("unknown").to_str().unwrap(),
+        "--fixed",
+        "flange",
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("`flange`") && stderr.contains("`wings`"), "{stderr}");
+}
+
 /// `--sheet`: with automatic seams, a piece too large for the sheet asks for more pieces
 /// until every one fits (the sheets are written); when no budget makes them fit, the
 /// pattern is written without the sheets and the status is `out of tolerance` (exit 5).

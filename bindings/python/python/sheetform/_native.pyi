@@ -229,6 +229,7 @@ def develop(
     max_pieces: int = 12,
     normal_tolerance: float = 2.0,
     cone_angle: float = 60.0,
+    fixed: Optional[npt.ArrayLike] = None,
     max_distance: Optional[Union[float, str]] = None,
     smoothness: float = 0.1,
     tolerance: float = 1e-10,

@@ -105,6 +105,11 @@ pub struct DevelopRunOptions {
     pub segmentation: SegmentationOptions,
     /// How the pieces are made developable.
     pub develop: DevelopOptions,
+    /// Regions kept where they are: the faces of these mesh groups (OBJ `g` names) do
+    /// not move, nor do their vertices.
+    pub fixed_groups: Vec<String>,
+    /// Vertices kept where they are (0-based indices), besides `fixed_groups`'.
+    pub fixed_vertices: Vec<u32>,
     /// How the developed pieces are unfolded and drawn: `flatten`'s options (the unit,
     /// the pattern, the name, the size). The layout is always exact charts cut along the
     /// seams only (`charts` and the chart options are set by `develop`).
@@ -202,6 +207,7 @@ pub fn run_develop(
         }
         .into());
     }
+    let fixed = fixed_vertices(&target, &options.fixed_groups, &options.fixed_vertices)?;
     let attempt_with = |segmentation: &SegmentationOptions, progress: f64| -> Result<Attempt, PipelineError> {
         context.progress("finding the seams", progress);
         let (seams, segmentation) = match options.seams {
@@ -213,7 +219,7 @@ pub fn run_develop(
         };
         context.progress("making the pieces developable", progress + 0.02);
         let mut pieces = seam_pieces(&target, &table, &seams)?;
-        let mut developed = develop_pieces(&target, &table, &pieces, &options.develop, context.cancel)?;
+        let mut developed = develop_pieces(&target, &table, &pieces, &fixed, &options.develop, context.cancel)?;
         context.check_cancelled()?;
         // Cone points the solve could not flatten (a saddle where a handle meets a body,
         // a tip below the cone angle) get slits, and the pieces are solved again.
@@ -237,7 +243,7 @@ pub fn run_develop(
             late_slit_count += slits;
             seams = more;
             pieces = seam_pieces(&target, &table, &seams)?;
-            developed = develop_pieces(&target, &table, &pieces, &options.develop, context.cancel)?;
+            developed = develop_pieces(&target, &table, &pieces, &fixed, &options.develop, context.cancel)?;
             context.check_cancelled()?;
             steps += developed.iterations;
             developed.iterations = steps;
@@ -423,6 +429,7 @@ pub fn run_develop(
         displacement_max_mm: developed.displacement_max * unit,
         max_distance_mm: bound.map(|b| b * unit),
         attempt_count: attempts,
+        fixed_vertex_count: fixed.iter().filter(|&&f| f).count(),
         pieces_fit_sheet: options.flatten.pattern.sheet.map(|_| fits_sheet),
     });
     let too_far = bound.is_some_and(|b| distance.hausdorff > b);
@@ -431,4 +438,46 @@ pub fn run_develop(
         report.status = Status::OutOfTolerance;
     }
     Ok(DevelopRun { run, developed })
+}
+
+/// One flag per vertex of `mesh`: on a face of one of `groups`, or listed in `vertices`
+/// (none: an empty vector).
+///
+/// # Errors
+/// A group the mesh does not have (the ones it has named), a vertex out of range.
+fn fixed_vertices(mesh: &TriangleMesh, groups: &[String], vertices: &[u32]) -> Result<Vec<bool>, PipelineError> {
+    if groups.is_empty() && vertices.is_empty() {
+        return Ok(Vec::new());
+    }
+    let mut fixed = vec![false; mesh.positions.len()];
+    for name in groups {
+        let Some(group) = mesh.groups.iter().position(|g| g == name) else {
+            let known: Vec<String> = mesh.groups.iter().map(|g| format!("`{g}`")).collect();
+            return Err(PipelineError::Option {
+                option: "fixed",
+                message: format!(
+                    "the mesh has no group `{}` (its groups: {})",
+                    sheetform_geometry::shortened_message(name),
+                    known.join(", ")
+                ),
+            });
+        };
+        for (t, &g) in mesh.triangles.iter().zip(&mesh.face_groups) {
+            if g as usize == group {
+                for &v in t {
+                    fixed[v as usize] = true;
+                }
+            }
+        }
+    }
+    for &v in vertices {
+        let Some(flag) = fixed.get_mut(v as usize) else {
+            return Err(PipelineError::Option {
+                option: "fixed",
+                message: format!("vertex {v} is out of range (the mesh has {})", mesh.positions.len()),
+            });
+        };
+        *flag = true;
+    }
+    Ok(fixed)
 }
