@@ -122,7 +122,7 @@ const FIRST_PIECE_COUNT: usize = 4;
 /// With automatic seams, a solve that leaves defects above the tolerance is tried again
 /// at most this many times, each time with slits from the vertices it could not flatten
 /// (those within a tenth of the largest defect left).
-const SLIT_ROUNDS: usize = 3;
+pub const SLIT_ROUNDS: usize = 3;
 
 /// One segmentation and development of the target.
 struct Attempt {
@@ -149,17 +149,23 @@ pub struct DevelopRun {
 /// [`sheetform_develop::segment_developable`], the drawn ones among them; or the drawn
 /// seams only, `target.seam_edges`: OBJ `l` polylines), makes every piece exactly
 /// developable by moving its vertices as little as possible
-/// ([`sheetform_develop::develop_pieces`]), then unfolds each piece exactly and renders
-/// the model and the patterns as `flatten` does ([`run_flatten`], charts cut along the
-/// seams only). The report's `develop` section gives the seams, the defects before and
-/// after and the two-sided distance to the target
-/// ([`sheetform_mesh::surface_distance`]); its status is `out of tolerance` (exit 5,
-/// everything written) when a defect inside a piece stays above the tolerance.
+/// ([`sheetform_develop::develop_pieces`]; the fixed groups and vertices do not move),
+/// then unfolds each piece exactly and renders the model and the patterns as `flatten`
+/// does ([`run_flatten`], charts cut along the seams only; a developed piece that would
+/// overlap itself in the plane is cut again, and the printed pieces are what the report
+/// counts). With automatic seams, a solve that leaves a defect above the tolerance is
+/// run again after slits from the vertices it could not flatten
+/// ([`sheetform_develop::slit_unflattened_vertices`], at most [`SLIT_ROUNDS`] times). The
+/// report's `develop` section gives the seams, the defects before and after and the
+/// two-sided distance to the target ([`sheetform_mesh::surface_distance`]); its status
+/// is `out of tolerance` (exit 5, everything written) when a defect inside a piece stays
+/// above the tolerance.
 ///
 /// # Errors
 /// A mesh that is not a clean manifold or has no faces; a closed mesh without drawn
-/// seams when only those are asked for; a seam off the mesh's edges; options out of
-/// range; [`PipelineError::Cancelled`].
+/// seams when only those are asked for; a seam off the mesh's edges; a fixed group the
+/// mesh does not have or a fixed vertex out of range; options out of range;
+/// [`PipelineError::Cancelled`].
 pub fn run_develop(
     target: TriangleMesh,
     options: &DevelopRunOptions,
