@@ -3,7 +3,7 @@
 
 use crate::SeamPieces;
 use nalgebra::Vector3;
-use sheetform_mesh::{corner_angle, EdgeTable, TriangleMesh};
+use sheetform_mesh::{vertex_angle_sums, EdgeTable, TriangleMesh};
 use std::f64::consts::TAU;
 
 type Vec3 = Vector3<f64>;
@@ -72,13 +72,7 @@ pub fn slit_unflattened_vertices(
     pieces: &SeamPieces,
     threshold: f64,
 ) -> (Vec<[u32; 2]>, usize) {
-    let mut angle_sum = vec![0.0; mesh.positions.len()];
-    for t in &mesh.triangles {
-        for k in 0..3 {
-            let [a, b, c] = [t[k], t[(k + 1) % 3], t[(k + 2) % 3]].map(|v| positions[v as usize]);
-            angle_sum[t[k] as usize] += corner_angle(a, b, c);
-        }
-    }
+    let angle_sum = vertex_angle_sums(positions, &mesh.triangles);
     let defect = |v: u32| (TAU - angle_sum[v as usize]).abs();
     let mut cones: Vec<u32> = (0..mesh.positions.len() as u32)
         .filter(|&v| pieces.interior[v as usize] && defect(v) > threshold)

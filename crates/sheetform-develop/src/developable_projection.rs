@@ -5,7 +5,7 @@
 use crate::{DevelopError, SeamPieces};
 use faer::sparse::Pair;
 use nalgebra::Vector3;
-use sheetform_mesh::{corner_angle, corner_angle_gradient, EdgeTable, TriangleMesh};
+use sheetform_mesh::{corner_angle_gradient, vertex_angle_sums, EdgeTable, TriangleMesh};
 use sheetform_solve::{FactorisationFailure, KktSystem};
 use std::f64::consts::TAU;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -192,12 +192,16 @@ pub fn develop_pieces(
             message: format!("must have one flag per vertex ({nv}), got {}", fixed.len()),
         });
     }
-    let is_fixed = |v: u32| fixed.get(v as usize).copied().unwrap_or(false);
+    let fixed: Vec<bool> = if fixed.is_empty() {
+        vec![false; nv]
+    } else {
+        fixed.to_vec()
+    };
     let n = 3 * nv;
     // A vertex inside a piece with its whole star fixed cannot move towards flatness.
     let mut star_moves = vec![false; nv];
     for t in &target.triangles {
-        if t.iter().any(|&v| !is_fixed(v)) {
+        if t.iter().any(|&v| !fixed[v as usize]) {
             for &v in t {
                 star_moves[v as usize] = true;
             }
@@ -281,7 +285,11 @@ pub fn develop_pieces(
     if s > 0.0 {
         for &[a, b] in &table.edges {
             // A fixed vertex's row is the identity: no coupling to its neighbours.
-            let coupling = if is_fixed(a) || is_fixed(b) { 0.0 } else { -s };
+            let coupling = if fixed[a as usize] || fixed[b as usize] {
+                0.0
+            } else {
+                -s
+            };
             let (a, b) = (a.min(b) as usize, a.max(b) as usize);
             for k in 0..3 {
                 pairs.push(Pair {
@@ -318,13 +326,12 @@ pub fn develop_pieces(
     for value in &mut kkt.values[delta_start..] {
         *value = -delta;
     }
-    let fixed_flags: Vec<bool> = (0..nv as u32).map(is_fixed).collect();
     let geometry = Geometry {
         triangles: &target.triangles,
         constrained: &constrained,
         corners: &corners,
         stars: &stars,
-        fixed: &fixed_flags,
+        fixed: &fixed,
     };
     let row_starts: Vec<usize> = stars
         .iter()
@@ -359,19 +366,13 @@ pub fn develop_pieces(
     let mut defects = geometry.defects(&x, None);
     // The vertices inside a piece that a fixed region pins (unconstrained) count too.
     let pinned_defect = |x: &[Vec3]| {
+        if pinned.is_empty() {
+            return 0.0;
+        }
+        let sums = vertex_angle_sums(x, &target.triangles);
         pinned
             .iter()
-            .map(|&v| {
-                let sum: f64 = corners[v as usize]
-                    .iter()
-                    .map(|&(f, k)| {
-                        let t = target.triangles[f as usize];
-                        let k = k as usize;
-                        corner_angle(x[t[k] as usize], x[t[(k + 1) % 3] as usize], x[t[(k + 2) % 3] as usize])
-                    })
-                    .sum();
-                (TAU - sum).abs()
-            })
+            .map(|&v| (TAU - sums[v as usize]).abs())
             .fold(0.0, f64::max)
     };
     let max_defect_before = max_abs(&defects).max(pinned_defect(&x));
@@ -394,7 +395,7 @@ pub fn develop_pieces(
         factorise(&mut kkt)?;
         let (energy, hd) = objective(&x, &h_values);
         let mut rhs: Vec<f64> = hd.iter().map(|v| -v).chain(defects.iter().map(|g| -g)).collect();
-        for (v, _) in fixed_flags.iter().enumerate().filter(|(_, &f)| f) {
+        for (v, _) in fixed.iter().enumerate().filter(|(_, &f)| f) {
             rhs[3 * v..3 * v + 3].fill(0.0);
         }
         kkt.solve(&mut rhs);
@@ -498,7 +499,7 @@ pub fn develop_pieces(
     let positions: Vec<Vec3> = x
         .iter()
         .zip(&target.positions)
-        .zip(&fixed_flags)
+        .zip(&fixed)
         .map(|((p, q), &f)| if f { *q } else { p * scale })
         .collect();
     let displacements: Vec<f64> = positions

@@ -293,13 +293,7 @@ impl FaceGraph {
         }
         let total_area = areas.iter().sum();
         let nv = mesh.positions.len();
-        let mut angle_sum = vec![0.0; nv];
-        for t in &mesh.triangles {
-            let p = t.map(|v| mesh.positions[v as usize]);
-            for k in 0..3 {
-                angle_sum[t[k] as usize] += sheetform_mesh::corner_angle(p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
-            }
-        }
+        let angle_sum = sheetform_mesh::vertex_angle_sums(&mesh.positions, &mesh.triangles);
         let mut free = vec![false; nv];
         for (e, &hard) in hard.iter().enumerate() {
             if hard || table.sides(e).len() != 2 {

@@ -11,6 +11,19 @@ pub fn corner_angle(a: Vec3, b: Vec3, c: Vec3) -> f64 {
     u.cross(&v).norm().atan2(u.dot(&v))
 }
 
+/// Each vertex's angle sum `Σ θ` over the corners of `triangles` at it (radians; 0 for a
+/// vertex no triangle uses): `2π` minus it is the vertex's angle defect.
+pub fn vertex_angle_sums(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<f64> {
+    let mut sums = vec![0.0; positions.len()];
+    for t in triangles {
+        let p = t.map(|v| positions[v as usize]);
+        for k in 0..3 {
+            sums[t[k] as usize] += corner_angle(p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
+        }
+    }
+    sums
+}
+
 /// The angle `θ` at corner `a` of triangle `(a, b, c)` (radians) and its gradient with
 /// respect to `a`, `b` and `c` (radians per length unit).
 ///

@@ -46,22 +46,15 @@ pub struct DevelopabilitySummary {
 pub fn vertex_developability(mesh: &TriangleMesh, topology: &MeshTopology) -> VertexDevelopability {
     let n = mesh.positions.len();
     let mut out = VertexDevelopability {
-        angle_sum: vec![0.0; n],
+        angle_sum: crate::vertex_angle_sums(&mesh.positions, &mesh.triangles),
         angle_defect: vec![0.0; n],
         gaussian_curvature: vec![0.0; n],
         vertex_area: vec![0.0; n],
     };
     for (f, t) in mesh.triangles.iter().enumerate() {
         let area = mesh.face_area(f);
-        for k in 0..3 {
-            let (i, j, l) = (t[k] as usize, t[(k + 1) % 3] as usize, t[(k + 2) % 3] as usize);
-            let (u, v) = (
-                mesh.positions[j] - mesh.positions[i],
-                mesh.positions[l] - mesh.positions[i],
-            );
-            // atan2 of |u×v| and u·v: accurate for all angles.
-            out.angle_sum[i] += u.cross(&v).norm().atan2(u.dot(&v));
-            out.vertex_area[i] += area / 3.0;
+        for &i in t {
+            out.vertex_area[i as usize] += area / 3.0;
         }
     }
     for i in 0..n {

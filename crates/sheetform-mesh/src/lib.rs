@@ -22,7 +22,7 @@ mod union_find;
 mod unit;
 mod vertex_normals;
 
-pub use corner_angle::{corner_angle, corner_angle_gradient, corner_angle_hessian};
+pub use corner_angle::{corner_angle, corner_angle_gradient, corner_angle_hessian, vertex_angle_sums};
 pub use developability::{developability_summary, vertex_developability, DevelopabilitySummary, VertexDevelopability};
 pub use edge_cut::{cut_along_edges, CutMesh};
 pub use edge_table::{EdgeSide, EdgeTable};

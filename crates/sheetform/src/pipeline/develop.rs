@@ -252,8 +252,8 @@ pub fn run_develop(
             developed = develop_pieces(&target, &table, &pieces, &fixed, &options.develop, context.cancel)?;
             context.check_cancelled()?;
             steps += developed.iterations;
-            developed.iterations = steps;
         }
+        developed.iterations = steps;
         let mut result = target.clone();
         result.positions.clone_from(&developed.positions);
         result.seam_edges = seams;
