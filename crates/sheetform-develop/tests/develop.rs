@@ -11,6 +11,14 @@ fn grid(nu: usize, nv: usize, surface: impl Fn(f64, f64) -> Vector3<f64>) -> Tri
     TriangleMesh::grid(nu, nv, |u, v| surface(u, v).into())
 }
 
+/// Half a cylinder of radius 30, height 50 (exactly developable), `nu × nv` cells.
+fn half_cylinder(nu: usize, nv: usize) -> TriangleMesh {
+    grid(nu, nv, |u, v| {
+        let t = std::f64::consts::PI * u;
+        Vector3::new(30.0 * t.cos(), 30.0 * t.sin(), 50.0 * v)
+    })
+}
+
 /// A pseudo-random number in `[-0.5, 0.5)` (fixed seed).
 fn random(seed: &mut u64) -> f64 {
     *seed = seed
@@ -32,11 +40,7 @@ fn max_interior_defect(mesh: &TriangleMesh, interior: &[bool]) -> f64 {
 
 #[test]
 fn a_developable_target_comes_back_unchanged() {
-    // Half a cylinder of radius 30, height 50: exactly developable.
-    let mesh = grid(24, 10, |u, v| {
-        let t = std::f64::consts::PI * u;
-        Vector3::new(30.0 * t.cos(), 30.0 * t.sin(), 50.0 * v)
-    });
+    let mesh = half_cylinder(24, 10);
     let table = EdgeTable::new(&mesh.triangles, mesh.positions.len());
     let pieces = seam_pieces(&mesh, &table, &[]).unwrap();
     let developed = develop_pieces(&mesh, &table, &pieces, &[], &DevelopOptions::default(), None).unwrap();
@@ -51,10 +55,7 @@ fn a_developable_target_comes_back_unchanged() {
 #[test]
 fn a_perturbed_cylinder_becomes_exactly_developable_near_the_target() {
     let mut seed = 17;
-    let mut mesh = grid(24, 12, |u, v| {
-        let t = std::f64::consts::PI * u;
-        Vector3::new(30.0 * t.cos(), 30.0 * t.sin(), 50.0 * v)
-    });
+    let mut mesh = half_cylinder(24, 12);
     for p in &mut mesh.positions {
         *p += Vector3::new(random(&mut seed), random(&mut seed), random(&mut seed)) * 0.4;
     }
@@ -142,10 +143,7 @@ fn a_sphere_cut_into_twelve_gores_becomes_gores_within_the_globe_bound() {
 #[test]
 fn fixed_vertices_stay_exactly_where_they_are() {
     let mut seed = 5;
-    let mut mesh = grid(24, 12, |u, v| {
-        let t = std::f64::consts::PI * u;
-        Vector3::new(30.0 * t.cos(), 30.0 * t.sin(), 50.0 * v)
-    });
+    let mut mesh = half_cylinder(24, 12);
     let target = mesh.positions.clone();
     // The strip u ≤ 1/4 is fixed (developable: still on the cylinder).
     let fixed: Vec<bool> = target

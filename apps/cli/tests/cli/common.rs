@@ -380,3 +380,58 @@ pub(crate) fn pattern_audit(dir: &Path) -> serde_json::Value {
     );
     serde_json::from_slice(&o.stdout).unwrap()
 }
+
+/// An OBJ of the height field `z = height(x, y)` over a 100 mm square centred on the origin
+/// (`x, y` in [−0.5, 0.5]), `n × n` cells, two triangles each.
+pub(crate) fn grid_obj(n: usize, height: impl Fn(f64, f64) -> f64) -> String {
+    grid_obj_in_groups(n, height, |_, _| None)
+}
+
+/// As [`grid_obj`], the two faces of cell `(i, j)` (`x` from `i / n − 0.5` to `(i + 1) / n −
+/// 0.5`, `y` likewise with `j`) in the OBJ group `group(i, j)` (none: before any `g` line).
+pub(crate) fn grid_obj_in_groups(
+    n: usize,
+    height: impl Fn(f64, f64) -> f64,
+    group: impl Fn(usize, usize) -> Option<&'static str>,
+) -> String {
+    let mut obj = String::new();
+    for i in 0..=n {
+        for j in 0..=n {
+            let (x, y) = (i as f64 / n as f64 - 0.5, j as f64 / n as f64 - 0.5);
+            obj += &format!("v {} {} {}\n", 100.0 * x, 100.0 * y, height(x, y));
+        }
+    }
+    let id = |i: usize, j: usize| i * (n + 1) + j + 1;
+    // Faces by group, the groups in the order they first appear.
+    let mut groups: Vec<(Option<&str>, String)> = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let name = group(i, j);
+            let at = match groups.iter().position(|(g, _)| *g == name) {
+                Some(at) => at,
+                None => {
+                    groups.push((name, String::new()));
+                    groups.len() - 1
+                }
+            };
+            groups[at].1 += &format!(
+                "f {} {} {}\nf {} {} {}\n",
+                id(i, j),
+                id(i + 1, j),
+                id(i + 1, j + 1),
+                id(i, j),
+                id(i + 1, j + 1),
+                id(i, j + 1)
+            );
+        }
+    }
+    // Ungrouped faces first: a `g` line names every face after it.
+    groups.sort_by_key(|(name, _)| name.is_some());
+    for (name, faces) in groups {
+        if let Some(name) = name {
+            obj += &format!("g {name}\n");
+        }
+        obj += &faces;
+    }
+    obj
+}

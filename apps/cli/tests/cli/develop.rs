@@ -3,7 +3,7 @@
 //! a piece of the pattern (an interior vertex of the `vt` mesh) has 3D angle sum 2π, the
 //! pattern is the model at 1:1, and the model stays near the target.
 
-use crate::common::{example_mesh, obj_isometry_error, read_obj, sheetform, Obj};
+use crate::common::{example_mesh, grid_obj_in_groups, obj_isometry_error, read_obj, sheetform, Obj};
 use std::collections::HashMap;
 
 /// The largest |2π − Σ θ| over the pattern's interior vertices (vt indices whose every
@@ -471,45 +471,23 @@ fn develop_prints_the_model_at_the_height_asked() {
     assert!(stderr.contains("--size") && stderr.contains("not both"), "{stderr}");
 }
 
-/// A 100 mm square sheet, 20 × 20 quads, with a bump in the middle (a doubly curved cap
+/// A 100 mm square sheet, 20 × 20 cells, with a bump in the middle (a doubly curved cap
 /// of radius 25 mm, 10 mm high) and flat wings at |x| ≥ 30 mm in the OBJ group `wings`.
-fn bump_with_wings(path: &std::path::Path) -> Vec<[f64; 3]> {
+fn bump_with_wings() -> String {
     let n = 20;
-    let mut text = String::new();
-    let mut points = Vec::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            let (x, y) = (-50.0 + 100.0 * i as f64 / n as f64, -50.0 + 100.0 * j as f64 / n as f64);
-            let r2 = (x * x + y * y) / (25.0 * 25.0);
-            let z = if r2 < 1.0 { 10.0 * (1.0 - r2) * (1.0 - r2) } else { 0.0 };
-            text += &format!("v {x} {y} {z}\n");
-            points.push([x, y, z]);
-        }
-    }
-    let id = |i: usize, j: usize| j * (n + 1) + i + 1;
-    let (mut wings, mut middle) = (String::new(), String::new());
-    for j in 0..n {
-        for i in 0..n {
-            let faces = format!(
-                "f {} {} {}\nf {} {} {}\n",
-                id(i, j),
-                id(i + 1, j),
-                id(i + 1, j + 1),
-                id(i, j),
-                id(i + 1, j + 1),
-                id(i, j + 1)
-            );
-            let x = |i: usize| -50.0 + 100.0 * i as f64 / n as f64;
-            if x(i).abs() >= 30.0 - 1e-9 && x(i + 1).abs() >= 30.0 - 1e-9 {
-                wings += &faces;
+    grid_obj_in_groups(
+        n,
+        |x, y| {
+            let r2 = (x * x + y * y) * (100.0 * 100.0) / (25.0 * 25.0);
+            if r2 < 1.0 {
+                10.0 * (1.0 - r2) * (1.0 - r2)
             } else {
-                middle += &faces;
+                0.0
             }
-        }
-    }
-    text += &format!("g middle\n{middle}g wings\n{wings}");
-    std::fs::write(path, text).unwrap();
-    points
+        },
+        // Cells whose both columns lie at |x| ≥ 30 mm (the 4 outer columns each side).
+        |i, _| Some(if i < 4 || i >= n - 4 { "wings" } else { "middle" }),
+    )
 }
 
 /// `--fixed GROUP`: the faces of that OBJ group stay where they are (their vertices in
@@ -519,7 +497,16 @@ fn bump_with_wings(path: &std::path::Path) -> Vec<[f64; 3]> {
 fn a_fixed_region_stays_where_it_is() {
     let dir = tempfile::tempdir().unwrap();
     let mesh = dir.path().join("bump.obj");
-    let points = bump_with_wings(&mesh);
+    let obj = bump_with_wings();
+    std::fs::write(&mesh, &obj).unwrap();
+    let points: Vec<[f64; 3]> = obj
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| {
+            let c: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            [c[0], c[1], c[2]]
+        })
+        .collect();
     let wing = |p: &[f64; 3]| p[0].abs() >= 30.0 - 1e-9;
     let mut moved_wings = Vec::new();
     for (name, extra) in [("free", &[][..]), ("fixed", &["--fixed", "wings"][..])] {

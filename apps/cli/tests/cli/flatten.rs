@@ -1,8 +1,8 @@
 //! `sheetform flatten`: exact unfolding, charts, LSCM.
 
 use crate::common::{
-    cut_intersections, example_mesh, ezdxf_cut, obj_isometry_error, read_obj, report, sheetform, svg_cut_loops,
-    svg_labels_over_lines, svg_texts, validate_glb,
+    cut_intersections, example_mesh, ezdxf_cut, grid_obj, obj_isometry_error, read_obj, report, sheetform,
+    svg_cut_loops, svg_labels_over_lines, svg_texts, validate_glb,
 };
 
 #[test]
@@ -209,31 +209,4 @@ fn a_flattening_over_the_distortion_bound_is_flagged() {
     let o = run(&["--method", "lscm", "--max-distortion", "0.9"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(report(&out)["status"], "ok");
-}
-
-/// An OBJ of the height field `z = height(x, y)` over a 100 mm square centred on the origin
-/// (`x, y` in [−0.5, 0.5]), `n × n` cells, two triangles each.
-fn grid_obj(n: usize, height: impl Fn(f64, f64) -> f64) -> String {
-    let mut obj = String::new();
-    for i in 0..=n {
-        for j in 0..=n {
-            let (x, y) = (i as f64 / n as f64 - 0.5, j as f64 / n as f64 - 0.5);
-            obj += &format!("v {} {} {}\n", 100.0 * x, 100.0 * y, height(x, y));
-        }
-    }
-    let id = |i: usize, j: usize| i * (n + 1) + j + 1;
-    for i in 0..n {
-        for j in 0..n {
-            obj += &format!(
-                "f {} {} {}\nf {} {} {}\n",
-                id(i, j),
-                id(i + 1, j),
-                id(i + 1, j + 1),
-                id(i, j),
-                id(i + 1, j + 1),
-                id(i, j + 1)
-            );
-        }
-    }
-    obj
 }
