@@ -112,6 +112,15 @@ def parse_svg(path):
     return view, loops, loop_pieces, lines, texts
 
 
+def find(parent, x):
+    """The root of `x` in the union-find forest `parent` (a list or a dict), halving
+    the path on the way."""
+    while parent[x] != x:
+        parent[x] = parent[parent[x]]
+        x = parent[x]
+    return x
+
+
 def point_segment_distance(p, a, b):
     d = b - a
     n = d @ d
@@ -415,23 +424,17 @@ def assign(domains):
     the order is the tie-break. Returns {piece: index into its domain} placing as many pieces
     as can be placed."""
     parent = list(range(len(domains)))
-
-    def find(x):
-        while parent[x] != x:
-            parent[x] = parent[parent[x]]
-            x = parent[x]
-        return x
     owner = {}
     for i, places in enumerate(domains):
         for place in places:
             for k in place:
                 if k in owner:
-                    parent[find(i)] = find(owner[k])
+                    parent[find(parent, i)] = find(parent, owner[k])
                 else:
                     owner[k] = i
     components = defaultdict(list)
     for i in range(len(domains)):
-        components[find(i)].append(i)
+        components[find(parent, i)].append(i)
     result = {}
     for component in components.values():
         result.update(assign_component(domains, component))
@@ -519,20 +522,14 @@ def audit(out, clearance):
         partner[x], partner[y] = y, x
     # Pieces: faces joined by shared vt indices.
     parent = list(range(len(vt)))
-
-    def find(x):
-        while parent[x] != x:
-            parent[x] = parent[parent[x]]
-            x = parent[x]
-        return x
     for f in faces:
         for k in (1, 2):
-            ra, rb = find(f[0][1]), find(f[k][1])
+            ra, rb = find(parent, f[0][1]), find(parent, f[k][1])
             parent[ra] = rb
     piece_of = {}
     for f in faces:
-        piece_of.setdefault(find(f[0][1]), len(piece_of))
-    vt_piece = {t: piece_of[find(t)] for t in range(len(vt)) if find(t) in piece_of}
+        piece_of.setdefault(find(parent, f[0][1]), len(piece_of))
+    vt_piece = {t: piece_of[find(parent, t)] for t in range(len(vt)) if find(parent, t) in piece_of}
     members = defaultdict(list)
     for t, piece in vt_piece.items():
         members[piece].append(t)
@@ -697,26 +694,20 @@ def audit(out, clearance):
     # Seams: glued pairs consecutive on both copies, not across a slit's apex.
     next_edge = {a: (a, b) for a, b in boundary}
     seam_parent = {e: e for e in partner}
-
-    def sfind(e):
-        while seam_parent[e] != e:
-            seam_parent[e] = seam_parent[seam_parent[e]]
-            e = seam_parent[e]
-        return e
     for e in partner:
         n = next_edge.get(e[1])
         if n is None or n not in partner or partner[e] == n:
             continue
         # The next edge's partner must end where this edge's partner starts.
         if partner[n][1] == partner[e][0]:
-            ra, rb = sfind(e), sfind(n)
+            ra, rb = find(seam_parent, e), find(seam_parent, n)
             seam_parent[ra] = rb
     sides = defaultdict(list)
     for e in partner:
-        sides[sfind(e)].append(e)
+        sides[find(seam_parent, e)].append(e)
     seams = {}
     for root, edges in sides.items():
-        other = sfind(partner[edges[0]])
+        other = find(seam_parent, partner[edges[0]])
         seams.setdefault(frozenset([root, other]), (root, other))
     seam_labels = [t for t in texts if t["class"] == "seam"]
     side_segments = [(root, placed[a], placed[b], vt_piece[a]) for root, edges in sides.items() for a, b in edges]
