@@ -20,6 +20,8 @@ input, not a result). Prints one JSON object:
   piece outlines, measured from their tab base); `tab_clearance_min_mm`: the least
   distance from a tab's outer edges to any other cut line (lines through a base corner
   measured from the tab's far end); `tabs_closer_than_clearance`;
+- `zero_width_slits`: glued pairs whose two copies lie end to end on one line of one
+  piece (an edge cut for nothing, its two IDs printed side by side);
 - `cut_crossings`: cut segments that cross; `piece_gap_min_mm`: the least distance
   between the cut loops of different pieces; `slit_gap_min_mm` and
   `slit_pairs_closer_than_clearance`: within one loop, segments that share no point and
@@ -319,11 +321,13 @@ def placements(points, edges, outline, folds=(), fold_index=None, accept=None):
 
     `accept(R, t)`, if given, must hold too (the printed creases agree with the piece).
 
-    Returns [(R, t, landed, on_folds)] one per place (`landed`: the printed vertices
-    under the piece's vertices, a frozenset; `on_folds`: how many of the piece's fold
-    edges' middles lie on printed fold lines: of a symmetric piece's turns at one place,
-    the one that matches its folds is kept; folds under the pattern's smallest fold angle
-    are not drawn, so a preference, not a test)."""
+    Returns [(R, t, landed, on_folds, turns)] one per place (`landed`: the printed
+    vertices under the piece's vertices, a frozenset; `on_folds`: how many of the piece's
+    fold edges' middles lie on printed fold lines: of a symmetric piece's turns at one
+    place, the one that matches its folds is kept; folds under the pattern's smallest fold
+    angle are not drawn, so a preference, not a test; `turns`: every motion (R, t) that
+    fits the place as well, more than one for a symmetric piece, which the printed seam
+    IDs decide between)."""
     corner, runs = corners(points, edges)
     if not runs:
         return []
@@ -379,7 +383,10 @@ def placements(points, edges, outline, folds=(), fold_index=None, accept=None):
                     near = fold_index.near(m - 0.01, m + 0.01)
                     on_folds += any(point_segment_distance(m, *fold_index.segments[i]) <= 0.01 for i in near)
             if landed not in places or on_folds > places[landed][3]:
-                places[landed] = (R, t, landed, on_folds)
+                places[landed] = (R, t, landed, on_folds, [(R, t)])
+            elif on_folds == places[landed][3]:
+                # Another way the piece fits the same place (a symmetric piece).
+                places[landed][4].append((R, t))
     return list(places.values())
 
 
@@ -533,6 +540,12 @@ def audit(out, clearance):
     members = defaultdict(list)
     for t, piece in vt_piece.items():
         members[piece].append(t)
+    # Slits of zero width: a glued pair whose two copies lie on one line of one piece
+    # (end to end, as the flat pattern places them): no cut at all, printed as one.
+    zero_width = sum(1 for (a, b), (c, d) in pairs
+                     if vt_piece.get(a) == vt_piece.get(c)
+                     and max(np.linalg.norm(np.subtract(vt[a], vt[d])), np.linalg.norm(np.subtract(vt[b], vt[c])))
+                     <= 1e-6 * max(np.linalg.norm(np.subtract(vt[a], vt[b])), 1e-300))
     # Register each piece on the printed outline.
     outline = Outline(loops, loop_pieces, tab_bases)
     outline_points = np.array([p for l in loops for p in l] + [p for ab in tab_bases for p in ab])
@@ -671,7 +684,43 @@ def audit(out, clearance):
                 settle(piece, flat[idx], R, t)
             else:
                 unregistered += 1
-    result = {"pieces": len(piece_of), "pieces_unregistered": unregistered, "glued_edge_pairs": len(pairs)}
+        # A piece with a symmetry (a strip turned end for end) fits its place in more than
+        # one way, which geometry cannot tell apart; its printed seam IDs can: the motion
+        # kept is the one under which most IDs printed on it find the same ID printed by
+        # the other copy of the edge they stand beside.
+        seam_texts = [t for t in texts if t["class"] == "seam"]
+        for piece, k in chosen.items():
+            same = motions[piece][k][4]
+            if len(same) < 2:
+                continue
+            edges, idx = piece_points[piece]
+            moved = np.array([placed[c[1]] for face in faces if vt_piece[face[0][1]] == piece for c in face])
+            moved = moved.reshape(-1, 3, 2)
+            lo, hi = moved.min(axis=(0, 1)), moved.max(axis=(0, 1))
+            mine = [t for t in texts_in(seam_texts, lo, hi) if any(inside_triangle(t["centre"], *tri) for tri in moved)]
+            if not mine:
+                continue
+
+            def agreeing():
+                count = 0
+                for label in mine:
+                    c = label["centre"]
+                    a, b = min(edges, key=lambda e: point_segment_distance(c, placed[e[0]], placed[e[1]]))
+                    pa, pb = partner.get((a, b), (None, None))
+                    if pa is None:
+                        continue
+                    radius = 4 * label["size"] + 2
+                    count += any(o["text"] == label["text"] and o is not label
+                                 and point_segment_distance(o["centre"], placed[pa], placed[pb]) <= radius
+                                 for o in seam_texts)
+                return count
+            scores = []
+            for j, (R, t) in enumerate(same):
+                settle(piece, flat[idx], R, t)
+                scores.append((agreeing(), -j))
+            settle(piece, flat[idx], *same[-max(scores)[1]])
+    result = {"pieces": len(piece_of), "pieces_unregistered": unregistered, "glued_edge_pairs": len(pairs),
+              "zero_width_slits": zero_width}
     if unregistered:
         return result
     base_index = SegmentIndex(tab_bases, 10.0)
@@ -923,6 +972,11 @@ def label_problems(loops, lines, texts):
         over += hit
         outside += not all(inside(p) for p in corners)
     return {"labels_over_lines": over, "labels_outside": outside, "labels": len(texts)}
+
+
+def texts_in(texts, lo, hi):
+    """The texts whose centre lies in the box [lo, hi]."""
+    return [t for t in texts if np.all(t["centre"] >= lo) and np.all(t["centre"] <= hi)]
 
 
 def inside_triangle(p, a, b, c):

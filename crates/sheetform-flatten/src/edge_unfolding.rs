@@ -127,10 +127,12 @@ pub struct Net {
 ///    attempts, then cuts counted in [`Net::budget_cut_count`], when they run out).
 /// 3. **Joining pieces**: the edges cut between two pieces, those of the smallest pieces
 ///    first, hinge them together where they fit (this gathers the single faces and slivers
-///    a greedy growth leaves behind), in passes until one joins nothing.
-/// 4. **No zero-width slits**: a cut edge whose two faces lie in one piece with the edge
-///    on the same place of both (around a flat interior vertex, where a tree of faces
-///    has to leave one edge cut) is joined again.
+///    a greedy growth leaves behind), in passes until one joins nothing; on a growth with
+///    the saddles' fans cut, then across those cuts too.
+/// 4. **No zero-width slits**: a cut edge but a user's seam whose two faces lie in one
+///    piece with the edge on the same place of both (around a flat interior vertex,
+///    where a tree of faces has to leave one edge cut, or a saddle's cut the growth
+///    closed around after all) is joined again.
 ///
 /// The result has zero distortion by construction: every flat face is congruent to its 3D
 /// face up to rounding. Published tools choose the spanning tree the same way in spirit
@@ -228,9 +230,14 @@ pub fn unfold_net(mesh: &TriangleMesh, options: &NetOptions) -> Result<Net, Flat
         let grown = islands.count();
         if options.merge_pieces {
             join_pieces(&mut islands, &faces, &table, variants[variant], &mut tests_left);
+            if variant > 0 {
+                // The saddles' cuts kept the growth from closing around them; pieces that
+                // meet across one are joined where they fit.
+                join_pieces(&mut islands, &faces, &table, &forced_cut, &mut tests_left);
+            }
         }
         let mut growth = islands.into_growth();
-        close_zero_width_slits(&faces, &table, variants[variant], &mut growth);
+        close_zero_width_slits(&faces, &table, &forced_cut, &mut growth);
         let better = best.as_ref().is_none_or(|(b, _, _)| {
             (growth.piece_count, growth.cut_length(&faces, &table)) < (b.piece_count, b.cut_length(&faces, &table))
         });

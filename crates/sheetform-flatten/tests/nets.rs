@@ -110,8 +110,14 @@ fn the_wingnut_unfolds_exactly_without_overlap() {
     let mesh = wingnut();
     let net = unfold_net(&mesh, &NetOptions::default()).unwrap();
     assert_exact_and_overlap_free(&mesh, &net);
-    // The body in one piece holding most faces.
-    assert!(net.pieces[0].faces.len() * 2 > mesh.triangles.len());
+    // The body in two large pieces holding most faces (one before pieces were joined
+    // across the saddles' cuts: 187 pieces, now 151), the rest its small parts.
+    assert!((net.pieces[0].faces.len() + net.pieces[1].faces.len()) * 2 > mesh.triangles.len());
+    assert!(
+        net.pieces.len() * 30 < mesh.triangles.len(),
+        "{} pieces",
+        net.pieces.len()
+    );
 }
 
 /// The classic developables with a boundary come out whole, cut along one ruling.

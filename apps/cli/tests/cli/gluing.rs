@@ -79,6 +79,7 @@ fn assert_gluable(name: &str, out: &Path) -> (Value, Value) {
     );
     assert_eq!(count(&a, "seams_id_mismatch"), 0, "{name}: {a}");
     assert_eq!(count(&a, "seam_ids_reused"), 0, "{name}: {a}");
+    assert_eq!(count(&a, "zero_width_slits"), 0, "{name}: an edge cut for nothing: {a}");
     assert_eq!(count(&a, "cut_crossings"), 0, "{name}: {a}");
     assert_eq!(count(&a, "labels_over_lines"), 0, "{name}: {a}");
     assert_eq!(count(&a, "labels_outside"), 0, "{name}: {a}");
@@ -228,6 +229,24 @@ fn congruent_unnamed_pieces_are_each_found_on_their_own_outline() {
     assert_eq!(count(p, "seam_id_missing_count"), 0, "{a}");
     assert_eq!(count(&a, "seams_id_both"), count(&a, "seams"), "{a}");
     assert!(count(&a, "pairs_tab_none") * 50 <= count(&a, "glued_edge_pairs"), "{a}");
+}
+
+/// No edge cut for nothing (issue 34): a net that cuts the fans of saddle vertices (the
+/// inner half of a torus) kept those cuts where the growth had in the end laid both faces
+/// of the edge side by side, so 34 of this torus's seams (47 of a 32 × 32 one) were
+/// slits of zero width, their two IDs printed next to each other and no tab on either.
+/// Such edges are joined again, and pieces that meet across a saddle's cut are joined
+/// where they fit.
+#[test]
+fn a_torus_cut_at_its_saddles_has_no_slit_of_zero_width() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = write_obj(dir.path(), "torus", &primitives::torus(60.0, 20.0, 24, 32));
+    let out = dir.path().join("torus-a4");
+    flatten(&mesh, &out, &["--sheet", "a4"]);
+    let (r, a) = assert_gluable("torus", &out);
+    assert_eq!(r["layout"], "net");
+    assert!(count(&a, "pairs_tab_none") * 50 <= count(&a, "glued_edge_pairs"), "{a}");
+    assert!(count(&a, "seams_id_both") * 20 >= count(&a, "seams") * 19, "{a}");
 }
 
 /// Scale on import: a mesh in metres read as millimetres prints a fraction of a
