@@ -192,6 +192,12 @@ pub(crate) enum Command {
         /// developable itself gets slits with automatic seams.
         #[arg(long, value_name = "GROUP")]
         fixed: Vec<String>,
+        /// Most faces to work on: a finer target (a scan) is remeshed first into about
+        /// this many even triangles, its boundary, drawn seams and --fixed groups kept
+        /// as they are; the result has these faces and its distances are to the target
+        /// as read. More faces: slower, not closer.
+        #[arg(long, value_name = "N", default_value_t = sheetform::pipeline::DEFAULT_WORK_FACES)]
+        work_faces: usize,
         /// Smoothness against closeness: 0 moves each vertex as little as possible,
         /// larger values spread the change over its neighbours.
         #[arg(long, value_name = "WEIGHT", default_value_t = 0.1)]

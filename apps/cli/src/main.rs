@@ -109,6 +109,7 @@ fn main() -> ExitCode {
             cone_angle,
             fixed,
             max_distance,
+            work_faces,
             smoothness,
             tolerance,
             max_iterations,
@@ -128,6 +129,7 @@ fn main() -> ExitCode {
                     ..Default::default()
                 },
                 fixed_groups: fixed,
+                work_faces: Some(work_faces),
                 develop: sheetform::pipeline::DevelopOptions {
                     smoothness,
                     defect_tolerance: tolerance,

@@ -214,5 +214,11 @@ pub(crate) fn triangles<'py>(py: Python<'py>, triangles: &[[u32; 3]]) -> PyResul
 
 /// Labels as an `(m,)` int64 array (one copy).
 pub(crate) fn labels<'py>(py: Python<'py>, labels: &[u32]) -> Bound<'py, PyArray1<i64>> {
-    PyArray1::from_vec(py, labels.iter().map(|&l| i64::from(l)).collect())
+    PyArray1::from_vec(
+        py,
+        labels
+            .iter()
+            .map(|&l| if l == u32::MAX { -1 } else { i64::from(l) })
+            .collect(),
+    )
 }

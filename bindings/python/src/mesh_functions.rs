@@ -210,16 +210,19 @@ pub(crate) fn flatten(
 /// every vertex inside a piece whose angle defect exceeds `cone_angle` degrees; otherwise
 /// it cuts along the drawn seams only. `max_distance`: the farthest the result may be from
 /// the target, a length in `unit`s (`2.0`) or a percentage of the bounding-box diagonal
-/// (`"0.5%"`); pieces are added until it holds. `smoothness`, `tolerance` (radians) and
-/// `max_iterations` steer the developability solve.
+/// (`"0.5%"`); pieces are added until it holds. `work_faces` (default 10 000): a target of more
+/// faces (a scan) is remeshed first into about this many even triangles, its boundary, seams
+/// and fixed vertices kept. `smoothness`, `tolerance` (radians) and `max_iterations`
+/// steer the developability solve.
 ///
 /// Returns a `Run` (`uv` the pattern at 1:1, `face_pieces` the piece of each face,
-/// `source_vertices` the target vertex each output vertex copies); its report's
+/// `source_vertices` the target vertex each output vertex copies, -1 for a vertex the
+/// remeshing made); its report's
 /// `develop` section has the figures. `outcome` is `"out_of_tolerance"` when a piece
 /// keeps a defect above `tolerance` or the distance bound is not met (the closest
 /// result is returned).
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, *, seams=None, automatic_seams=true, max_pieces=12, normal_tolerance=2.0, cone_angle=60.0, fixed=None, max_distance=None, smoothness=0.1, tolerance=1e-10, max_iterations=100, unit="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None))]
+#[pyo3(signature = (vertices, faces, *, seams=None, automatic_seams=true, max_pieces=12, normal_tolerance=2.0, cone_angle=60.0, fixed=None, max_distance=None, work_faces=None, smoothness=0.1, tolerance=1e-10, max_iterations=100, unit="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn develop(
     py: Python<'_>,
@@ -232,6 +235,7 @@ pub(crate) fn develop(
     cone_angle: f64,
     fixed: Option<&Bound<'_, PyAny>>,
     max_distance: Option<&Bound<'_, PyAny>>,
+    work_faces: Option<usize>,
     smoothness: f64,
     tolerance: f64,
     max_iterations: usize,
@@ -262,6 +266,7 @@ pub(crate) fn develop(
             SeamSource::Drawn
         },
         max_distance,
+        work_faces,
         segmentation: SegmentationOptions {
             max_pieces,
             normal_tolerance_degrees: normal_tolerance,

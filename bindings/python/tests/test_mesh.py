@@ -259,6 +259,29 @@ def test_develop_keeps_fixed_vertices_exactly_where_they_are():
         sheetform.develop(sphere.vertices, sphere.faces, fixed=[len(sphere.vertices)])
 
 
+def test_develop_remeshes_a_fine_target_to_its_working_size():
+    """`work_faces=`: a 20 480-face sphere is developed on about 2 000 faces; the fixed
+    vertices (spread over it) are kept exactly (source_vertices names them), the
+    vertices the remeshing made are -1, and the distance is to the sphere as given."""
+    sphere = trimesh.creation.icosphere(subdivisions=5, radius=50.0)
+    fixed = np.arange(0, len(sphere.vertices), 211)
+    run = sheetform.develop(sphere.vertices, sphere.faces, fixed=fixed, work_faces=2000, outputs="preview")
+    develop = run.report["develop"]
+    assert develop["target_face_count"] == 20480
+    assert 1500 <= develop["work_face_count"] <= 2800 and len(run.faces) == develop["work_face_count"]
+    assert develop["angle_defect_max_rad"] <= 1e-10
+    assert (run.source_vertices == -1).sum() > 0.5 * len(run.vertices)
+    kept = np.isin(run.source_vertices, fixed)
+    assert kept.sum() >= len(fixed)
+    np.testing.assert_array_equal(run.vertices[kept], sphere.vertices[run.source_vertices[kept]])
+    # The distance is to the sphere as given: no vertex farther from it than reported.
+    radii = np.linalg.norm(run.vertices, axis=1)
+    assert np.abs(radii - 50.0).max() <= develop["hausdorff_mm"] + 0.05
+    assert develop["hausdorff_relative"] <= 0.03
+    with pytest.raises(sheetform.InvalidInputError, match="work_faces"):
+        sheetform.develop(sphere.vertices, sphere.faces, work_faces=10)
+
+
 def test_develop_with_a_distance_bound_and_its_refusals():
     """A trimesh sphere within 3 % of its size, and an impossible bound: out of
     tolerance, the closest result returned; bad arguments named."""

@@ -741,6 +741,12 @@ pub struct DevelopReport {
     pub attempt_count: usize,
     /// Vertices kept where they are (`--fixed` groups): they do not move at all.
     pub fixed_vertex_count: usize,
+    /// Faces of the target as read.
+    pub target_face_count: usize,
+    /// Faces develop worked on and wrote: the target's, or fewer when a target of more
+    /// than `--work-faces` was remeshed first (its boundary, seams and fixed regions
+    /// kept); the distances are to the target as read.
+    pub work_face_count: usize,
     /// With a sheet (`--sheet`): whether every piece fits on it. `false`: no piece budget
     /// made them fit; the pattern is written without the sheets and the status is `out of
     /// tolerance`.

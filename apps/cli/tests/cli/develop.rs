@@ -631,3 +631,74 @@ fn pieces_are_added_until_they_fit_the_sheet() {
     assert_eq!(r["develop"]["pieces_fit_sheet"], false);
     assert!(tight.join("pattern.svg").exists() && !tight.join("sheets").exists());
 }
+
+/// A target finer than `--work-faces` (a scan) is remeshed first: a 20 480-face sphere
+/// developed on about 2 000 even faces, the model written with those faces, every piece
+/// exact, the pattern the model at 1:1, the model near the sphere as given, and the
+/// report giving both face counts. A working size under the minimum is refused by name.
+#[test]
+fn a_fine_target_is_remeshed_to_its_working_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let sphere = sheetform::mesh::primitives::icosphere(50.0, 5);
+    let mut text = String::new();
+    for p in &sphere.positions {
+        text.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
+    }
+    for t in &sphere.triangles {
+        text.push_str(&format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1));
+    }
+    let path = dir.path().join("fine-sphere.obj");
+    std::fs::write(&path, text).unwrap();
+    let out = dir.path().join("out");
+    let o = sheetform(&[
+        "develop",
+        path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--work-faces",
+        "2000",
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let model = read_obj(&out.join("model.obj"));
+    let faces = model.faces.len();
+    assert!((1_500..=2_800).contains(&faces), "{faces} faces written");
+    let r = crate::common::report(&out);
+    assert_eq!(r["develop"]["target_face_count"], 20_480);
+    assert_eq!(r["develop"]["work_face_count"].as_u64().unwrap() as usize, faces);
+    let (defect, interior) = max_interior_defect(&model);
+    assert!(interior > 300, "{interior} interior vertices");
+    assert!(defect <= 1e-8, "angle defect {defect} rad inside a piece");
+    assert!(obj_isometry_error(&model) <= 1e-9, "{}", obj_isometry_error(&model));
+    let off = model
+        .v
+        .iter()
+        .map(|p| (nalgebra::Vector3::from(*p).norm() - 50.0).abs())
+        .fold(0.0, f64::max);
+    // Measured to the sphere as given (20 480 faces, chord error 0.02 mm), not to the
+    // working mesh: no vertex farther than the report's Hausdorff distance says.
+    let hausdorff = r["develop"]["hausdorff_mm"].as_f64().unwrap();
+    assert!(
+        off <= hausdorff + 0.05,
+        "{off} mm off the sphere, Hausdorff {hausdorff}"
+    );
+    assert!(
+        r["develop"]["hausdorff_relative"].as_f64().unwrap() <= 0.025,
+        "{}",
+        r["develop"]
+    );
+    let o = sheetform(&[
+        "develop",
+        path.to_str().unwrap(),
+        "-o",
+        dir.path().join("refused").to_str().unwrap(),
+        "--work-faces",
+        "10",
+    ]);
+    assert!(!o.status.success());
+    let message = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        message.contains("work_faces") || message.contains("work-faces"),
+        "{message}"
+    );
+}

@@ -231,6 +231,7 @@ def develop(
     cone_angle: float = 60.0,
     fixed: Optional[npt.ArrayLike] = None,
     max_distance: Optional[Union[float, str]] = None,
+    work_faces: Optional[int] = None,
     smoothness: float = 0.1,
     tolerance: float = 1e-10,
     max_iterations: int = 100,
@@ -243,7 +244,9 @@ def develop(
 ) -> Run:
     """Develops a target shape, as ``sheetform develop``: the nearest surface made of
     exactly developable pieces, unfolded exactly (``max_distance``: a length in ``unit``
-    or a percentage of the size, ``"0.5%"``)."""
+    or a percentage of the size, ``"0.5%"``; ``work_faces``, default 10 000: a finer
+    target is remeshed to about this many faces first, and ``source_vertices`` is -1
+    for the vertices the remeshing made)."""
 
 def pattern(
     vertices: npt.ArrayLike,

@@ -13,7 +13,8 @@ pub use sheetform_develop::{DevelopOptions, Developed, SegmentationOptions};
 use sheetform_flatten::ChartOptions;
 use sheetform_io::{colour_ramp, glb_vertex_colours, ply_vertex_colours, UpAxis};
 use sheetform_mesh::{
-    mesh_topology_with_edges, surface_distance, vertex_distances, SurfaceDistanceOptions, SurfaceIndex, TriangleMesh,
+    mesh_topology_with_edges, remesh_isotropic, surface_distance, vertex_distances, RemeshOptions,
+    SurfaceDistanceOptions, SurfaceIndex, TriangleMesh,
 };
 use sheetform_pattern::PatternError;
 
@@ -110,11 +111,26 @@ pub struct DevelopRunOptions {
     pub fixed_groups: Vec<String>,
     /// Vertices kept where they are (0-based indices), besides `fixed_groups`'.
     pub fixed_vertices: Vec<u32>,
+    /// Most faces develop works on: a target of more is remeshed first into about this
+    /// many well-shaped triangles ([`sheetform_mesh::remesh_isotropic`]; its boundary,
+    /// drawn seams and fixed regions kept vertex for vertex), and the result has them.
+    /// `None`: [`DEFAULT_WORK_FACES`].
+    pub work_faces: Option<usize>,
     /// How the developed pieces are unfolded and drawn: `flatten`'s options (the unit,
     /// the pattern, the name, the size). The layout is always exact charts cut along the
     /// seams only (`charts` and the chart options are set by `develop`).
     pub flatten: FlattenOptions,
 }
+
+/// Most faces develop works on unless told otherwise (`--work-faces`). Measured
+/// (docs/benchmarks.md, session 26) on a 100k-face koala scan: worked on at 3.6k, 9.2k
+/// and 18k faces it develops in 2.6, 5 and 32 s into 18, 15 and 52 pieces, 2.7 %, 2.9 %
+/// and 1.7 % of the diagonal from the scan: the solve's time grows much faster than the
+/// faces, and a finer working mesh is closer only with many more pieces.
+pub const DEFAULT_WORK_FACES: usize = 10_000;
+
+/// Fewest faces `--work-faces` accepts.
+pub const MIN_WORK_FACES: usize = 100;
 
 /// Pieces of the first attempt under a distance bound.
 const FIRST_PIECE_COUNT: usize = 4;
@@ -202,6 +218,60 @@ pub fn run_develop(
     let diagonal = (high - low).norm();
     let bound = options.max_distance.map(|b| b.in_model_units(diagonal));
     // The drawn seams are checked (and named when off the mesh) as seams of their own.
+    seam_pieces(&target, &table, &target.seam_edges)?;
+    let fixed = fixed_vertices(&target, &options.fixed_groups, &options.fixed_vertices)?;
+    // A target finer than the working size is remeshed first; the distances are to the
+    // target as read (`full`).
+    let work_faces = options.work_faces.unwrap_or(DEFAULT_WORK_FACES);
+    if work_faces < MIN_WORK_FACES {
+        return Err(PipelineError::Option {
+            option: "work_faces",
+            message: format!("must be at least {MIN_WORK_FACES} faces, got {work_faces}"),
+        });
+    }
+    let full = target;
+    // With a remeshed target, the target vertex each working vertex is (`u32::MAX` for
+    // a new one).
+    let mut target_vertex_of_work: Option<Vec<u32>> = None;
+    let (target, table, fixed) = if full.triangles.len() > work_faces {
+        context.progress("remeshing the target", 0.01);
+        let remeshed = remesh_isotropic(
+            &full,
+            &fixed,
+            &RemeshOptions {
+                face_count: work_faces,
+                ..Default::default()
+            },
+        );
+        let mut work_fixed = vec![
+            false;
+            if fixed.is_empty() {
+                0
+            } else {
+                remeshed.mesh.positions.len()
+            }
+        ];
+        let mut origin = vec![u32::MAX; remeshed.mesh.positions.len()];
+        for (v, &k) in remeshed.kept.iter().enumerate() {
+            if k != u32::MAX {
+                origin[k as usize] = v as u32;
+                if fixed.get(v) == Some(&true) {
+                    work_fixed[k as usize] = true;
+                }
+            }
+        }
+        target_vertex_of_work = Some(origin);
+        tracing::info!(
+            faces = full.triangles.len(),
+            work_faces = remeshed.mesh.triangles.len(),
+            edge_length = remeshed.edge_length,
+            "develop: the target remeshed to the working size"
+        );
+        let (_, table) = mesh_topology_with_edges(&remeshed.mesh);
+        (remeshed.mesh, table, work_fixed)
+    } else {
+        (full.clone(), table, fixed)
+    };
     let drawn = seam_pieces(&target, &table, &target.seam_edges)?;
     let mut hard = vec![false; table.len()];
     for &e in &drawn.seam_edges {
@@ -213,7 +283,6 @@ pub fn run_develop(
         }
         .into());
     }
-    let fixed = fixed_vertices(&target, &options.fixed_groups, &options.fixed_vertices)?;
     let attempt_with = |segmentation: &SegmentationOptions, progress: f64| -> Result<Attempt, PipelineError> {
         context.progress("finding the seams", progress);
         let (seams, segmentation) = match options.seams {
@@ -257,7 +326,7 @@ pub fn run_develop(
         let mut result = target.clone();
         result.positions.clone_from(&developed.positions);
         result.seam_edges = seams;
-        let distance = surface_distance(&result, &target, &SurfaceDistanceOptions::default());
+        let distance = surface_distance(&result, &full, &SurfaceDistanceOptions::default());
         Ok(Attempt {
             result,
             segmentation,
@@ -371,6 +440,11 @@ pub fn run_develop(
             other => break (true, other?),
         }
     };
+    if let Some(origin) = &target_vertex_of_work {
+        for v in &mut run.source_vertices {
+            *v = origin.get(*v as usize).copied().unwrap_or(u32::MAX);
+        }
+    }
     let Attempt {
         result,
         segmentation,
@@ -381,7 +455,7 @@ pub fn run_develop(
     } = best;
     // The distance colour map: each developed vertex's distance to the target, blue at
     // none, red at the largest (PLY with the value in mm per vertex, and GLB).
-    let distances = vertex_distances(&result, &SurfaceIndex::new(&target));
+    let distances = vertex_distances(&result, &SurfaceIndex::new(&full));
     let top = distances.iter().copied().filter(|d| d.is_finite()).fold(0.0, f64::max);
     let colours: Vec<[f32; 3]> = distances
         .iter()
@@ -440,6 +514,8 @@ pub fn run_develop(
         max_distance_mm: bound.map(|b| b * unit),
         attempt_count: attempts,
         fixed_vertex_count: fixed.iter().filter(|&&f| f).count(),
+        target_face_count: full.triangles.len(),
+        work_face_count: target.triangles.len(),
         pieces_fit_sheet: options.flatten.pattern.sheet.map(|_| fits_sheet),
     });
     let too_far = bound.is_some_and(|b| distance.hausdorff > b);
