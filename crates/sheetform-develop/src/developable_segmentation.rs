@@ -348,7 +348,11 @@ impl FaceGraph {
 /// Pieces start one per part the drawn seams leave; while the worst piece's RMS normal
 /// deviation is above the tolerance and the budget allows, a piece is seeded at the worst
 /// face of the piece with the largest area-weighted squared deviation (VSA's insertion),
-/// and the partition is refined again. Then pieces below the minimum area join the
+/// and the partition is refined again. When the budget is spent that way on a target
+/// without drawn seams, bands around each principal axis are tried too (see
+/// `bands_around`: the globe's or lamp shade's rings, which VSA's insertion from compact
+/// seeds does not find) and kept when their total squared deviation is smaller (a
+/// departure from both papers). Then pieces below the minimum area join the
 /// neighbour they share the longest seam with, and seams are straightened: a face with
 /// two or three neighbours in another piece moves there (removing a leaf never splits
 /// a piece), which removes the sawtooth a flooding leaves on a triangle mesh.
@@ -431,6 +435,33 @@ pub fn segment_developable(
         face_piece = flood(&graph, &seeds, Some(&proxies), options.compactness);
         proxies = fit_all(&graph, &face_piece, seeds.len());
     }
+    // A shape the budget does not fit within the tolerance (a sphere, a vase) may fit
+    // better in bands around an axis, as globes and lamp shades are made: kept when their
+    // normals lie closer to their cones than the pieces above do.
+    if seeds.len() >= options.max_pieces && parts_count(&mut parts, nf) == 1 && options.max_pieces >= 2 {
+        let squared = |face_piece: &[u32], proxies: &[ConeProxy]| -> f64 {
+            piece_errors(&graph, face_piece, proxies)
+                .iter()
+                .map(|e| e.squared)
+                .sum()
+        };
+        let mut best = squared(&face_piece, &proxies);
+        for axis in principal_axes(&graph) {
+            if cancelled() {
+                return Err(DevelopError::Cancelled);
+            }
+            let Some((banded, band_proxies)) = bands_around(&graph, axis, options.max_pieces) else {
+                continue;
+            };
+            let error = squared(&banded, &band_proxies);
+            tracing::debug!(error, best, "segmentation: bands around a principal axis");
+            if error < best {
+                best = error;
+                seeds = vec![0; band_proxies.len()];
+                face_piece = banded;
+            }
+        }
+    }
     let mut count = seeds.len();
     merge_small_pieces(&graph, &mut face_piece, &mut count, options.min_piece_area_fraction);
     straighten_seams(&graph, &mut face_piece, count);
@@ -473,6 +504,78 @@ pub fn segment_developable(
         proxies,
         seams,
     })
+}
+
+/// How many parts `parts` joins the `nf` faces into.
+fn parts_count(parts: &mut UnionFind, nf: usize) -> usize {
+    (0..nf).filter(|&f| parts.find(f as u32) as usize == f).count()
+}
+
+/// The principal axes of the surface: the eigenvectors of the area-weighted covariance
+/// of the face centroids (a surface of revolution's axis is one of them).
+fn principal_axes(graph: &FaceGraph) -> [Vec3; 3] {
+    let total = graph.total_area.max(f64::MIN_POSITIVE);
+    let centre: Vec3 = graph
+        .centroids
+        .iter()
+        .zip(&graph.areas)
+        .map(|(c, a)| c * *a)
+        .sum::<Vec3>()
+        / total;
+    let mut covariance = Matrix3::zeros();
+    for (c, a) in graph.centroids.iter().zip(&graph.areas) {
+        let d = c - centre;
+        covariance += a / total * d * d.transpose();
+    }
+    let eigen = covariance.symmetric_eigen();
+    [0, 1, 2].map(|k| eigen.eigenvectors.column(k).into_owned())
+}
+
+/// `count` pieces in bands around `axis`: band `i` starts as the cone whose normals
+/// make the angle `(i + ½) π / count` with the axis (caps at both ends, for a sphere the
+/// bands of equal latitude of a lamp shade or a globe cut in rings), seeded at its
+/// best-fitting face and grown by fit alone (no compactness: a band goes round), then
+/// refined by Lloyd iterations with the same cost. `None` when two bands would start from
+/// one face (a shape with too few slopes along this axis).
+fn bands_around(graph: &FaceGraph, axis: Vec3, count: usize) -> Option<(Vec<u32>, Vec<ConeProxy>)> {
+    let mut proxies: Vec<ConeProxy> = (0..count)
+        .map(|i| ConeProxy {
+            axis,
+            cosine: ((i as f64 + 0.5) * std::f64::consts::PI / count as f64).cos(),
+        })
+        .collect();
+    let mut seeds: Vec<usize> = proxies
+        .iter()
+        .map(|proxy| {
+            (0..graph.areas.len())
+                .filter(|&f| graph.areas[f] > 0.0)
+                .min_by(|&f, &g| {
+                    proxy
+                        .deviation(&graph.normals[f])
+                        .total_cmp(&proxy.deviation(&graph.normals[g]))
+                })
+                .unwrap_or(0)
+        })
+        .collect();
+    let mut distinct = seeds.clone();
+    distinct.sort_unstable();
+    distinct.dedup();
+    if distinct.len() != seeds.len() {
+        return None;
+    }
+    let mut face_piece = flood(graph, &seeds, Some(&proxies), 0.0);
+    proxies = fit_all(graph, &face_piece, count);
+    for _ in 0..LLOYD_ITERATIONS {
+        seeds = best_seeds(graph, &face_piece, &proxies, 0.0);
+        let next = flood(graph, &seeds, Some(&proxies), 0.0);
+        let changed = next != face_piece;
+        face_piece = next;
+        proxies = fit_all(graph, &face_piece, count);
+        if !changed {
+            break;
+        }
+    }
+    Some((face_piece, proxies))
 }
 
 /// Each piece's total absolute angle defect over the vertices inside it (all of whose
@@ -855,6 +958,25 @@ mod tests {
                 "seam off the rims at {z:?}"
             );
         }
+    }
+
+    /// A sphere the budget of 12 cannot fit within the tolerance is cut in bands around
+    /// one axis, as a globe in rings or a lamp shade: every piece's cone has that axis,
+    /// and the normals lie closer to them (4.7° RMS is the bound of 12 bands of equal
+    /// latitude, ±7.5° each) than the patches VSA's insertion leaves (8.0° on a UV sphere).
+    #[test]
+    fn a_sphere_is_cut_in_bands_around_an_axis() {
+        let sphere = sheetform_mesh::primitives::icosphere(50.0, 3);
+        let table = EdgeTable::new(&sphere.triangles, sphere.positions.len());
+        let hard = vec![false; table.len()];
+        let s = segment_developable(&sphere, &table, &hard, &SegmentationOptions::default(), None).unwrap();
+        assert_eq!(s.piece_count, 12);
+        let axis = s.proxies[0].axis;
+        for proxy in &s.proxies {
+            assert!(proxy.axis.dot(&axis).abs() > 0.99, "{:?} against {axis:?}", proxy.axis);
+        }
+        let rms = s.normal_deviation_rms.to_degrees();
+        assert!(rms < 6.0, "{rms}° RMS");
     }
 
     /// A developable whose Gauss image is a curve but no circle (a cone over a wavy

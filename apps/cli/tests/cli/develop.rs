@@ -202,14 +202,18 @@ fn a_closed_sphere_gets_automatic_seams_and_exact_pieces() {
     assert!(interior > 500, "{interior} interior vertices");
     assert!(defect <= 1e-8, "angle defect {defect} rad inside a piece");
     assert!(obj_isometry_error(&model) <= 1e-9, "{}", obj_isometry_error(&model));
-    // Within 6 % of the radius of the radius-50 sphere (2.3 mm measured with the default
-    // 12 pieces; globe gores drawn by hand reach R (1 − cos 15°) = 1.7 mm).
+    // Globe gores or better (the target): within R (1 − cos 15°) = 1.70 mm of
+    // the radius-50 sphere, the farthest 12 globe gores are. The default 12 pieces are
+    // bands of latitude: 0.38 mm measured (2.3 mm before, in patches).
     let off = model
         .v
         .iter()
         .map(|p| (nalgebra::Vector3::from(*p).norm() - 50.0).abs())
         .fold(0.0, f64::max);
-    assert!(off <= 3.0, "{off} mm off the sphere");
+    assert!(
+        off <= 50.0 * (1.0 - 15f64.to_radians().cos()),
+        "{off} mm off the sphere"
+    );
     let report: serde_json::Value = crate::common::report(&out);
     let pieces = report["develop"]["piece_count"].as_u64().unwrap();
     assert!((2..=12).contains(&pieces), "{pieces} pieces");
@@ -245,7 +249,7 @@ fn a_closed_sphere_gets_automatic_seams_and_exact_pieces() {
     }
     let hausdorff = report["develop"]["hausdorff_mm"].as_f64().unwrap();
     assert!(
-        largest.0 > 0.5 && largest.0 <= hausdorff + 1e-9,
+        largest.0 > 0.2 && largest.0 <= hausdorff + 1e-9,
         "{} vs {hausdorff}",
         largest.0
     );
