@@ -387,6 +387,7 @@ pub fn segment_developable(
             seeds.push(f);
         }
     }
+    let part_count = seeds.len();
     let mut face_piece = flood(&graph, &seeds, None, options.compactness);
     let mut proxies = fit_all(&graph, &face_piece, seeds.len());
     loop {
@@ -438,7 +439,8 @@ pub fn segment_developable(
     // A shape the budget does not fit within the tolerance (a sphere, a vase) may fit
     // better in bands around an axis, as globes and lamp shades are made: kept when their
     // normals lie closer to their cones than the pieces above do.
-    if seeds.len() >= options.max_pieces && parts_count(&mut parts, nf) == 1 && options.max_pieces >= 2 {
+    let mut count = seeds.len();
+    if count >= options.max_pieces && part_count == 1 && options.max_pieces >= 2 {
         let squared = |face_piece: &[u32], proxies: &[ConeProxy]| -> f64 {
             piece_errors(&graph, face_piece, proxies)
                 .iter()
@@ -457,12 +459,11 @@ pub fn segment_developable(
             tracing::debug!(error, best, "segmentation: bands around a principal axis");
             if error < best {
                 best = error;
-                seeds = vec![0; band_proxies.len()];
+                count = band_proxies.len();
                 face_piece = banded;
             }
         }
     }
-    let mut count = seeds.len();
     merge_small_pieces(&graph, &mut face_piece, &mut count, options.min_piece_area_fraction);
     straighten_seams(&graph, &mut face_piece, count);
     let proxies = fit_all(&graph, &face_piece, count);
@@ -504,11 +505,6 @@ pub fn segment_developable(
         proxies,
         seams,
     })
-}
-
-/// How many parts `parts` joins the `nf` faces into.
-fn parts_count(parts: &mut UnionFind, nf: usize) -> usize {
-    (0..nf).filter(|&f| parts.find(f as u32) as usize == f).count()
 }
 
 /// The principal axes of the surface: the eigenvectors of the area-weighted covariance

@@ -1,7 +1,7 @@
 //! Isotropic remeshing to a coarser working resolution: a fine target (a 100k-face scan)
 //! turned into well-shaped triangles of about one edge length, on the same surface.
 
-use crate::{SurfaceIndex, TriangleMesh};
+use crate::{EdgeTable, SurfaceIndex, TriangleMesh};
 use nalgebra::Vector3;
 use rustc_hash::FxHashSet;
 use std::cmp::Reverse;
@@ -124,20 +124,10 @@ impl Work {
                 faces_of[v as usize].push(f as u32);
             }
         }
-        // Boundary vertices: ends of an edge with one face (a directed edge without its
-        // reverse).
-        let mut directed = FxHashSet::default();
-        for t in &mesh.triangles {
-            for k in 0..3 {
-                directed.insert([t[k], t[(k + 1) % 3]]);
-            }
-        }
         let mut boundary = vec![false; nv];
-        for &[a, b] in &directed {
-            if !directed.contains(&[b, a]) {
-                boundary[a as usize] = true;
-                boundary[b as usize] = true;
-            }
+        for [a, b] in EdgeTable::new(&mesh.triangles, nv).boundary_edges() {
+            boundary[a as usize] = true;
+            boundary[b as usize] = true;
         }
         let mut fixed: Vec<bool> = (0..nv)
             .map(|v| locked.get(v).copied().unwrap_or(false) || boundary[v])

@@ -435,3 +435,20 @@ pub(crate) fn grid_obj_in_groups(
     }
     obj
 }
+
+/// `mesh` as an OBJ file (positions, faces, the seams as `l` lines) in `dir`.
+pub(crate) fn write_obj(dir: &Path, name: &str, mesh: &sheetform::mesh::TriangleMesh) -> PathBuf {
+    let mut text = String::new();
+    for p in &mesh.positions {
+        text += &format!("v {} {} {}\n", p.x, p.y, p.z);
+    }
+    for t in &mesh.triangles {
+        text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    for [a, b] in &mesh.seam_edges {
+        text += &format!("l {} {}\n", a + 1, b + 1);
+    }
+    let path = dir.join(format!("{name}.obj"));
+    std::fs::write(&path, text).unwrap();
+    path
+}

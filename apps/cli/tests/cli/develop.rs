@@ -3,8 +3,16 @@
 //! a piece of the pattern (an interior vertex of the `vt` mesh) has 3D angle sum 2π, the
 //! pattern is the model at 1:1, and the model stays near the target.
 
-use crate::common::{example_mesh, grid_obj_in_groups, obj_isometry_error, read_obj, sheetform, Obj};
+use crate::common::{example_mesh, grid_obj_in_groups, obj_isometry_error, read_obj, sheetform, write_obj, Obj};
 use std::collections::HashMap;
+
+/// The largest distance of the model's vertices from the sphere of `radius` about the
+/// origin.
+fn farthest_from_sphere(o: &Obj, radius: f64) -> f64 {
+    o.v.iter()
+        .map(|p| (nalgebra::Vector3::from(*p).norm() - radius).abs())
+        .fold(0.0, f64::max)
+}
 
 /// The largest |2π − Σ θ| over the pattern's interior vertices (vt indices whose every
 /// vt edge has a face on both sides), angles measured on the 3D positions.
@@ -53,11 +61,7 @@ fn a_sphere_with_gore_seams_becomes_exact_globe_gores() {
     assert!(obj_isometry_error(&model) <= 1e-9, "{}", obj_isometry_error(&model));
     // Globe gores of 30°: within R (1 − cos 15°) of the radius-50 sphere.
     let bound = 50.0 * (1.0 - 15f64.to_radians().cos());
-    let off = model
-        .v
-        .iter()
-        .map(|p| (nalgebra::Vector3::from(*p).norm() - 50.0).abs())
-        .fold(0.0, f64::max);
+    let off = farthest_from_sphere(&model, 50.0);
     assert!(off <= bound, "{off} > {bound}");
     let report: serde_json::Value = crate::common::report(&out);
     assert_eq!(report["command"], "develop");
@@ -205,11 +209,7 @@ fn a_closed_sphere_gets_automatic_seams_and_exact_pieces() {
     // Globe gores or better (the target): within R (1 − cos 15°) = 1.70 mm of
     // the radius-50 sphere, the farthest 12 globe gores are. The default 12 pieces are
     // bands of latitude: 0.38 mm measured (2.3 mm before, in patches).
-    let off = model
-        .v
-        .iter()
-        .map(|p| (nalgebra::Vector3::from(*p).norm() - 50.0).abs())
-        .fold(0.0, f64::max);
+    let off = farthest_from_sphere(&model, 50.0);
     assert!(
         off <= 50.0 * (1.0 - 15f64.to_radians().cos()),
         "{off} mm off the sphere"
@@ -644,15 +644,7 @@ fn pieces_are_added_until_they_fit_the_sheet() {
 fn a_fine_target_is_remeshed_to_its_working_size() {
     let dir = tempfile::tempdir().unwrap();
     let sphere = sheetform::mesh::primitives::icosphere(50.0, 5);
-    let mut text = String::new();
-    for p in &sphere.positions {
-        text.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
-    }
-    for t in &sphere.triangles {
-        text.push_str(&format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1));
-    }
-    let path = dir.path().join("fine-sphere.obj");
-    std::fs::write(&path, text).unwrap();
+    let path = write_obj(dir.path(), "fine-sphere", &sphere);
     let out = dir.path().join("out");
     let o = sheetform(&[
         "develop",
@@ -674,11 +666,7 @@ fn a_fine_target_is_remeshed_to_its_working_size() {
     assert!(interior > 300, "{interior} interior vertices");
     assert!(defect <= 1e-8, "angle defect {defect} rad inside a piece");
     assert!(obj_isometry_error(&model) <= 1e-9, "{}", obj_isometry_error(&model));
-    let off = model
-        .v
-        .iter()
-        .map(|p| (nalgebra::Vector3::from(*p).norm() - 50.0).abs())
-        .fold(0.0, f64::max);
+    let off = farthest_from_sphere(&model, 50.0);
     // Measured to the sphere as given (20 480 faces, chord error 0.02 mm), not to the
     // working mesh: no vertex farther than the report's Hausdorff distance says.
     let hausdorff = r["develop"]["hausdorff_mm"].as_f64().unwrap();

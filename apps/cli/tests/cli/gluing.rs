@@ -2,23 +2,10 @@
 //! outside reader (`tools/pattern_audit.py`), never on the report's own counts; the
 //! report's figures are then compared with what the files show.
 
-use crate::common::{example_mesh, pattern_audit, report, sheetform};
+use crate::common::{example_mesh, pattern_audit, report, sheetform, write_obj};
 use serde_json::Value;
-use sheetform::mesh::{primitives, TriangleMesh};
+use sheetform::mesh::primitives;
 use std::path::{Path, PathBuf};
-
-fn write_obj(dir: &Path, name: &str, mesh: &TriangleMesh) -> PathBuf {
-    let mut text = String::new();
-    for p in &mesh.positions {
-        text += &format!("v {} {} {}\n", p.x, p.y, p.z);
-    }
-    for t in &mesh.triangles {
-        text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
-    }
-    let path = dir.join(format!("{name}.obj"));
-    std::fs::write(&path, text).unwrap();
-    path
-}
 
 fn count(v: &Value, key: &str) -> u64 {
     v[key].as_u64().unwrap_or_else(|| panic!("{key} missing in {v}"))

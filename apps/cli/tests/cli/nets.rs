@@ -4,27 +4,10 @@
 
 use crate::common::{
     cut_intersections, ezdxf_cut, obj_isometry_error, read_obj, report, sheetform, svg_cut_loops,
-    svg_labels_over_lines, validate_glb,
+    svg_labels_over_lines, validate_glb, write_obj,
 };
-use sheetform::mesh::{primitives, TriangleMesh};
-use std::path::{Path, PathBuf};
-
-/// `mesh` as an OBJ file (positions, faces, the seams as `l` lines) in `dir`.
-fn write_obj(dir: &Path, name: &str, mesh: &TriangleMesh) -> PathBuf {
-    let mut text = String::new();
-    for p in &mesh.positions {
-        text += &format!("v {} {} {}\n", p.x, p.y, p.z);
-    }
-    for t in &mesh.triangles {
-        text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
-    }
-    for [a, b] in &mesh.seam_edges {
-        text += &format!("l {} {}\n", a + 1, b + 1);
-    }
-    let path = dir.join(format!("{name}.obj"));
-    std::fs::write(&path, text).unwrap();
-    path
-}
+use sheetform::mesh::primitives;
+use std::path::Path;
 
 fn flatten(mesh: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
     let mut args = vec!["flatten", mesh.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"];

@@ -17,6 +17,7 @@ use sheetform_mesh::{
     SurfaceDistanceOptions, SurfaceIndex, TriangleMesh,
 };
 use sheetform_pattern::PatternError;
+use std::borrow::Cow;
 
 /// Where `develop` cuts the target.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
@@ -124,9 +125,9 @@ pub struct DevelopRunOptions {
 
 /// Most faces develop works on unless told otherwise (`--work-faces`). Measured
 /// (docs/benchmarks.md, session 26) on a 100k-face koala scan: worked on at 3.6k, 9.2k
-/// and 18k faces it develops in 2.6, 5 and 32 s into 18, 15 and 52 pieces, 2.7 %, 2.9 %
-/// and 1.7 % of the diagonal from the scan: the solve's time grows much faster than the
-/// faces, and a finer working mesh is closer only with many more pieces.
+/// and 18k faces it develops in 2.9, 4.4 and 27 s into 12, 15 and 50 pieces, 2.6 %,
+/// 2.9 % and 1.9 % of the diagonal from the scan: the solve's time grows much faster than
+/// the faces, and a finer working mesh is closer only with many more pieces.
 pub const DEFAULT_WORK_FACES: usize = 10_000;
 
 /// Fewest faces `--work-faces` accepts.
@@ -217,8 +218,6 @@ pub fn run_develop(
     );
     let diagonal = (high - low).norm();
     let bound = options.max_distance.map(|b| b.in_model_units(diagonal));
-    // The drawn seams are checked (and named when off the mesh) as seams of their own.
-    seam_pieces(&target, &table, &target.seam_edges)?;
     let fixed = fixed_vertices(&target, &options.fixed_groups, &options.fixed_vertices)?;
     // A target finer than the working size is remeshed first; the distances are to the
     // target as read (`full`).
@@ -234,6 +233,9 @@ pub fn run_develop(
     // a new one).
     let mut target_vertex_of_work: Option<Vec<u32>> = None;
     let (target, table, fixed) = if full.triangles.len() > work_faces {
+        // The drawn seams are checked on the target as read, so that a seam off its
+        // edges is named by the user's vertex numbers.
+        seam_pieces(&full, &table, &full.seam_edges)?;
         context.progress("remeshing the target", 0.01);
         let remeshed = remesh_isotropic(
             &full,
@@ -243,23 +245,18 @@ pub fn run_develop(
                 ..Default::default()
             },
         );
-        let mut work_fixed = vec![
-            false;
-            if fixed.is_empty() {
-                0
-            } else {
-                remeshed.mesh.positions.len()
-            }
-        ];
         let mut origin = vec![u32::MAX; remeshed.mesh.positions.len()];
         for (v, &k) in remeshed.kept.iter().enumerate() {
             if k != u32::MAX {
                 origin[k as usize] = v as u32;
-                if fixed.get(v) == Some(&true) {
-                    work_fixed[k as usize] = true;
-                }
             }
         }
+        // Fixed vertices are kept by the remeshing: their flags follow them.
+        let work_fixed: Vec<bool> = if fixed.is_empty() {
+            Vec::new()
+        } else {
+            origin.iter().map(|&v| v != u32::MAX && fixed[v as usize]).collect()
+        };
         target_vertex_of_work = Some(origin);
         tracing::info!(
             faces = full.triangles.len(),
@@ -268,10 +265,11 @@ pub fn run_develop(
             "develop: the target remeshed to the working size"
         );
         let (_, table) = mesh_topology_with_edges(&remeshed.mesh);
-        (remeshed.mesh, table, work_fixed)
+        (Cow::Owned(remeshed.mesh), table, work_fixed)
     } else {
-        (full.clone(), table, fixed)
+        (Cow::Borrowed(&full), table, fixed)
     };
+    // The drawn seams are checked (and named when off the mesh) as seams of their own.
     let drawn = seam_pieces(&target, &table, &target.seam_edges)?;
     let mut hard = vec![false; table.len()];
     for &e in &drawn.seam_edges {
@@ -323,7 +321,7 @@ pub fn run_develop(
             steps += developed.iterations;
         }
         developed.iterations = steps;
-        let mut result = target.clone();
+        let mut result = target.as_ref().clone();
         result.positions.clone_from(&developed.positions);
         result.seam_edges = seams;
         let distance = surface_distance(&result, &full, &SurfaceDistanceOptions::default());
