@@ -486,6 +486,9 @@ def build(spec, variant):
     ann = {
         "name": spec["title"] if spec.get("single") else f"{spec['title']} ({variant})",
         "image": {"path": img_name, "width": IMG_W, "height": IMG_H},
+        # The camera a perspective photo was taken with (the principal point is the
+        # image centre, the reader's default).
+        **({"camera": {"projection": "perspective", "focal_length_px": cam.f}} if persp else {}),
         "units": "mm",
         "curves": [{"name": c["name"], "kind": c["kind"], "closed": c["closed"], "control_points": pts}
                    for c, pts in zip(m.curves, images)],
@@ -724,7 +727,8 @@ Variants:
 
 - `*-ortho.json`: orthographic projection of the 3D control points (exact).
 - `*-perspective.json`: perspective camera (50 deg horizontal field of view, f = 514.7 px,
-  scale 1 at the object's centre depth); silhouettes are those of that camera; the
+  scale 1 at the object's centre depth), given to the reconstruction in the annotation's
+  `camera` (`focal_length_px`); silhouettes are those of that camera; the
   projected control points make the curves only approximately the images of the 3D curves.
 - `*-noisy.json`: the orthographic annotation with Gaussian noise (sigma 1 px, fixed
   seeds) on the control points, keeping C1 joins collinear and silhouettes straight.

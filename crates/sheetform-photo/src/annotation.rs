@@ -38,6 +38,10 @@ pub struct PhotoAnnotation {
     pub name: Option<String>,
     /// The photograph the curves were traced over.
     pub image: ImageSpec,
+    /// The camera that took it. Default: orthographic (the paper's assumption); a phone
+    /// or camera photo is a perspective view.
+    #[serde(default, skip_serializing_if = "CameraSpec::is_default")]
+    pub camera: CameraSpec,
     /// Unit of `true_size.length` and of every output length. Default `mm`.
     #[serde(default)]
     #[schemars(with = "String")]
@@ -78,6 +82,61 @@ pub struct ImageSpec {
     pub width: u32,
     /// Height in pixels (must match the file).
     pub height: u32,
+}
+
+/// How the photograph projects the object.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Projection {
+    /// Parallel projection (a telephoto view from far away; the paper's assumption).
+    #[default]
+    Orthographic,
+    /// A pinhole camera: a phone or camera photo.
+    Perspective,
+}
+
+/// Smallest focal length, in image diagonals (a diagonal field of view of 157°).
+pub const MIN_FOCAL_LENGTH_DIAGONALS: f64 = 0.1;
+/// Largest focal length, in image diagonals (a diagonal field of view of 0.57°: beyond it
+/// the view is orthographic to a thousandth).
+pub const MAX_FOCAL_LENGTH_DIAGONALS: f64 = 100.0;
+
+/// The camera of the photograph. A perspective camera needs its focal length, in pixels
+/// or as the 35 mm equivalent a phone writes in the photo's EXIF
+/// (`FocalLengthIn35mmFilm`, e.g. 26 mm for a phone's main camera).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CameraSpec {
+    /// `orthographic` (default) or `perspective`.
+    #[serde(default)]
+    pub projection: Projection,
+    /// Focal length in pixels of this image (perspective only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub focal_length_px: Option<f64>,
+    /// Focal length in mm, 35 mm film equivalent (perspective only): the image's
+    /// diagonal is seen as a 43.27 mm film diagonal.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub focal_length_35mm: Option<f64>,
+    /// Where the optical axis meets the image (pixels). Default: the image's centre
+    /// (right for any uncropped photo).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub principal_point: Option<ImagePoint>,
+}
+
+impl CameraSpec {
+    /// Whether every field has its default (the orthographic camera).
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// The focal length in pixels for a `width × height` image (`None` for an
+    /// orthographic camera or when none is given).
+    pub fn focal_length(&self, width: u32, height: u32) -> Option<f64> {
+        let diagonal = f64::from(width).hypot(f64::from(height));
+        self.focal_length_px.or(self
+            .focal_length_35mm
+            .map(|f| f * diagonal / crate::camera::FILM_35MM_DIAGONAL_MM))
+    }
 }
 
 /// What a traced curve is (§4).
@@ -263,6 +322,74 @@ pub struct AnalysisLengths {
 }
 
 impl PhotoAnnotation {
+    /// Checks `camera` for an image of diagonal `d` pixels.
+    fn validate_camera(&self, d: f64) -> Result<(), PhotoError> {
+        let c = &self.camera;
+        match c.projection {
+            Projection::Orthographic => {
+                for (field, given) in [
+                    ("camera.focal_length_px", c.focal_length_px.is_some()),
+                    ("camera.focal_length_35mm", c.focal_length_35mm.is_some()),
+                    ("camera.principal_point", c.principal_point.is_some()),
+                ] {
+                    if given {
+                        return Err(PhotoError::field(
+                            field,
+                            "is for a perspective camera: set camera.projection to \"perspective\"",
+                        ));
+                    }
+                }
+            }
+            Projection::Perspective => {
+                if c.focal_length_px.is_some() && c.focal_length_35mm.is_some() {
+                    return Err(PhotoError::field(
+                        "camera",
+                        "give the focal length once: focal_length_px or focal_length_35mm",
+                    ));
+                }
+                let (lo, hi) = (MIN_FOCAL_LENGTH_DIAGONALS * d, MAX_FOCAL_LENGTH_DIAGONALS * d);
+                let mm = |px: f64| px / d * crate::camera::FILM_35MM_DIAGONAL_MM;
+                let (field, value, bounds, unit) = match (c.focal_length_px, c.focal_length_35mm) {
+                    (Some(f), _) => ("camera.focal_length_px", f, [lo, hi], "px for this image"),
+                    (None, Some(f)) => ("camera.focal_length_35mm", f, [mm(lo), mm(hi)], "mm"),
+                    (None, None) => {
+                        return Err(PhotoError::field(
+                            "camera",
+                            "a perspective camera needs its focal length: focal_length_35mm (the photo's EXIF \
+                             FocalLengthIn35mmFilm, about 26 mm for a phone's main camera) or focal_length_px",
+                        ))
+                    }
+                };
+                if !(value.is_finite() && value >= bounds[0] && value <= bounds[1]) {
+                    return Err(PhotoError::field(
+                        field,
+                        format!(
+                            "must be within {} … {} {unit} (got {})",
+                            short_number(bounds[0]),
+                            short_number(bounds[1]),
+                            refused_number(value, &bounds)
+                        ),
+                    ));
+                }
+                if let Some(p) = c.principal_point {
+                    let (w, h) = (f64::from(self.image.width), f64::from(self.image.height));
+                    if !(p[0].is_finite() && p[1].is_finite() && (0.0..=w).contains(&p[0]) && (0.0..=h).contains(&p[1]))
+                    {
+                        return Err(PhotoError::field(
+                            "camera.principal_point",
+                            format!(
+                                "must lie in the {w} × {h} image (got [{}, {}])",
+                                short_number(p[0]),
+                                short_number(p[1])
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// Parses an annotation from JSON text and validates it ([`PhotoAnnotation::validate`]).
     ///
     /// # Errors
@@ -465,6 +592,7 @@ impl PhotoAnnotation {
         for (e, &p) in self.symmetry.points.iter().enumerate() {
             check_point(format!("symmetry.points[{e}]"), p)?;
         }
+        self.validate_camera(d)?;
         check_point("true_size.from".into(), self.true_size.from)?;
         check_point("true_size.to".into(), self.true_size.to)?;
         let t = &self.true_size;

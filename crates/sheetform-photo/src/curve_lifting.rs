@@ -4,7 +4,9 @@
 //! Unknowns: every network control point `q = (X, Y, Z)` (model frame, pixels). With
 //! `q̄` the traced 2D point, each term is a sum of squared linear residuals:
 //!
-//! - `E_proj = |q|_{z=0} − q̄|²` per control point;
+//! - `E_proj = |q_xy + a Z − q̄|²` per control point, `a = (q̄ − c)/f` the slope of its
+//!   ray through a perspective camera ([`crate::Camera`]), `a = 0` under the paper's
+//!   orthographic one (`E_proj = |q|_{z=0} − q̄|²`);
 //! - `E_minvar = |φ0 q0 + φ1 q1 + φ2 q2 − q3|²` for the four points of every segment and
 //!   the four handles `b1ᵏ, b2ᵏ, b1ᵏ⁺¹, b2ᵏ⁺¹` around every join, `φ` the barycentric
 //!   coordinates of `q̄3` in the triangle `q̄0 q̄1 q̄2` (skipped when that is degenerate);
@@ -19,6 +21,13 @@
 //!
 //! `E = ω1 E_proj + ω2 E_minvar + ω3 E_col + ω4 E_foreshort + ω5 E_sym + ω6 E_develop` with
 //! the paper's `ω = (1, 0.1, 1, 1e-8, 1, 1)` by default (§6.2).
+//!
+//! **Perspective** (beyond the paper): the barycentric coordinates `φ` of the image are
+//! not those of the 3D points. If `P₃ = Σ φᵢ Pᵢ` in 3D, its image has the coordinates
+//! `μᵢ = φᵢ wᵢ / w₃` with `w` the perspective divisors, so the 3D coordinates are
+//! `φᵢ = μᵢ w₃ / wᵢ` (normalised to sum 1). `E_minvar`, `E_col` and `E_develop` take them
+//! with the divisors of a previous solution (`depths`; all 1 for the first solve and for
+//! an orthographic camera); [`crate::reconstruct`] solves again until the depths settle.
 //!
 //! Departures from the paper: (1) the normal equations `AᵀA q = Aᵀb` are solved by a
 //! sparse Cholesky factorisation (faer) instead of a dense SVD; rank deficiency (a curve
@@ -105,6 +114,22 @@ pub fn place_image(network: &CurveNetwork, place: CurvePoint) -> Vec2 {
     cubic::point(&network.control_points(place.segment as usize), place.t)
 }
 
+/// The 3D affine coordinates with image coordinates `mu` (summing to 1) of points with
+/// perspective divisors `divisors` (the last one the combined point's): `μᵢ w / wᵢ`,
+/// normalised (the image coordinates themselves for equal divisors).
+fn corrected<const N: usize>(mu: [f64; N], divisors: [f64; N], combined: f64) -> [f64; N] {
+    let mut phi: [f64; N] = std::array::from_fn(|i| mu[i] * combined / divisors[i]);
+    let sum: f64 = phi.iter().sum();
+    if sum.abs() > 1e-9 {
+        for v in &mut phi {
+            *v /= sum;
+        }
+        phi
+    } else {
+        mu
+    }
+}
+
 /// Barycentric coordinates of `p` in triangle `a b c` (`None` if degenerate).
 fn barycentric(a: Vec2, b: Vec2, c: Vec2, p: Vec2) -> Option<[f64; 3]> {
     let cross = |u: Vec2, v: Vec2| u.x * v.y - u.y * v.x;
@@ -138,23 +163,41 @@ fn push_vector_rows(rows: &mut Vec<EnergyRow>, term: EnergyTerm, weight: f64, co
     }
 }
 
-/// Assembles the energy of §6.1.
+/// Assembles the energy of §6.1 for the camera of `plane`. `depths` are the depths `Z`
+/// of a previous solution at the network's points (empty: all 0), for the perspective
+/// correction of the barycentric coordinates.
 pub fn assemble_energy(
     network: &CurveNetwork,
     strips: &[RuledStrip],
     pairs: &[SymmetricPair],
     plane: &SymmetryPlane,
     weights: &EnergyWeights,
+    depths: &[f64],
 ) -> Energy {
     let mut rows: Vec<EnergyRow> = Vec::new();
     let q = &network.points;
+    let camera = &plane.camera;
+    let divisor = |i: u32| camera.divisor(depths.get(i as usize).copied().unwrap_or(0.0));
+    let place_divisor = |place: CurvePoint| {
+        let w = place_weights(network, place);
+        camera.divisor(
+            w.iter()
+                .map(|&(i, b)| b * depths.get(i as usize).copied().unwrap_or(0.0))
+                .sum(),
+        )
+    };
     // E_proj.
     let w1 = weights.projection.sqrt();
     for (i, p) in q.iter().enumerate() {
+        let slope = camera.ray_slope(*p);
         for axis in 0..2 {
+            let mut coefficients = vec![(3 * i as u32 + axis, w1)];
+            if slope[axis as usize] != 0.0 {
+                coefficients.push((3 * i as u32 + 2, w1 * slope[axis as usize]));
+            }
             rows.push(EnergyRow {
                 term: EnergyTerm::Projection,
-                coefficients: vec![(3 * i as u32 + axis, w1)],
+                coefficients,
                 rhs: w1 * p[axis as usize],
             });
         }
@@ -162,7 +205,8 @@ pub fn assemble_energy(
     // Quadruples and triplets along every curve.
     let minvar = |rows: &mut Vec<EnergyRow>, ids: [u32; 4]| {
         let [a, b, c, d] = ids.map(|i| q[i as usize]);
-        if let Some(phi) = barycentric(a, b, c, d) {
+        if let Some(mu) = barycentric(a, b, c, d) {
+            let phi = corrected(mu, [divisor(ids[0]), divisor(ids[1]), divisor(ids[2])], divisor(ids[3]));
             let combo = [(ids[0], phi[0]), (ids[1], phi[1]), (ids[2], phi[2]), (ids[3], -1.0)];
             push_vector_rows(
                 rows,
@@ -185,7 +229,12 @@ pub fn assemble_energy(
             return;
         }
         let delta = (r1 - r0).dot(&span) / l2;
-        let combo = [(ids[0], 1.0 - delta), (ids[2], delta), (ids[1], -1.0)];
+        let [phi0, phi2] = corrected(
+            [1.0 - delta, delta],
+            [divisor(ids[0]), divisor(ids[2])],
+            divisor(ids[1]),
+        );
+        let combo = [(ids[0], phi0), (ids[2], phi2), (ids[1], -1.0)];
         push_vector_rows(
             rows,
             EnergyTerm::Collinearity,
@@ -244,9 +293,14 @@ pub fn assemble_energy(
             let [pi, pj] = strip.ends(i);
             let [pi1, pj1] = strip.ends(i + 1);
             let img = |p| place_image(network, p);
-            let Some(phi) = barycentric(img(pi), img(pi1), img(pj), img(pj1)) else {
+            let Some(mu) = barycentric(img(pi), img(pi1), img(pj), img(pj1)) else {
                 continue;
             };
+            let phi = corrected(
+                mu,
+                [place_divisor(pi), place_divisor(pi1), place_divisor(pj)],
+                place_divisor(pj1),
+            );
             let scale = 1.0 / (1.0 + phi.iter().map(|v| v * v).sum::<f64>()).sqrt();
             let mut combo: Vec<(u32, f64)> = Vec::with_capacity(16);
             for (place, c) in [(pi, phi[0]), (pi1, phi[1]), (pj, phi[2]), (pj1, -1.0)] {
@@ -319,9 +373,17 @@ pub fn solve_energy(energy: &Energy, priors: &[&[f64]]) -> Result<Vec<Vec<f64>>,
         .collect()
 }
 
-/// The prior of the Tikhonov term: the traced points at depth 0.
-pub fn image_prior(network: &CurveNetwork) -> Vec<f64> {
-    network.points.iter().flat_map(|p| [p.x, p.y, 0.0]).collect()
+/// The prior of the Tikhonov term: the traced points at depth `depth` on their rays
+/// through `camera` (0: the points as traced).
+pub fn image_prior(network: &CurveNetwork, camera: &crate::Camera, depth: f64) -> Vec<f64> {
+    network
+        .points
+        .iter()
+        .flat_map(|&p| {
+            let q = camera.point_at_depth(p, depth);
+            [q.x, q.y, q.z]
+        })
+        .collect()
 }
 
 #[cfg(test)]

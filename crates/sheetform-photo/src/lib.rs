@@ -13,6 +13,7 @@
 //! | samples along the curves | `curve_samples.rs` | §5.2, §5.3 |
 //! | rulings by dynamic time warping | `ruling_propagation.rs` | §5.2, Eq. 2 |
 //! | ruling ends at parallel tangents | `ruling_alignment.rs` | §5.2 |
+//! | orthographic or perspective camera | `camera.rs` | beyond §9 (Fig. 14) |
 //! | symmetry plane, mirror-pair relation | `symmetry_plane.rs` | §6.1 |
 //! | symmetric correspondences | `symmetric_correspondences.rs` | §5.3 |
 //! | the six energy terms, sparse solve | `curve_lifting.rs` | §6, Eq. 3–4 |
@@ -26,6 +27,7 @@
 //! (`sheetform::pipeline::run_photo`).
 
 mod annotation;
+mod camera;
 pub mod cubic;
 mod curve_lifting;
 mod curve_network;
@@ -44,9 +46,11 @@ mod symmetrization;
 mod symmetry_plane;
 
 pub use annotation::{
-    image_to_model, model_to_image, AnalysisLengths, AnalysisSpec, CurveKind, CurveSpec, EnergyWeights, ImagePoint,
-    ImageSpec, PhotoAnnotation, SymmetrySpec, TrueSizeSpec, MAX_CONTROL_POINTS, MAX_CURVES, MAX_IMAGE_SIDE,
+    image_to_model, model_to_image, AnalysisLengths, AnalysisSpec, CameraSpec, CurveKind, CurveSpec, EnergyWeights,
+    ImagePoint, ImageSpec, PhotoAnnotation, Projection, SymmetrySpec, TrueSizeSpec, MAX_CONTROL_POINTS, MAX_CURVES,
+    MAX_FOCAL_LENGTH_DIAGONALS, MAX_IMAGE_SIDE, MIN_FOCAL_LENGTH_DIAGONALS,
 };
+pub use camera::{Camera, FILM_35MM_DIAGONAL_MM};
 pub use curve_lifting::{assemble_energy, image_prior, place_image, solve_energy, Energy, EnergyRow, EnergyTerm};
 pub use curve_network::{
     build_curve_network, CurveNetwork, NetworkCurve, NetworkSegment, MAX_CROSSINGS, MAX_CURVE_SAMPLES,
@@ -63,7 +67,7 @@ pub use patch_mesh::{mesh_patches, PatchMesh, PatchSurface, MAX_FILL_VERTICES, M
 pub use reconstruction::{
     place_point, reconstruct, AngleSummary, PhotoReconstruction, StageTimes, DEPTH_SENSITIVITY_BOUND,
 };
-pub use ruling_alignment::{align_rulings, move_ruling_ends};
+pub use ruling_alignment::{align_rulings, align_rulings_in_perspective, move_ruling_ends};
 pub use ruling_propagation::{
     propagate_rulings, PropagationCounts, PropagationOptions, RuledStrip, MAX_STRIP_SAMPLES, MAX_WARPING_CELLS,
     MAX_WARPING_CELLS_TOTAL,

@@ -135,7 +135,7 @@ pub fn overlay_svg(annotation: &PhotoAnnotation, reconstruction: &PhotoReconstru
             .iter()
             .map(|&t| {
                 let p = place_point(&r.network, &r.points3d, CurvePoint { segment: seg as u32, t });
-                point(nalgebra::Vector2::new(p.x, p.y))
+                point(r.plane.camera.project(p))
             })
             .collect();
         let _ = writeln!(

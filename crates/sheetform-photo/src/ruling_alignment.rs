@@ -10,11 +10,20 @@
 //! every patch along it, so meshes still match). Ends where it has no root (a straight
 //! or noisy stretch) stay where the warping put them. The silhouettes (the first and a
 //! closed end's last ruling) are not moved.
+//!
+//! **Perspective** (beyond the paper): parallel 3D tangents are not parallel in a
+//! perspective image; they meet at the vanishing point of their direction. Given a
+//! solution `x` of the 3D curves, [`align_rulings_in_perspective`] puts each interior
+//! end `b` where the image tangent of side b points at the vanishing point of the 3D
+//! tangent `T_a` at the ruling's other end: `ŝ(t) × T̄_b(t) = 0` with
+//! `ŝ = ` [`Camera::image_direction`]`(T_a, b̄(t))`, the root nearest the end along the
+//! whole side-b chain (the warping, blind to perspective, can be several samples off).
 
 use crate::cubic;
 use crate::curve_network::CurveNetwork;
 use crate::curve_samples::{CurvePoint, CurveSamples, SampledChain};
 use crate::ruling_propagation::RuledStrip;
+use crate::Camera;
 
 /// Moves interior ruling ends onto the points of parallel tangents; returns how many
 /// moved. `samples` gains the new parameters and every strip's chains are resampled.
@@ -150,4 +159,61 @@ pub fn move_ruling_ends(
         strip.side_b = side_b;
     }
     count
+}
+
+/// Moves interior ruling ends to where the image tangents of both ends point at the same
+/// vanishing point, that of the 3D tangent at end `a` of the solution `x` seen through
+/// `camera` (see the module's comment); returns how many moved. Like [`align_rulings`]
+/// otherwise (the silhouettes stay, `samples` gains the new ends).
+pub fn align_rulings_in_perspective(
+    network: &CurveNetwork,
+    samples: &mut CurveSamples,
+    strips: &mut [RuledStrip],
+    camera: &Camera,
+    x: &[f64],
+) -> usize {
+    let cross = |u: nalgebra::Vector2<f64>, v: nalgebra::Vector2<f64>| u.x * v.y - u.y * v.x;
+    let mut moved: Vec<Vec<Option<CurvePoint>>> = Vec::with_capacity(strips.len());
+    for strip in strips.iter() {
+        let last = strip.rulings.len() - 1;
+        let b = &strip.side_b;
+        let mut ends = vec![None; strip.rulings.len()];
+        for (i, &(k, l)) in strip.rulings.iter().enumerate() {
+            if i == 0 || i == last {
+                continue;
+            }
+            let a = strip.side_a.places[k];
+            let ta = crate::curve_lifting::combine3(network, x, a.segment, cubic::bernstein_derivative(a.t));
+            if ta.norm() < 1e-12 {
+                continue;
+            }
+            let mismatch = |segment: u32, t: f64| {
+                let control = network.control_points(segment as usize);
+                let at = cubic::point(&control, t);
+                match camera.image_direction(ta, at) {
+                    Some(towards) => cross(towards, cubic::derivative(&control, t)),
+                    None => 0.0,
+                }
+            };
+            // The sign changes along the chain, nearest the current end first.
+            let mut best: Option<(usize, CurvePoint)> = None;
+            for j in 0..b.len().saturating_sub(1) {
+                let (from, to) = (b.places[j], b.places[j + 1]);
+                if from.segment != to.segment {
+                    continue;
+                }
+                let distance = if j < l { l - j - 1 } else { j - l };
+                if best.is_some_and(|(d, _)| d <= distance) {
+                    continue;
+                }
+                let segment = from.segment;
+                if let Some(t) = cubic::bisect(|t| mismatch(segment, t), from.t, to.t) {
+                    best = Some((distance, CurvePoint { segment, t }));
+                }
+            }
+            ends[i] = best.map(|(_, p)| p);
+        }
+        moved.push(ends);
+    }
+    move_ruling_ends(network, samples, strips, &moved)
 }

@@ -457,6 +457,7 @@ pub fn annotation_from_svg(text: &str, image_size: (u32, u32)) -> Result<PhotoAn
             width: image_size.0,
             height: image_size.1,
         },
+        camera: Default::default(),
         units,
         curves,
         symmetry: SymmetrySpec {

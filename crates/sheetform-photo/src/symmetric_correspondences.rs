@@ -1,7 +1,8 @@
 //! Point-to-point correspondences between mirror-symmetric curves (§5.3).
 //!
 //! Under orthographic projection the segment joining two mirror points is parallel to the
-//! image of the plane's normal. Each sample of one curve is paired with the point where
+//! image of the plane's normal; under perspective it lies on the line through the
+//! normal's vanishing point ([`SymmetryPlane::image_direction_at`]). Each sample of one curve is paired with the point where
 //! the line through it along that direction meets the other curve (the nearest such
 //! point; the paper takes the nearest *sample*, this intersects the sampled polyline, so
 //! the pair is exact to the sampling's chord error). For a self-symmetric curve the other
@@ -16,6 +17,7 @@
 use crate::curve_network::CurveNetwork;
 use crate::curve_samples::{CurvePoint, CurveSamples, SampledChain};
 use crate::patch_cycles::HalfEdge;
+use crate::symmetry_plane::SymmetryPlane;
 use crate::PhotoError;
 use nalgebra::Vector2;
 use sheetform_geometry::short_number;
@@ -103,7 +105,7 @@ pub fn symmetric_pairs_of_curves(
     network: &CurveNetwork,
     samples: &CurveSamples,
     curve_pairs: &[[usize; 2]],
-    direction: Vec2,
+    plane: &SymmetryPlane,
 ) -> Result<Vec<SymmetricPair>, PhotoError> {
     let mut total = 0usize;
     let mut heaviest = (0, [0, 0]);
@@ -120,13 +122,14 @@ pub fn symmetric_pairs_of_curves(
     }
     let mut out = Vec::new();
     for &[a, b] in curve_pairs {
-        out.extend(symmetric_pairs(network, samples, a, b, direction)?);
+        out.extend(symmetric_pairs(network, samples, a, b, plane)?);
     }
     Ok(out)
 }
 
 /// Pairs between curves `a` and `b` (indices into the network's curves; equal for a
-/// self-symmetric curve) along the image direction `direction` of the plane's normal.
+/// self-symmetric curve) along the image direction of the plane's normal at each sample
+/// ([`SymmetryPlane::image_direction_at`]).
 ///
 /// # Errors
 /// [`PhotoError::Field`] on `analysis.sample_spacing_px` when the pair alone would make
@@ -136,7 +139,7 @@ pub fn symmetric_pairs(
     samples: &CurveSamples,
     a: usize,
     b: usize,
-    direction: Vec2,
+    plane: &SymmetryPlane,
 ) -> Result<Vec<SymmetricPair>, PhotoError> {
     let tests = correspondence_tests(network, samples, a, b);
     if tests > MAX_CORRESPONDENCE_TESTS {
@@ -148,11 +151,12 @@ pub fn symmetric_pairs(
     } else {
         curve_chain(network, samples, b)
     };
-    let normal = Vec2::new(-direction.y, direction.x);
     // Exclusion around the sample itself on a self-symmetric curve: a few samples.
     let spacing = chain_a.arc_length.last().copied().unwrap_or(0.0) / chain_a.len().max(2) as f64;
     let mut out = Vec::new();
     for (k, &p) in chain_a.points.iter().enumerate() {
+        let direction = plane.image_direction_at(p);
+        let normal = Vec2::new(-direction.y, direction.x);
         let mut best: Option<(f64, SymmetricPair)> = None;
         for j in 0..chain_b.len().saturating_sub(1) {
             let (q0, q1) = (chain_b.points[j], chain_b.points[j + 1]);

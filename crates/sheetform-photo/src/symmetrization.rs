@@ -881,8 +881,6 @@ pub fn split_at_mirror_nodes(
     curve_pairs: &[[usize; 2]],
     tolerance: f64,
 ) -> Result<usize, PhotoError> {
-    let direction = plane.image_direction();
-    let normal = Vector2::new(-direction.y, direction.x);
     let mut count = 0;
     let (mut evaluations, mut comparisons) = (0, 0);
     for &[a, b] in curve_pairs {
@@ -932,6 +930,8 @@ pub fn split_at_mirror_nodes(
                 return Err(e);
             }
             for (k, p) in nodes.into_iter().enumerate() {
+                let direction = plane.image_direction_at(p);
+                let normal = Vector2::new(-direction.y, direction.x);
                 // Crossings of `to` with the line through p along the direction.
                 let mut best: Option<(f64, u32, f64)> = None;
                 let mut work = 0usize;
@@ -1503,10 +1503,11 @@ mod tests {
         let plane = SymmetryPlane {
             normal: Vec3::new(1.0, 0.0, 0.0),
             point: Vec3::zeros(),
+            camera: crate::Camera::orthographic(),
         };
         for (n, strip_count, per_strip) in [(20_000, 1, None), (2_000, 200, Some(10))] {
             let network = lines(&[10.0, -10.0], n);
-            let x = crate::curve_lifting::image_prior(&network);
+            let x = crate::curve_lifting::image_prior(&network, &crate::Camera::orthographic(), 0.0);
             let mut samples = sample_curves(&network, 0.25);
             let chain = |c: usize| half_edges(network.curves[c].segments.iter().copied(), false);
             let sides = [chain(0), chain(1)].map(|c| SampledChain::new(&network, &samples, &c));

@@ -206,3 +206,68 @@ fn a_warping_table_over_its_bound_is_refused() {
         .to_string();
     assert!(error.contains("analysis.sample_spacing_px"), "{error}");
 }
+
+/// Issue 37: the camera's fields are checked and each refusal names its field.
+#[test]
+fn a_camera_without_a_usable_focal_length_is_refused() {
+    for (camera, field, words) in [
+        (json!({"projection": "perspective"}), "camera", "needs its focal length"),
+        (
+            json!({"projection": "perspective", "focal_length_px": 500, "focal_length_35mm": 26}),
+            "camera",
+            "once",
+        ),
+        (
+            json!({"projection": "perspective", "focal_length_px": 0}),
+            "camera.focal_length_px",
+            "must be within",
+        ),
+        (
+            json!({"projection": "perspective", "focal_length_px": 1e9}),
+            "camera.focal_length_px",
+            "must be within",
+        ),
+        (
+            json!({"projection": "perspective", "focal_length_35mm": -26}),
+            "camera.focal_length_35mm",
+            "must be within",
+        ),
+        (
+            json!({"projection": "perspective", "focal_length_35mm": 26, "principal_point": [900, 10]}),
+            "camera.principal_point",
+            "must lie in",
+        ),
+        (json!({"focal_length_px": 500}), "camera.focal_length_px", "perspective"),
+    ] {
+        let mut v = base();
+        v["camera"] = camera.clone();
+        let e = error_of(&v);
+        assert!(e.contains(field) && e.contains(words), "{camera}: {e}");
+    }
+}
+
+/// The 35 mm equivalent and the focal length in pixels it stands for give the same
+/// model.
+#[test]
+fn a_focal_length_in_35mm_film_is_the_same_camera() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/photo/synthetic/cone-perspective.json"
+    );
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let px = v["camera"]["focal_length_px"].as_f64().unwrap();
+    let diagonal = 480f64.hypot(480.0);
+    let mut film = v.clone();
+    film["camera"] = json!({"projection": "perspective",
+        "focal_length_35mm": px / diagonal * sheetform_photo::FILM_35MM_DIAGONAL_MM});
+    let [a, b] = [v, film].map(|v| reconstruct(&PhotoAnnotation::from_json(&v.to_string()).unwrap()).unwrap());
+    let gap = a
+        .mesh
+        .positions
+        .iter()
+        .zip(&b.mesh.positions)
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max);
+    assert_eq!(a.mesh.positions.len(), b.mesh.positions.len());
+    assert!(gap < 1e-6, "{gap}");
+}

@@ -259,13 +259,15 @@ fn noisy_and_perspective_drawings_stay_under_the_papers_error() {
             f.ruling_deg
         );
         // The perspective truth is the camera-frame model scaled at the object's centre
-        // depth: nearer and farther parts are magnified differently in the image.
+        // depth, the reconstruction is scaled about the camera centre to put the marked
+        // pair's midpoint at depth 0: only the depth offset is removed here (the shape in
+        // mm is checked by `perspective_views_are_reconstructed_through_their_camera`).
         // Noise: a pixel on a mirror pair a few tens of pixels apart tilts its depth by
         // several pixels over the object's ~300-pixel depth range.
         // The noisy composite's linear solve is 28 px off (its neck's mirror pairs are
         // short); recorded in docs/benchmarks.md.
         let bound = match name {
-            _ if name.ends_with("perspective") => 60.0,
+            _ if name.ends_with("perspective") => 15.0,
             "composite-noisy" => 30.0,
             _ => 12.0,
         };
@@ -307,19 +309,106 @@ fn the_espresso_cup_photo_is_reconstructed() {
     assert!((10.0..80.0).contains(&longest), "ruling length {longest} mm");
 }
 
-/// The perspective composite breaks the orthographic mirror relation enough that the
-/// refinement does not reach its bound: it must say so (the CLI then exits 5), while the
-/// paper's linear solve stays within the paper's error range.
+/// The perspective composite ended `not developable` when its view was taken for an
+/// orthographic one (issue 37: 0.013° left against the 1e-7 rad bound); through its
+/// camera the refinement meets the bound.
 #[test]
-fn a_perspective_composite_is_reported_not_developable() {
+fn a_perspective_composite_is_made_developable() {
     let f = figures("composite-perspective");
-    assert!(f.linear.mean_deg < 16.0, "linear error {:.3}°", f.linear.mean_deg);
+    assert!(f.linear.mean_deg < 1.0, "linear error {:.3}°", f.linear.mean_deg);
     let (_, _, r) = load("composite-perspective");
-    let info = r.refinement.unwrap();
+    assert!(r.refinement.unwrap().converged);
     let worst = r.ruling_errors_refined.iter().copied().fold(0.0, f64::max);
-    assert_eq!(
-        info.converged,
-        worst.sin() <= sheetform_photo::REFINEMENT_BOUND * 10.0,
-        "{worst}"
-    );
+    assert!(worst.sin() <= sheetform_photo::REFINEMENT_BOUND, "{worst}");
+}
+
+/// Shape and size against the truth, in the units of the pattern (mm): every curve
+/// sample of the final model (scaled by the annotation's true size) is matched to the
+/// truth curve point seen nearest to it in the image (through the truth's camera), the
+/// best translation is removed (one view fixes no position along the view), and
+/// returned are the largest distance over the object's height, and the relative
+/// difference of the spreads (RMS distance from the centroid): a size error that does
+/// not depend on the true-size mark itself.
+fn shape_and_size_errors(name: &str) -> (f64, f64) {
+    let (_, truth, r) = load(name);
+    let mm_per_px = truth["mm_per_px"].as_f64().unwrap();
+    let camera = &truth["camera"];
+    let project = |p: Vec3| -> Vec2 {
+        if camera["type"] == "perspective" {
+            let f = camera["focal_px"].as_f64().unwrap();
+            let c = Vec2::new(240.0, -240.0);
+            c + (Vec2::new(p.x, p.y) - c) * (f / (f - p.z))
+        } else {
+            Vec2::new(p.x, p.y)
+        }
+    };
+    let mut pairs: Vec<(Vec3, Vec3)> = Vec::new();
+    for curve in &r.network.curves {
+        let truth_points = truth_curve_points(&truth, &curve.name, 400);
+        let seen: Vec<Vec2> = truth_points.iter().map(|&q| project(q)).collect();
+        for &s in &curve.segments {
+            for &t in &r.samples.parameters[s as usize] {
+                let place = sheetform_photo::CurvePoint { segment: s, t };
+                let image = sheetform_photo::place_image(&r.network, place);
+                let k = (0..seen.len())
+                    .min_by(|&i, &j| (seen[i] - image).norm().total_cmp(&(seen[j] - image).norm()))
+                    .unwrap();
+                pairs.push((r.point(place), truth_points[k] * mm_per_px));
+            }
+        }
+    }
+    let n = pairs.len() as f64;
+    let centroid_p = pairs.iter().map(|(p, _)| p).sum::<Vec3>() / n;
+    let centroid_q = pairs.iter().map(|(_, q)| q).sum::<Vec3>() / n;
+    let shift = centroid_q - centroid_p;
+    let axis = &truth["symmetry"]["frame_model"][0];
+    let height = (vec3(&axis[1]) - vec3(&axis[0])).norm() * mm_per_px;
+    let shape = pairs.iter().map(|(p, q)| (p + shift - q).norm()).fold(0.0, f64::max) / height;
+    if std::env::var("PHOTO_DEBUG").is_ok() {
+        for (p, q) in pairs.iter().step_by(5) {
+            println!(
+                "  {:.2} {:.2} {:.2} -> {:.2}",
+                q.x,
+                q.y,
+                q.z,
+                (p + shift - q).norm() / height * 100.0
+            );
+        }
+    }
+    let spread = |points: &mut dyn Iterator<Item = Vec3>, c: Vec3| {
+        (points.map(|p| (p - c).norm_squared()).sum::<f64>() / n).sqrt()
+    };
+    let size = spread(&mut pairs.iter().map(|(p, _)| *p), centroid_p)
+        / spread(&mut pairs.iter().map(|(_, q)| *q), centroid_q)
+        - 1.0;
+    (shape, size.abs())
+}
+
+/// Issue 37: through the camera the photo was taken with, a perspective view is
+/// reconstructed to about 1-2 % of the object's height (19-26 % when it was taken for an
+/// orthographic view) and to its size within 0.5 %; the exact orthographic views stay
+/// within 0.5 % and 0.1 %. Figures in docs/benchmarks.md.
+#[test]
+fn perspective_views_are_reconstructed_through_their_camera() {
+    for (name, shape_bound, size_bound) in [
+        ("cylinder-ortho", 0.005, 0.001),
+        ("cone-ortho", 0.005, 0.001),
+        ("composite-ortho", 0.005, 0.001),
+        ("cylinder-perspective", 0.02, 0.005),
+        ("cone-perspective", 0.025, 0.005),
+        ("composite-perspective", 0.012, 0.005),
+    ] {
+        let (shape, size) = shape_and_size_errors(name);
+        println!(
+            "{name}: shape within {:.2} % of the height, size within {:.2} %",
+            100.0 * shape,
+            100.0 * size
+        );
+        assert!(
+            shape < shape_bound,
+            "{name}: shape off by {:.2} % of the height",
+            100.0 * shape
+        );
+        assert!(size < size_bound, "{name}: size off by {:.2} %", 100.0 * size);
+    }
 }

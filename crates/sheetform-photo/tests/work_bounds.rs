@@ -85,8 +85,12 @@ fn issue_19_comb_correspondences_are_refused_before_the_work() {
     let (_, network, _) = cylinder();
     let rim = network.curves.iter().position(|c| c.name == "top").unwrap();
     let fine = sample_curves(&network, 0.004);
-    let direction = Vec2::new(1.0, 0.0);
-    let error = symmetric_pairs(&network, &fine, rim, rim, direction)
+    let plane = SymmetryPlane {
+        normal: nalgebra::Vector3::new(1.0, 0.0, 0.0),
+        point: nalgebra::Vector3::zeros(),
+        camera: Camera::orthographic(),
+    };
+    let error = symmetric_pairs(&network, &fine, rim, rim, &plane)
         .unwrap_err()
         .to_string();
     assert!(error.contains("analysis.sample_spacing_px"), "{error}");
@@ -132,9 +136,9 @@ fn ring(n: usize) -> CurveNetwork {
 #[test]
 fn issue_19_symmetrisation_of_a_huge_closed_curve_is_refused() {
     let a = annotation("synthetic/cylinder-ortho.json");
-    let plane = SymmetryPlane::from_annotation(&a.symmetry).unwrap();
+    let plane = SymmetryPlane::from_annotation(&a.symmetry, &Camera::orthographic()).unwrap();
     let network = ring(15_000);
-    let x = image_prior(&network);
+    let x = image_prior(&network, &Camera::orthographic(), 0.0);
     let (mut split, mut split_x) = (network.clone(), x.clone());
     let error = split_at_mirror_nodes(&mut split, &mut split_x, &plane, &[[0, 0]], 1.0)
         .unwrap_err()
@@ -163,7 +167,7 @@ fn issue_19_symmetrisation_of_a_huge_closed_curve_is_refused() {
     );
     // A ring of 300 segments goes through both.
     let (mut small, network) = (ring(300), ring(300));
-    let mut x = image_prior(&small);
+    let mut x = image_prior(&small, &Camera::orthographic(), 0.0);
     split_at_mirror_nodes(&mut small, &mut x, &plane, &[[0, 0]], 1.0).unwrap();
     let mut samples = sample_curves(&small, 10.0);
     symmetrize(&small, &mut samples, &mut [], &plane, &[[0, 0]], &x).unwrap();
@@ -328,7 +332,7 @@ fn issue_19_fills_over_their_total_bound_are_refused() {
     let samples = sample_curves(&network, spacing);
     let body = patches.iter().find(|p| !p.opening).unwrap();
     let many: Vec<Patch> = (0..4).map(|_| body.clone()).collect();
-    let x = image_prior(&network);
+    let x = image_prior(&network, &Camera::orthographic(), 0.0);
     let error = mesh_patches(&network, &samples, &many, &[], &x, spacing)
         .unwrap_err()
         .to_string();

@@ -787,6 +787,11 @@ pub struct PhotoReport {
     pub ruling_aligned_count: usize,
     /// Mirror pairs of points.
     pub symmetric_pair_count: usize,
+    /// The camera the photo was reconstructed through: `orthographic` or `perspective`.
+    pub camera_projection: String,
+    /// Its focal length in pixels of the image (perspective only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera_focal_length_px: Option<f64>,
     /// Unit normal of the symmetry plane (model frame: x right, y up, z towards the camera).
     pub symmetry_plane_normal: [f64; 3],
     /// Angle between the surface normals at the two ends of each ruling after the

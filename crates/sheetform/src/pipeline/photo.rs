@@ -373,6 +373,13 @@ pub fn run_photo(
         ruling_rejected_count: r.propagation.rejected_count,
         ruling_aligned_count: r.aligned_ruling_count,
         symmetric_pair_count: r.pairs.len(),
+        camera_projection: if r.plane.camera.is_orthographic() {
+            "orthographic"
+        } else {
+            "perspective"
+        }
+        .into(),
+        camera_focal_length_px: r.plane.camera.focal_length_px,
         symmetry_plane_normal: [r.plane.normal.x, r.plane.normal.y, r.plane.normal.z],
         developability_error_linear: linear,
         developability_error_refined: annotation.analysis.refine.then_some(refined),
