@@ -13,7 +13,7 @@
 //! of another curve is joined to it (a T-junction); an intersection within the snap
 //! distance of a knot (a curve's end or segment join) is moved to that knot (no sliver
 //! segments); an end that grazes a curve and crosses it a few pixels on is joined at the
-//! crossing. Crossings near an `occlusions` mark are left unjoined (§4). A curve that
+//! crossing, and the short tail beyond it is dropped. Crossings near an `occlusions` mark are left unjoined (§4). A curve that
 //! crosses itself is refused.
 
 use crate::annotation::{image_to_model, CurveKind, PhotoAnnotation};
@@ -89,6 +89,15 @@ struct CurvePlace {
     u: f64,
 }
 
+/// How far a junction may be from a knot of a curve (an end or a join of its traced
+/// segments) and still be moved onto it: the snap distance, and at least one sample
+/// spacing. A split nearer the knot would leave a sliver segment without a sample of its
+/// own, whose control points nothing but the C¹ rows hold (one 1.5 px from a rim's node
+/// left 3 % of a depth shift free across the strip).
+pub fn knot_snap_radius(lengths: &crate::AnalysisLengths) -> f64 {
+    lengths.snap.max(lengths.sample)
+}
+
 /// Builds the network: intersections, snapping, splitting, shared end points.
 ///
 /// # Errors
@@ -156,10 +165,11 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
     // Junction candidates: a 2D position and the places on curves that meet there.
     let mut junctions: Vec<(Vec2, Vec<CurvePlace>)> = Vec::new();
     let mut occluded = 0usize;
+    let knot_radius = knot_snap_radius(&lengths);
     let curve_end = |c: usize, u: f64| -> Option<f64> {
-        // The knot (a curve end or a join of the traced segments) a place is within snap
-        // distance of: splitting there instead leaves no sliver segment. A closed curve's
-        // start and end are the same knot.
+        // The knot (a curve end or a join of the traced segments) a place is within
+        // `knot_radius` of: splitting there instead leaves no sliver segment. A closed
+        // curve's start and end are the same knot.
         let segs = &curves[c];
         let p = point_at(segs, u);
         let n = segs.len();
@@ -168,7 +178,7 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
         let hi = (u.ceil() as usize).min(n);
         [lo, hi]
             .into_iter()
-            .filter(|&k| (p - knot(k)).norm() <= lengths.snap)
+            .filter(|&k| (p - knot(k)).norm() <= knot_radius)
             .min_by(|&x, &y| (p - knot(x)).norm().total_cmp(&(p - knot(y)).norm()))
             .map(|k| k as f64)
     };
@@ -277,11 +287,28 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
             }
         }
     }
-    let junctions: Vec<(Vec2, Vec<CurvePlace>)> = junctions
+    let mut junctions: Vec<(Vec2, Vec<CurvePlace>)> = junctions
         .into_iter()
         .zip(keep)
         .filter_map(|(j, k)| k.then_some(j))
         .collect();
+    // Where the end of one curve is traced a pixel or two past the end of the other (a
+    // silhouette's end moved along the rim it stops on), the two curves cross near their
+    // ends as well as touch: two junctions of the same two curves, each at an end, a
+    // few pixels apart, and between them a sliver patch. They are one node: the second
+    // is moved onto the first, and the clustering below keeps each curve's end there.
+    for j in 0..junctions.len() {
+        for i in 0..j {
+            let ci: Vec<usize> = junctions[i].1.iter().map(|p| p.curve).collect();
+            let cj: Vec<usize> = junctions[j].1.iter().map(|p| p.curve).collect();
+            let same_pair = ci.len() == 2 && cj.len() == 2 && ci.iter().all(|c| cj.contains(c));
+            let close = (junctions[i].0 - junctions[j].0).norm() <= graze;
+            if same_pair && close && junctions[i].1.iter().any(at_end) && junctions[j].1.iter().any(at_end) {
+                junctions[j].0 = junctions[i].0;
+                break;
+            }
+        }
+    }
     // Junctions closer than the snap distance are one node (three curves through one
     // point give three pairwise crossings); a node takes one place per curve (two
     // places of one curve there would make a zero-length loop), a curve's end first.
@@ -333,12 +360,25 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
     let mut segments: Vec<NetworkSegment> = Vec::new();
     let mut network_curves: Vec<NetworkCurve> = Vec::new();
     let mut knot_points: Vec<Vec<u32>> = Vec::new();
+    // How firmly each point is placed, for the junctions: a knot the user traced (a join
+    // of a curve's segments, or any knot of a closed curve) 2, a split made at a crossing
+    // 1, the end of an open curve (where the user stopped drawing) 0.
+    let mut firmness: Vec<u8> = Vec::new();
     for (c, segs) in curves.iter().enumerate() {
         let knots = &splits[c];
         let mut ids: Vec<u32> = Vec::with_capacity(knots.len());
+        let closed = annotation.curves[c].closed;
         for &u in knots {
             ids.push(points.len() as u32);
             points.push(point_at(segs, u));
+            let stop = !closed && (u == 0.0 || u == segs.len() as f64);
+            firmness.push(if stop {
+                0
+            } else if u.fract() == 0.0 {
+                2
+            } else {
+                1
+            });
         }
         let closed = annotation.curves[c].closed;
         if closed {
@@ -353,6 +393,7 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
             let i1 = points.len() as u32;
             points.push(piece[1]);
             points.push(piece[2]);
+            firmness.extend([1, 1]);
             curve_segments.push(segments.len() as u32);
             segments.push(NetworkSegment {
                 points: [ids[k], i1, i1 + 1, ids[k + 1]],
@@ -409,9 +450,18 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
             used[p as usize] = true;
         }
     }
+    // A node is the mean of its firmest points: an end traced a pixel or two off a rim's
+    // node, or a crossing moved onto it, moves onto the node, and the rim keeps its shape.
+    let mut firmest = vec![0u8; merged.len()];
     for i in 0..points.len() {
         if used[i] {
             let k = new_index[i] as usize;
+            firmest[k] = firmest[k].max(firmness[i]);
+        }
+    }
+    for i in 0..points.len() {
+        let k = new_index[i] as usize;
+        if used[i] && firmness[i] == firmest[k] {
             merged[k] += points[i];
             counts[k] += 1.0;
         }
@@ -421,8 +471,92 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
             *m /= *c;
         }
     }
+    // A node moved to its junction's place takes its handles along: moved alone, it
+    // would kink the curve (a rim's node moved along its own tangent folds the rim into a
+    // loop the patch outline crosses). A straight segment (a silhouette) stays straight:
+    // its handles keep their places along the new chord.
+    for seg in &segments {
+        let old: [Vec2; 4] = seg.points.map(|p| points[p as usize]);
+        let (a, b) = (
+            merged[new_index[seg.points[0] as usize] as usize],
+            merged[new_index[seg.points[3] as usize] as usize],
+        );
+        let chord = old[3] - old[0];
+        let length = chord.norm();
+        let straight = length > 0.0
+            && [old[1], old[2]]
+                .iter()
+                .all(|q| (chord.x * (q - old[0]).y - chord.y * (q - old[0]).x).abs() <= 1e-3 * length * length);
+        for (new_end, handle, k) in [(a, seg.points[1], 1), (b, seg.points[2], 2)] {
+            let place = if straight {
+                a + (b - a) * ((old[k] - old[0]).dot(&chord) / (length * length))
+            } else {
+                old[k] + (new_end - old[3 * (k - 1)])
+            };
+            merged[new_index[handle as usize] as usize] = place;
+        }
+    }
     for s in &mut segments {
         s.points = s.points.map(|p| new_index[p as usize]);
+    }
+    // Tails: a traced end that grazes a curve and crosses it a few pixels on leaves the
+    // piece beyond the crossing dangling. It bounds no patch, and its free end has no
+    // depth anything fixes (a 1.4-pixel tail of a silhouette that started 1 px past the
+    // rim's node left 29 % of a depth shift free across the whole strip): an end segment
+    // of an open curve whose free end meets nothing and whose other end is a junction
+    // of three or more segment ends is dropped when it is shorter than `graze`.
+    let mut degree = vec![0usize; merged.len()];
+    for seg in &segments {
+        degree[seg.points[0] as usize] += 1;
+        degree[seg.points[3] as usize] += 1;
+    }
+    let mut dropped = vec![false; segments.len()];
+    for (c, curve) in network_curves.iter_mut().enumerate() {
+        if annotation.curves[c].closed {
+            continue;
+        }
+        for from_start in [true, false] {
+            if curve.segments.len() < 2 {
+                break;
+            }
+            let s = if from_start {
+                curve.segments[0]
+            } else {
+                curve.segments[curve.segments.len() - 1]
+            };
+            let ids = segments[s as usize].points;
+            let (free, joined) = if from_start { (ids[0], ids[3]) } else { (ids[3], ids[0]) };
+            let hull = cubic::hull_length(&ids.map(|i| merged[i as usize]));
+            if degree[free as usize] == 1 && degree[joined as usize] >= 3 && hull <= graze {
+                dropped[s as usize] = true;
+                degree[joined as usize] -= 1;
+                if from_start {
+                    curve.segments.remove(0);
+                } else {
+                    curve.segments.pop();
+                }
+            }
+        }
+    }
+    if dropped.iter().any(|&d| d) {
+        let mut new_segment = vec![u32::MAX; segments.len()];
+        let mut kept = Vec::with_capacity(segments.len());
+        for (k, seg) in segments.iter().enumerate() {
+            if !dropped[k] {
+                new_segment[k] = kept.len() as u32;
+                kept.push(*seg);
+            }
+        }
+        for curve in &mut network_curves {
+            for s in &mut curve.segments {
+                *s = new_segment[*s as usize];
+            }
+        }
+        tracing::debug!(
+            "photo: {} dangling tails dropped",
+            dropped.iter().filter(|&&d| d).count()
+        );
+        segments = kept;
     }
     // Drop unreferenced points (compact).
     let mut compact = vec![u32::MAX; merged.len()];

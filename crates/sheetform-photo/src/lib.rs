@@ -53,7 +53,7 @@ pub use annotation::{
 pub use camera::{Camera, FILM_35MM_DIAGONAL_MM};
 pub use curve_lifting::{assemble_energy, image_prior, place_image, solve_energy, Energy, EnergyRow, EnergyTerm};
 pub use curve_network::{
-    build_curve_network, CurveNetwork, NetworkCurve, NetworkSegment, MAX_CROSSINGS, MAX_CURVE_SAMPLES,
+    build_curve_network, knot_snap_radius, CurveNetwork, NetworkCurve, NetworkSegment, MAX_CROSSINGS, MAX_CURVE_SAMPLES,
 };
 pub use curve_samples::{sample_curves, CurvePoint, CurveSamples, SampledChain};
 pub use developability_refinement::{
