@@ -210,15 +210,43 @@ pub fn find_patches(network: &CurveNetwork, annotation: &PhotoAnnotation) -> Res
         let sides = [face_of[2 * s], face_of[2 * s + 1]];
         if sides.iter().all(|&f| face_patch[f] == usize::MAX) {
             let curve = &network.curves[seg.curve as usize];
-            let b = network.control_points(s);
-            let mid = cubic::point(&b, 0.5);
-            return Err(PhotoError::curve(
-                &curve.name,
+            // The curve's ends that meet nothing: where a curve is missing (a silhouette
+            // left out) or an end stops short.
+            let mut degree = vec![0usize; network.points.len()];
+            for other in &network.segments {
+                degree[other.points[0] as usize] += 1;
+                degree[other.points[3] as usize] += 1;
+            }
+            let free: Vec<String> = curve
+                .segments
+                .iter()
+                .flat_map(|&k| {
+                    let ids = network.segments[k as usize].points;
+                    [ids[0], ids[3]]
+                })
+                .filter(|&id| degree[id as usize] == 1)
+                .map(|id| {
+                    let p = network.points[id as usize];
+                    format!("[{:.1}, {:.1}]", p.x, -p.y)
+                })
+                .collect();
+            let message = if free.is_empty() {
+                let b = network.control_points(s);
+                let mid = cubic::point(&b, 0.5);
                 format!(
                     "closes no cycle near [{:.1}, {:.1}] px: its ends must meet other curves (within {:.2} px)",
                     mid.x, -mid.y, lengths.snap
-                ),
-            ));
+                )
+            } else {
+                format!(
+                    "closes no cycle: its end at {} px meets no other curve (within {:.2} px). A curve from there \
+                     is missing (a silhouette or boundary not traced yet?), or the end must reach the curve it \
+                     stops at",
+                    free.join(" and "),
+                    lengths.snap
+                )
+            };
+            return Err(PhotoError::curve(&curve.name, message));
         }
     }
     if patches.iter().all(|p| p.opening) {

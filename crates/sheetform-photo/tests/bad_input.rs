@@ -271,3 +271,25 @@ fn a_focal_length_in_35mm_film_is_the_same_camera() {
     assert_eq!(a.mesh.positions.len(), b.mesh.positions.len());
     assert!(gap < 1e-6, "{gap}");
 }
+
+/// Issue 37: a silhouette left out was refused naming only the curve it should have met
+/// ("closes no cycle near" the middle of the bottom arc); the refusal now says which end
+/// is left hanging, and where, so the missing curve can be drawn from there.
+#[test]
+fn a_missing_silhouette_is_refused_at_the_end_it_leaves_hanging() {
+    let mut v = base();
+    let k = curve_index(&v, "right-silhouette");
+    let end = v["curves"][k]["control_points"]
+        .as_array()
+        .unwrap()
+        .last()
+        .unwrap()
+        .clone();
+    v["curves"].as_array_mut().unwrap().remove(k);
+    let e = error_of(&v);
+    let at = format!("[{:.1}, {:.1}]", end[0].as_f64().unwrap(), end[1].as_f64().unwrap());
+    assert!(
+        e.contains("`bottom-front`") && e.contains(&at) && e.contains("missing"),
+        "{at}: {e}"
+    );
+}
