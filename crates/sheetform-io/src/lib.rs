@@ -13,6 +13,7 @@ mod glb;
 mod image_file;
 mod mesh_read;
 mod obj;
+mod photo_exif;
 mod point_cloud;
 mod stl;
 
@@ -25,6 +26,7 @@ pub use glb::{glb_bytes, glb_bytes_projected, glb_vertex_colours, Texture, GLB_F
 pub use image_file::{ImageError, MAX_DECODED_JPEG_BYTES};
 pub use mesh_read::{mesh_from_bytes, parse_obj, parse_off, parse_ply, parse_stl, read_mesh, MeshReadError};
 pub use obj::obj_string;
+pub use photo_exif::focal_length_35mm_from_exif;
 pub use point_cloud::read_points;
 pub use sheetform_mesh::UpAxis;
 pub use stl::stl_bytes;

@@ -103,7 +103,8 @@ pub const MAX_FOCAL_LENGTH_DIAGONALS: f64 = 100.0;
 
 /// The camera of the photograph. A perspective camera needs its focal length, in pixels
 /// or as the 35 mm equivalent a phone writes in the photo's EXIF
-/// (`FocalLengthIn35mmFilm`, e.g. 26 mm for a phone's main camera).
+/// (`FocalLengthIn35mmFilm`, e.g. 26 mm for a phone's main camera); without either, the
+/// pipeline reads it from the photo's EXIF.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CameraSpec {
@@ -114,7 +115,9 @@ pub struct CameraSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub focal_length_px: Option<f64>,
     /// Focal length in mm, 35 mm film equivalent (perspective only): the image's
-    /// diagonal is seen as a 43.27 mm film diagonal.
+    /// diagonal is seen as a 43.27 mm film diagonal. Without this and `focal_length_px`,
+    /// taken from the photo's EXIF (`FocalLengthIn35mmFilm`); a cropped photo's EXIF
+    /// value is the uncropped one's, give `focal_length_px` then.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub focal_length_35mm: Option<f64>,
     /// Where the optical axis meets the image (pixels). Default: the image's centre
@@ -352,13 +355,8 @@ impl PhotoAnnotation {
                 let (field, value, bounds, unit) = match (c.focal_length_px, c.focal_length_35mm) {
                     (Some(f), _) => ("camera.focal_length_px", f, [lo, hi], "px for this image"),
                     (None, Some(f)) => ("camera.focal_length_35mm", f, [mm(lo), mm(hi)], "mm"),
-                    (None, None) => {
-                        return Err(PhotoError::field(
-                            "camera",
-                            "a perspective camera needs its focal length: focal_length_35mm (the photo's EXIF \
-                             FocalLengthIn35mmFilm, about 26 mm for a phone's main camera) or focal_length_px",
-                        ))
-                    }
+                    // Read from the photo's EXIF by the caller, or refused by `reconstruct`.
+                    (None, None) => return Ok(()),
                 };
                 if !(value.is_finite() && value >= bounds[0] && value <= bounds[1]) {
                     return Err(PhotoError::field(

@@ -23,6 +23,7 @@
 //! of `n` itself under orthography.
 
 use crate::annotation::{image_to_model, CameraSpec, Projection};
+use crate::PhotoError;
 use nalgebra::{Vector2, Vector3};
 
 type Vec2 = Vector2<f64>;
@@ -62,17 +63,27 @@ impl Camera {
 
     /// The camera of an annotation's `camera` (validated) for an image of
     /// `width × height` pixels.
-    pub fn from_spec(spec: &CameraSpec, width: u32, height: u32) -> Self {
+    ///
+    /// # Errors
+    /// [`PhotoError::Field`] on `camera` for a perspective camera without a focal length
+    /// (none given, and none found in the photo's EXIF by the caller).
+    pub fn from_spec(spec: &CameraSpec, width: u32, height: u32) -> Result<Self, PhotoError> {
         match spec.projection {
-            Projection::Orthographic => Self::orthographic(),
+            Projection::Orthographic => Ok(Self::orthographic()),
             Projection::Perspective => {
                 let centre = spec
                     .principal_point
                     .unwrap_or([0.5 * f64::from(width), 0.5 * f64::from(height)]);
-                let f = spec
-                    .focal_length(width, height)
-                    .expect("a validated perspective camera has a focal length");
-                Self::perspective(f, centre)
+                let f = spec.focal_length(width, height).ok_or_else(|| {
+                    PhotoError::field(
+                        "camera",
+                        "a perspective camera needs its focal length, and the photo's EXIF has none \
+                         (FocalLengthIn35mmFilm): give focal_length_35mm (about 26 mm for a phone's main \
+                         camera; `exiftool -FocalLengthIn35mmFormat photo.jpg` on the original shows it) or \
+                         focal_length_px",
+                    )
+                })?;
+                Ok(Self::perspective(f, centre))
             }
         }
     }

@@ -372,7 +372,7 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
     let lengths = annotation.lengths();
     let mut times = StageTimes::default();
     let start = Instant::now();
-    let camera = Camera::from_spec(&annotation.camera, annotation.image.width, annotation.image.height);
+    let camera = Camera::from_spec(&annotation.camera, annotation.image.width, annotation.image.height)?;
     let plane = SymmetryPlane::from_annotation(&annotation.symmetry, &camera)?;
     let network = build_curve_network(annotation)?;
     let mut analysis = analyse(annotation, &network, &plane, &mut times, start)?;

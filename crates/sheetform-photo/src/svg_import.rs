@@ -6,7 +6,8 @@
 //! - One `<image>` element holds the photograph (`href` or `xlink:href`: a path relative to
 //!   the SVG file). Its placement (`x`, `y`, `width`, `height`, and the transforms of its
 //!   groups) maps document coordinates to image pixels; without `width`/`height` it is
-//!   drawn at its pixel size.
+//!   drawn at its pixel size. Labelled `perspective` (focal length from the photo's EXIF)
+//!   or `perspective 26mm` (35 mm equivalent), it is a perspective view.
 //! - Layers (`<g inkscape:groupmode="layer">`, named by `inkscape:label`, or plain groups
 //!   named by `id`), matched case-insensitively by prefix:
 //!   - `silhouette…`: every path, line, polyline, polygon, circle or ellipse is a
@@ -25,7 +26,8 @@
 //! - Everything else (the photo's layer, notes) is ignored.
 
 use crate::annotation::{
-    AnalysisSpec, CurveKind, CurveSpec, ImagePoint, ImageSpec, PhotoAnnotation, SymmetrySpec, TrueSizeSpec,
+    AnalysisSpec, CameraSpec, CurveKind, CurveSpec, ImagePoint, ImageSpec, PhotoAnnotation, Projection, SymmetrySpec,
+    TrueSizeSpec,
 };
 use crate::PhotoError;
 use sheetform_mesh::LengthUnit;
@@ -130,6 +132,33 @@ pub fn svg_image_reference(text: &str) -> Result<String, PhotoError> {
         ));
     }
     Ok(href.strip_prefix("file://").unwrap_or(href).to_string())
+}
+
+/// The camera named by the photo's label (`inkscape:label`, or `id`): `perspective`
+/// (focal length from the photo's EXIF) or `perspective 26mm` (35 mm equivalent);
+/// anything else, the orthographic camera.
+fn image_camera(image: roxmltree::Node) -> Result<CameraSpec, PhotoError> {
+    let Some(name) = label(image) else {
+        return Ok(CameraSpec::default());
+    };
+    let lower = name.to_lowercase();
+    let mut words = lower.split_whitespace();
+    if words.next() != Some("perspective") {
+        return Ok(CameraSpec::default());
+    }
+    let focal_length_35mm = match words.next() {
+        None => None,
+        Some(word) => Some(
+            word.trim_end_matches("mm")
+                .parse::<f64>()
+                .map_err(|_| PhotoError::field("svg <image>", "label it `perspective` or `perspective 26mm`"))?,
+        ),
+    };
+    Ok(CameraSpec {
+        projection: Projection::Perspective,
+        focal_length_35mm,
+        ..CameraSpec::default()
+    })
 }
 
 fn the_image<'a, 'b>(doc: &'a roxmltree::Document<'b>) -> Result<roxmltree::Node<'a, 'b>, PhotoError> {
@@ -306,6 +335,7 @@ pub fn annotation_from_svg(text: &str, image_size: (u32, u32)) -> Result<PhotoAn
             (p[1] - c0[1]) * h / (c1[1] - c0[1]),
         ]
     };
+    let camera = image_camera(image)?;
     let mut curves: Vec<CurveSpec> = Vec::new();
     let mut mirror: Vec<[String; 2]> = Vec::new();
     let mut self_symmetric: Vec<String> = Vec::new();
@@ -457,7 +487,7 @@ pub fn annotation_from_svg(text: &str, image_size: (u32, u32)) -> Result<PhotoAn
             width: image_size.0,
             height: image_size.1,
         },
-        camera: Default::default(),
+        camera,
         units,
         curves,
         symmetry: SymmetrySpec {

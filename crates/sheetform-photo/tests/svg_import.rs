@@ -95,3 +95,21 @@ fn bad_drawings_are_named() {
     let broken = svg.replace("M 172.630000,111.220000 C", "M 172.630000,111.220000 Q Q");
     assert!(error(&broken).contains("left-silhouette"));
 }
+
+/// Issue 37: the photo's label names its camera; unlabelled, the view is orthographic.
+#[test]
+fn the_photos_label_names_a_perspective_camera() {
+    use sheetform_photo::Projection;
+    let svg = read("coffee-cup.svg");
+    let plain = annotation_from_svg(&svg, (600, 400)).unwrap();
+    assert_eq!(plain.camera.projection, Projection::Orthographic);
+    for (label, focal) in [("perspective 30mm", Some(30.0)), ("Perspective", None)] {
+        let labelled = svg.replace("<image ", &format!("<image inkscape:label=\"{label}\" "));
+        let a = annotation_from_svg(&labelled, (600, 400)).unwrap();
+        assert_eq!(a.camera.projection, Projection::Perspective, "{label}");
+        assert_eq!(a.camera.focal_length_35mm, focal, "{label}");
+    }
+    let bad = svg.replace("<image ", "<image inkscape:label=\"perspective wide\" ");
+    let e = annotation_from_svg(&bad, (600, 400)).unwrap_err().to_string();
+    assert!(e.contains("perspective 26mm"), "{e}");
+}

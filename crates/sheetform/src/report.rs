@@ -792,6 +792,10 @@ pub struct PhotoReport {
     /// Its focal length in pixels of the image (perspective only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub camera_focal_length_px: Option<f64>,
+    /// Whether that focal length was read from the photo's EXIF
+    /// (`FocalLengthIn35mmFilm`) rather than given in the annotation.
+    #[serde(default)]
+    pub camera_focal_length_from_exif: bool,
     /// Unit normal of the symmetry plane (model frame: x right, y up, z towards the camera).
     pub symmetry_plane_normal: [f64; 3],
     /// Angle between the surface normals at the two ends of each ruling after the

@@ -144,3 +144,68 @@ fn a_patch_without_silhouette_is_filled_by_a_minimal_surface() {
         "lid pattern area {lid_area} mm² against π·40² = {disk}"
     );
 }
+
+/// The cone's perspective view as a JPEG (at quality 95) with `FocalLengthIn35mmFilm`
+/// in its EXIF (`None`: no EXIF), beside its annotation without a focal length.
+fn cone_photo_with_exif(focal_35mm: Option<u16>) -> (tempfile::TempDir, String) {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/photo/synthetic");
+    let dir = tempfile::tempdir().unwrap();
+    let png = image::open(root.join("cone-perspective.png")).unwrap().to_rgb8();
+    let mut jpeg = Vec::new();
+    image::codecs::jpeg::JpegEncoder::new_with_quality(&mut jpeg, 95)
+        .encode_image(&png)
+        .unwrap();
+    if let Some(f) = focal_35mm {
+        // APP1 "Exif": a little-endian TIFF header, IFD0 pointing to an Exif IFD with
+        // tag 0xA405 (SHORT), inserted after SOI.
+        let mut tiff: Vec<u8> = b"II*\0".to_vec();
+        tiff.extend_from_slice(&8u32.to_le_bytes());
+        for v in [1u16, 0x8769, 4] {
+            tiff.extend_from_slice(&v.to_le_bytes());
+        }
+        for v in [1u32, 26, 0] {
+            tiff.extend_from_slice(&v.to_le_bytes());
+        }
+        for v in [1u16, 0xA405, 3] {
+            tiff.extend_from_slice(&v.to_le_bytes());
+        }
+        for v in [1u32, u32::from(f), 0] {
+            tiff.extend_from_slice(&v.to_le_bytes());
+        }
+        let mut app1 = b"Exif\0\0".to_vec();
+        app1.extend_from_slice(&tiff);
+        let mut segment = vec![0xFF, 0xE1];
+        segment.extend_from_slice(&((app1.len() + 2) as u16).to_be_bytes());
+        segment.extend_from_slice(&app1);
+        jpeg.splice(2..2, segment);
+    }
+    std::fs::write(dir.path().join("photo.jpg"), &jpeg).unwrap();
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(root.join("cone-perspective.json")).unwrap()).unwrap();
+    v["image"]["path"] = serde_json::json!("photo.jpg");
+    v["camera"] = serde_json::json!({"projection": "perspective"});
+    (dir, v.to_string())
+}
+
+/// Issue 37: a phone photo's EXIF gives the perspective camera its focal length; the
+/// report says where it came from; a photo without it is refused naming `camera`.
+#[test]
+fn a_photos_exif_gives_the_camera_its_focal_length() {
+    // The synthetic camera: f = 514.68 px on a 678.8 px diagonal, 32.8 mm equivalent.
+    let (dir, text) = cone_photo_with_exif(Some(33));
+    let input = PhotoInput::from_text(&text).unwrap();
+    let run = run_photo(&input, &PhotoRunOptions::default(), &RunContext::new(dir.path())).unwrap();
+    let photo = run.report.photo.as_ref().unwrap();
+    assert!(photo.camera_focal_length_from_exif);
+    assert_eq!(photo.camera_projection, "perspective");
+    let expected = 33.0 * 480f64.hypot(480.0) / sheetform_photo::FILM_35MM_DIAGONAL_MM;
+    assert!((photo.camera_focal_length_px.unwrap() - expected).abs() < 1e-9);
+    assert_eq!(run.report.status, Status::Ok);
+    let (dir, text) = cone_photo_with_exif(None);
+    let input = PhotoInput::from_text(&text).unwrap();
+    let error = match run_photo(&input, &PhotoRunOptions::default(), &RunContext::new(dir.path())) {
+        Ok(_) => panic!("no focal length anywhere, yet it ran"),
+        Err(e) => e.to_string(),
+    };
+    assert!(error.contains("camera") && error.contains("EXIF has none"), "{error}");
+}

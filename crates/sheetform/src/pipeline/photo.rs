@@ -9,7 +9,7 @@ use sheetform_io::{obj_string, stl_bytes, Texture};
 use sheetform_mesh::{Ruling, SheetMesh, TriangleMesh};
 use sheetform_photo::{
     annotation_from_svg, overlay_png, overlay_svg, reconstruct, svg_image_reference, AngleSummary, CurveNetwork,
-    PatchSurface, PhotoAnnotation, PhotoError, PhotoReconstruction,
+    PatchSurface, PhotoAnnotation, PhotoError, PhotoReconstruction, Projection,
 };
 
 use super::context::RunContext;
@@ -134,7 +134,7 @@ pub fn run_photo(
                 problem,
             })
     };
-    let (annotation, (image_path, image_bytes), size) = match input {
+    let (mut annotation, (image_path, image_bytes), size) = match input {
         PhotoInput::Drawing(text) => {
             // The drawing names the photo; its pixel size maps the drawing to the image.
             let image = read_image(&svg_image_reference(text)?)?;
@@ -157,6 +157,19 @@ pub fn run_photo(
             ),
         )
         .into());
+    }
+    // A perspective camera without a focal length takes the photo's EXIF one.
+    let camera = &mut annotation.camera;
+    let focal_length_from_exif = camera.projection == Projection::Perspective
+        && camera.focal_length_px.is_none()
+        && camera.focal_length_35mm.is_none();
+    if focal_length_from_exif {
+        camera.focal_length_35mm = sheetform_io::focal_length_35mm_from_exif(&image_bytes);
+        tracing::debug!(
+            "photo: focal length from the EXIF of {image_path}: {:?} mm",
+            camera.focal_length_35mm
+        );
+        annotation.validate()?;
     }
     let parsed = Instant::now();
     context.check_cancelled()?;
@@ -380,6 +393,7 @@ pub fn run_photo(
         }
         .into(),
         camera_focal_length_px: r.plane.camera.focal_length_px,
+        camera_focal_length_from_exif: focal_length_from_exif,
         symmetry_plane_normal: [r.plane.normal.x, r.plane.normal.y, r.plane.normal.z],
         developability_error_linear: linear,
         developability_error_refined: annotation.analysis.refine.then_some(refined),
