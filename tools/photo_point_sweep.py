@@ -5,12 +5,13 @@ prints the failures and a count per view (issue 37: where the user puts a point)
 
     python3 tools/photo_point_sweep.py [VIEW ...]   # default: the six synthetic views
 
-Needs a release build (`cargo build --release`). Writes only to a temporary directory.
+Needs a release build (`cargo build --release`), or another binary named by
+SHEETFORM_BIN (an older commit's, to compare). Writes only to a temporary directory.
 """
 import json, math, os, shutil, subprocess, sys, tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-BIN = os.path.join(ROOT, "target", "release", "sheetform")
+BIN = os.environ.get("SHEETFORM_BIN", os.path.join(ROOT, "target", "release", "sheetform"))
 SYNTHETIC = os.path.join(ROOT, "examples", "photo", "synthetic")
 VIEWS = ["cylinder-ortho", "cone-ortho", "composite-ortho",
          "cylinder-perspective", "cone-perspective", "composite-perspective"]

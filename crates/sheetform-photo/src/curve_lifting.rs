@@ -177,15 +177,10 @@ pub fn assemble_energy(
     let mut rows: Vec<EnergyRow> = Vec::new();
     let q = &network.points;
     let camera = &plane.camera;
-    let divisor = |i: u32| camera.divisor(depths.get(i as usize).copied().unwrap_or(0.0));
-    let place_divisor = |place: CurvePoint| {
-        let w = place_weights(network, place);
-        camera.divisor(
-            w.iter()
-                .map(|&(i, b)| b * depths.get(i as usize).copied().unwrap_or(0.0))
-                .sum(),
-        )
-    };
+    let depth = |i: u32| depths.get(i as usize).copied().unwrap_or(0.0);
+    let divisor = |i: u32| camera.divisor(depth(i));
+    let place_divisor =
+        |place: CurvePoint| camera.divisor(place_weights(network, place).iter().map(|&(i, b)| b * depth(i)).sum());
     // E_proj.
     let w1 = weights.projection.sqrt();
     for (i, p) in q.iter().enumerate() {

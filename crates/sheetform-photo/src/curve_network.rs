@@ -10,11 +10,12 @@
 //! overlap, then refined by Newton's method on `B₁(t₁) − B₂(t₂) = 0`.
 //!
 //! Beyond the paper (hand tracing is never exact): a curve end within the snap distance
-//! of another curve is joined to it (a T-junction); an intersection within the snap
-//! distance of a knot (a curve's end or segment join) is moved to that knot (no sliver
-//! segments); an end that grazes a curve and crosses it a few pixels on is joined at the
-//! crossing, and the short tail beyond it is dropped. Crossings near an `occlusions` mark are left unjoined (§4). A curve that
-//! crosses itself is refused.
+//! of another curve is joined to it (a T-junction); a junction within
+//! [`knot_snap_radius`] of a knot (a curve's end or segment join) is moved to that knot
+//! (no sliver segments), and a node sits at its firmest points (a traced node rather than
+//! a split or a curve's end); an end that grazes a curve and crosses it a few pixels on
+//! is joined at the crossing, and the short tail beyond it is dropped. Crossings near an
+//! `occlusions` mark are left unjoined (§4). A curve that crosses itself is refused.
 
 use crate::annotation::{image_to_model, CurveKind, PhotoAnnotation};
 use crate::cubic;
@@ -277,9 +278,7 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
             if i == j || !keep[i] || !keep[j] {
                 continue;
             }
-            let ci: Vec<usize> = junctions[i].1.iter().map(|p| p.curve).collect();
-            let cj: Vec<usize> = junctions[j].1.iter().map(|p| p.curve).collect();
-            let same_pair = ci.len() == 2 && cj.len() == 2 && ci.iter().all(|c| cj.contains(c));
+            let same_pair = same_two_curves(&junctions[i].1, &junctions[j].1);
             let close = (junctions[i].0 - junctions[j].0).norm() <= graze;
             let (end_i, end_j) = (junctions[i].1.iter().any(at_end), junctions[j].1.iter().any(at_end));
             if same_pair && close && end_i && !end_j {
@@ -299,9 +298,7 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
     // is moved onto the first, and the clustering below keeps each curve's end there.
     for j in 0..junctions.len() {
         for i in 0..j {
-            let ci: Vec<usize> = junctions[i].1.iter().map(|p| p.curve).collect();
-            let cj: Vec<usize> = junctions[j].1.iter().map(|p| p.curve).collect();
-            let same_pair = ci.len() == 2 && cj.len() == 2 && ci.iter().all(|c| cj.contains(c));
+            let same_pair = same_two_curves(&junctions[i].1, &junctions[j].1);
             let close = (junctions[i].0 - junctions[j].0).norm() <= graze;
             if same_pair && close && junctions[i].1.iter().any(at_end) && junctions[j].1.iter().any(at_end) {
                 junctions[j].0 = junctions[i].0;
@@ -380,7 +377,6 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
                 1
             });
         }
-        let closed = annotation.curves[c].closed;
         if closed {
             // The last knot is the first.
             let last = ids.len() - 1;
@@ -577,6 +573,11 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
         junction_count: clusters.len(),
         occluded_crossing_count: occluded,
     })
+}
+
+/// Whether two junctions are each the meeting of the same two curves.
+fn same_two_curves(a: &[CurvePlace], b: &[CurvePlace]) -> bool {
+    a.len() == 2 && b.len() == 2 && a.iter().all(|p| b.iter().any(|q| q.curve == p.curve))
 }
 
 /// Point of a piecewise cubic at global parameter `u = segment + t`.

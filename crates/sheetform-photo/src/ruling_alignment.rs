@@ -24,11 +24,11 @@ use crate::curve_network::CurveNetwork;
 use crate::curve_samples::{CurvePoint, CurveSamples, SampledChain};
 use crate::ruling_propagation::RuledStrip;
 use crate::Camera;
+use sheetform_geometry::cross2;
 
 /// Moves interior ruling ends onto the points of parallel tangents; returns how many
 /// moved. `samples` gains the new parameters and every strip's chains are resampled.
 pub fn align_rulings(network: &CurveNetwork, samples: &mut CurveSamples, strips: &mut [RuledStrip]) -> usize {
-    let cross = |u: nalgebra::Vector2<f64>, v: nalgebra::Vector2<f64>| u.x * v.y - u.y * v.x;
     // New ends, per strip and ruling.
     let mut moved: Vec<Vec<Option<CurvePoint>>> = Vec::with_capacity(strips.len());
     for strip in strips.iter() {
@@ -47,7 +47,7 @@ pub fn align_rulings(network: &CurveNetwork, samples: &mut CurveSamples, strips:
                 }
                 let segment = b.places[from].segment;
                 let control = network.control_points(segment as usize);
-                let f = |t: f64| cross(ta, cubic::derivative(&control, t));
+                let f = |t: f64| cross2(ta, cubic::derivative(&control, t));
                 let Some(t) = cubic::bisect(f, b.places[from].t, b.places[to].t) else {
                     continue;
                 };
@@ -172,7 +172,6 @@ pub fn align_rulings_in_perspective(
     camera: &Camera,
     x: &[f64],
 ) -> usize {
-    let cross = |u: nalgebra::Vector2<f64>, v: nalgebra::Vector2<f64>| u.x * v.y - u.y * v.x;
     let mut moved: Vec<Vec<Option<CurvePoint>>> = Vec::with_capacity(strips.len());
     for strip in strips.iter() {
         let last = strip.rulings.len() - 1;
@@ -191,7 +190,7 @@ pub fn align_rulings_in_perspective(
                 let control = network.control_points(segment as usize);
                 let at = cubic::point(&control, t);
                 match camera.image_direction(ta, at) {
-                    Some(towards) => cross(towards, cubic::derivative(&control, t)),
+                    Some(towards) => cross2(towards, cubic::derivative(&control, t)),
                     None => 0.0,
                 }
             };

@@ -2,10 +2,10 @@
 //!
 //! Under orthographic projection the segment joining two mirror points is parallel to the
 //! image of the plane's normal; under perspective it lies on the line through the
-//! normal's vanishing point ([`SymmetryPlane::image_direction_at`]). Each sample of one curve is paired with the point where
-//! the line through it along that direction meets the other curve (the nearest such
-//! point; the paper takes the nearest *sample*, this intersects the sampled polyline, so
-//! the pair is exact to the sampling's chord error). For a self-symmetric curve the other
+//! normal's vanishing point ([`SymmetryPlane::image_direction_at`]). Each sample of one
+//! curve is paired with the point where the line through it along that direction meets
+//! the other curve (the nearest such point; the paper takes the nearest *sample*, this
+//! intersects the sampled polyline, so the pair is exact to the sampling's chord error). For a self-symmetric curve the other
 //! crossing of the same curve is taken, and each pair is kept once. A sample whose line
 //! misses the other curve (the curves do not overlap along the direction, an occluded
 //! part) gets no partner.

@@ -4,7 +4,8 @@
 //! along its own line, up to the snap distance past or short of the curve: each drawing
 //! keeps the base drawing's patches (the same curves round each), and within 2 px of the
 //! node reconstructs with every depth fixed and every ruled patch developable. Before
-//! the fix 11-20 of 48 such moves per view failed ("depth not fixed", "closes no cycle").
+//! the fix 6-12 of 48 moves along the curve failed per single-patch view and 24-25 of 96
+//! on the cylinder on a cone ("depth not fixed"; `tools/photo_point_sweep.py`).
 
 use nalgebra::Vector2;
 use serde_json::Value;

@@ -16,9 +16,16 @@ fn examples() -> PathBuf {
 }
 
 fn load(name: &str) -> (PhotoAnnotation, Value, PhotoReconstruction) {
+    load_as(name, |_| {})
+}
+
+/// [`load`] with the annotation edited first.
+fn load_as(name: &str, edit: impl Fn(&mut PhotoAnnotation)) -> (PhotoAnnotation, Value, PhotoReconstruction) {
     let dir = examples().join("synthetic");
-    let annotation = PhotoAnnotation::from_json(&std::fs::read_to_string(dir.join(format!("{name}.json"))).unwrap())
-        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    let mut annotation =
+        PhotoAnnotation::from_json(&std::fs::read_to_string(dir.join(format!("{name}.json"))).unwrap())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+    edit(&mut annotation);
     let truth: Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join(format!("{name}.truth.json"))).unwrap()).unwrap();
     let r = reconstruct(&annotation).unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -330,7 +337,11 @@ fn a_perspective_composite_is_made_developable() {
 /// difference of the spreads (RMS distance from the centroid): a size error that does
 /// not depend on the true-size mark itself.
 fn shape_and_size_errors(name: &str) -> (f64, f64) {
-    let (_, truth, r) = load(name);
+    shape_and_size_errors_of(load(name))
+}
+
+/// [`shape_and_size_errors`] of a loaded view.
+fn shape_and_size_errors_of((_, truth, r): (PhotoAnnotation, Value, PhotoReconstruction)) -> (f64, f64) {
     let mm_per_px = truth["mm_per_px"].as_f64().unwrap();
     let camera = &truth["camera"];
     let project = |p: Vec3| -> Vec2 {
@@ -367,17 +378,6 @@ fn shape_and_size_errors(name: &str) -> (f64, f64) {
     let axis = &truth["symmetry"]["frame_model"][0];
     let height = (vec3(&axis[1]) - vec3(&axis[0])).norm() * mm_per_px;
     let shape = pairs.iter().map(|(p, q)| (p + shift - q).norm()).fold(0.0, f64::max) / height;
-    if std::env::var("PHOTO_DEBUG").is_ok() {
-        for (p, q) in pairs.iter().step_by(5) {
-            println!(
-                "  {:.2} {:.2} {:.2} -> {:.2}",
-                q.x,
-                q.y,
-                q.z,
-                (p + shift - q).norm() / height * 100.0
-            );
-        }
-    }
     let spread = |points: &mut dyn Iterator<Item = Vec3>, c: Vec3| {
         (points.map(|p| (p - c).norm_squared()).sum::<f64>() / n).sqrt()
     };
@@ -413,5 +413,16 @@ fn perspective_views_are_reconstructed_through_their_camera() {
             100.0 * shape
         );
         assert!(size < size_bound, "{name}: size off by {:.2} %", 100.0 * size);
+        // The same view read as orthographic (the annotation without its camera): the
+        // figures before issue 37, far off.
+        if name.ends_with("perspective") {
+            let (shape, size) = shape_and_size_errors_of(load_as(name, |a| a.camera = Default::default()));
+            println!(
+                "{name} without its camera: shape within {:.2} % of the height, size within {:.2} %",
+                100.0 * shape,
+                100.0 * size
+            );
+            assert!(shape > 0.1, "{name}: {:.2} % without the camera", 100.0 * shape);
+        }
     }
 }
