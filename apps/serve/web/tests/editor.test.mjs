@@ -52,6 +52,10 @@ const median = (xs) => {
 };
 
 const { server, url } = await startServer();
+// However the script ends (chromium missing, an assertion before the `try`), the server
+// goes with it: it shares the test's stderr, which it would otherwise keep open, and the
+// harness would wait for it forever instead of failing.
+process.on('exit', () => server.kill('SIGKILL'));
 const browser = await chromium.launch({
   executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
   args: ['--headless', '--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
