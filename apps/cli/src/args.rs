@@ -198,6 +198,12 @@ pub(crate) enum Command {
         /// as read. More faces: slower, not closer.
         #[arg(long, value_name = "N", default_value_t = sheetform::pipeline::DEFAULT_WORK_FACES)]
         work_faces: usize,
+        /// Keep the result symmetric in a mirror plane: `x`, `y` or `z` (the plane of
+        /// that normal through the middle of the mesh) or placed, `x=0`. The half with
+        /// more area is developed and joined with its mirror image (no seam on the
+        /// plane unless one is needed); pieces come in mirrored pairs.
+        #[arg(long, value_name = "PLANE", value_parser = str::parse::<sheetform::pipeline::Mirror>)]
+        mirror: Option<sheetform::pipeline::Mirror>,
         /// Smoothness against closeness: 0 moves each vertex as little as possible,
         /// larger values spread the change over its neighbours.
         #[arg(long, value_name = "WEIGHT", default_value_t = 0.1)]

@@ -196,6 +196,9 @@ pub(crate) fn develop_command(
     })?;
     let run = &developed.run;
     write_set(&output, &run.files, &run.report)?;
+    for warning in &run.report.warnings {
+        say!("sheetform: warning: {}: {warning}", mesh.display());
+    }
     let figures = run.report.develop.as_ref().expect("develop reports its figures");
     let too_far = figures.max_distance_mm.filter(|&bound| figures.hausdorff_mm > bound);
     if run.outcome == Outcome::OutOfTolerance && figures.pieces_fit_sheet == Some(false) {

@@ -110,6 +110,7 @@ fn main() -> ExitCode {
             fixed,
             max_distance,
             work_faces,
+            mirror,
             smoothness,
             tolerance,
             max_iterations,
@@ -130,6 +131,7 @@ fn main() -> ExitCode {
                 },
                 fixed_groups: fixed,
                 work_faces: Some(work_faces),
+                mirror,
                 develop: sheetform::pipeline::DevelopOptions {
                     smoothness,
                     defect_tolerance: tolerance,

@@ -212,8 +212,10 @@ pub(crate) fn flatten(
 /// the target, a length in `unit`s (`2.0`) or a percentage of the bounding-box diagonal
 /// (`"0.5%"`); pieces are added until it holds. `work_faces` (default 10 000): a target of more
 /// faces (a scan) is remeshed first into about this many even triangles, its boundary, seams
-/// and fixed vertices kept. `smoothness`, `tolerance` (radians) and `max_iterations`
-/// steer the developability solve.
+/// and fixed vertices kept. `mirror`: a mirror plane the result keeps, `"x"`, `"y"` or
+/// `"z"` (through the middle of the mesh) or placed, `"x=0"`: the half with more area is
+/// developed and joined with its mirror image. `smoothness`, `tolerance` (radians) and
+/// `max_iterations` steer the developability solve.
 ///
 /// Returns a `Run` (`uv` the pattern at 1:1, `face_pieces` the piece of each face,
 /// `source_vertices` the target vertex each output vertex copies, -1 for a vertex the
@@ -222,7 +224,7 @@ pub(crate) fn flatten(
 /// keeps a defect above `tolerance` or the distance bound is not met (the closest
 /// result is returned).
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, *, seams=None, automatic_seams=true, max_pieces=12, normal_tolerance=2.0, cone_angle=60.0, fixed=None, max_distance=None, work_faces=None, smoothness=0.1, tolerance=1e-10, max_iterations=100, unit="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None))]
+#[pyo3(signature = (vertices, faces, *, seams=None, automatic_seams=true, max_pieces=12, normal_tolerance=2.0, cone_angle=60.0, fixed=None, max_distance=None, work_faces=None, mirror=None, smoothness=0.1, tolerance=1e-10, max_iterations=100, unit="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn develop(
     py: Python<'_>,
@@ -236,6 +238,7 @@ pub(crate) fn develop(
     fixed: Option<&Bound<'_, PyAny>>,
     max_distance: Option<&Bound<'_, PyAny>>,
     work_faces: Option<usize>,
+    mirror: Option<&str>,
     smoothness: f64,
     tolerance: f64,
     max_iterations: usize,
@@ -251,6 +254,12 @@ pub(crate) fn develop(
     let outputs = output_set(outputs)?;
     let pattern = pattern_argument(py, pattern)?;
     let max_distance = max_distance.map(distance_bound).transpose()?;
+    let mirror = mirror
+        .map(|text| {
+            text.parse()
+                .map_err(|message: String| invalid_argument("mirror", message))
+        })
+        .transpose()?;
     let fixed_vertices = match fixed {
         None => Vec::new(),
         Some(array) => index_list("fixed", array)?
@@ -267,6 +276,7 @@ pub(crate) fn develop(
         },
         max_distance,
         work_faces,
+        mirror,
         segmentation: SegmentationOptions {
             max_pieces,
             normal_tolerance_degrees: normal_tolerance,

@@ -282,6 +282,28 @@ def test_develop_remeshes_a_fine_target_to_its_working_size():
         sheetform.develop(sphere.vertices, sphere.faces, work_faces=10)
 
 
+def test_develop_keeps_a_mirror_plane():
+    """`mirror="x"`: a capsule along z develops into exact pieces whose vertices are
+    mirror images of each other in x = 0 (source_vertices pair each with a target
+    vertex on its side); a bad plane is refused naming `mirror`."""
+    capsule = trimesh.creation.capsule(height=60.0, radius=25.0)
+    run = sheetform.develop(capsule.vertices, capsule.faces, mirror="x", outputs="preview")
+    develop = run.report["develop"]
+    assert run.report["status"] == "ok" and develop["mirror_plane"] == "x = 0"
+    assert isinstance(develop["mirror_seam"], bool)
+    assert develop["mirror_asymmetry_relative"] < 1e-9 and "warnings" not in run.report
+    assert develop["angle_defect_max_rad"] <= 1e-10 and develop["piece_count"] <= 12
+    # Every vertex's mirror image is a vertex.
+    image = run.vertices * np.array([-1.0, 1.0, 1.0])
+    distances = np.linalg.norm(image[:, None, :] - run.vertices[None, :, :], axis=2).min(axis=1)
+    assert distances.max() <= 1e-9
+    # Kept source vertices are on the side developed (new ones, on the cut, are -1).
+    kept = run.source_vertices >= 0
+    assert kept.sum() > 0.3 * len(run.vertices)
+    with pytest.raises(sheetform.InvalidInputError, match="mirror"):
+        sheetform.develop(capsule.vertices, capsule.faces, mirror="w")
+
+
 def test_develop_with_a_distance_bound_and_its_refusals():
     """A trimesh sphere within 3 % of its size, and an impossible bound: out of
     tolerance, the closest result returned; bad arguments named."""

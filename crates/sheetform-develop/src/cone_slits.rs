@@ -1,7 +1,7 @@
 //! Slits from cone points: a vertex inside a piece that no small move makes flat is cut
 //! free along the shortest edge path to its piece's border.
 
-use crate::SeamPieces;
+use crate::{mirror_interior, MirrorBoundary, SeamPieces};
 use nalgebra::Vector3;
 use sheetform_mesh::{vertex_angle_sums, EdgeTable, TriangleMesh};
 use std::f64::consts::TAU;
@@ -63,6 +63,10 @@ pub(crate) fn cut_slits(mesh: &TriangleMesh, table: &EdgeTable, seam: &mut [bool
 /// tip, a saddle where a handle meets a body). Cutting them frees the solve of those
 /// constraints; every other vertex inside a piece stays constrained to be flat.
 ///
+/// On a half target (`mirror`), a vertex on the plane whose angle sum in the whole (twice
+/// the half's) stays off 2π by more than the threshold is freed by a seam along one of
+/// its edges in the plane: the whole is cut there, between the half and its image.
+///
 /// Returns the seams (vertex pairs, for [`crate::seam_pieces`]) and the slits cut (0:
 /// no vertex was above the threshold or none could be reached).
 pub fn slit_unflattened_vertices(
@@ -70,6 +74,7 @@ pub fn slit_unflattened_vertices(
     positions: &[Vec3],
     table: &EdgeTable,
     pieces: &SeamPieces,
+    mirror: Option<&MirrorBoundary>,
     threshold: f64,
 ) -> (Vec<[u32; 2]>, usize) {
     let angle_sum = vertex_angle_sums(positions, &mesh.triangles);
@@ -82,7 +87,30 @@ pub fn slit_unflattened_vertices(
     for &e in &pieces.seam_edges {
         seam[e] = true;
     }
-    let slits = cut_slits(mesh, table, &mut seam, &cones);
+    let mut plane_cuts = 0;
+    if let Some(mirror) = mirror {
+        let inside = mirror_interior(table, pieces, mirror.on_plane);
+        let on_plane = |v: u32| mirror.on_plane[v as usize];
+        let mut on_seam = vec![false; mesh.positions.len()];
+        for (e, &[a, b]) in table.edges.iter().enumerate() {
+            if seam[e] {
+                on_seam[a as usize] = true;
+                on_seam[b as usize] = true;
+            }
+        }
+        for (e, &[a, b]) in table.edges.iter().enumerate() {
+            let cone = |v: u32| inside[v as usize] && (TAU - 2.0 * angle_sum[v as usize]).abs() > threshold;
+            let along_plane = on_plane(a) && on_plane(b) && table.sides(e).len() == 1;
+            // One edge along the plane frees the vertex (and its neighbour).
+            if along_plane && [a, b].iter().any(|&v| cone(v) && !on_seam[v as usize]) {
+                seam[e] = true;
+                on_seam[a as usize] = true;
+                on_seam[b as usize] = true;
+                plane_cuts += 1;
+            }
+        }
+    }
+    let slits = cut_slits(mesh, table, &mut seam, &cones) + plane_cuts;
     let seams = (0..table.len()).filter(|&e| seam[e]).map(|e| table.edges[e]).collect();
     (seams, slits)
 }

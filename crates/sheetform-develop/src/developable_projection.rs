@@ -2,7 +2,7 @@
 //! constrained Gauss–Newton (SQP) projection of the target's vertex positions onto the
 //! set where every vertex inside a piece has angle sum 2π.
 
-use crate::{DevelopError, SeamPieces};
+use crate::{mirror_interior, DevelopError, SeamPieces};
 use faer::sparse::Pair;
 use nalgebra::Vector3;
 use sheetform_mesh::{corner_angle_gradient, vertex_angle_sums, EdgeTable, TriangleMesh};
@@ -111,6 +111,17 @@ impl DevelopOptions {
     }
 }
 
+/// The mirror plane of a half target (`develop --mirror`): the half is developed so that
+/// it and its mirror image, joined along the plane, are exactly developable.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MirrorBoundary<'a> {
+    /// The plane's normal axis (0 = x, 1 = y, 2 = z): a vertex on the plane keeps its
+    /// coordinate on this axis and moves in the plane only.
+    pub axis: usize,
+    /// Whether each vertex of the half lies on the plane.
+    pub on_plane: &'a [bool],
+}
+
 /// The developed surface.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Developed {
@@ -164,6 +175,14 @@ pub struct Developed {
 /// (the least-`H`-norm correction `J Δx = −g`, damped; at most [`POLISH_STEPS`]) then
 /// bring the defects to the tolerance (Newton on `g`, quadratic near the solution).
 ///
+/// **Mirror plane** (`mirror`: `target` is one half of a symmetric target, its cut on
+/// the plane). A vertex on the plane keeps its coordinate along the plane's normal (its
+/// row and column of that coordinate are treated as a fixed vertex's), and a plane
+/// vertex inside a piece of the whole ([`mirror_interior`]) has the constraint
+/// `g_v = 2π − 2 Σ θ = 0`: joined with its mirror image it has angle sum 2π, and its
+/// defect is the whole's (the same tolerance holds for the whole). The half and its
+/// image are then exactly developable together, with no seam along the plane.
+///
 /// **Fixed vertices** (`fixed`, one flag per vertex, or empty for none: a region the
 /// designer keeps where it is) do not move: their rows of the step's system are the
 /// identity with a zero right-hand side, their columns of `H` and `J` zero, so every step
@@ -181,6 +200,7 @@ pub fn develop_pieces(
     table: &EdgeTable,
     pieces: &SeamPieces,
     fixed: &[bool],
+    mirror: Option<&MirrorBoundary>,
     options: &DevelopOptions,
     stop: Option<&AtomicBool>,
 ) -> Result<Developed, DevelopError> {
@@ -197,7 +217,40 @@ pub fn develop_pieces(
     } else {
         fixed.to_vec()
     };
+    if let Some(mirror) = mirror {
+        if mirror.on_plane.len() != nv || mirror.axis > 2 {
+            return Err(DevelopError::Option {
+                option: "mirror",
+                message: format!(
+                    "must flag each of the {nv} vertices on an axis 0–2, got {} flags on axis {}",
+                    mirror.on_plane.len(),
+                    mirror.axis
+                ),
+            });
+        }
+    }
     let n = 3 * nv;
+    // Each coordinate that does not move: a fixed vertex's three, a plane vertex's normal
+    // one.
+    let mut fixed_coordinate: Vec<bool> = fixed.iter().flat_map(|&f| [f; 3]).collect();
+    // How many times each vertex's angle sum counts towards 2π (0: unconstrained): once
+    // inside a piece, twice on the mirror plane inside a piece of the whole.
+    let mut angle_goal: Vec<f64> = pieces.interior.iter().map(|&i| if i { 1.0 } else { 0.0 }).collect();
+    if let Some(mirror) = mirror {
+        for (v, &on) in mirror.on_plane.iter().enumerate() {
+            if on {
+                fixed_coordinate[3 * v + mirror.axis] = true;
+            }
+        }
+        for (goal, half) in angle_goal
+            .iter_mut()
+            .zip(mirror_interior(table, pieces, mirror.on_plane))
+        {
+            if half {
+                *goal = 2.0;
+            }
+        }
+    }
     // A vertex inside a piece with its whole star fixed cannot move towards flatness.
     let mut star_moves = vec![false; nv];
     for t in &target.triangles {
@@ -208,10 +261,10 @@ pub fn develop_pieces(
         }
     }
     let pinned: Vec<u32> = (0..nv as u32)
-        .filter(|&v| pieces.interior[v as usize] && !star_moves[v as usize])
+        .filter(|&v| angle_goal[v as usize] > 0.0 && !star_moves[v as usize])
         .collect();
     let constrained: Vec<u32> = (0..nv as u32)
-        .filter(|&v| pieces.interior[v as usize] && star_moves[v as usize])
+        .filter(|&v| angle_goal[v as usize] > 0.0 && star_moves[v as usize])
         .collect();
     let nc = constrained.len();
     let scale = {
@@ -250,7 +303,7 @@ pub fn develop_pieces(
     let mut corners: Vec<Vec<(u32, u8)>> = vec![Vec::new(); nv];
     for (f, t) in target.triangles.iter().enumerate() {
         for (k, &v) in t.iter().enumerate() {
-            if pieces.interior[v as usize] {
+            if angle_goal[v as usize] > 0.0 {
                 corners[v as usize].push((f as u32, k as u8));
             }
         }
@@ -284,14 +337,14 @@ pub fn develop_pieces(
     }
     if s > 0.0 {
         for &[a, b] in &table.edges {
-            // A fixed vertex's row is the identity: no coupling to its neighbours.
-            let coupling = if fixed[a as usize] || fixed[b as usize] {
-                0.0
-            } else {
-                -s
-            };
             let (a, b) = (a.min(b) as usize, a.max(b) as usize);
             for k in 0..3 {
+                // A fixed coordinate's row is diagonal: no coupling to its neighbours.
+                let coupling = if fixed_coordinate[3 * a + k] || fixed_coordinate[3 * b + k] {
+                    0.0
+                } else {
+                    -s
+                };
                 pairs.push(Pair {
                     row: 3 * a + k,
                     col: 3 * b + k,
@@ -331,7 +384,8 @@ pub fn develop_pieces(
         constrained: &constrained,
         corners: &corners,
         stars: &stars,
-        fixed: &fixed,
+        fixed: &fixed_coordinate,
+        multiplicity: constrained.iter().map(|&v| angle_goal[v as usize]).collect(),
     };
     let row_starts: Vec<usize> = stars
         .iter()
@@ -372,7 +426,7 @@ pub fn develop_pieces(
         let sums = vertex_angle_sums(x, &target.triangles);
         pinned
             .iter()
-            .map(|&v| (TAU - sums[v as usize]).abs())
+            .map(|&v| (TAU - angle_goal[v as usize] * sums[v as usize]).abs())
             .fold(0.0, f64::max)
     };
     let max_defect_before = max_abs(&defects).max(pinned_defect(&x));
@@ -395,8 +449,8 @@ pub fn develop_pieces(
         factorise(&mut kkt)?;
         let (energy, hd) = objective(&x, &h_values);
         let mut rhs: Vec<f64> = hd.iter().map(|v| -v).chain(defects.iter().map(|g| -g)).collect();
-        for (v, _) in fixed.iter().enumerate().filter(|(_, &f)| f) {
-            rhs[3 * v..3 * v + 3].fill(0.0);
+        for (value, _) in rhs.iter_mut().zip(&fixed_coordinate).filter(|(_, &f)| f) {
+            *value = 0.0;
         }
         kkt.solve(&mut rhs);
         let step: Vec<Vec3> = (0..nv)
@@ -495,12 +549,12 @@ pub fn develop_pieces(
         defects = trial_defects;
     }
     let max_defect = max_abs(&defects).max(pinned_defect(&x));
-    // Fixed vertices stay exactly where they were (not rescaled).
+    // Fixed coordinates stay exactly where they were (not rescaled).
     let positions: Vec<Vec3> = x
         .iter()
         .zip(&target.positions)
-        .zip(&fixed)
-        .map(|((p, q), &f)| if f { *q } else { p * scale })
+        .zip(fixed_coordinate.chunks(3))
+        .map(|((p, q), f)| Vec3::from_fn(|k, _| if f[k] { q[k] } else { p[k] * scale }))
         .collect();
     let displacements: Vec<f64> = positions
         .iter()
@@ -538,12 +592,14 @@ struct Geometry<'a> {
     constrained: &'a [u32],
     corners: &'a [Vec<(u32, u8)>],
     stars: &'a [Vec<u32>],
-    /// Fixed vertices: their Jacobian columns are zero.
+    /// Fixed coordinates (three per vertex): their Jacobian columns are zero.
     fixed: &'a [bool],
+    /// How many times each constraint's angle sum counts (1, or 2 on a mirror plane).
+    multiplicity: Vec<f64>,
 }
 
 impl Geometry<'_> {
-    /// The defects `g_v = 2π − Σ θ` at `x`; with `jacobian`, also writes `∂g/∂x` into the
+    /// The defects `g_v = 2π − m Σ θ` (`m` = 2 on a mirror plane, else 1) at `x`; with `jacobian`, also writes `∂g/∂x` into the
     /// values (each constraint's row from its start, its star's vertices in order).
     fn defects(&self, x: &[Vec3], jacobian: Option<(&mut Vec<f64>, &Vec<usize>)>) -> Vec<f64> {
         let mut defects = vec![TAU; self.constrained.len()];
@@ -557,20 +613,20 @@ impl Geometry<'_> {
                 let corner = [t[k], t[(k + 1) % 3], t[(k + 2) % 3]];
                 let (angle, grads) =
                     corner_angle_gradient(x[corner[0] as usize], x[corner[1] as usize], x[corner[2] as usize]);
-                defects[c] -= angle;
+                defects[c] -= self.multiplicity[c] * angle;
                 if jacobian.is_some() {
                     for (w, g) in corner.iter().zip(grads) {
                         let i = star.binary_search(w).expect("a corner's vertices are in its star");
-                        gradient[i] -= g;
+                        gradient[i] -= g * self.multiplicity[c];
                     }
                 }
             }
             if let Some((values, starts)) = jacobian.as_mut() {
                 let start = starts[c];
                 for (i, (g, &w)) in gradient.iter().zip(star).enumerate() {
-                    let g = if self.fixed[w as usize] { Vec3::zeros() } else { *g };
                     for k in 0..3 {
-                        values[start + 3 * i + k] = g[k];
+                        let fixed = self.fixed[3 * w as usize + k];
+                        values[start + 3 * i + k] = if fixed { 0.0 } else { g[k] };
                     }
                 }
             }

@@ -84,6 +84,35 @@ pub fn seam_pieces(mesh: &TriangleMesh, table: &EdgeTable, seams: &[[u32; 2]]) -
     })
 }
 
+/// The vertices of a half target on its mirror plane (`on_plane`) that lie inside a
+/// piece of the whole (the half joined with its mirror image): every boundary edge of the
+/// half at them runs along the plane (they are not on the target's own boundary), and
+/// no seam reaches them. Their angle sum in the half must be π (2π in the whole).
+pub fn mirror_interior(table: &EdgeTable, pieces: &SeamPieces, on_plane: &[bool]) -> Vec<bool> {
+    let nv = pieces.interior.len();
+    let mut inside = on_plane.to_vec();
+    inside.resize(nv, false);
+    let mut touched = vec![false; nv];
+    let mut seam = vec![false; table.len()];
+    for &e in &pieces.seam_edges {
+        seam[e] = true;
+    }
+    for (e, &[a, b]) in table.edges.iter().enumerate() {
+        let along_plane = on_plane[a as usize] && on_plane[b as usize];
+        let open = table.sides(e).len() != 2;
+        if seam[e] || (open && !along_plane) {
+            inside[a as usize] = false;
+            inside[b as usize] = false;
+        }
+        touched[a as usize] = true;
+        touched[b as usize] = true;
+    }
+    for (flag, touched) in inside.iter_mut().zip(&touched) {
+        *flag &= *touched;
+    }
+    inside
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,7 +3,7 @@
 //! into gores becomes gores within the globe-gore bound.
 
 use nalgebra::Vector3;
-use sheetform_develop::{develop_pieces, seam_pieces, DevelopOptions};
+use sheetform_develop::{develop_pieces, mirror_interior, seam_pieces, DevelopOptions, MirrorBoundary};
 use sheetform_mesh::{vertex_developability, EdgeTable, MeshTopology, TriangleMesh};
 
 /// A grid over `(u, v)` in `[0, 1]²` ([`TriangleMesh::grid`]).
@@ -43,7 +43,7 @@ fn a_developable_target_comes_back_unchanged() {
     let mesh = half_cylinder(24, 10);
     let table = EdgeTable::new(&mesh.triangles, mesh.positions.len());
     let pieces = seam_pieces(&mesh, &table, &[]).unwrap();
-    let developed = develop_pieces(&mesh, &table, &pieces, &[], &DevelopOptions::default(), None).unwrap();
+    let developed = develop_pieces(&mesh, &table, &pieces, &[], None, &DevelopOptions::default(), None).unwrap();
     assert!(developed.converged && developed.max_defect <= 1e-10, "{developed:?}");
     assert!(
         developed.displacement_max <= 1e-6,
@@ -63,7 +63,7 @@ fn a_perturbed_cylinder_becomes_exactly_developable_near_the_target() {
     let pieces = seam_pieces(&mesh, &table, &[]).unwrap();
     let before = max_interior_defect(&mesh, &pieces.interior);
     assert!(before > 1e-2, "{before}");
-    let developed = develop_pieces(&mesh, &table, &pieces, &[], &DevelopOptions::default(), None).unwrap();
+    let developed = develop_pieces(&mesh, &table, &pieces, &[], None, &DevelopOptions::default(), None).unwrap();
     let mut result = mesh.clone();
     result.positions = developed.positions.clone();
     // Checked on the result's own angles, not the solver's figure.
@@ -117,7 +117,7 @@ fn a_sphere_cut_into_twelve_gores_becomes_gores_within_the_globe_bound() {
     let table = EdgeTable::new(&mesh.triangles, mesh.positions.len());
     let pieces = seam_pieces(&mesh, &table, &seams).unwrap();
     assert_eq!(pieces.piece_count, 12);
-    let developed = develop_pieces(&mesh, &table, &pieces, &[], &DevelopOptions::default(), None).unwrap();
+    let developed = develop_pieces(&mesh, &table, &pieces, &[], None, &DevelopOptions::default(), None).unwrap();
     let mut result = mesh.clone();
     result.positions = developed.positions.clone();
     let after = max_interior_defect(&result, &pieces.interior);
@@ -157,7 +157,7 @@ fn fixed_vertices_stay_exactly_where_they_are() {
     }
     let table = EdgeTable::new(&mesh.triangles, mesh.positions.len());
     let pieces = seam_pieces(&mesh, &table, &[]).unwrap();
-    let developed = develop_pieces(&mesh, &table, &pieces, &fixed, &DevelopOptions::default(), None).unwrap();
+    let developed = develop_pieces(&mesh, &table, &pieces, &fixed, None, &DevelopOptions::default(), None).unwrap();
     let mut result = mesh.clone();
     result.positions = developed.positions.clone();
     assert!(
@@ -182,7 +182,71 @@ fn fixed_vertices_stay_exactly_where_they_are() {
         })
         .unwrap();
     bumped.positions[middle] += Vector3::new(2.0, 0.0, 0.0);
-    let developed = develop_pieces(&bumped, &table, &pieces, &fixed, &DevelopOptions::default(), None).unwrap();
+    let developed = develop_pieces(&bumped, &table, &pieces, &fixed, None, &DevelopOptions::default(), None).unwrap();
     assert!(!developed.converged && developed.max_defect > 1e-3, "{developed:?}");
     assert_eq!(developed.positions[middle], bumped.positions[middle]);
+}
+
+/// A perturbed half cylinder cut at x = 0 by its mirror plane, developed as a half: the
+/// plane vertices keep their x exactly, those inside the whole get half angle sum π, and
+/// the half joined with its mirror image is flat at every interior vertex (2π there,
+/// twice the half's sum), checked on the joined mesh's own angles.
+#[test]
+fn a_half_developed_against_its_mirror_plane_is_flat_when_joined() {
+    let mut seed = 5;
+    // The quarter x ≥ 0 of the half cylinder: u in [0, 1/2], its edge u = 1/2 on x = 0.
+    let mut mesh = grid(12, 10, |u, v| {
+        let t = std::f64::consts::FRAC_PI_2 * u;
+        Vector3::new(30.0 * t.cos(), 30.0 * t.sin(), 50.0 * v)
+    });
+    let on_plane: Vec<bool> = mesh.positions.iter().map(|p| p.x.abs() < 1e-9).collect();
+    for (p, &on) in mesh.positions.iter_mut().zip(&on_plane) {
+        *p += Vector3::new(random(&mut seed), random(&mut seed), random(&mut seed)) * 0.4;
+        if on {
+            p.x = 0.0;
+        }
+    }
+    assert_eq!(on_plane.iter().filter(|&&on| on).count(), 11);
+    let table = EdgeTable::new(&mesh.triangles, mesh.positions.len());
+    let pieces = seam_pieces(&mesh, &table, &[]).unwrap();
+    let inside = mirror_interior(&table, &pieces, &on_plane);
+    // The plane's rim ends are on the target's boundary: 9 of the 11 are inside.
+    assert_eq!(inside.iter().filter(|&&i| i).count(), 9);
+    let mirror = MirrorBoundary {
+        axis: 0,
+        on_plane: &on_plane,
+    };
+    let developed = develop_pieces(
+        &mesh,
+        &table,
+        &pieces,
+        &[],
+        Some(&mirror),
+        &DevelopOptions::default(),
+        None,
+    )
+    .unwrap();
+    assert!(developed.converged, "{developed:?}");
+    for (v, p) in developed.positions.iter().enumerate() {
+        if on_plane[v] {
+            assert_eq!(p.x, 0.0, "plane vertex {v} left the plane");
+        }
+    }
+    let half = TriangleMesh {
+        positions: developed.positions.clone(),
+        ..mesh.clone()
+    };
+    let whole = sheetform_mesh::mirror_whole(&half, &on_plane, &sheetform_mesh::MirrorPlane { axis: 0, offset: 0.0 });
+    let whole_table = EdgeTable::new(&whole.mesh.triangles, whole.mesh.positions.len());
+    let whole_pieces = seam_pieces(&whole.mesh, &whole_table, &[]).unwrap();
+    let worst = max_interior_defect(&whole.mesh, &whole_pieces.interior);
+    assert!(worst <= 1e-9, "the joined mesh has a defect of {worst} rad");
+    // Without the mirror constraint the joined mesh is not flat on the plane.
+    let free = develop_pieces(&mesh, &table, &pieces, &[], None, &DevelopOptions::default(), None).unwrap();
+    let half = TriangleMesh {
+        positions: free.positions,
+        ..mesh.clone()
+    };
+    let whole = sheetform_mesh::mirror_whole(&half, &on_plane, &sheetform_mesh::MirrorPlane { axis: 0, offset: 0.0 });
+    assert!(max_interior_defect(&whole.mesh, &whole_pieces.interior) > 1e-3);
 }

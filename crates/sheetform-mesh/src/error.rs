@@ -47,4 +47,10 @@ pub enum MeshError {
         /// Number of pieces.
         piece_count: usize,
     },
+    /// A mesh that a mirror plane cannot cut in half.
+    #[error("cannot mirror the mesh: {problem}")]
+    Mirror {
+        /// What is wrong.
+        problem: String,
+    },
 }

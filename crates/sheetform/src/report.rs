@@ -751,6 +751,16 @@ pub struct DevelopReport {
     /// made them fit; the pattern is written without the sheets and the status is `out of
     /// tolerance`.
     pub pieces_fit_sheet: Option<bool>,
+    /// The mirror plane kept (`--mirror`), e.g. `x = 0` (the mesh's units): the half on
+    /// one side was developed and joined with its mirror image.
+    pub mirror_plane: Option<String>,
+    /// With a mirror plane: whether the whole is cut along it (a centre seam; `false`:
+    /// pieces run across the plane, flat on it).
+    pub mirror_seam: Option<bool>,
+    /// How far the target is from symmetric in that plane: the two-sided Hausdorff
+    /// distance between it and its mirror image over its bounding-box diagonal (0 for a
+    /// symmetric target; the developed half's image is this far from the other half).
+    pub mirror_asymmetry_relative: Option<f64>,
 }
 
 /// `photo`: what the reconstruction from an annotated photograph made (system D,

@@ -694,3 +694,152 @@ fn a_fine_target_is_remeshed_to_its_working_size() {
         "{message}"
     );
 }
+
+/// The pattern pieces of `o`: for each, the 3D positions of its vertices.
+fn pattern_pieces(o: &Obj) -> Vec<Vec<[f64; 3]>> {
+    let mut parent: Vec<usize> = (0..o.vt.len()).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for f in &o.faces {
+        for k in 1..3 {
+            let (a, b) = (root(&mut parent, f[0].1), root(&mut parent, f[k].1));
+            parent[a] = b;
+        }
+    }
+    let mut pieces: HashMap<usize, Vec<[f64; 3]>> = HashMap::new();
+    for f in &o.faces {
+        let r = root(&mut parent, f[0].1);
+        pieces.entry(r).or_default().extend(f.iter().map(|c| o.v[c.0]));
+    }
+    pieces.into_values().collect()
+}
+
+/// `--mirror x`: a target symmetric in x = 0 (an icosphere bent and tapered in y and z
+/// only) develops into exact pieces whose model is its own mirror image vertex for vertex;
+/// each pattern piece is the mirror image of another or of itself, and one piece runs
+/// across the plane (no seam is forced there). A half model (only x ≥ 0, its cut on the
+/// plane) with `--mirror x=0` comes back whole and exact.
+#[test]
+fn a_mirror_plane_is_kept_exactly() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut target = sheetform::mesh::primitives::icosphere(40.0, 3);
+    for p in &mut target.positions {
+        let (x, y, z) = (p.x, p.y, p.z);
+        *p = nalgebra::Vector3::new(x * (1.0 + 0.25 * z / 40.0), 0.7 * y + 0.15 * z * z / 40.0, 1.3 * z);
+    }
+    let path = crate::common::write_obj(dir.path(), "bent.obj", &target);
+    let out = dir.path().join("mirrored");
+    let o = sheetform(&[
+        "develop",
+        path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--mirror",
+        "x",
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let report = crate::common::report(&out);
+    assert_eq!(report["status"], "ok");
+    assert_eq!(report["develop"]["mirror_plane"], "x = 0");
+    assert!(report["develop"]["mirror_asymmetry_relative"].as_f64().unwrap() < 1e-9);
+    assert!(report["develop"]["mirror_seam"].is_boolean() && report.get("warnings").is_none());
+    let model = read_obj(&out.join("model.obj"));
+    let (defect, interior) = max_interior_defect(&model);
+    assert!(interior > 300, "{interior} interior vertices");
+    assert!(defect <= 1e-8, "angle defect {defect} rad inside a piece");
+    assert!(obj_isometry_error(&model) <= 1e-9, "{}", obj_isometry_error(&model));
+    // Symmetric vertex for vertex: every vertex's mirror image is a vertex.
+    let mirrored = |p: &[f64; 3]| [-p[0], p[1], p[2]];
+    let near = |a: &[f64; 3], b: &[f64; 3]| (0..3).all(|i| (a[i] - b[i]).abs() <= 1e-9);
+    for p in &model.v {
+        let q = mirrored(p);
+        assert!(model.v.iter().any(|r| near(r, &q)), "{p:?} has no mirror image");
+    }
+    // Pieces in mirrored pairs (or symmetric themselves): matched by their vertex sets.
+    let pieces = pattern_pieces(&model);
+    let key = |points: &[[f64; 3]]| {
+        let mut keys: Vec<[i64; 3]> = points.iter().map(|p| p.map(|c| (c * 1e6).round() as i64)).collect();
+        keys.sort_unstable();
+        keys.dedup();
+        keys
+    };
+    let keys: Vec<Vec<[i64; 3]>> = pieces.iter().map(|p| key(p)).collect();
+    let mut crossing = 0;
+    for piece in &pieces {
+        let image: Vec<[f64; 3]> = piece.iter().map(mirrored).collect();
+        assert!(keys.contains(&key(&image)), "a piece without its mirror image");
+        let (low, high) = piece
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(l, h), p| (l.min(p[0]), h.max(p[0])));
+        if low < -1.0 && high > 1.0 {
+            crossing += 1;
+        }
+    }
+    assert!(crossing >= 1, "no piece crosses the plane");
+    let count = report["develop"]["piece_count"].as_u64().unwrap() as usize;
+    assert_eq!(count, pieces.len());
+    assert!(count <= 12, "{count} pieces");
+    // Close to the target: the bent sphere within 3 % of its diagonal.
+    let hausdorff = report["develop"]["hausdorff_relative"].as_f64().unwrap();
+    assert!(hausdorff < 0.03, "{hausdorff}");
+
+    // A half model: a saddle over x in [0, 40], its cut on x = 0.
+    let saddle = sheetform::mesh::TriangleMesh::grid(12, 18, |u, v| {
+        let (x, y) = (40.0 * u, 60.0 * v - 30.0);
+        [x, y, (x * x - y * y) / 80.0]
+    });
+    let path = crate::common::write_obj(dir.path(), "half-saddle.obj", &saddle);
+    let out = dir.path().join("whole");
+    let o = sheetform(&[
+        "develop",
+        path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--mirror",
+        "x=0",
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let model = read_obj(&out.join("model.obj"));
+    let (defect, interior) = max_interior_defect(&model);
+    assert!(
+        defect <= 1e-8 && interior > 200,
+        "{defect} rad over {interior} vertices"
+    );
+    assert!(obj_isometry_error(&model) <= 1e-9);
+    let (low, high) = model
+        .v
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, h), p| (l.min(p[0]), h.max(p[0])));
+    assert!(
+        (low + 40.0).abs() < 1.0 && (high - 40.0).abs() < 1.0,
+        "x from {low} to {high}"
+    );
+    // The target's other half is missing: far from symmetric, and said so.
+    let asymmetry = crate::common::report(&out)["develop"]["mirror_asymmetry_relative"]
+        .as_f64()
+        .unwrap();
+    assert!(asymmetry > 0.3, "{asymmetry}");
+    let warnings = crate::common::report(&out)["warnings"].to_string();
+    assert!(warnings.contains("from symmetric in the plane x = 0"), "{warnings}");
+
+    // Refused, naming the option.
+    for bad in ["w", "x=abc", "x=inf"] {
+        let o = sheetform(&[
+            "develop",
+            path.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--mirror",
+            bad,
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{bad}");
+        assert!(String::from_utf8_lossy(&o.stderr).contains("--mirror"), "{bad}");
+    }
+}

@@ -232,6 +232,7 @@ def develop(
     fixed: Optional[npt.ArrayLike] = None,
     max_distance: Optional[Union[float, str]] = None,
     work_faces: Optional[int] = None,
+    mirror: Optional[str] = None,
     smoothness: float = 0.1,
     tolerance: float = 1e-10,
     max_iterations: int = 100,
@@ -246,7 +247,8 @@ def develop(
     exactly developable pieces, unfolded exactly (``max_distance``: a length in ``unit``
     or a percentage of the size, ``"0.5%"``; ``work_faces``, default 10 000: a finer
     target is remeshed to about this many faces first, and ``source_vertices`` is -1
-    for the vertices the remeshing made)."""
+    for the vertices the remeshing made; ``mirror``: a mirror plane kept, ``"x"``,
+    ``"y"``, ``"z"`` through the middle of the mesh or placed, ``"x=0"``)."""
 
 def pattern(
     vertices: npt.ArrayLike,

@@ -8,13 +8,15 @@ use super::error::{Outcome, PipelineError};
 use super::flatten::{run_flatten, ChartMode, FlattenOptions, FlattenRun};
 use super::outputs::output_names;
 use crate::report::{Command, DevelopReport, Status};
-use sheetform_develop::{develop_pieces, seam_pieces, segment_developable, slit_unflattened_vertices, DevelopError};
+use sheetform_develop::{
+    develop_pieces, seam_pieces, segment_developable, slit_unflattened_vertices, DevelopError, MirrorBoundary,
+};
 pub use sheetform_develop::{DevelopOptions, Developed, SegmentationOptions};
 use sheetform_flatten::ChartOptions;
 use sheetform_io::{colour_ramp, glb_vertex_colours, ply_vertex_colours, UpAxis};
 use sheetform_mesh::{
-    mesh_topology_with_edges, remesh_isotropic, surface_distance, vertex_distances, RemeshOptions,
-    SurfaceDistanceOptions, SurfaceIndex, TriangleMesh,
+    mesh_topology_with_edges, mirror_half, mirror_whole, remesh_isotropic, surface_distance, vertex_angle_sums,
+    vertex_distances, EdgeTable, MirrorPlane, RemeshOptions, SurfaceDistanceOptions, SurfaceIndex, TriangleMesh,
 };
 use sheetform_pattern::PatternError;
 use std::borrow::Cow;
@@ -94,6 +96,54 @@ impl DistanceBound {
     }
 }
 
+/// A mirror plane `develop` keeps (`--mirror x`, `--mirror x=0`): perpendicular to a
+/// coordinate axis, through the target's bounding-box centre unless placed.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
+pub struct Mirror {
+    /// The plane's normal axis: 0 = x, 1 = y, 2 = z.
+    pub axis: usize,
+    /// Where the plane crosses the axis (the mesh's units); `None`: the middle of the
+    /// target's bounding box along it.
+    pub offset: Option<f64>,
+}
+
+impl std::str::FromStr for Mirror {
+    type Err = String;
+
+    /// `x`, `y` or `z` (the plane through the bounding box's middle), or `x=0` (placed).
+    fn from_str(text: &str) -> Result<Self, String> {
+        let text = text.trim();
+        let (name, offset) = match text.split_once('=') {
+            Some((name, value)) => (name.trim(), Some(value.trim())),
+            None => (text, None),
+        };
+        let axis = match name.to_ascii_lowercase().as_str() {
+            "x" => 0,
+            "y" => 1,
+            "z" => 2,
+            _ => {
+                return Err(format!(
+                    "`{}` is not a mirror plane: give its normal axis (x, y or z), placed with = (x=0) or through the middle of the mesh (x)",
+                    sheetform_geometry::shortened_message(text)
+                ))
+            }
+        };
+        let offset = match offset {
+            None => None,
+            Some(value) => match value.parse::<f64>() {
+                Ok(v) if v.is_finite() && v.abs() <= 1e12 => Some(v),
+                _ => {
+                    return Err(format!(
+                        "`{}` is not a position on the {name} axis: give a number in the mesh's units",
+                        sheetform_geometry::shortened_message(value)
+                    ))
+                }
+            },
+        };
+        Ok(Self { axis, offset })
+    }
+}
+
 /// Knobs of `sheetform develop`.
 #[derive(Debug, Clone, Default)]
 pub struct DevelopRunOptions {
@@ -117,6 +167,12 @@ pub struct DevelopRunOptions {
     /// drawn seams and fixed regions kept vertex for vertex), and the result has them.
     /// `None`: [`DEFAULT_WORK_FACES`].
     pub work_faces: Option<usize>,
+    /// A mirror plane the result keeps: the half of the target on the side holding more
+    /// of its area is developed (a half model is kept whole) and joined with its mirror
+    /// image along the plane, with no seam there unless one is needed. The pieces come
+    /// in mirrored pairs, a piece across the plane is symmetric, and the piece budget
+    /// counts the whole (the half gets half of it). `None`: no symmetry.
+    pub mirror: Option<Mirror>,
     /// How the developed pieces are unfolded and drawn: `flatten`'s options (the unit,
     /// the pattern, the name, the size). The layout is always exact charts cut along the
     /// seams only (`charts` and the chart options are set by `develop`).
@@ -141,9 +197,23 @@ const FIRST_PIECE_COUNT: usize = 4;
 /// (those within a tenth of the largest defect left).
 pub const SLIT_ROUNDS: usize = 3;
 
+/// A mirror plane the target is farther than this fraction of its bounding-box diagonal
+/// from being symmetric in (two-sided Hausdorff distance to its mirror image) gets a
+/// warning in the report: the result repeats one half.
+pub const MIRROR_ASYMMETRY_WARNING: f64 = 0.01;
+
+/// With a mirror plane and no distance bound, the half's piece budget is raised at most
+/// this many times towards the whole's (see [`DevelopRunOptions::mirror`]).
+pub const MIRROR_BUDGET_ROUNDS: usize = 3;
+
 /// One segmentation and development of the target.
 struct Attempt {
+    /// The developed mesh (with a mirror plane, the half joined with its image).
     result: TriangleMesh,
+    /// With a mirror plane, the half vertex each vertex of `result` is or mirrors.
+    half_vertex: Option<Vec<u32>>,
+    /// Pieces of `result` (with a mirror plane, a piece across it counts once).
+    whole_piece_count: usize,
     segmentation: Option<sheetform_develop::Segmentation>,
     pieces: sheetform_develop::SeamPieces,
     developed: Developed,
@@ -269,9 +339,36 @@ pub fn run_develop(
     } else {
         (Cow::Borrowed(&full), table, fixed)
     };
+    // With a mirror plane, the half on the side with more area is worked on; the
+    // result is it joined with its mirror image.
+    let mirror = match options.mirror {
+        None => None,
+        Some(spec) => Some(MirrorWork::new(&target, &fixed, &full, spec, low, high)?),
+    };
+    let (work, work_table, work_fixed): (&TriangleMesh, &EdgeTable, &[bool]) = match &mirror {
+        Some(m) => (&m.half.mesh, &m.table, &m.fixed),
+        None => (target.as_ref(), &table, &fixed),
+    };
+    let mirror_boundary = mirror.as_ref().map(|m| MirrorBoundary {
+        axis: m.plane.axis,
+        on_plane: &m.half.on_plane,
+    });
+    // The budget counts the whole's pieces: the half starts with half of it, and may
+    // have up to all of it (when each of its pieces crosses the plane), an attempt whose
+    // whole has more than the budget not taken.
+    let whole_limit = options.segmentation.max_pieces;
+    let budget = if mirror.is_some() {
+        (whole_limit / 2).max(1)
+    } else {
+        whole_limit
+    };
+    let segmentation_options = SegmentationOptions {
+        max_pieces: budget,
+        ..options.segmentation
+    };
     // The drawn seams are checked (and named when off the mesh) as seams of their own.
-    let drawn = seam_pieces(&target, &table, &target.seam_edges)?;
-    let mut hard = vec![false; table.len()];
+    let drawn = seam_pieces(work, work_table, &work.seam_edges)?;
+    let mut hard = vec![false; work_table.len()];
     for &e in &drawn.seam_edges {
         hard[e] = true;
     }
@@ -281,18 +378,41 @@ pub fn run_develop(
         }
         .into());
     }
-    let attempt_with = |segmentation: &SegmentationOptions, progress: f64| -> Result<Attempt, PipelineError> {
+    // With a mirror plane, `centre_seam` cuts the whole along the plane (the half's cut
+    // is a seam); without, pieces run across it where they can.
+    let attempt_with = |segmentation: &SegmentationOptions,
+                        progress: f64,
+                        centre_seam: bool|
+     -> Result<Attempt, PipelineError> {
         context.progress("finding the seams", progress);
+        let centre: &[[u32; 2]] = match &mirror {
+            Some(m) if centre_seam => &m.plane_edges,
+            _ => &[],
+        };
         let (seams, segmentation) = match options.seams {
-            SeamSource::Drawn => (target.seam_edges.clone(), None),
+            SeamSource::Drawn => (work.seam_edges.iter().chain(centre).copied().collect(), None),
             SeamSource::Automatic => {
-                let found = segment_developable(&target, &table, &hard, segmentation, context.cancel)?;
+                let mut hard = hard.clone();
+                for &[a, b] in centre {
+                    if let Some(e) = work_table.find(a, b) {
+                        hard[e] = true;
+                    }
+                }
+                let found = segment_developable(work, work_table, &hard, segmentation, context.cancel)?;
                 (found.seams.clone(), Some(found))
             }
         };
         context.progress("making the pieces developable", progress + 0.02);
-        let mut pieces = seam_pieces(&target, &table, &seams)?;
-        let mut developed = develop_pieces(&target, &table, &pieces, &fixed, &options.develop, context.cancel)?;
+        let mut pieces = seam_pieces(work, work_table, &seams)?;
+        let mut developed = develop_pieces(
+            work,
+            work_table,
+            &pieces,
+            work_fixed,
+            mirror_boundary.as_ref(),
+            &options.develop,
+            context.cancel,
+        )?;
         context.check_cancelled()?;
         // Cone points the solve could not flatten (a saddle where a handle meets a body,
         // a tip below the cone angle) get slits, and the pieces are solved again.
@@ -304,7 +424,14 @@ pub fn run_develop(
                 break;
             }
             let threshold = (0.1 * developed.max_defect).max(options.develop.defect_tolerance);
-            let (more, slits) = slit_unflattened_vertices(&target, &developed.positions, &table, &pieces, threshold);
+            let (more, slits) = slit_unflattened_vertices(
+                work,
+                &developed.positions,
+                work_table,
+                &pieces,
+                mirror_boundary.as_ref(),
+                threshold,
+            );
             if slits == 0 {
                 break;
             }
@@ -315,18 +442,49 @@ pub fn run_develop(
             );
             late_slit_count += slits;
             seams = more;
-            pieces = seam_pieces(&target, &table, &seams)?;
-            developed = develop_pieces(&target, &table, &pieces, &fixed, &options.develop, context.cancel)?;
+            pieces = seam_pieces(work, work_table, &seams)?;
+            developed = develop_pieces(
+                work,
+                work_table,
+                &pieces,
+                work_fixed,
+                mirror_boundary.as_ref(),
+                &options.develop,
+                context.cancel,
+            )?;
             context.check_cancelled()?;
             steps += developed.iterations;
         }
         developed.iterations = steps;
-        let mut result = target.as_ref().clone();
+        let mut result = work.clone();
         result.positions.clone_from(&developed.positions);
         result.seam_edges = seams;
+        let half_vertex = match &mirror {
+            Some(m) => {
+                let whole = mirror_whole(&result, &m.half.on_plane, &m.plane);
+                let problems = sheetform_mesh::mesh_topology(&whole.mesh).problems();
+                if !problems.is_empty() {
+                    return Err(DevelopError::Topology {
+                        problem: format!(
+                            "joined with its mirror image in {}, the developed half is not a clean manifold ({}): place the plane where the mesh crosses it cleanly",
+                            m.plane.describe(),
+                            problems.join("; ")
+                        ),
+                    }
+                    .into());
+                }
+                result = whole.mesh;
+                Some(whole.half_vertex)
+            }
+            None => None,
+        };
         let distance = surface_distance(&result, &full, &SurfaceDistanceOptions::default());
+        let result_table = EdgeTable::new(&result.triangles, result.positions.len());
+        let whole_piece_count = seam_pieces(&result, &result_table, &result.seam_edges)?.piece_count;
         Ok(Attempt {
             result,
+            half_vertex,
+            whole_piece_count,
             segmentation,
             pieces,
             developed,
@@ -341,42 +499,111 @@ pub fn run_develop(
     // one attempt, the budget used until the normal tolerance holds.
     let first = match (bound, options.seams) {
         (Some(_), SeamSource::Automatic) => SegmentationOptions {
-            max_pieces: options.segmentation.max_pieces.min(FIRST_PIECE_COUNT),
-            ..options.segmentation
+            max_pieces: budget.min(FIRST_PIECE_COUNT),
+            ..segmentation_options
         },
-        _ => options.segmentation,
+        _ => segmentation_options,
     };
-    let mut best = attempt_with(&first, 0.02)?;
-    let mut attempts = 1;
-    if let (Some(bound), SeamSource::Automatic) = (bound, options.seams) {
-        let budget = options.segmentation.max_pieces;
-        let mut count = best.pieces.piece_count;
-        while best.distance.hausdorff > bound && count < budget {
-            count = (count + count.div_ceil(2)).min(budget);
-            let segmentation = SegmentationOptions {
-                max_pieces: count,
-                normal_tolerance_degrees: 0.0,
-                ..options.segmentation
-            };
-            let next = attempt_with(&segmentation, (0.02 + 0.1 * attempts as f64).min(0.5))?;
-            attempts += 1;
-            tracing::debug!(
-                pieces = next.pieces.piece_count,
-                hausdorff = next.distance.hausdorff,
-                converged = next.developed.converged,
-                "develop: an attempt with more pieces"
-            );
-            let grew = next.pieces.piece_count > best.pieces.piece_count;
-            let closer = next.developed.converged >= best.developed.converged
-                && (next.distance.hausdorff < best.distance.hausdorff || !best.developed.converged);
-            if closer {
-                best = next;
-            }
-            if !grew {
-                break;
+    let half_limit = if mirror.is_some() { whole_limit } else { budget };
+    let attempts = std::cell::Cell::new(0usize);
+    let progress_now = || (0.02 + 0.1 * attempts.get() as f64).min(0.5);
+    // The first attempt, then more pieces while the distance bound does not hold, or
+    // (mirror plane, no bound) while the whole keeps within the budget.
+    let search = |centre_seam: bool| -> Result<Attempt, PipelineError> {
+        let mut best = attempt_with(&first, progress_now(), centre_seam)?;
+        attempts.set(attempts.get() + 1);
+        if let (Some(bound), SeamSource::Automatic) = (bound, options.seams) {
+            let mut count = best.pieces.piece_count;
+            while best.distance.hausdorff > bound && count < half_limit {
+                count = (count + count.div_ceil(2)).min(half_limit);
+                let segmentation = SegmentationOptions {
+                    max_pieces: count,
+                    normal_tolerance_degrees: 0.0,
+                    ..segmentation_options
+                };
+                let next = attempt_with(&segmentation, progress_now(), centre_seam)?;
+                attempts.set(attempts.get() + 1);
+                tracing::debug!(
+                    pieces = next.pieces.piece_count,
+                    hausdorff = next.distance.hausdorff,
+                    converged = next.developed.converged,
+                    "develop: an attempt with more pieces"
+                );
+                if next.whole_piece_count > whole_limit {
+                    break;
+                }
+                let grew = next.pieces.piece_count > best.pieces.piece_count;
+                let closer = next.developed.converged >= best.developed.converged
+                    && (next.distance.hausdorff < best.distance.hausdorff || !best.developed.converged);
+                if closer {
+                    best = next;
+                }
+                if !grew {
+                    break;
+                }
             }
         }
+        // With a mirror plane and no distance bound, the half's budget is raised while
+        // the whole keeps within the piece budget and the half used all it was given
+        // (its pieces are still farther than the normal tolerance from cones).
+        if mirror.is_some() && bound.is_none() && options.seams == SeamSource::Automatic {
+            let mut given = first.max_pieces;
+            for _ in 0..MIRROR_BUDGET_ROUNDS {
+                let count = best.pieces.piece_count;
+                if count < given || best.whole_piece_count >= whole_limit {
+                    break;
+                }
+                given = count + ((whole_limit - best.whole_piece_count) / 2).max(1);
+                let segmentation = SegmentationOptions {
+                    max_pieces: given,
+                    ..segmentation_options
+                };
+                let next = attempt_with(&segmentation, progress_now(), centre_seam)?;
+                attempts.set(attempts.get() + 1);
+                tracing::debug!(
+                    pieces = next.pieces.piece_count,
+                    whole_pieces = next.whole_piece_count,
+                    hausdorff = next.distance.hausdorff,
+                    "develop: a mirrored attempt with more pieces"
+                );
+                if next.whole_piece_count > whole_limit || next.pieces.piece_count <= count {
+                    break;
+                }
+                // A developed attempt beats one left out of tolerance; among developed
+                // ones the closer is kept.
+                let better = (next.developed.converged && !best.developed.converged)
+                    || (next.developed.converged == best.developed.converged
+                        && next.distance.hausdorff <= best.distance.hausdorff);
+                if better {
+                    best = next;
+                } else if best.developed.converged {
+                    break;
+                }
+            }
+        }
+        Ok(best)
+    };
+    let mut best = search(false)?;
+    // With a mirror plane, pieces across the plane (tried first) must be flat on it, a
+    // strong condition on organic shapes (measured, benchmarks.md: Spot needed 79 late
+    // slits, printed in 63 pieces, and the koala stayed out of tolerance); the whole cut
+    // along the plane is tried too, and the better kept: developed, then needing no late
+    // slits, then closer.
+    let mut centre_seam = false;
+    if mirror.is_some() {
+        let seamed = search(true)?;
+        let rank = |a: &Attempt| (!a.developed.converged, a.late_slit_count > 0, a.distance.hausdorff);
+        tracing::debug!(
+            joined = ?rank(&best),
+            seamed = ?rank(&seamed),
+            "develop: the mirror plane, pieces across it or a seam along it"
+        );
+        if rank(&seamed) < rank(&best) {
+            best = seamed;
+            centre_seam = true;
+        }
     }
+    let mut attempts = attempts.get();
     context.progress("unfolding the pieces", 0.6);
     let developing_ms = started.elapsed().as_secs_f64() * 1e3;
     // The developed pieces unfold exactly: charts cut along the seams only (no crease
@@ -414,21 +641,22 @@ pub fn run_develop(
         match run_flatten(best.result.clone(), &flatten_options, context) {
             Err(PipelineError::Pattern(PatternError::PieceTooLarge { .. }))
                 if options.seams == SeamSource::Automatic
-                    && best.pieces.piece_count < options.segmentation.max_pieces =>
+                    && best.pieces.piece_count < half_limit
+                    && best.whole_piece_count < whole_limit =>
             {
                 let count = best.pieces.piece_count;
                 let segmentation = SegmentationOptions {
-                    max_pieces: (count + count.div_ceil(2)).min(options.segmentation.max_pieces),
+                    max_pieces: (count + count.div_ceil(2)).min(half_limit),
                     normal_tolerance_degrees: 0.0,
-                    ..options.segmentation
+                    ..segmentation_options
                 };
-                let next = attempt_with(&segmentation, 0.5)?;
+                let next = attempt_with(&segmentation, 0.5, centre_seam)?;
                 attempts += 1;
                 tracing::debug!(
                     pieces = next.pieces.piece_count,
                     "develop: more pieces to fit the sheet"
                 );
-                if next.pieces.piece_count <= count {
+                if next.pieces.piece_count <= count || next.whole_piece_count > whole_limit {
                     break (false, unpacked(&best.result)?);
                 }
                 best = next;
@@ -438,19 +666,41 @@ pub fn run_develop(
             other => break (true, other?),
         }
     };
+    let Attempt {
+        result,
+        half_vertex,
+        segmentation,
+        pieces: _,
+        whole_piece_count: _,
+        developed,
+        distance,
+        late_slit_count,
+    } = best;
+    // Each printed vertex's vertex of the target as read: through its half vertex and
+    // the cut (mirror), then the remeshing.
+    if let (Some(m), Some(half_vertex)) = (&mirror, &half_vertex) {
+        for v in &mut run.source_vertices {
+            *v = half_vertex
+                .get(*v as usize)
+                .and_then(|&h| m.half.source_vertex.get(h as usize))
+                .copied()
+                .unwrap_or(u32::MAX);
+        }
+    }
     if let Some(origin) = &target_vertex_of_work {
         for v in &mut run.source_vertices {
             *v = origin.get(*v as usize).copied().unwrap_or(u32::MAX);
         }
     }
-    let Attempt {
-        result,
-        segmentation,
-        pieces,
-        developed,
-        distance,
-        late_slit_count,
-    } = best;
+    // The seams, pieces and defects of what was built (with a mirror, the whole).
+    let result_table = EdgeTable::new(&result.triangles, result.positions.len());
+    let pieces = seam_pieces(&result, &result_table, &result.seam_edges)?;
+    let sums = vertex_angle_sums(&result.positions, &result.triangles);
+    let built_defect = (0..result.positions.len())
+        .filter(|&v| pieces.interior[v])
+        .map(|v| (std::f64::consts::TAU - sums[v]).abs())
+        .fold(0.0, f64::max);
+    let max_defect = developed.max_defect.max(built_defect);
     // The distance colour map: each developed vertex's distance to the target, blue at
     // none, red at the largest (PLY with the value in mm per vertex, and GLB).
     let distances = vertex_distances(&result, &SurfaceIndex::new(&full));
@@ -478,8 +728,8 @@ pub fn run_develop(
         .seam_edges
         .iter()
         .map(|&e| {
-            let [a, b] = table.edges[e];
-            (target.positions[a as usize] - target.positions[b as usize]).norm()
+            let [a, b] = result_table.edges[e];
+            (result.positions[a as usize] - result.positions[b as usize]).norm()
         })
         .sum::<f64>()
         + 0.0; // an empty sum is −0.0
@@ -498,9 +748,9 @@ pub fn run_develop(
         seam_length_relative: seam_length / diagonal,
         normal_deviation_rms_deg: segmentation.as_ref().map(|s| s.normal_deviation_rms.to_degrees()),
         slit_count: segmentation.as_ref().map_or(0, |s| s.slit_count) + late_slit_count,
-        constrained_vertex_count: developed.constrained_vertex_count,
+        constrained_vertex_count: pieces.interior.iter().filter(|&&i| i).count(),
         angle_defect_max_before_rad: developed.max_defect_before,
-        angle_defect_max_rad: developed.max_defect,
+        angle_defect_max_rad: max_defect,
         angle_defect_tolerance_rad: options.develop.defect_tolerance,
         iterations: developed.iterations,
         hausdorff_mm: distance.hausdorff * unit,
@@ -513,15 +763,121 @@ pub fn run_develop(
         attempt_count: attempts,
         fixed_vertex_count: fixed.iter().filter(|&&f| f).count(),
         target_face_count: full.triangles.len(),
-        work_face_count: target.triangles.len(),
+        work_face_count: result.triangles.len(),
         pieces_fit_sheet: options.flatten.pattern.sheet.map(|_| fits_sheet),
+        mirror_plane: mirror.as_ref().map(|m| m.plane.describe()),
+        mirror_seam: mirror.as_ref().map(|_| centre_seam),
+        mirror_asymmetry_relative: mirror.as_ref().map(|m| m.asymmetry / diagonal),
     });
+    if let Some(m) = mirror
+        .as_ref()
+        .filter(|m| m.asymmetry > MIRROR_ASYMMETRY_WARNING * diagonal)
+    {
+        report.warnings.push(format!(
+            "the target is {:.1} % of its size from symmetric in the plane {}: the result repeats one half of it; place the plane where the target is symmetric (--mirror x=VALUE) or choose another axis",
+            100.0 * m.asymmetry / diagonal,
+            m.plane.describe()
+        ));
+    }
     let too_far = bound.is_some_and(|b| distance.hausdorff > b);
-    if (!developed.converged || too_far || !fits_sheet) && run.outcome == Outcome::Ok {
+    let converged = max_defect <= options.develop.defect_tolerance;
+    if (!converged || too_far || !fits_sheet) && run.outcome == Outcome::Ok {
         run.outcome = Outcome::OutOfTolerance;
         report.status = Status::OutOfTolerance;
     }
     Ok(DevelopRun { run, developed })
+}
+
+/// The half of the working target that `develop --mirror` develops.
+struct MirrorWork {
+    plane: MirrorPlane,
+    half: sheetform_mesh::MirrorHalf,
+    table: EdgeTable,
+    /// The half's edges along the plane (its cut).
+    plane_edges: Vec<[u32; 2]>,
+    /// The half's fixed vertices (a new vertex on the plane is fixed when both ends of
+    /// the edge it cuts are; empty: none).
+    fixed: Vec<bool>,
+    /// Two-sided Hausdorff distance between the target as read and its mirror image.
+    asymmetry: f64,
+}
+
+impl MirrorWork {
+    /// Cuts `work` (the working target, `fixed` its flags) in `spec`'s plane (through
+    /// the middle of `low`–`high`, the bounding box of `full`, the target as read, when
+    /// not placed).
+    fn new(
+        work: &TriangleMesh,
+        fixed: &[bool],
+        full: &TriangleMesh,
+        spec: Mirror,
+        low: nalgebra::Vector3<f64>,
+        high: nalgebra::Vector3<f64>,
+    ) -> Result<Self, PipelineError> {
+        if spec.axis > 2 {
+            return Err(PipelineError::Option {
+                option: "mirror",
+                message: format!("the plane's axis must be 0 (x), 1 (y) or 2 (z), got {}", spec.axis),
+            });
+        }
+        let axis = spec.axis;
+        let plane = MirrorPlane {
+            axis,
+            offset: spec.offset.unwrap_or(0.5 * (low[axis] + high[axis])),
+        };
+        let half = mirror_half(work, &plane).map_err(|e| DevelopError::Topology { problem: e.to_string() })?;
+        let (topology, table) = mesh_topology_with_edges(&half.mesh);
+        let plane_edges = table
+            .boundary_edges()
+            .filter(|&[a, b]| half.on_plane[a as usize] && half.on_plane[b as usize])
+            .collect();
+        let problems = topology.problems();
+        if !problems.is_empty() {
+            return Err(DevelopError::Topology {
+                problem: format!(
+                    "its half on one side of the mirror plane {} is not a clean manifold ({}): place the plane where the mesh crosses it cleanly",
+                    plane.describe(),
+                    problems.join("; ")
+                ),
+            }
+            .into());
+        }
+        let fixed = if fixed.is_empty() {
+            Vec::new()
+        } else {
+            half.source_vertex
+                .iter()
+                .zip(&half.crossed_edge)
+                .map(|(&v, &[a, b])| {
+                    if v != u32::MAX {
+                        fixed[v as usize]
+                    } else {
+                        fixed[a as usize] && fixed[b as usize]
+                    }
+                })
+                .collect()
+        };
+        let mut image = full.clone();
+        for p in &mut image.positions {
+            *p = plane.reflect(p);
+        }
+        let asymmetry = surface_distance(&image, full, &SurfaceDistanceOptions::default()).hausdorff;
+        tracing::info!(
+            plane = %plane.describe(),
+            half_faces = half.mesh.triangles.len(),
+            snapped = half.snapped_vertex_count,
+            asymmetry,
+            "develop: the target cut in half by its mirror plane"
+        );
+        Ok(Self {
+            plane,
+            half,
+            table,
+            plane_edges,
+            fixed,
+            asymmetry,
+        })
+    }
 }
 
 /// One flag per vertex of `mesh`: on a face of one of `groups`, or listed in `vertices`
