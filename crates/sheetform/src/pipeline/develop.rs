@@ -242,7 +242,11 @@ pub struct DevelopRun {
 /// overlap itself in the plane is cut again, and the printed pieces are what the report
 /// counts). With automatic seams, a solve that leaves a defect above the tolerance is
 /// run again after slits from the vertices it could not flatten
-/// ([`sheetform_develop::slit_unflattened_vertices`], at most [`SLIT_ROUNDS`] times). The
+/// ([`sheetform_develop::slit_unflattened_vertices`], at most [`SLIT_ROUNDS`] times).
+/// With a mirror plane ([`DevelopRunOptions::mirror`]) the half of the target cut by
+/// [`sheetform_mesh::mirror_half`] is developed, in two layouts (pieces across the plane,
+/// flat on it in the whole; or a centre seam) of which the better is kept, and joined
+/// with its image ([`sheetform_mesh::mirror_whole`]) before the unfolding. The
 /// report's `develop` section gives the seams, the defects before and after and the
 /// two-sided distance to the target ([`sheetform_mesh::surface_distance`]); its status
 /// is `out of tolerance` (exit 5, everything written) when a defect inside a piece stays
@@ -251,7 +255,8 @@ pub struct DevelopRun {
 /// # Errors
 /// A mesh that is not a clean manifold or has no faces; a closed mesh without drawn
 /// seams when only those are asked for; a seam off the mesh's edges; a fixed group the
-/// mesh does not have or a fixed vertex out of range; options out of range;
+/// mesh does not have or a fixed vertex out of range; options out of range; a mirror
+/// plane whose half of the mesh is not a clean manifold or that holds the whole mesh;
 /// [`PipelineError::Cancelled`].
 pub fn run_develop(
     target: TriangleMesh,
