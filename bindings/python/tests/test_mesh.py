@@ -300,8 +300,21 @@ def test_develop_keeps_a_mirror_plane():
     # Kept source vertices are on the side developed (new ones, on the cut, are -1).
     kept = run.source_vertices >= 0
     assert kept.sum() > 0.3 * len(run.vertices)
+    # Images copy no target vertex: -1, as the vertices a remeshing makes.
+    assert (run.source_vertices == -1).sum() >= 0.4 * len(run.vertices)
     with pytest.raises(sheetform.InvalidInputError, match="mirror"):
         sheetform.develop(capsule.vertices, capsule.faces, mirror="w")
+    # A region fixed on both sides, symmetrically, stays where it is (each fixed target
+    # vertex is a vertex of the result); fixed where its mirror image is not fixed, it
+    # cannot stay (whichever side is kept), and is refused naming `fixed`.
+    ends = np.flatnonzero(np.abs(capsule.vertices[:, 2]) > 50.0)
+    run = sheetform.develop(capsule.vertices, capsule.faces, mirror="x", fixed=ends, outputs="preview")
+    gaps = np.linalg.norm(capsule.vertices[ends][:, None, :] - run.vertices[None, :, :], axis=2).min(axis=1)
+    assert run.report["status"] == "ok" and gaps.max() <= 1e-9
+    x, y = capsule.vertices[:, 0], capsule.vertices[:, 1]
+    lopsided = np.flatnonzero(((x < -10.0) & (y > 0.0)) | ((x > 10.0) & (y < 0.0)))
+    with pytest.raises(sheetform.InvalidInputError, match="fixed"):
+        sheetform.develop(capsule.vertices, capsule.faces, mirror="x", fixed=lopsided)
 
 
 def test_develop_with_a_distance_bound_and_its_refusals():

@@ -32,7 +32,9 @@ pub use error::MeshError;
 pub use fold_angle::{signed_fold_angle, signed_fold_angle_gradients};
 pub use isotropic_remeshing::{remesh_isotropic, RemeshOptions, Remeshed};
 pub use metrics::{developability_error, isometry_error, IsometryError, RulingNormalError};
-pub use mirror_plane::{mirror_half, mirror_whole, MirrorHalf, MirrorPlane, MirroredWhole, MIRROR_SNAP};
+pub use mirror_plane::{
+    mirror_half, mirror_whole, MirrorHalf, MirrorPlane, MirroredWhole, MIRROR_CUT_SNAP, MIRROR_SNAP,
+};
 pub use sheet_mesh::{Piece, PieceKind, Ruling, SheetMesh};
 pub use shortest_edge_path::shortest_edge_path;
 pub use surface_distance::{surface_distance, vertex_distances, SurfaceDistance, SurfaceDistanceOptions, SurfaceIndex};

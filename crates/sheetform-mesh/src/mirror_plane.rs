@@ -11,6 +11,11 @@ type Vec3 = Vector3<f64>;
 /// than a tenth of its neighbours' edges.
 pub const MIRROR_SNAP: f64 = 0.1;
 
+/// A vertex on the mesh's boundary closer to the plane than this fraction of its shortest
+/// edge is moved onto it too: a half model's cut exported a hair off the plane (float32
+/// coordinates, an export's rounding), which would otherwise come back as two halves.
+pub const MIRROR_CUT_SNAP: f64 = 1e-3;
+
 /// An axis-aligned mirror plane: the points with `p[axis] = offset` (model units).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MirrorPlane {
@@ -60,19 +65,23 @@ pub struct MirrorHalf {
     pub side: f64,
     /// Input vertices moved onto the plane ([`MIRROR_SNAP`]).
     pub snapped_vertex_count: usize,
+    /// Area of the input on the side kept and on the other (model units²; a half
+    /// model has none on the other).
+    pub side_areas: [f64; 2],
 }
 
 /// Cuts `mesh` along `plane` and keeps the side holding more of its area: a whole
 /// symmetric model gives its half, a half model (all on one side, its cut along the
 /// plane) is kept whole. Vertices within [`MIRROR_SNAP`] of their shortest edge from the
-/// plane are first moved onto it; each edge the plane then crosses gets a vertex on the
+/// plane are first moved onto it (those flagged in `keep`, fixed vertices, only by
+/// rounding noise: 1e-9 of an edge); each edge the plane then crosses gets a vertex on the
 /// plane, and each crossed triangle is clipped to the kept side (Sutherland–Hodgman),
 /// a clipped quadrilateral split along its shorter diagonal.
 ///
 /// # Errors
 /// [`MeshError::Mirror`] when nothing is left on either side (every face in the plane)
 /// or a coordinate is not finite.
-pub fn mirror_half(mesh: &TriangleMesh, plane: &MirrorPlane) -> Result<MirrorHalf, MeshError> {
+pub fn mirror_half(mesh: &TriangleMesh, plane: &MirrorPlane, keep: &[bool]) -> Result<MirrorHalf, MeshError> {
     let axis = plane.axis.min(2);
     let nv = mesh.positions.len();
     if let Some(v) = mesh.positions.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
@@ -100,11 +109,29 @@ pub fn mirror_half(mesh: &TriangleMesh, plane: &MirrorPlane) -> Result<MirrorHal
             crossed[b as usize] = true;
         }
     }
+    let mut on_boundary = vec![false; nv];
+    for [a, b] in table.boundary_edges() {
+        on_boundary[a as usize] = true;
+        on_boundary[b as usize] = true;
+    }
     let mut positions = mesh.positions.clone();
     let mut snapped_vertex_count = 0;
-    for ((p, &edge), &crossed) in positions.iter_mut().zip(&shortest).zip(&crossed) {
+    for (v, p) in positions.iter_mut().enumerate() {
         let distance = (p[axis] - plane.offset).abs();
-        if crossed && distance > 0.0 && edge.is_finite() && distance <= MIRROR_SNAP * edge {
+        let edge = shortest[v];
+        let kept = keep.get(v).copied().unwrap_or(false);
+        let reach = if kept && (crossed[v] || on_boundary[v]) {
+            // A kept vertex moves by rounding noise at most (a cut through it would
+            // otherwise leave faces of no area).
+            1e-9
+        } else if crossed[v] {
+            MIRROR_SNAP
+        } else if on_boundary[v] {
+            MIRROR_CUT_SNAP
+        } else {
+            0.0
+        };
+        if distance > 0.0 && edge.is_finite() && distance <= reach * edge {
             p[axis] = plane.offset;
             snapped_vertex_count += 1;
         }
@@ -128,6 +155,7 @@ pub fn mirror_half(mesh: &TriangleMesh, plane: &MirrorPlane) -> Result<MirrorHal
         });
     }
     let side = if area[0] >= area[1] { 1.0 } else { -1.0 };
+    let side_areas = if side > 0.0 { area } else { [area[1], area[0]] };
     let s: Vec<f64> = signed.iter().map(|d| d * side).collect();
     // The kept vertices, then one new vertex per crossed edge.
     let mut index = vec![u32::MAX; nv];
@@ -236,17 +264,17 @@ pub fn mirror_half(mesh: &TriangleMesh, plane: &MirrorPlane) -> Result<MirrorHal
             next += 1;
         }
     }
-    fn keep<T>(values: &mut Vec<T>, used: &[bool]) {
+    fn retain_used<T>(values: &mut Vec<T>, used: &[bool]) {
         let mut i = 0;
         values.retain(|_| {
             i += 1;
             used[i - 1]
         });
     }
-    keep(&mut half.positions, &used);
-    keep(&mut on_plane, &used);
-    keep(&mut source_vertex, &used);
-    keep(&mut crossed_edge, &used);
+    retain_used(&mut half.positions, &used);
+    retain_used(&mut on_plane, &used);
+    retain_used(&mut source_vertex, &used);
+    retain_used(&mut crossed_edge, &used);
     for t in &mut half.triangles {
         *t = t.map(|v| compact[v as usize]);
     }
@@ -276,6 +304,7 @@ pub fn mirror_half(mesh: &TriangleMesh, plane: &MirrorPlane) -> Result<MirrorHal
         crossed_edge,
         side,
         snapped_vertex_count,
+        side_areas,
     })
 }
 
@@ -295,6 +324,10 @@ pub struct MirroredWhole {
 /// put on the plane exactly). The angle sum of a shared vertex is twice its sum in the
 /// half, so it is flat in the whole when its half sum is π.
 pub fn mirror_whole(half: &TriangleMesh, on_plane: &[bool], plane: &MirrorPlane) -> MirroredWhole {
+    let plane = MirrorPlane {
+        axis: plane.axis.min(2),
+        ..*plane
+    };
     let nv = half.positions.len();
     let mut mesh = half.clone();
     mesh.corner_uvs = None;
@@ -310,10 +343,13 @@ pub fn mirror_whole(half: &TriangleMesh, on_plane: &[bool], plane: &MirrorPlane)
             half_vertex.push(v as u32);
         }
     }
+    let grouped = half.face_groups.len() == half.triangles.len();
     for (f, t) in half.triangles.iter().enumerate() {
         mesh.triangles
             .push([image[t[0] as usize], image[t[2] as usize], image[t[1] as usize]]);
-        mesh.face_groups.push(half.face_groups.get(f).copied().unwrap_or(0));
+        if grouped {
+            mesh.face_groups.push(half.face_groups[f]);
+        }
     }
     for &[a, b] in &half.seam_edges {
         let (a, b) = (image[a as usize], image[b as usize]);
@@ -347,7 +383,7 @@ mod tests {
         for sections in [15, 16, 31] {
             let mesh = cylinder(sections);
             let plane = MirrorPlane { axis: 0, offset: 0.0 };
-            let half = mirror_half(&mesh, &plane).unwrap();
+            let half = mirror_half(&mesh, &plane, &[]).unwrap();
             let area = |m: &TriangleMesh| -> f64 {
                 m.triangles
                     .iter()
@@ -425,7 +461,7 @@ mod tests {
             [y * y / 50.0, y, 10.0 * v]
         });
         let plane = MirrorPlane { axis: 0, offset: 0.0 };
-        let half = mirror_half(&trough, &plane).unwrap();
+        let half = mirror_half(&trough, &plane, &[]).unwrap();
         assert_eq!(half.mesh.triangles.len(), trough.triangles.len());
         assert!(half.mesh.positions.iter().any(|p| p.x == 0.0));
         assert!(half.on_plane.iter().all(|&on| !on));
@@ -435,19 +471,47 @@ mod tests {
         assert_eq!(whole.mesh.positions.len(), 2 * trough.positions.len());
     }
 
+    /// A half model whose cut was exported a hair off the plane (1e-6 on the kept side) is
+    /// snapped onto it: the whole is one sheet with one boundary loop, not two halves;
+    /// a vertex flagged to keep is not moved.
+    #[test]
+    fn a_half_model_a_hair_off_the_plane_is_joined() {
+        let mut saddle = TriangleMesh::grid(12, 18, |u, v| {
+            let (x, y) = (40.0 * u, 60.0 * v - 30.0);
+            [x, y, (x * x - y * y) / 80.0]
+        });
+        // All on the kept side: no edge crosses the plane, only the boundary rule snaps.
+        for p in &mut saddle.positions {
+            if p.x == 0.0 {
+                p.x = 1e-6;
+            }
+        }
+        let plane = MirrorPlane { axis: 0, offset: 0.0 };
+        let half = mirror_half(&saddle, &plane, &[]).unwrap();
+        assert_eq!(half.on_plane.iter().filter(|&&on| on).count(), 19);
+        assert_eq!(half.side_areas[1], 0.0);
+        let whole = mirror_whole(&half.mesh, &half.on_plane, &plane);
+        let topology = mesh_topology(&whole.mesh);
+        assert!(topology.is_clean() && topology.boundary_loop_count == 1, "{topology:?}");
+        let mut keep = vec![false; saddle.positions.len()];
+        keep[0] = true;
+        let half = mirror_half(&saddle, &plane, &keep).unwrap();
+        assert_eq!(half.mesh.positions[0].x, 1e-6);
+    }
+
     /// A half model (everything on one side, its cut on the plane) is kept whole, and
     /// the side with more area is kept when the plane is off centre.
     #[test]
     fn the_side_with_more_area_is_kept() {
         let mesh = cylinder(16);
-        let half = mirror_half(&mesh, &MirrorPlane { axis: 0, offset: -12.0 }).unwrap();
+        let half = mirror_half(&mesh, &MirrorPlane { axis: 0, offset: -12.0 }, &[]).unwrap();
         assert_eq!(half.mesh.triangles.len(), mesh.triangles.len());
         assert_eq!(half.side, 1.0);
-        let other = mirror_half(&mesh, &MirrorPlane { axis: 0, offset: 5.0 }).unwrap();
+        let other = mirror_half(&mesh, &MirrorPlane { axis: 0, offset: 5.0 }, &[]).unwrap();
         assert_eq!(other.side, -1.0);
         assert!(other.mesh.positions.iter().all(|p| p.x <= 5.0));
         let flat = TriangleMesh::grid(2, 2, |u, v| [0.0, u, v]);
-        let err = mirror_half(&flat, &MirrorPlane { axis: 0, offset: 0.0 }).unwrap_err();
+        let err = mirror_half(&flat, &MirrorPlane { axis: 0, offset: 0.0 }, &[]).unwrap_err();
         assert!(err.to_string().contains("x = 0"), "{err}");
     }
 }

@@ -348,12 +348,19 @@ pub fn run_develop(
     // result is it joined with its mirror image.
     let mirror = match options.mirror {
         None => None,
-        Some(spec) => Some(MirrorWork::new(&target, &fixed, &full, spec, low, high)?),
+        Some(spec) => {
+            // Drawn seams are checked on the target (named by its vertex numbers) before
+            // the cut.
+            seam_pieces(&target, &table, &target.seam_edges)?;
+            Some(MirrorWork::new(&target, &fixed, &full, spec, low, high)?)
+        }
     };
     let (work, work_table, work_fixed): (&TriangleMesh, &EdgeTable, &[bool]) = match &mirror {
         Some(m) => (&m.half.mesh, &m.table, &m.fixed),
         None => (target.as_ref(), &table, &fixed),
     };
+    // What distances are measured to: the target as read (a half model with its image).
+    let reference: &TriangleMesh = mirror.as_ref().and_then(|m| m.reference.as_ref()).unwrap_or(&full);
     let mirror_boundary = mirror.as_ref().map(|m| MirrorBoundary {
         axis: m.plane.axis,
         on_plane: &m.half.on_plane,
@@ -377,7 +384,11 @@ pub fn run_develop(
     for &e in &drawn.seam_edges {
         hard[e] = true;
     }
-    if options.seams == SeamSource::Drawn && target.seam_edges.is_empty() && topology.boundary_loop_count == 0 {
+    if options.seams == SeamSource::Drawn
+        && target.seam_edges.is_empty()
+        && topology.boundary_loop_count == 0
+        && options.mirror.is_none()
+    {
         return Err(DevelopError::Topology {
             problem: "a closed surface cannot be developed without cuts: draw its seams as OBJ `l` polylines along mesh edges, or let develop find them (--seams automatic)".into(),
         }
@@ -483,7 +494,7 @@ pub fn run_develop(
             }
             None => None,
         };
-        let distance = surface_distance(&result, &full, &SurfaceDistanceOptions::default());
+        let distance = surface_distance(&result, reference, &SurfaceDistanceOptions::default());
         let result_table = EdgeTable::new(&result.triangles, result.positions.len());
         let whole_piece_count = seam_pieces(&result, &result_table, &result.seam_edges)?.piece_count;
         Ok(Attempt {
@@ -592,14 +603,22 @@ pub fn run_develop(
     // With a mirror plane, pieces across the plane (tried first) must be flat on it, a
     // strong condition on organic shapes (measured, benchmarks.md: Spot needed 79 late
     // slits, printed in 63 pieces, and the koala stayed out of tolerance); the whole cut
-    // along the plane is tried too, and the better kept: developed, then fewer late slits
+    // along the plane is tried too, and the better kept: developed, then within the
+    // distance bound, then fewer late slits
     // (each may open a wedge the unfolding cuts again: measured, the cup under a 1 % bound
     // printed 60 pieces from 4 with 100 slits across the plane, 16 with a centre seam),
     // then closer.
     let mut centre_seam = false;
     if mirror.is_some() {
         let seamed = search(true)?;
-        let rank = |a: &Attempt| (!a.developed.converged, a.late_slit_count, a.distance.hausdorff);
+        let rank = |a: &Attempt| {
+            (
+                !a.developed.converged,
+                bound.is_some_and(|b| a.distance.hausdorff > b),
+                a.late_slit_count,
+                a.distance.hausdorff,
+            )
+        };
         tracing::debug!(
             joined = ?rank(&best),
             seamed = ?rank(&seamed),
@@ -687,8 +706,11 @@ pub fn run_develop(
     // the cut (mirror), then the remeshing.
     if let (Some(m), Some(half_vertex)) = (&mirror, &half_vertex) {
         for v in &mut run.source_vertices {
+            // A mirror image copies no vertex of the target: -1 (u32::MAX).
+            let image = *v as usize >= m.half.mesh.positions.len();
             *v = half_vertex
                 .get(*v as usize)
+                .filter(|_| !image)
                 .and_then(|&h| m.half.source_vertex.get(h as usize))
                 .copied()
                 .unwrap_or(u32::MAX);
@@ -710,7 +732,7 @@ pub fn run_develop(
     let max_defect = developed.max_defect.max(built_defect);
     // The distance colour map: each developed vertex's distance to the target, blue at
     // none, red at the largest (PLY with the value in mm per vertex, and GLB).
-    let distances = vertex_distances(&result, &SurfaceIndex::new(&full));
+    let distances = vertex_distances(&result, &SurfaceIndex::new(reference));
     let top = distances.iter().copied().filter(|d| d.is_finite()).fold(0.0, f64::max);
     let colours: Vec<[f32; 3]> = distances
         .iter()
@@ -805,8 +827,12 @@ struct MirrorWork {
     /// The half's fixed vertices (a new vertex on the plane is fixed when both ends of
     /// the edge it cuts are; empty: none).
     fixed: Vec<bool>,
-    /// Two-sided Hausdorff distance between the target as read and its mirror image.
+    /// Two-sided Hausdorff distance between the target as read and its mirror image (0
+    /// for a half model).
     asymmetry: f64,
+    /// A half model joined with its image: what distances are measured to (`None`: the
+    /// target as read).
+    reference: Option<TriangleMesh>,
 }
 
 impl MirrorWork {
@@ -832,7 +858,8 @@ impl MirrorWork {
             axis,
             offset: spec.offset.unwrap_or(0.5 * (low[axis] + high[axis])),
         };
-        let half = mirror_half(work, &plane).map_err(|e| DevelopError::Topology { problem: e.to_string() })?;
+        // Fixed vertices are not snapped onto the plane.
+        let half = mirror_half(work, &plane, fixed).map_err(|e| DevelopError::Topology { problem: e.to_string() })?;
         let (topology, table) = mesh_topology_with_edges(&half.mesh);
         let plane_edges = table
             .boundary_edges()
@@ -849,7 +876,7 @@ impl MirrorWork {
             }
             .into());
         }
-        let fixed = if fixed.is_empty() {
+        let half_fixed = if fixed.is_empty() {
             Vec::new()
         } else {
             half.source_vertex
@@ -864,11 +891,62 @@ impl MirrorWork {
                 })
                 .collect()
         };
+        // A fixed vertex on the side replaced by the image must be the image of a fixed
+        // vertex kept (a region fixed symmetrically), or it could not stay in place.
+        if !fixed.is_empty() {
+            let mut kept = vec![false; work.positions.len()];
+            for &v in half.source_vertex.iter().filter(|&&v| v != u32::MAX) {
+                kept[v as usize] = true;
+            }
+            let anchors: Vec<nalgebra::Vector3<f64>> = (0..work.positions.len())
+                .filter(|&v| fixed[v] && kept[v])
+                .map(|v| work.positions[v])
+                .collect();
+            let tolerance = 1e-6 * (high - low).norm();
+            for v in (0..work.positions.len()).filter(|&v| fixed[v] && !kept[v]) {
+                let image = plane.reflect(&work.positions[v]);
+                if !anchors.iter().any(|a| (a - image).norm() <= tolerance) {
+                    let p = work.positions[v];
+                    return Err(PipelineError::Option {
+                        option: "fixed",
+                        message: format!(
+                            "a fixed vertex at ({}, {}, {}) is on the side of the mirror plane {} that the mirror image of the other replaces, and no fixed vertex mirrors it: fix a region symmetric in the plane, or one on the side kept",
+                            sheetform_geometry::short_number(p.x),
+                            sheetform_geometry::short_number(p.y),
+                            sheetform_geometry::short_number(p.z),
+                            plane.describe()
+                        ),
+                    });
+                }
+            }
+        }
+        // A half model (nothing on the other side) is completed by its image: distances
+        // are to both, and it is symmetric by construction.
         let mut image = full.clone();
         for p in &mut image.positions {
             *p = plane.reflect(p);
         }
-        let asymmetry = surface_distance(&image, full, &SurfaceDistanceOptions::default()).hausdorff;
+        let half_model = half.side_areas[1] <= 1e-9 * half.side_areas[0];
+        let (reference, asymmetry) = if half_model {
+            let mut both = full.clone();
+            let offset = both.positions.len() as u32;
+            both.positions.extend(image.positions.iter().copied());
+            both.triangles.extend(
+                image
+                    .triangles
+                    .iter()
+                    .map(|t| [t[0] + offset, t[2] + offset, t[1] + offset]),
+            );
+            both.face_groups.clear();
+            both.corner_uvs = None;
+            both.seam_edges.clear();
+            (Some(both), 0.0)
+        } else {
+            (
+                None,
+                surface_distance(&image, full, &SurfaceDistanceOptions::default()).hausdorff,
+            )
+        };
         tracing::info!(
             plane = %plane.describe(),
             half_faces = half.mesh.triangles.len(),
@@ -881,8 +959,9 @@ impl MirrorWork {
             half,
             table,
             plane_edges,
-            fixed,
+            fixed: half_fixed,
             asymmetry,
+            reference,
         })
     }
 }
