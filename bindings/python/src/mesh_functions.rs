@@ -219,7 +219,7 @@ pub(crate) fn flatten(
 ///
 /// Returns a `Run` (`uv` the pattern at 1:1, `face_pieces` the piece of each face,
 /// `source_vertices` the target vertex each output vertex copies, -1 for a vertex the
-/// remeshing made); its report's
+/// remeshing made or a mirror plane imaged); its report's
 /// `develop` section has the figures. `outcome` is `"out_of_tolerance"` when a piece
 /// keeps a defect above `tolerance` or the distance bound is not met (the closest
 /// result is returned).

@@ -247,8 +247,9 @@ def develop(
     exactly developable pieces, unfolded exactly (``max_distance``: a length in ``unit``
     or a percentage of the size, ``"0.5%"``; ``work_faces``, default 10 000: a finer
     target is remeshed to about this many faces first, and ``source_vertices`` is -1
-    for the vertices the remeshing made; ``mirror``: a mirror plane kept, ``"x"``,
-    ``"y"``, ``"z"`` through the middle of the mesh or placed, ``"x=0"``)."""
+    for the vertices the remeshing made and the mirror images; ``mirror``: a mirror
+    plane kept, ``"x"``, ``"y"``, ``"z"`` through the middle of the mesh or placed,
+    ``"x=0"``)."""
 
 def pattern(
     vertices: npt.ArrayLike,
