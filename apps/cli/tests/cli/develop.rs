@@ -339,24 +339,7 @@ fn a_distance_bound_adds_pieces_until_it_holds() {
 /// Pieces of the written pattern: connected parts of the `vt` mesh (faces sharing a
 /// texture vertex).
 fn pattern_piece_count(o: &Obj) -> usize {
-    let mut parent: Vec<usize> = (0..o.vt.len()).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
-    for f in &o.faces {
-        for k in 1..3 {
-            let (a, b) = (root(&mut parent, f[0].1), root(&mut parent, f[k].1));
-            parent[a] = b;
-        }
-    }
-    let mut roots: Vec<usize> = o.faces.iter().map(|f| root(&mut parent, f[0].1)).collect();
-    roots.sort_unstable();
-    roots.dedup();
-    roots.len()
+    pattern_pieces(o).len()
 }
 
 /// The wing nut (Stein et al.'s flow left cone points of 0.1–0.24 rad): automatic seams
@@ -695,26 +678,19 @@ fn a_fine_target_is_remeshed_to_its_working_size() {
     );
 }
 
-/// The pattern pieces of `o`: for each, the 3D positions of its vertices.
+/// The pattern pieces of `o` (faces joined through shared texture vertices): for each,
+/// the 3D positions of its vertices.
 fn pattern_pieces(o: &Obj) -> Vec<Vec<[f64; 3]>> {
-    let mut parent: Vec<usize> = (0..o.vt.len()).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
+    let mut parts = sheetform::mesh::UnionFind::new(o.vt.len());
     for f in &o.faces {
         for k in 1..3 {
-            let (a, b) = (root(&mut parent, f[0].1), root(&mut parent, f[k].1));
-            parent[a] = b;
+            parts.union(f[0].1 as u32, f[k].1 as u32);
         }
     }
-    let mut pieces: HashMap<usize, Vec<[f64; 3]>> = HashMap::new();
+    let mut pieces: HashMap<u32, Vec<[f64; 3]>> = HashMap::new();
     for f in &o.faces {
-        let r = root(&mut parent, f[0].1);
-        pieces.entry(r).or_default().extend(f.iter().map(|c| o.v[c.0]));
+        let root = parts.find(f[0].1 as u32);
+        pieces.entry(root).or_default().extend(f.iter().map(|c| o.v[c.0]));
     }
     pieces.into_values().collect()
 }

@@ -212,8 +212,10 @@ struct Attempt {
     result: TriangleMesh,
     /// With a mirror plane, the half vertex each vertex of `result` is or mirrors.
     half_vertex: Option<Vec<u32>>,
-    /// Pieces of `result` (with a mirror plane, a piece across it counts once).
-    whole_piece_count: usize,
+    /// The edges of `result`.
+    result_table: EdgeTable,
+    /// The pieces of `result` (with a mirror plane, a piece across it counts once).
+    whole_pieces: sheetform_develop::SeamPieces,
     segmentation: Option<sheetform_develop::Segmentation>,
     pieces: sheetform_develop::SeamPieces,
     developed: Developed,
@@ -419,16 +421,19 @@ pub fn run_develop(
             }
         };
         context.progress("making the pieces developable", progress + 0.02);
+        let solve = |pieces: &sheetform_develop::SeamPieces| {
+            develop_pieces(
+                work,
+                work_table,
+                pieces,
+                work_fixed,
+                mirror_boundary.as_ref(),
+                &options.develop,
+                context.cancel,
+            )
+        };
         let mut pieces = seam_pieces(work, work_table, &seams)?;
-        let mut developed = develop_pieces(
-            work,
-            work_table,
-            &pieces,
-            work_fixed,
-            mirror_boundary.as_ref(),
-            &options.develop,
-            context.cancel,
-        )?;
+        let mut developed = solve(&pieces)?;
         context.check_cancelled()?;
         // Cone points the solve could not flatten (a saddle where a handle meets a body,
         // a tip below the cone angle) get slits, and the pieces are solved again.
@@ -459,15 +464,7 @@ pub fn run_develop(
             late_slit_count += slits;
             seams = more;
             pieces = seam_pieces(work, work_table, &seams)?;
-            developed = develop_pieces(
-                work,
-                work_table,
-                &pieces,
-                work_fixed,
-                mirror_boundary.as_ref(),
-                &options.develop,
-                context.cancel,
-            )?;
+            developed = solve(&pieces)?;
             context.check_cancelled()?;
             steps += developed.iterations;
         }
@@ -496,11 +493,12 @@ pub fn run_develop(
         };
         let distance = surface_distance(&result, reference, &SurfaceDistanceOptions::default());
         let result_table = EdgeTable::new(&result.triangles, result.positions.len());
-        let whole_piece_count = seam_pieces(&result, &result_table, &result.seam_edges)?.piece_count;
+        let whole_pieces = seam_pieces(&result, &result_table, &result.seam_edges)?;
         Ok(Attempt {
             result,
+            result_table,
+            whole_pieces,
             half_vertex,
-            whole_piece_count,
             segmentation,
             pieces,
             developed,
@@ -545,7 +543,7 @@ pub fn run_develop(
                     converged = next.developed.converged,
                     "develop: an attempt with more pieces"
                 );
-                if next.whole_piece_count > whole_limit {
+                if next.whole_pieces.piece_count > whole_limit {
                     break;
                 }
                 let grew = next.pieces.piece_count > best.pieces.piece_count;
@@ -566,10 +564,10 @@ pub fn run_develop(
             let mut given = first.max_pieces;
             for _ in 0..MIRROR_BUDGET_ROUNDS {
                 let count = best.pieces.piece_count;
-                if count < given || best.whole_piece_count >= whole_limit {
+                if count < given || best.whole_pieces.piece_count >= whole_limit {
                     break;
                 }
-                given = count + ((whole_limit - best.whole_piece_count) / 2).max(1);
+                given = count + ((whole_limit - best.whole_pieces.piece_count) / 2).max(1);
                 let segmentation = SegmentationOptions {
                     max_pieces: given,
                     ..segmentation_options
@@ -578,11 +576,11 @@ pub fn run_develop(
                 attempts.set(attempts.get() + 1);
                 tracing::debug!(
                     pieces = next.pieces.piece_count,
-                    whole_pieces = next.whole_piece_count,
+                    whole_pieces = next.whole_pieces.piece_count,
                     hausdorff = next.distance.hausdorff,
                     "develop: a mirrored attempt with more pieces"
                 );
-                if next.whole_piece_count > whole_limit || next.pieces.piece_count <= count {
+                if next.whole_pieces.piece_count > whole_limit || next.pieces.piece_count <= count {
                     break;
                 }
                 // A developed attempt beats one left out of tolerance; among developed
@@ -668,7 +666,7 @@ pub fn run_develop(
             Err(PipelineError::Pattern(PatternError::PieceTooLarge { .. }))
                 if options.seams == SeamSource::Automatic
                     && best.pieces.piece_count < half_limit
-                    && best.whole_piece_count < whole_limit =>
+                    && best.whole_pieces.piece_count < whole_limit =>
             {
                 let count = best.pieces.piece_count;
                 let segmentation = SegmentationOptions {
@@ -682,7 +680,7 @@ pub fn run_develop(
                     pieces = next.pieces.piece_count,
                     "develop: more pieces to fit the sheet"
                 );
-                if next.pieces.piece_count <= count || next.whole_piece_count > whole_limit {
+                if next.pieces.piece_count <= count || next.whole_pieces.piece_count > whole_limit {
                     break (false, unpacked(&best.result)?);
                 }
                 best = next;
@@ -697,7 +695,8 @@ pub fn run_develop(
         half_vertex,
         segmentation,
         pieces: _,
-        whole_piece_count: _,
+        result_table,
+        whole_pieces: pieces,
         developed,
         distance,
         late_slit_count,
@@ -721,9 +720,7 @@ pub fn run_develop(
             *v = origin.get(*v as usize).copied().unwrap_or(u32::MAX);
         }
     }
-    // The seams, pieces and defects of what was built (with a mirror, the whole).
-    let result_table = EdgeTable::new(&result.triangles, result.positions.len());
-    let pieces = seam_pieces(&result, &result_table, &result.seam_edges)?;
+    // The defects of what was built (with a mirror, the whole).
     let sums = vertex_angle_sums(&result.positions, &result.triangles);
     let built_defect = (0..result.positions.len())
         .filter(|&v| pieces.interior[v])
@@ -922,26 +919,15 @@ impl MirrorWork {
         }
         // A half model (nothing on the other side) is completed by its image: distances
         // are to both, and it is symmetric by construction.
-        let mut image = full.clone();
-        for p in &mut image.positions {
-            *p = plane.reflect(p);
-        }
         let half_model = half.side_areas[1] <= 1e-9 * half.side_areas[0];
         let (reference, asymmetry) = if half_model {
-            let mut both = full.clone();
-            let offset = both.positions.len() as u32;
-            both.positions.extend(image.positions.iter().copied());
-            both.triangles.extend(
-                image
-                    .triangles
-                    .iter()
-                    .map(|t| [t[0] + offset, t[2] + offset, t[1] + offset]),
-            );
-            both.face_groups.clear();
-            both.corner_uvs = None;
-            both.seam_edges.clear();
-            (Some(both), 0.0)
+            let apart = vec![false; full.positions.len()];
+            (Some(mirror_whole(full, &apart, &plane).mesh), 0.0)
         } else {
+            let mut image = full.clone();
+            for p in &mut image.positions {
+                *p = plane.reflect(p);
+            }
             (
                 None,
                 surface_distance(&image, full, &SurfaceDistanceOptions::default()).hausdorff,
