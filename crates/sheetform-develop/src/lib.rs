@@ -23,8 +23,9 @@ mod seam_pieces;
 
 pub use cone_slits::slit_unflattened_vertices;
 pub use developable_projection::{
-    develop_pieces, DevelopOptions, Developed, MirrorBoundary, MAX_ITERATIONS, MAX_SMOOTHNESS, POLISH_STEPS,
-    STALL_DEFECT, STALL_STEPS, STALL_TOLERANCE, STEP_REACH, STEP_TOLERANCE,
+    develop_pieces, DevelopOptions, Developed, MirrorBoundary, CHORD_CONTRACTION, DIAGONAL_METRIC_SMOOTHNESS,
+    MAX_CHORD_STEPS, MAX_ITERATIONS, MAX_SMOOTHNESS, POLISH_STEPS, STALL_DEFECT, STALL_STEPS, STALL_TOLERANCE,
+    STEP_REACH, STEP_TOLERANCE,
 };
 pub use developable_segmentation::{
     segment_developable, ConeProxy, Segmentation, SegmentationOptions, MAX_SEGMENTATION_PIECES,

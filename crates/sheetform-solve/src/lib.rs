@@ -5,6 +5,7 @@
 //! [`nested_dissection`]).
 
 mod constrained_levenberg_marquardt;
+mod diagonal_kkt_system;
 mod kkt_system;
 mod levenberg_marquardt;
 pub mod nested_dissection;
@@ -14,6 +15,7 @@ mod sparse_cholesky;
 pub use constrained_levenberg_marquardt::{
     constrained_levenberg_marquardt, ConstrainedInfo, ConstrainedLeastSquaresProblem, ConstrainedOptions,
 };
+pub use diagonal_kkt_system::DiagonalKktSystem;
 pub use kkt_system::{
     FactorisationFailure, KktError, KktSystem, SolveAccuracy, MAX_FACTOR_BYTES, MAX_REFINEMENT_STEPS,
     PROJECTION_METRIC_BACKWARD_ERROR, REFINED_BACKWARD_ERROR,

@@ -390,13 +390,24 @@ fn the_wing_nut_develops_into_exact_pieces() {
 /// the handle meets the wall the target has saddle vertices (−0.98 rad) that no small
 /// move flattens, and the first solve stops with 0.25 rad left inside a piece (measured
 /// before the slit rounds: out of tolerance, exit 5, 69 printed pieces). Those vertices
-/// get slits and the pieces are solved again: exact, every piece counted.
+/// get slits and the pieces are solved again: exact, every piece counted. At
+/// `--smoothness 1` (steps in the full metric): at the default smoothness the steps' metric
+/// is diagonal and its first solve reaches the tolerance without slits (one slit, 19
+/// pieces, 1.82 %: session 29), so this case is held where the slit rounds run.
 #[test]
 fn cone_points_the_solve_leaves_get_slits_and_the_cup_comes_out_exact() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("cup");
     let mesh = example_mesh("coffee-cup.obj");
-    let o = sheetform(&["develop", mesh.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"]);
+    let o = sheetform(&[
+        "develop",
+        mesh.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+        "--smoothness",
+        "1",
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let model = read_obj(&out.join("model.obj"));
     let (defect, interior) = max_interior_defect(&model);
