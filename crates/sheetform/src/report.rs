@@ -696,9 +696,11 @@ pub struct DevelopReport {
     /// Pieces added by the unfolding, which cuts a developed piece that would overlap
     /// itself in the plane.
     pub overlap_split_count: usize,
-    /// Seam edges.
+    /// Edges cut in the printed pattern: the seams, the slits, and the cuts the
+    /// unfolding added (a piece that would overlap itself cut in two, a ring opened).
+    /// Read from the pattern: a cut edge borders two pattern pieces (or one piece twice).
     pub seam_edge_count: usize,
-    /// Total length of the seams, on the target.
+    /// Total length of the cut edges (`seam_edge_count`), on the developed model.
     pub seam_length_mm: f64,
     /// `seam_length_mm` over the target's bounding-box diagonal.
     pub seam_length_relative: f64,

@@ -342,6 +342,30 @@ fn pattern_piece_count(o: &Obj) -> usize {
     pattern_pieces(o).len()
 }
 
+/// The edges a maker cuts and glues, read from the model: edges of the surface (its `v`
+/// welded by position) whose two faces give a vertex different `vt`s.
+fn cut_edge_count(o: &Obj) -> usize {
+    let mut welded: HashMap<[u64; 3], usize> = HashMap::new();
+    let point: Vec<usize> =
+        o.v.iter()
+            .map(|p| {
+                let next = welded.len();
+                *welded.entry(p.map(f64::to_bits)).or_insert(next)
+            })
+            .collect();
+    let mut sides: HashMap<(usize, usize), Vec<[usize; 2]>> = HashMap::new();
+    for f in &o.faces {
+        for k in 0..3 {
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            let (pa, pb) = (point[a.0], point[b.0]);
+            // The side's texture vertices, ordered by the edge's ends.
+            let uv = if pa < pb { [a.1, b.1] } else { [b.1, a.1] };
+            sides.entry((pa.min(pb), pa.max(pb))).or_default().push(uv);
+        }
+    }
+    sides.values().filter(|s| s.len() == 2 && s[0] != s[1]).count()
+}
+
 /// The wing nut (Stein et al.'s flow left cone points of 0.1–0.24 rad): automatic seams
 /// and every piece exact. By default its cone points are flattened (no slit, the budget
 /// of 12 pieces kept); `--cone-angle 5.7` slits them, which brings it closer to the
@@ -372,6 +396,12 @@ fn the_wing_nut_develops_into_exact_pieces() {
         assert_eq!(
             d["seam_piece_count"].as_u64().unwrap() + d["overlap_split_count"].as_u64().unwrap(),
             pieces as u64
+        );
+        // The cut edges as drawn, the unfolding's own cuts among them.
+        assert_eq!(
+            d["seam_edge_count"].as_u64().unwrap() as usize,
+            cut_edge_count(&model),
+            "{d}"
         );
         figures.push((
             pieces,

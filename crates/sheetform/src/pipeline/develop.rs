@@ -750,16 +750,29 @@ pub fn run_develop(
     run.report.outputs = output_names(&run.files);
     let report = &mut run.report;
     report.command = Command::Develop;
-    let seam_length: f64 = pieces
-        .seam_edges
-        .iter()
-        .map(|&e| {
-            let [a, b] = result_table.edges[e];
-            (result.positions[a as usize] - result.positions[b as usize]).norm()
-        })
-        .sum::<f64>()
-        + 0.0; // an empty sum is −0.0
-               // The solve's time is develop's as much as the unfolding's.
+    // The cuts a maker glues, read from the printed pattern: a cut edge is two border
+    // edges of the pattern and none of the model's own border.
+    let border = |positions: &[nalgebra::Vector3<f64>], table: &EdgeTable| {
+        table
+            .edges
+            .iter()
+            .enumerate()
+            .filter(|&(e, _)| table.sides(e).len() == 1)
+            .fold((0usize, 0.0f64), |(count, length), (_, &[a, b])| {
+                (
+                    count + 1,
+                    length + (positions[a as usize] - positions[b as usize]).norm(),
+                )
+            })
+    };
+    let (pattern_border_count, pattern_border_length) = border(
+        &run.sheet.positions,
+        &EdgeTable::new(&run.sheet.triangles, run.sheet.positions.len()),
+    );
+    let (model_border_count, model_border_length) = border(&result.positions, &result_table);
+    let seam_edge_count = pattern_border_count.saturating_sub(model_border_count) / 2;
+    let seam_length = ((pattern_border_length - model_border_length) / 2.0).max(0.0);
+    // The solve's time is develop's as much as the unfolding's.
     report.timings.solve_ms += developing_ms;
     report.timings.total_ms = started.elapsed().as_secs_f64() * 1e3;
     report.timings.export_ms = (report.timings.total_ms - report.timings.parse_ms - report.timings.solve_ms).max(0.0);
@@ -769,7 +782,7 @@ pub fn run_develop(
         piece_count: pattern_piece_count,
         seam_piece_count: pieces.piece_count,
         overlap_split_count: pattern_piece_count.saturating_sub(pieces.piece_count),
-        seam_edge_count: pieces.seam_edges.len(),
+        seam_edge_count,
         seam_length_mm: seam_length * unit,
         seam_length_relative: seam_length / diagonal,
         normal_deviation_rms_deg: segmentation.as_ref().map(|s| s.normal_deviation_rms.to_degrees()),
