@@ -42,7 +42,7 @@ seed() {
       # The first byte picks the route (fuzz/fuzz_targets/serve_routes.rs): 0 bend,
       # 1 a bend edit, 2 slit, 3 FFD, 4 photo, 5 to 8 meshes, 9 relocate, 10 save,
       # 11 to 15 downloads, 16 a mesh laid out whole (the mesh mode's "whole"), 17 a
-      # mesh developed (the mesh mode's "develop").
+      # mesh developed (the mesh mode's "develop"), 18 developed with a mirror plane.
       { printf '\x00'; cat examples/bent-rectangle.json; } > "$dir/bend.json"
       printf '\x01{"kind": "move_control_point", "region": 0, "index": 1, "position": [80, 20, 0]}' > "$dir/edit-move.json"
       printf '\x01{"kind": "drag_preserving_length", "region": 0, "index": 2, "position": [150, -10, 40]}' > "$dir/edit-drag.json"
@@ -54,6 +54,7 @@ seed() {
       printf '\x06OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 1\n3 0 1 2\n3 1 3 2\n' > "$dir/mesh.off"
       { printf '\x10'; cat examples/meshes/crumpled-developable.obj; } > "$dir/mesh-whole.obj"
       { printf '\x11'; cat examples/meshes/gift-box.obj; } > "$dir/mesh-develop.obj"
+      { printf '\x12'; cat examples/meshes/gift-box.obj; } > "$dir/mesh-develop-mirror.obj"
       { printf '\x09'; cat examples/photo/coffee-cup.json; } > "$dir/relocate.json"
       printf '\x0a{"a": 1}' > "$dir/save.json"
       ;;

@@ -18,9 +18,9 @@ use tower::ServiceExt;
 
 /// The routes, by the first byte: method and address. Every route the editor's front end
 /// (`apps/serve/web/src/editor.js`) sends a body to, with the layouts its mesh mode offers
-/// (auto, smooth, net, `never`, "whole", and `develop`); new ones are added at the end,
-/// so that the seeds of `tools/fuzz.sh` keep their routes.
-const ROUTES: [(&str, &str); 18] = [
+/// (auto, smooth, net, `never`, "whole", and `develop`, with a mirror plane too); new ones
+/// are added at the end, so that the seeds of `tools/fuzz.sh` keep their routes.
+const ROUTES: [(&str, &str); 19] = [
     ("POST", "/api/bend"),
     ("POST", "/api/bend/edit"),
     ("POST", "/api/slit"),
@@ -39,6 +39,7 @@ const ROUTES: [(&str, &str); 18] = [
     ("POST", "/api/mesh/file/model.obj?name=m.obj"),
     ("POST", "/api/mesh?name=m.obj&charts=never"),
     ("POST", "/api/mesh?name=m.obj&charts=develop"),
+    ("POST", "/api/mesh?name=m.obj&charts=develop&mirror=x"),
 ];
 
 /// The bend scene an edit is applied to.

@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 use sheetform::mesh::{LengthUnit, TriangleMesh};
 use sheetform::pipeline::{
     run_check, run_develop, run_flatten, ChartMode, CheckOptions, DevelopRunOptions, FlattenMethod, FlattenOptions,
-    FlattenRun, OutputSet, PipelineError, RunContext,
+    FlattenRun, Mirror, OutputSet, PipelineError, RunContext,
 };
 use sheetform::report::Report;
 use std::sync::Arc;
@@ -48,6 +48,10 @@ struct MeshQuery {
     /// `mm` (default), `cm`, `m` or `in` (`--units`).
     #[serde(default)]
     units: Option<String>,
+    /// The `develop` layout's mirror plane, as `sheetform develop --mirror` spells it
+    /// (`x`, `y`, `z` or placed, `x=0`); empty or absent for none.
+    #[serde(default)]
+    mirror: Option<String>,
 }
 
 impl MeshQuery {
@@ -78,6 +82,7 @@ impl MeshQuery {
                 )))
             }
         };
+        self.mirror()?;
         Ok(FlattenOptions {
             charts,
             method,
@@ -109,12 +114,31 @@ impl MeshQuery {
         if self.charts.as_deref() == Some("develop") {
             let options = DevelopRunOptions {
                 flatten,
+                mirror: self.mirror()?,
                 ..Default::default()
             };
             Ok(run_develop(mesh, &options, context)?.run)
         } else {
             Ok(run_flatten(mesh, &flatten, context)?)
         }
+    }
+
+    /// The mirror plane asked for, parsed as the CLI's `--mirror`; only the `develop`
+    /// layout takes one.
+    fn mirror(&self) -> Result<Option<Mirror>, ApiError> {
+        let mirror = match self.mirror.as_deref().map(str::trim) {
+            None | Some("") => None,
+            Some(text) => Some(
+                text.parse::<Mirror>()
+                    .map_err(|message| ApiError::invalid(format!("mirror: {message}")))?,
+            ),
+        };
+        if mirror.is_some() && self.charts.as_deref() != Some("develop") {
+            return Err(ApiError::invalid(
+                "mirror: only the develop layout keeps a mirror plane (choose Layout: develop)",
+            ));
+        }
+        Ok(mirror)
     }
 
     /// The mesh in the body, read by the CLI's reader for the name's extension.

@@ -330,6 +330,16 @@ async fn a_mesh_is_checked_and_flattened_into_a_pattern_isometric_to_it() {
             "bad.obj",
         ),
         ("/api/mesh?name=gift-box.xyz", gift.clone(), "xyz"),
+        (
+            "/api/mesh?name=gift-box.obj&charts=develop&mirror=w",
+            gift.clone(),
+            "mirror",
+        ),
+        (
+            "/api/mesh?name=gift-box.obj&charts=smooth&mirror=x",
+            gift.clone(),
+            "develop layout",
+        ),
     ] {
         let (status, reply) = send(&app, "POST", uri, body).await;
         assert_eq!(
@@ -372,6 +382,34 @@ async fn a_mesh_is_checked_and_flattened_into_a_pattern_isometric_to_it() {
     .await;
     assert_eq!(status, StatusCode::OK);
     assert!(String::from_utf8_lossy(&body).contains("property double distance_mm"));
+    // With a mirror plane (`sheetform develop --mirror x`): the box is cut in the plane
+    // through its middle, developed as a half and joined with its image, still unmoved
+    // and exact, its vertices symmetric in the plane the report names.
+    let (status, body) = send(
+        &app,
+        "POST",
+        "/api/mesh?name=gift-box.obj&charts=develop&mirror=x",
+        gift.clone(),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let reply = json(&body);
+    let develop = &reply["report"]["develop"];
+    assert_eq!(reply["report"]["status"], "ok");
+    let plane = develop["mirror_plane"].as_str().unwrap();
+    let middle: f64 = plane.strip_prefix("x = ").expect(plane).parse().unwrap();
+    assert_eq!(develop["hausdorff_mm"], 0.0);
+    assert!(isometry_error(&reply["model"]) < 1e-9);
+    let positions: Vec<f64> = serde_json::from_value(reply["model"]["positions"].clone()).unwrap();
+    for p in positions.chunks(3) {
+        let image = [2.0 * middle - p[0], p[1], p[2]];
+        assert!(
+            positions
+                .chunks(3)
+                .any(|q| (0..3).all(|k| (image[k] - q[k]).abs() < 1e-9)),
+            "{p:?} has no mirror image in {plane}"
+        );
+    }
     // A closed box cannot be laid out whole.
     let (status, body) = send(&app, "POST", "/api/mesh?name=gift-box.obj&charts=never", gift).await;
     assert!(status.is_client_error(), "{status}: {}", String::from_utf8_lossy(&body));

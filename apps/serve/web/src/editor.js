@@ -801,7 +801,8 @@ function showMeshReport(reply) {
   const pieces = new Set(reply.model.face_pieces).size;
   const developed = r.develop
     ? `developed: ${r.develop.piece_count} exact piece${r.develop.piece_count === 1 ? '' : 's'}, ` +
-      `${short(100 * r.develop.hausdorff_relative, 2)} % from the target`
+      `${short(100 * r.develop.hausdorff_relative, 2)} % from the target` +
+      (r.develop.mirror_plane ? `, mirrored in ${r.develop.mirror_plane}` : '')
     : null;
   const parts = [
     state.mesh.name,
@@ -1450,7 +1451,17 @@ for (const [id, field] of Object.entries(SLIT_INPUTS)) {
 }
 
 function meshQuery(options) {
-  return new URLSearchParams({ name: state.mesh.name, charts: options.charts }).toString();
+  const query = { name: state.mesh.name, charts: options.charts };
+  // A mirror plane is the develop layout's only (`sheetform develop --mirror`).
+  if (options.charts === 'develop' && options.mirror) query.mirror = options.mirror;
+  return new URLSearchParams(query).toString();
+}
+
+/** The layout controls showing `options`: the mirror plane only for the develop layout. */
+function showMeshOptions(options) {
+  $('charts').value = options.charts;
+  $('mirror').value = options.mirror || '';
+  $('mirror').disabled = options.charts !== 'develop';
 }
 
 /** Checks and flattens the loaded mesh with `options`; a refusal keeps the last answer. */
@@ -1472,7 +1483,7 @@ async function solveMesh(options) {
     state.reply = body;
     state.meshOptions = options;
     state.lastError = null;
-    $('charts').value = options.charts;
+    showMeshOptions(options);
     drawMeshModel(body);
     drawPattern(body.pattern_svg);
     render();
@@ -1501,7 +1512,7 @@ async function loadMesh(name, bytes, path = null) {
   state.redo = [];
   updateHistoryButtons();
   framed = false;
-  if (!(await solveMesh({ charts: $('charts').value }))) {
+  if (!(await solveMesh({ charts: $('charts').value, mirror: $('mirror').value }))) {
     // A mesh the server refuses is not loaded: the last one stays.
     state.mesh = previous.mesh;
     state.reply = previous.reply;
@@ -1534,21 +1545,25 @@ $('open-local-mesh').addEventListener('change', async (event) => {
   const file = event.target.files[0];
   if (file) await loadMesh(file.name, await file.arrayBuffer());
 });
-$('charts').addEventListener('change', (event) => {
+/** Lays the mesh out again with `change` made to its options; kept in the history when
+ * the server answers, the controls put back when it refuses. */
+function changeMeshOptions(change) {
   if (!state.mesh || !state.meshOptions) return;
   const before = JSON.stringify(state.meshOptions);
   const generation = state.generation;
-  solveMesh({ ...state.meshOptions, charts: event.target.value }).then((solved) => {
+  solveMesh({ ...state.meshOptions, ...change }).then((solved) => {
     if (state.generation !== generation) return;
     if (solved) {
       state.undo.push(before);
       state.redo = [];
       updateHistoryButtons();
     } else {
-      $('charts').value = JSON.parse(before).charts;
+      showMeshOptions(JSON.parse(before));
     }
   });
-});
+}
+$('charts').addEventListener('change', (event) => changeMeshOptions({ charts: event.target.value }));
+$('mirror').addEventListener('change', (event) => changeMeshOptions({ mirror: event.target.value }));
 $('colour').addEventListener('change', () => {
   if (state.mode === 'mesh' && state.reply) {
     drawMeshModel(state.reply);

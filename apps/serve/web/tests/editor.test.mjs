@@ -656,9 +656,32 @@ try {
   assert.ok((await page.evaluate(() => window.sheetformEditor.isometryError())) < 1e-9);
   assert.match(await page.textContent('#status'), /developed: \d+ exact pieces/);
   await page.screenshot({ path: join(outputDir, 'mesh-develop.png') });
+  // A mirror plane (develop --mirror x): offered with the develop layout only; the box
+  // comes back symmetric in the plane the report names, exact and unmoved.
+  assert.equal(await page.isEnabled('#mirror'), true, 'the mirror control is live with develop');
+  await answered(() => page.selectOption('#mirror', 'x'));
+  const mirrored = await meshReply();
+  assert.equal(mirrored.report.status, 'ok');
+  const plane = mirrored.report.develop.mirror_plane;
+  assert.match(plane, /^x = /);
+  const middle = Number(plane.slice(4));
+  const points = [];
+  for (let i = 0; i < mirrored.model.positions.length; i += 3) points.push(mirrored.model.positions.slice(i, i + 3));
+  assert.ok(
+    points.every(([x, y, z]) => points.some(([u, v, w]) => Math.abs(u - (2 * middle - x)) < 1e-9 && Math.abs(v - y) < 1e-9 && Math.abs(w - z) < 1e-9)),
+    'every developed vertex has its image in the plane',
+  );
+  assert.equal(mirrored.report.develop.hausdorff_mm, 0);
+  assert.ok((await page.evaluate(() => window.sheetformEditor.isometryError())) < 1e-9);
+  assert.match(await page.textContent('#status'), /mirrored in x = /);
+  await page.screenshot({ path: join(outputDir, 'mesh-develop-mirror.png') });
+  await answered(() => page.click('#undo'));
+  assert.equal((await meshReply()).report.develop.mirror_plane, null, 'undo drops the plane');
+  assert.equal(await page.inputValue('#mirror'), '');
   await answered(() => page.click('#undo'));
   assert.deepEqual((await meshReply()).model, smooth.model);
   assert.equal(await page.inputValue('#charts'), 'smooth');
+  assert.equal(await page.isEnabled('#mirror'), false, 'no mirror plane outside develop');
 
   // Refusals: a closed box cannot lie whole; a malformed mesh is not a mesh.
   const refusalsBeforeMesh = await page.evaluate(() => window.sheetformEditor.state.refusals);
