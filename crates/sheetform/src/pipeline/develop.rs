@@ -3,7 +3,7 @@
 //! (issue 36: automatic seams, or the user's only).
 
 use super::check::mesh_name;
-use super::context::RunContext;
+use super::context::{no_progress, RunContext};
 use super::error::{Outcome, PipelineError};
 use super::flatten::{run_flatten, ChartMode, FlattenOptions, FlattenRun};
 use super::outputs::output_names;
@@ -247,7 +247,8 @@ pub struct DevelopRun {
 /// ([`sheetform_develop::slit_unflattened_vertices`], at most [`SLIT_ROUNDS`] times).
 /// With a mirror plane ([`DevelopRunOptions::mirror`]) the half of the target cut by
 /// [`sheetform_mesh::mirror_half`] is developed, in two layouts (pieces across the plane,
-/// flat on it in the whole; or a centre seam) of which the better is kept, and joined
+/// flat on it in the whole; or a centre seam; searched at once on two threads, the
+/// second reporting no progress) of which the better is kept, and joined
 /// with its image ([`sheetform_mesh::mirror_whole`]) before the unfolding. The
 /// report's `develop` section gives the seams, the defects before and after and the
 /// two-sided distance to the target ([`sheetform_mesh::surface_distance`]); its status
@@ -398,11 +399,19 @@ pub fn run_develop(
     }
     // With a mirror plane, `centre_seam` cuts the whole along the plane (the half's cut
     // is a seam); without, pieces run across it where they can.
+    // An attempt reports its progress through `report` and reads the cancel flag alone
+    // (not the context), so that the two mirror layouts can be searched on two threads.
+    let cancel = context.cancel;
+    let check_cancelled = || match cancel {
+        Some(flag) if flag.load(std::sync::atomic::Ordering::Relaxed) => Err(PipelineError::Cancelled),
+        _ => Ok(()),
+    };
     let attempt_with = |segmentation: &SegmentationOptions,
                         progress: f64,
-                        centre_seam: bool|
+                        centre_seam: bool,
+                        report: &dyn Fn(&str, f64)|
      -> Result<Attempt, PipelineError> {
-        context.progress("finding the seams", progress);
+        report("finding the seams", progress);
         let centre: &[[u32; 2]] = match &mirror {
             Some(m) if centre_seam => &m.plane_edges,
             _ => &[],
@@ -416,11 +425,11 @@ pub fn run_develop(
                         hard[e] = true;
                     }
                 }
-                let found = segment_developable(work, work_table, &hard, segmentation, context.cancel)?;
+                let found = segment_developable(work, work_table, &hard, segmentation, cancel)?;
                 (found.seams.clone(), Some(found))
             }
         };
-        context.progress("making the pieces developable", progress + 0.02);
+        report("making the pieces developable", progress + 0.02);
         let solve = |pieces: &sheetform_develop::SeamPieces| {
             develop_pieces(
                 work,
@@ -429,12 +438,12 @@ pub fn run_develop(
                 work_fixed,
                 mirror_boundary.as_ref(),
                 &options.develop,
-                context.cancel,
+                cancel,
             )
         };
         let mut pieces = seam_pieces(work, work_table, &seams)?;
         let mut developed = solve(&pieces)?;
-        context.check_cancelled()?;
+        check_cancelled()?;
         // Cone points the solve could not flatten (a saddle where a handle meets a body,
         // a tip below the cone angle) get slits, and the pieces are solved again.
         let mut seams = seams;
@@ -465,7 +474,7 @@ pub fn run_develop(
             seams = more;
             pieces = seam_pieces(work, work_table, &seams)?;
             developed = solve(&pieces)?;
-            context.check_cancelled()?;
+            check_cancelled()?;
             steps += developed.iterations;
         }
         developed.iterations = steps;
@@ -519,13 +528,14 @@ pub fn run_develop(
         _ => segmentation_options,
     };
     let half_limit = if mirror.is_some() { whole_limit } else { budget };
-    let attempts = std::cell::Cell::new(0usize);
-    let progress_now = || (0.02 + 0.1 * attempts.get() as f64).min(0.5);
+    let attempts = std::sync::atomic::AtomicUsize::new(0);
+    let count_attempt = || attempts.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let progress_now = || (0.02 + 0.1 * attempts.load(std::sync::atomic::Ordering::Relaxed) as f64).min(0.5);
     // The first attempt, then more pieces while the distance bound does not hold, or
     // (mirror plane, no bound) while the whole keeps within the budget.
-    let search = |centre_seam: bool| -> Result<Attempt, PipelineError> {
-        let mut best = attempt_with(&first, progress_now(), centre_seam)?;
-        attempts.set(attempts.get() + 1);
+    let search = |centre_seam: bool, report: &dyn Fn(&str, f64)| -> Result<Attempt, PipelineError> {
+        let mut best = attempt_with(&first, progress_now(), centre_seam, report)?;
+        count_attempt();
         if let (Some(bound), SeamSource::Automatic) = (bound, options.seams) {
             let mut count = best.pieces.piece_count;
             while best.distance.hausdorff > bound && count < half_limit {
@@ -535,8 +545,8 @@ pub fn run_develop(
                     normal_tolerance_degrees: 0.0,
                     ..segmentation_options
                 };
-                let next = attempt_with(&segmentation, progress_now(), centre_seam)?;
-                attempts.set(attempts.get() + 1);
+                let next = attempt_with(&segmentation, progress_now(), centre_seam, report)?;
+                count_attempt();
                 tracing::debug!(
                     pieces = next.pieces.piece_count,
                     hausdorff = next.distance.hausdorff,
@@ -572,8 +582,8 @@ pub fn run_develop(
                     max_pieces: given,
                     ..segmentation_options
                 };
-                let next = attempt_with(&segmentation, progress_now(), centre_seam)?;
-                attempts.set(attempts.get() + 1);
+                let next = attempt_with(&segmentation, progress_now(), centre_seam, report)?;
+                count_attempt();
                 tracing::debug!(
                     pieces = next.pieces.piece_count,
                     whole_pieces = next.whole_pieces.piece_count,
@@ -597,18 +607,29 @@ pub fn run_develop(
         }
         Ok(best)
     };
-    let mut best = search(false)?;
-    // With a mirror plane, pieces across the plane (tried first) must be flat on it, a
+    // With a mirror plane, pieces across the plane must be flat on it, a
     // strong condition on organic shapes (measured, benchmarks.md: Spot needed 79 late
     // slits, printed in 63 pieces, and the koala stayed out of tolerance); the whole cut
     // along the plane is tried too, and the better kept: developed, then within the
     // distance bound, then fewer late slits
     // (each may open a wedge the unfolding cuts again: measured, the cup under a 1 % bound
     // printed 60 pieces from 4 with 100 slits across the plane, 16 with a centre seam),
-    // then closer.
+    // then closer. The two are searched at once, the centre seam on a thread of its own
+    // (its progress not reported).
+    let (joined, seamed) = if mirror.is_some() {
+        std::thread::scope(|scope| {
+            let seamed = scope.spawn(|| search(true, &no_progress));
+            let joined = search(false, context.progress);
+            let seamed = seamed.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+            (joined, Some(seamed))
+        })
+    } else {
+        (search(false, context.progress), None)
+    };
+    let mut best = joined?;
     let mut centre_seam = false;
-    if mirror.is_some() {
-        let seamed = search(true)?;
+    if let Some(seamed) = seamed {
+        let seamed = seamed?;
         let rank = |a: &Attempt| {
             (
                 !a.developed.converged,
@@ -627,7 +648,7 @@ pub fn run_develop(
             centre_seam = true;
         }
     }
-    let mut attempts = attempts.get();
+    let mut attempts = attempts.into_inner();
     context.progress("unfolding the pieces", 0.6);
     let developing_ms = started.elapsed().as_secs_f64() * 1e3;
     // The developed pieces unfold exactly: charts cut along the seams only (no crease
@@ -674,7 +695,7 @@ pub fn run_develop(
                     normal_tolerance_degrees: 0.0,
                     ..segmentation_options
                 };
-                let next = attempt_with(&segmentation, 0.5, centre_seam)?;
+                let next = attempt_with(&segmentation, 0.5, centre_seam, context.progress)?;
                 attempts += 1;
                 tracing::debug!(
                     pieces = next.pieces.piece_count,
