@@ -397,6 +397,13 @@ fn the_wing_nut_develops_into_exact_pieces() {
             d["seam_piece_count"].as_u64().unwrap() + d["overlap_split_count"].as_u64().unwrap(),
             pieces as u64
         );
+        // More printed pieces than the budget (the unfolding's splits) are said so.
+        let over_budget = r["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("more than the 12 of --max-pieces"));
+        assert_eq!(over_budget, pieces > 12, "{pieces} pieces: {}", r["warnings"]);
         // The cut edges as drawn, the unfolding's own cuts among them.
         assert_eq!(
             d["seam_edge_count"].as_u64().unwrap() as usize,

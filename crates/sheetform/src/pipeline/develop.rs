@@ -839,6 +839,15 @@ pub fn run_develop(
             m.plane.describe()
         ));
     }
+    // The budget counts the pieces the seams cut; the unfolding cuts again a developed
+    // piece that would overlap itself flat, which can print more.
+    if options.seams == SeamSource::Automatic && pattern_piece_count > whole_limit {
+        report.warnings.push(format!(
+            "the pattern has {pattern_piece_count} pieces, more than the {whole_limit} of --max-pieces, which counts the pieces the seams cut ({}): the unfolding cut {} more where a developed piece would overlap itself flat",
+            pieces.piece_count,
+            pattern_piece_count - pieces.piece_count
+        ));
+    }
     let too_far = bound.is_some_and(|b| distance.hausdorff > b);
     let converged = max_defect <= options.develop.defect_tolerance;
     if (!converged || too_far || !fits_sheet) && run.outcome == Outcome::Ok {
