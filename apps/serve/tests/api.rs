@@ -401,6 +401,11 @@ async fn a_mesh_is_checked_and_flattened_into_a_pattern_isometric_to_it() {
     assert_eq!(develop["hausdorff_mm"], 0.0);
     assert!(isometry_error(&reply["model"]) < 1e-9);
     let positions: Vec<f64> = serde_json::from_value(reply["model"]["positions"].clone()).unwrap();
+    // The half was cut on the plane (the box without a mirror has its corners only).
+    assert!(
+        positions.chunks(3).any(|p| (p[0] - middle).abs() < 1e-9),
+        "no vertex on the cut {plane}"
+    );
     for p in positions.chunks(3) {
         let image = [2.0 * middle - p[0], p[1], p[2]];
         assert!(

@@ -186,11 +186,12 @@ pub struct Developed {
 /// the unknowns then eliminate without fill and only the constraints' Schur complement
 /// `J D⁻¹ Jᵀ + δI` is factorised ([`DiagonalKktSystem`]; Nocedal & Wright 2006, Eq.
 /// 16.16). Its factor holds a tenth of the full system's values (koala: 0.14 M against
-/// 1.64 M), and whole runs take 1.4–2.8× less CPU time (docs/benchmarks.md, session
+/// 1.64 M), and whole runs take 1.1–4× less CPU time (docs/benchmarks.md, session
 /// 29). This is a departure from Newton's step in `H` only: the objective and its
-/// gradient `H(x − t)` are `H`'s, so the problem and its solutions are the same, and
-/// `D` is within a factor of about 2 of `H` at light smoothness (the Laplacian's
-/// off-diagonal weights are `s`). Heavier smoothness spreads each step over the
+/// gradient `H(x − t)` are `H`'s, so the problem and its solutions are the same;
+/// `D⁻¹H = I − s D⁻¹A` (`A` the adjacency) has its eigenvalues in `[1 − ρ, 1 + ρ]`,
+/// `ρ = s·deg/(M + s·deg)`: `[0.63, 1.38]` at the default `s` = 0.1, `[0.25, 1.75]` at
+/// 0.5 (valence 6, `M` ≈ 1). Heavier smoothness spreads each step over the
 /// neighbours, which `D` does not: above the bound `B = H` and the full system is
 /// factorised by the shared [`KktSystem`] (ordering, symbolic analysis and workspace
 /// once; LDLᵀ each step, iterative refinement). A backtracking line search (from at
@@ -485,12 +486,15 @@ pub fn develop_pieces(
                 message: "the step's linear system is singular (a degenerate or flat-folded triangle)".into(),
             })
     };
-    // Each step is an inexact Newton step (Dembo, Eisenstat & Steihaug 1982): refined
-    // until its constraint rows are within 10⁻³ of the largest defect, or a tenth of the
-    // tolerance once the defects are that small, so that the last steps land within it.
-    // The first triangular solve usually meets it far from the solution (measured on
-    // the koala: constraint residuals of 1e-10 where the defects are about 1 rad; refined
-    // to rounding, every step took two solves).
+    // The polish's corrections are inexact Newton steps (Dembo, Eisenstat & Steihaug
+    // 1982): refined until their constraint rows are within 10⁻³ of the largest defect,
+    // or a tenth of the tolerance once the defects are that small (`max`: far from the
+    // solution only the forcing term counts; `KktSystem::projection` takes the smaller
+    // of the two, the FFD's choice), so that the last steps land within the tolerance.
+    // The first solve usually meets it far from the solution (measured on the koala:
+    // constraint residuals of 1e-10 where the defects are about 1 rad; refined to
+    // rounding, every step took two solves). The closeness steps above are solved to
+    // rounding: inexact, they changed the path (benchmarks.md, session 29).
     let forcing = |defects: &[f64]| SolveAccuracy::ConstraintResidual((1e-3 * max_abs(defects)).max(0.1 * tolerance));
     let mut stalled = 0;
     while iterations < options.max_iterations {

@@ -157,17 +157,24 @@ fn fixed_vertices_stay_exactly_where_they_are() {
     }
     let table = EdgeTable::new(&mesh.triangles, mesh.positions.len());
     let pieces = seam_pieces(&mesh, &table, &[]).unwrap();
-    let developed = develop_pieces(&mesh, &table, &pieces, &fixed, None, &DevelopOptions::default(), None).unwrap();
-    let mut result = mesh.clone();
-    result.positions = developed.positions.clone();
-    assert!(
-        developed.converged && max_interior_defect(&result, &pieces.interior) <= 1e-9,
-        "{developed:?}"
-    );
     assert!(fixed.iter().filter(|&&f| f).count() > 20);
-    for ((p, q), &f) in developed.positions.iter().zip(&mesh.positions).zip(&fixed) {
-        if f {
-            assert_eq!(p, q);
+    // Both step systems: the metric's diagonal (light smoothness) and the full metric.
+    for smoothness in [0.1, 1.0] {
+        let options = DevelopOptions {
+            smoothness,
+            ..Default::default()
+        };
+        let developed = develop_pieces(&mesh, &table, &pieces, &fixed, None, &options, None).unwrap();
+        let mut result = mesh.clone();
+        result.positions = developed.positions.clone();
+        assert!(
+            developed.converged && max_interior_defect(&result, &pieces.interior) <= 1e-9,
+            "smoothness {smoothness}: {developed:?}"
+        );
+        for ((p, q), &f) in developed.positions.iter().zip(&mesh.positions).zip(&fixed) {
+            if f {
+                assert_eq!(p, q, "smoothness {smoothness}");
+            }
         }
     }
     // The same strip bent out of developability (a bump in the middle of it): pinned.
@@ -216,31 +223,36 @@ fn a_half_developed_against_its_mirror_plane_is_flat_when_joined() {
         axis: 0,
         on_plane: &on_plane,
     };
-    let developed = develop_pieces(
-        &mesh,
-        &table,
-        &pieces,
-        &[],
-        Some(&mirror),
-        &DevelopOptions::default(),
-        None,
-    )
-    .unwrap();
-    assert!(developed.converged, "{developed:?}");
-    for (v, p) in developed.positions.iter().enumerate() {
-        if on_plane[v] {
-            assert_eq!(p.x, 0.0, "plane vertex {v} left the plane");
+    let mut whole_pieces = None;
+    // Both step systems: the metric's diagonal (light smoothness) and the full metric.
+    for smoothness in [0.1, 1.0] {
+        let options = DevelopOptions {
+            smoothness,
+            ..Default::default()
+        };
+        let developed = develop_pieces(&mesh, &table, &pieces, &[], Some(&mirror), &options, None).unwrap();
+        assert!(developed.converged, "smoothness {smoothness}: {developed:?}");
+        for (v, p) in developed.positions.iter().enumerate() {
+            if on_plane[v] {
+                assert_eq!(p.x, 0.0, "smoothness {smoothness}: plane vertex {v} left the plane");
+            }
         }
+        let half = TriangleMesh {
+            positions: developed.positions.clone(),
+            ..mesh.clone()
+        };
+        let whole =
+            sheetform_mesh::mirror_whole(&half, &on_plane, &sheetform_mesh::MirrorPlane { axis: 0, offset: 0.0 });
+        let whole_table = EdgeTable::new(&whole.mesh.triangles, whole.mesh.positions.len());
+        let pieces_of_whole = seam_pieces(&whole.mesh, &whole_table, &[]).unwrap();
+        let worst = max_interior_defect(&whole.mesh, &pieces_of_whole.interior);
+        assert!(
+            worst <= 1e-9,
+            "smoothness {smoothness}: the joined mesh has a defect of {worst} rad"
+        );
+        whole_pieces = Some(pieces_of_whole);
     }
-    let half = TriangleMesh {
-        positions: developed.positions.clone(),
-        ..mesh.clone()
-    };
-    let whole = sheetform_mesh::mirror_whole(&half, &on_plane, &sheetform_mesh::MirrorPlane { axis: 0, offset: 0.0 });
-    let whole_table = EdgeTable::new(&whole.mesh.triangles, whole.mesh.positions.len());
-    let whole_pieces = seam_pieces(&whole.mesh, &whole_table, &[]).unwrap();
-    let worst = max_interior_defect(&whole.mesh, &whole_pieces.interior);
-    assert!(worst <= 1e-9, "the joined mesh has a defect of {worst} rad");
+    let whole_pieces = whole_pieces.unwrap();
     // Without the mirror constraint the joined mesh is not flat on the plane.
     let free = develop_pieces(&mesh, &table, &pieces, &[], None, &DevelopOptions::default(), None).unwrap();
     let half = TriangleMesh {

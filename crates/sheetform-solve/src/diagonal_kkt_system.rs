@@ -46,7 +46,9 @@ pub struct DiagonalKktSystem {
     diagonal: Vec<usize>,
     /// The factorisation of `S`.
     schur: KktSystem,
-    /// Triangular solves of the last solve and its componentwise backward error.
+    /// Solves through `S` of the last solve (the first and one per refinement step; each
+    /// solves `S` refined to rounding) and its componentwise backward error (infinite
+    /// when a residual is not finite).
     pub last_solve: (usize, f64),
 }
 
@@ -63,6 +65,10 @@ impl DiagonalKktSystem {
         let mut columns = Vec::new();
         let mut column_entries: Vec<Vec<(usize, usize)>> = vec![Vec::new(); n];
         for (r, row) in rows.iter().enumerate() {
+            debug_assert!(
+                row.iter().enumerate().all(|(i, j)| !row[..i].contains(j)),
+                "row {r} lists a column twice"
+            );
             row_starts.push(columns.len());
             for &j in row {
                 column_entries[j].push((r, columns.len()));
@@ -224,6 +230,15 @@ impl DiagonalKktSystem {
                 if size > 0.0 {
                     backward = backward.max(residual.abs() / size);
                 }
+            }
+            // A residual that is not finite (a NaN from the data) is never accurate.
+            if !(backward.is_finite()
+                && metric_residual
+                    .iter()
+                    .chain(&constraint_residual)
+                    .all(|r| r.is_finite()))
+            {
+                backward = f64::INFINITY;
             }
             self.last_solve = (solves, backward);
             let accurate = match accuracy {

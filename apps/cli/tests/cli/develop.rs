@@ -568,6 +568,13 @@ fn a_fixed_region_stays_where_it_is() {
             .fold(0.0, f64::max);
         moved_wings.push(moved);
         let r: serde_json::Value = crate::common::report(&out);
+        // An open target: its own border is no seam; the cut edges as drawn.
+        assert_eq!(
+            r["develop"]["seam_edge_count"].as_u64().unwrap() as usize,
+            cut_edge_count(&model),
+            "{name}: {}",
+            r["develop"]
+        );
         let fixed = r["develop"]["fixed_vertex_count"].as_u64().unwrap() as usize;
         assert_eq!(
             fixed,

@@ -671,6 +671,7 @@ try {
     points.every(([x, y, z]) => points.some(([u, v, w]) => Math.abs(u - (2 * middle - x)) < 1e-9 && Math.abs(v - y) < 1e-9 && Math.abs(w - z) < 1e-9)),
     'every developed vertex has its image in the plane',
   );
+  assert.ok(points.some(([x]) => Math.abs(x - middle) < 1e-9), 'the half was cut on the plane (the box alone has corners only)');
   assert.equal(mirrored.report.develop.hausdorff_mm, 0);
   assert.ok((await page.evaluate(() => window.sheetformEditor.isometryError())) < 1e-9);
   assert.match(await page.textContent('#status'), /mirrored in x = /);

@@ -402,15 +402,23 @@ pub fn run_develop(
     // An attempt reports its progress through `report` and reads the cancel flag alone
     // (not the context), so that the two mirror layouts can be searched on two threads.
     let cancel = context.cancel;
-    let check_cancelled = || match cancel {
-        Some(flag) if flag.load(std::sync::atomic::Ordering::Relaxed) => Err(PipelineError::Cancelled),
-        _ => Ok(()),
+    // Set when one of the two mirror layouts' searches fails: the other stops at its
+    // next attempt or slit round (the run fails either way).
+    let abandoned = std::sync::atomic::AtomicBool::new(false);
+    let check_cancelled = || {
+        let relaxed = std::sync::atomic::Ordering::Relaxed;
+        if cancel.is_some_and(|flag| flag.load(relaxed)) || abandoned.load(relaxed) {
+            Err(PipelineError::Cancelled)
+        } else {
+            Ok(())
+        }
     };
     let attempt_with = |segmentation: &SegmentationOptions,
                         progress: f64,
                         centre_seam: bool,
                         report: &dyn Fn(&str, f64)|
      -> Result<Attempt, PipelineError> {
+        check_cancelled()?;
         report("finding the seams", progress);
         let centre: &[[u32; 2]] = match &mirror {
             Some(m) if centre_seam => &m.plane_edges,
@@ -548,6 +556,7 @@ pub fn run_develop(
                 let next = attempt_with(&segmentation, progress_now(), centre_seam, report)?;
                 count_attempt();
                 tracing::debug!(
+                    centre_seam,
                     pieces = next.pieces.piece_count,
                     hausdorff = next.distance.hausdorff,
                     converged = next.developed.converged,
@@ -585,6 +594,7 @@ pub fn run_develop(
                 let next = attempt_with(&segmentation, progress_now(), centre_seam, report)?;
                 count_attempt();
                 tracing::debug!(
+                    centre_seam,
                     pieces = next.pieces.piece_count,
                     whole_pieces = next.whole_pieces.piece_count,
                     hausdorff = next.distance.hausdorff,
@@ -616,20 +626,33 @@ pub fn run_develop(
     // printed 60 pieces from 4 with 100 slits across the plane, 16 with a centre seam),
     // then closer. The two are searched at once, the centre seam on a thread of its own
     // (its progress not reported).
+    let searched = |centre_seam: bool, report: &dyn Fn(&str, f64)| {
+        let found = search(centre_seam, report);
+        if found.is_err() {
+            abandoned.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+        found
+    };
     let (joined, seamed) = if mirror.is_some() {
         std::thread::scope(|scope| {
-            let seamed = scope.spawn(|| search(true, &no_progress));
-            let joined = search(false, context.progress);
+            let seamed = scope.spawn(|| searched(true, &no_progress));
+            let joined = searched(false, context.progress);
             let seamed = seamed.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
             (joined, Some(seamed))
         })
     } else {
         (search(false, context.progress), None)
     };
-    let mut best = joined?;
+    // A failed search's own error, not the other's abandonment.
+    let (mut best, seamed) = match (joined, seamed) {
+        (Ok(joined), Some(Ok(seamed))) => (joined, Some(seamed)),
+        (Ok(joined), None) => (joined, None),
+        (Err(PipelineError::Cancelled), Some(Err(error))) | (Err(error), _) | (Ok(_), Some(Err(error))) => {
+            return Err(error)
+        }
+    };
     let mut centre_seam = false;
     if let Some(seamed) = seamed {
-        let seamed = seamed?;
         let rank = |a: &Attempt| {
             (
                 !a.developed.converged,
@@ -792,7 +815,13 @@ pub fn run_develop(
     );
     let (model_border_count, model_border_length) = border(&result.positions, &result_table);
     let seam_edge_count = pattern_border_count.saturating_sub(model_border_count) / 2;
-    let seam_length = ((pattern_border_length - model_border_length) / 2.0).max(0.0);
+    // (The model's border edges are the pattern's too, so the difference is the cut
+    // edges' twice; with no cut edge, rounding leaves no length.)
+    let seam_length = if seam_edge_count == 0 {
+        0.0
+    } else {
+        ((pattern_border_length - model_border_length) / 2.0).max(0.0)
+    };
     // The solve's time is develop's as much as the unfolding's.
     report.timings.solve_ms += developing_ms;
     report.timings.total_ms = started.elapsed().as_secs_f64() * 1e3;
