@@ -1467,12 +1467,16 @@ function showMeshOptions(options) {
 /** Checks and flattens the loaded mesh with `options`; a refusal keeps the last answer. */
 async function solveMesh(options) {
   const generation = state.generation;
+  // Only the newest request's answer is shown: an older one answering late (a layout
+  // changed while another was being solved) is dropped.
+  state.meshRequest = (state.meshRequest || 0) + 1;
+  const request = state.meshRequest;
   state.inFlight = true;
   showStatus('busy', `${options.charts === 'develop' ? 'developing' : 'flattening'} ${state.mesh.name}…`);
   try {
     const response = await fetch(`/api/mesh?${meshQuery(options)}`, { method: 'POST', body: state.mesh.bytes });
     const body = await response.json();
-    if (state.generation !== generation || state.mode !== 'mesh') return false;
+    if (state.generation !== generation || state.mode !== 'mesh' || request !== state.meshRequest) return false;
     if (!response.ok) {
       state.refusals += 1;
       state.lastError = body.error;
@@ -1495,7 +1499,7 @@ async function solveMesh(options) {
     return false;
   } finally {
     state.answers += 1;
-    state.inFlight = false;
+    if (request === state.meshRequest) state.inFlight = false;
     window.dispatchEvent(new Event('sheetform-idle'));
   }
 }
@@ -1557,8 +1561,9 @@ function changeMeshOptions(change) {
       state.undo.push(before);
       state.redo = [];
       updateHistoryButtons();
-    } else {
-      showMeshOptions(JSON.parse(before));
+    } else if (!state.inFlight) {
+      // Refused (not superseded by a newer request): the controls show what is drawn.
+      showMeshOptions(state.meshOptions || JSON.parse(before));
     }
   });
 }

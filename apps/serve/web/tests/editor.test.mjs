@@ -683,6 +683,25 @@ try {
   assert.deepEqual((await meshReply()).model, smooth.model);
   assert.equal(await page.inputValue('#charts'), 'smooth');
   assert.equal(await page.isEnabled('#mirror'), false, 'no mirror plane outside develop');
+  // A layout chosen while another is being solved: the newest choice is what is shown,
+  // whichever answers last (the develop answer, asked first, is dropped).
+  // The develop request is held back 300 ms so that it answers last.
+  const slowDevelop = async (route) => {
+    await new Promise((resolve) => setTimeout(resolve, 300));
+    await route.continue();
+  };
+  await page.route('**/api/mesh?*charts=develop*', slowDevelop);
+  const answersBeforeRace = await answers();
+  await page.selectOption('#charts', 'develop');
+  await page.selectOption('#charts', 'smooth');
+  await page.waitForFunction(
+    (n) => window.sheetformEditor.state.answers >= n + 2 && window.sheetformEditor.idle(),
+    answersBeforeRace,
+  );
+  await page.unroute('**/api/mesh?*charts=develop*', slowDevelop);
+  assert.deepEqual((await meshReply()).model, smooth.model, 'the newest layout is drawn');
+  assert.equal((await meshReply()).report.command, 'flatten');
+  assert.equal(await page.inputValue('#charts'), 'smooth');
 
   // Refusals: a closed box cannot lie whole; a malformed mesh is not a mesh.
   const refusalsBeforeMesh = await page.evaluate(() => window.sheetformEditor.state.refusals);
