@@ -798,11 +798,8 @@ pub fn run_develop(
     // edges of the pattern and none of the model's own border.
     let border = |positions: &[nalgebra::Vector3<f64>], table: &EdgeTable| {
         table
-            .edges
-            .iter()
-            .enumerate()
-            .filter(|&(e, _)| table.sides(e).len() == 1)
-            .fold((0usize, 0.0f64), |(count, length), (_, &[a, b])| {
+            .boundary_edges()
+            .fold((0usize, 0.0f64), |(count, length), [a, b]| {
                 (
                     count + 1,
                     length + (positions[a as usize] - positions[b as usize]).norm(),
