@@ -66,6 +66,12 @@ pub(crate) enum Command {
         /// Output directory (created if missing).
         #[arg(short, long)]
         output: PathBuf,
+        /// The side the photo does not show: `visible` makes only what the drawing shows;
+        /// `revolve` closes every band round one axis (a cup, a lamp shade, a vase of
+        /// cones and cylinders), cut open along a seam at the back, so that the pattern is
+        /// the whole product. Default: the annotation's `back_side` (`visible`).
+        #[arg(long, value_enum, value_name = "SIDE")]
+        back_side: Option<BackSideArg>,
         #[command(flatten)]
         pattern: PatternArgs,
     },
@@ -328,6 +334,21 @@ pub(crate) enum MaterialSideArg {
     Behind,
     Centred,
     InFront,
+}
+
+#[derive(Clone, Copy, PartialEq, clap::ValueEnum)]
+pub(crate) enum BackSideArg {
+    Visible,
+    Revolve,
+}
+
+impl From<BackSideArg> for sheetform::photo::BackSide {
+    fn from(side: BackSideArg) -> Self {
+        match side {
+            BackSideArg::Visible => Self::Visible,
+            BackSideArg::Revolve => Self::Revolve,
+        }
+    }
 }
 
 #[derive(Clone, Copy, PartialEq, clap::ValueEnum)]

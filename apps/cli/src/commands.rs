@@ -2,7 +2,7 @@
 //! with a context rooted at the scene's directory, write the outputs, print a summary and
 //! return the exit code the library decided.
 
-use crate::args::{ChartArgs, Charts, Method, PatternArgs, SchemaFormat, SolverArg, Tabs, Unit};
+use crate::args::{BackSideArg, ChartArgs, Charts, Method, PatternArgs, SchemaFormat, SolverArg, Tabs, Unit};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use sheetform::bend::BendScene;
 use sheetform::flatten::ChartOptions;
@@ -424,13 +424,16 @@ pub(crate) fn slit_command(
 pub(crate) fn photo_command(
     annotation: PathBuf,
     output: PathBuf,
+    back_side: Option<BackSideArg>,
     pattern: PatternArgs,
     quiet: bool,
 ) -> Result<ExitCode, PipelineError> {
     let input = PhotoInput::from_text(&read_scene_file(&annotation)?)?;
     let options = PhotoRunOptions {
+        whole_object_tabs: auto_tabs(&pattern),
         pattern: pattern.into(),
         input: Some(annotation.display().to_string()),
+        back_side: back_side.map(Into::into),
     };
     let run = with_progress_bar(quiet, |progress| {
         run_photo(
@@ -441,6 +444,9 @@ pub(crate) fn photo_command(
     })?;
     write_set(&output, &run.files, &run.report)?;
     let photo = run.report.photo.as_ref().expect("photo report");
+    for warning in &run.report.warnings {
+        say!("sheetform: warning: {}: {warning}", annotation.display());
+    }
     if !quiet {
         let mut refined = photo.developability_error_refined.map_or_else(
             || "not refined".to_string(),

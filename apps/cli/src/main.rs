@@ -67,8 +67,9 @@ fn main() -> ExitCode {
         Command::Photo {
             annotation,
             output,
+            back_side,
             pattern,
-        } => photo_command(annotation, output, pattern, cli.quiet),
+        } => photo_command(annotation, output, back_side, pattern, cli.quiet),
         Command::Check {
             mesh,
             output,

@@ -8,6 +8,7 @@ use crate::run::{output_set, run_interruptibly, Run, RunParts};
 use pyo3::prelude::*;
 use sheetform::bend::BendScene;
 use sheetform::ffd::{FfdScene, SolverMethod};
+use sheetform::photo::BackSide;
 use sheetform::pipeline::{
     run_bend, run_ffd, run_photo, run_slit, BendRunOptions, FfdRunOptions, PhotoInput, PhotoRunOptions, SlitRunOptions,
 };
@@ -165,10 +166,14 @@ pub(crate) fn ffd(
 /// `annotation`: a photo annotation as a dict, or the path of its JSON file or of an SVG
 /// drawing made over the photo. The photo it names is read relative to `root`.
 ///
+/// `back_side`: `"visible"` (only what the drawing shows) or `"revolve"` (every band
+/// closed round one axis, cut open along a seam at the back: the whole cup or lamp
+/// shade); default: the annotation's `back_side`.
+///
 /// Returns a `Run` (pieces = patches); `outcome` is `"out_of_tolerance"` when the model is
 /// not developable to the refinement's bound or a depth is not fixed by the drawing.
 #[pyfunction]
-#[pyo3(signature = (annotation, *, root=None, outputs="all", progress=None, pattern=None))]
+#[pyo3(signature = (annotation, *, root=None, outputs="all", progress=None, pattern=None, back_side=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn photo(
     py: Python<'_>,
@@ -177,12 +182,27 @@ pub(crate) fn photo(
     outputs: &str,
     progress: Option<Py<PyAny>>,
     pattern: Option<&Bound<'_, PyAny>>,
+    back_side: Option<&str>,
 ) -> PyResult<Run> {
     let SceneArgument { text, root, input } = scene_argument(py, annotation, root)?;
     let outputs = output_set(outputs)?;
+    let back_side = match back_side {
+        None => None,
+        Some("visible") => Some(BackSide::Visible),
+        Some("revolve") => Some(BackSide::Revolve),
+        Some(other) => {
+            return Err(invalid_argument(
+                "back_side",
+                format!("`{other}`: one of \"visible\", \"revolve\""),
+            ))
+        }
+    };
+    let pattern = pattern_argument(py, pattern)?;
     let options = PhotoRunOptions {
-        pattern: pattern_argument(py, pattern)?.options,
+        pattern: pattern.options,
         input,
+        back_side,
+        whole_object_tabs: pattern.net_tabs,
     };
     let input = parsed(py, PhotoInput::from_text(&text))?;
     let (run, seconds) = run_interruptibly(py, progress, |controls| {

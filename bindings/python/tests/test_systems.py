@@ -155,3 +155,20 @@ def test_pattern_options_give_the_cli_flags_files(command, source, flags, option
     # The options change the pattern: the same scene without them gives other files.
     plain = sheetform.bend(source) if command == "bend" else sheetform.flatten(vertices, faces, name=Path(source).stem)
     assert plain.files["pattern.svg"] != run.files["pattern.svg"]
+
+
+def test_a_photo_closed_round_its_axis_equals_the_cli(cli, tmp_path, monkeypatch):
+    monkeypatch.chdir(REPO)
+    scene = "examples/photo/coffee-cup.json"
+    done = cli("photo", scene, "-o", tmp_path, "--back-side", "revolve")
+    assert done.returncode == 0, done.stderr
+    run = sheetform.photo(scene, back_side="revolve")
+    assert_close(without_timings(run.report), without_timings(read_report(tmp_path)))
+    assert len(run.report["photo"]["revolution"]["bands"]) == 1
+    assert run.report["pattern"]["seam_count"] == 1 and run.report["pattern"]["tabs"]["placed"] == 1
+    v, vt, f = read_obj(tmp_path / "model.obj")
+    np.testing.assert_allclose(y_up(run.vertices, "y"), v, rtol=0, atol=1e-12 * max(1.0, np.abs(v).max()))
+    # The visible half by default; a side that is neither is refused by name.
+    assert "revolution" not in sheetform.photo(scene, outputs="preview").report["photo"]
+    with pytest.raises(sheetform.InvalidInputError, match="back_side"):
+        sheetform.photo(scene, back_side="mirror")

@@ -64,6 +64,12 @@ pub struct PhotoAnnotation {
     /// cup): that region gets no surface.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub openings: Vec<ImagePoint>,
+    /// What to make of the side the photo does not show. Default `visible`: the model
+    /// and its pattern are what the drawing shows; `revolve` closes every ruled band
+    /// around one axis (a cup, a lamp shade, a vase made of cones and cylinders), so that
+    /// the pattern is the whole product.
+    #[serde(default, skip_serializing_if = "BackSide::is_visible")]
+    pub back_side: BackSide,
     /// A known true distance between two points on the curves: the model and its
     /// patterns are scaled to it.
     pub true_size: TrueSizeSpec,
@@ -253,6 +259,25 @@ impl Default for AnalysisSpec {
             refine: true,
             symmetrize: true,
         }
+    }
+}
+
+/// What to make of the side of the object the photo does not show.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum BackSide {
+    /// Only what the drawing shows (the paper's result).
+    #[default]
+    Visible,
+    /// Every ruled band closed around one axis as a cone or cylinder, cut open along a
+    /// seam at the back (`revolved_bands.rs`).
+    Revolve,
+}
+
+impl BackSide {
+    /// Whether this is the default, [`BackSide::Visible`].
+    pub fn is_visible(&self) -> bool {
+        *self == Self::Visible
     }
 }
 

@@ -20,6 +20,7 @@
 //! | exact developability along rulings | `developability_refinement.rs` | beyond §8.2 |
 //! | symmetrised curves and rulings | `symmetrization.rs` | §7 |
 //! | strips and minimal-surface fills | `patch_mesh.rs` | §7 |
+//! | bands closed around their axis | `revolved_bands.rs` | beyond §9 (Pottmann & Randrup 1998) |
 //! | overlay over the photograph | `overlay.rs` | Fig. 4–7 |
 //! | annotations drawn in Inkscape | `svg_import.rs` | — |
 //!
@@ -38,6 +39,7 @@ mod overlay;
 mod patch_cycles;
 mod patch_mesh;
 mod reconstruction;
+mod revolved_bands;
 mod ruling_alignment;
 mod ruling_propagation;
 mod svg_import;
@@ -46,9 +48,9 @@ mod symmetrization;
 mod symmetry_plane;
 
 pub use annotation::{
-    image_to_model, model_to_image, AnalysisLengths, AnalysisSpec, CameraSpec, CurveKind, CurveSpec, EnergyWeights,
-    ImagePoint, ImageSpec, PhotoAnnotation, Projection, SymmetrySpec, TrueSizeSpec, MAX_CONTROL_POINTS, MAX_CURVES,
-    MAX_FOCAL_LENGTH_DIAGONALS, MAX_IMAGE_SIDE, MIN_FOCAL_LENGTH_DIAGONALS,
+    image_to_model, model_to_image, AnalysisLengths, AnalysisSpec, BackSide, CameraSpec, CurveKind, CurveSpec,
+    EnergyWeights, ImagePoint, ImageSpec, PhotoAnnotation, Projection, SymmetrySpec, TrueSizeSpec, MAX_CONTROL_POINTS,
+    MAX_CURVES, MAX_FOCAL_LENGTH_DIAGONALS, MAX_IMAGE_SIDE, MIN_FOCAL_LENGTH_DIAGONALS,
 };
 pub use camera::{Camera, FILM_35MM_DIAGONAL_MM};
 pub use curve_lifting::{assemble_energy, image_prior, place_image, solve_energy, Energy, EnergyRow, EnergyTerm};
@@ -66,6 +68,10 @@ pub use patch_cycles::{find_patches, HalfEdge, Patch};
 pub use patch_mesh::{mesh_patches, PatchMesh, PatchSurface, MAX_FILL_VERTICES, MAX_FILL_VERTICES_PER_PATCH};
 pub use reconstruction::{
     place_point, reconstruct, AngleSummary, PhotoReconstruction, StageTimes, DEPTH_SENSITIVITY_BOUND,
+};
+pub use revolved_bands::{
+    fit_revolution_axis, revolve_bands, Revolution, RevolvedBand, MAX_REVOLUTION_SEGMENTS, MIN_REVOLUTION_RULINGS,
+    REVOLUTION_FIT_BOUND, REVOLUTION_FIT_WARNING, REVOLUTION_SILHOUETTE_BOUND_DEGREES,
 };
 pub use ruling_alignment::{align_rulings, align_rulings_in_perspective, move_ruling_ends};
 pub use ruling_propagation::{

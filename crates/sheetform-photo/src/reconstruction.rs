@@ -1,7 +1,7 @@
 //! The whole method of Fondevilla et al. on one annotation: analysis (§5), lifting (§6),
 //! refinement (beyond the paper), meshing (§7) and the true size.
 
-use crate::annotation::{image_to_model, PhotoAnnotation};
+use crate::annotation::{image_to_model, BackSide, PhotoAnnotation};
 use crate::camera::Camera;
 use crate::curve_lifting::{assemble_energy, image_prior, solve_energy, Energy};
 use crate::curve_network::{build_curve_network, CurveNetwork};
@@ -9,6 +9,7 @@ use crate::curve_samples::{sample_curves, CurvePoint, CurveSamples};
 use crate::developability_refinement::{refine_developability, ruling_errors, RefinementInfo};
 use crate::patch_cycles::{find_patches, Patch};
 use crate::patch_mesh::{mesh_patches, PatchMesh};
+use crate::revolved_bands::{revolve_bands, Revolution};
 use crate::ruling_alignment::{align_rulings, align_rulings_in_perspective, move_ruling_ends};
 use crate::ruling_propagation::{propagate_rulings, PropagationCounts, PropagationOptions, RuledStrip};
 use crate::symmetric_correspondences::{symmetric_pairs_of_curves, SymmetricPair};
@@ -134,6 +135,9 @@ pub struct PhotoReconstruction {
     pub mesh: PatchMesh,
     /// Model units per pixel (from the true size).
     pub unit_per_pixel: f64,
+    /// The bands closed around their axis (`back_side: revolve`): `mesh` is then the
+    /// whole object, each band cut open along the seam these list.
+    pub revolution: Option<Revolution>,
     /// Time per stage.
     pub times: StageTimes,
 }
@@ -534,6 +538,21 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
     for p in &mut mesh.positions {
         *p *= unit_per_pixel;
     }
+    let revolution = match annotation.back_side {
+        BackSide::Visible => None,
+        BackSide::Revolve => {
+            let (closed, revolution) = revolve_bands(
+                &mesh,
+                &plane,
+                &camera,
+                unit_per_pixel,
+                lengths.sample * unit_per_pixel,
+                lengths.ruling * unit_per_pixel,
+            )?;
+            mesh = closed;
+            Some(revolution)
+        }
+    };
     times.meshing_ms = milliseconds(start);
     if mesh.positions.iter().any(|p| !p.iter().all(|v| v.is_finite())) {
         return Err(PhotoError::Solver(
@@ -565,6 +584,7 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
         reprojection_error_px,
         mesh,
         unit_per_pixel,
+        revolution,
         times,
     })
 }

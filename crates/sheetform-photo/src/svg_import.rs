@@ -499,6 +499,8 @@ pub fn annotation_from_svg(text: &str, image_size: (u32, u32)) -> Result<PhotoAn
         self_symmetric_curves: self_symmetric,
         occlusions,
         openings,
+        // An SVG drawing has no mark for it: `sheetform photo --back-side revolve`.
+        back_side: crate::BackSide::default(),
         true_size,
         analysis: AnalysisSpec::default(),
     };

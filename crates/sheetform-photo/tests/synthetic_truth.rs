@@ -5,7 +5,7 @@
 
 use nalgebra::{Vector2, Vector3};
 use serde_json::Value;
-use sheetform_photo::{reconstruct, AngleSummary, CurveKind, PhotoAnnotation, PhotoReconstruction};
+use sheetform_photo::{reconstruct, AngleSummary, BackSide, CurveKind, PhotoAnnotation, PhotoReconstruction};
 use std::path::PathBuf;
 
 type Vec2 = Vector2<f64>;
@@ -424,5 +424,148 @@ fn perspective_views_are_reconstructed_through_their_camera() {
             );
             assert!(shape > 0.1, "{name}: {:.2} % without the camera", 100.0 * shape);
         }
+    }
+}
+
+/// `back_side: revolve` on every synthetic view: the fitted axis is the truth's, each band
+/// closes round it as the truth's cone or cylinder (radii and height along the axis within
+/// 1 % of the object's height, the issue's shape target), and the closed mesh is exactly
+/// developable (each quad between two rulings planar) and closed round the axis (every
+/// edge but those of the outer rings has two faces).
+#[test]
+fn bands_closed_round_their_axis_are_the_true_cones() {
+    for name in [
+        "cylinder-ortho",
+        "cone-ortho",
+        "composite-ortho",
+        "cylinder-perspective",
+        "cone-perspective",
+        "composite-perspective",
+        // (Not `composite-noisy`: its visible reconstruction is itself no pair of coaxial
+        // cones: the best cone of each band is 2.3–2.9 mm RMS off it, about axes 40°
+        // apart. The noise item of issue 37.)
+        "cylinder-noisy",
+        "cone-noisy",
+    ] {
+        let (_, truth, r) = load_as(name, |a| a.back_side = BackSide::Revolve);
+        let revolution = r.revolution.as_ref().unwrap_or_else(|| panic!("{name}: not closed"));
+        let mm_per_px = truth["mm_per_px"].as_f64().unwrap();
+        let patches = truth["patches"].as_array().unwrap();
+        let true_axis = vec3(&patches[0]["axis_direction_model"]).normalize();
+        let mut axis = Vec3::from(revolution.axis_direction);
+        // Heights along the truth's axis direction.
+        let sign = axis.dot(&true_axis).signum();
+        axis *= sign;
+        let angle = axis.dot(&true_axis).clamp(-1.0, 1.0).acos().to_degrees();
+        // True bands, from the lowest: (height of the lower and upper circle's centres
+        // along the axis, radii), in mm.
+        let mut true_bands: Vec<([f64; 2], [f64; 2])> = patches
+            .iter()
+            .map(|p| {
+                let (lo, hi) = (&p["lower_circle"], &p["upper_circle"]);
+                (
+                    [
+                        vec3(&lo["centre_model"]).dot(&true_axis) * mm_per_px,
+                        vec3(&hi["centre_model"]).dot(&true_axis) * mm_per_px,
+                    ],
+                    [
+                        lo["radius_px"].as_f64().unwrap() * mm_per_px,
+                        hi["radius_px"].as_f64().unwrap() * mm_per_px,
+                    ],
+                )
+            })
+            .collect();
+        true_bands.sort_by(|a, b| a.0[0].total_cmp(&b.0[0]));
+        let height = true_bands.last().unwrap().0[1] - true_bands[0].0[0];
+        let mut bands: Vec<([f64; 2], [f64; 2])> = revolution
+            .bands
+            .iter()
+            .map(|b| {
+                if sign > 0.0 {
+                    (b.heights, b.radii)
+                } else {
+                    ([-b.heights[1], -b.heights[0]], [b.radii[1], b.radii[0]])
+                }
+            })
+            .collect();
+        bands.sort_by(|a, b| a.0[0].total_cmp(&b.0[0]));
+        assert_eq!(bands.len(), true_bands.len(), "{name}");
+        let mut worst: f64 = 0.0;
+        for (band, truth_band) in bands.iter().zip(&true_bands) {
+            for k in 0..2 {
+                worst = worst.max((band.1[k] - truth_band.1[k]).abs());
+            }
+            let (length, true_length) = (band.0[1] - band.0[0], truth_band.0[1] - truth_band.0[0]);
+            worst = worst.max((length - true_length).abs());
+        }
+        println!(
+            "{name}: axis {angle:.3}° off, radii and band heights within {:.3} % of the height, fit rms {:?}, \
+             silhouette angles {:?}",
+            100.0 * worst / height,
+            revolution.bands.iter().map(|b| b.fit_rms_relative).collect::<Vec<_>>(),
+            revolution
+                .bands
+                .iter()
+                .map(|b| b.silhouette_angle_degrees)
+                .collect::<Vec<_>>()
+        );
+        // Drawings with 1 px of noise: within 5 % and 3° (the noise item of issue 37 is
+        // open: `cone-noisy`'s visible half is itself 4.3 % off in shape).
+        let (angle_bound, bound) = if name.ends_with("noisy") {
+            (3.0, 0.05)
+        } else {
+            (0.5, 0.01)
+        };
+        assert!(angle < angle_bound, "{name}: the axis is {angle}° off the truth's");
+        assert!(worst < bound * height, "{name}: {bands:?} against {true_bands:?}");
+        // Closed round the axis, exactly developable.
+        let mesh = &r.mesh;
+        let mut edge_faces: std::collections::HashMap<(u32, u32), Vec<usize>> = Default::default();
+        for (f, t) in mesh.triangles.iter().enumerate() {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                edge_faces.entry((a.min(b), a.max(b))).or_default().push(f);
+            }
+        }
+        let axis_point = Vec3::from(revolution.axis_point);
+        let along = |v: u32| (mesh.positions[v as usize] - axis_point).dot(&axis);
+        let (lowest, highest) = (bands[0].0[0], bands.last().unwrap().0[1]);
+        for (&(a, b), faces) in &edge_faces {
+            if faces.len() == 1 {
+                let outer = |v| {
+                    let z = along(v);
+                    (z - lowest).abs() < 1e-9 * height || (z - highest).abs() < 1e-9 * height
+                };
+                assert!(outer(a) && outer(b), "{name}: an open edge inside the whole object");
+            } else {
+                assert_eq!(faces.len(), 2, "{name}");
+            }
+        }
+        let normal = |f: usize| {
+            let [p, q, s] = mesh.triangles[f].map(|v| mesh.positions[v as usize]);
+            (q - p).cross(&(s - p)).normalize()
+        };
+        let radial = |v: u32| {
+            let d = mesh.positions[v as usize] - axis_point;
+            (d - axis * d.dot(&axis)).normalize()
+        };
+        let mut diagonals = 0;
+        for &[a, c] in &mesh.bending_edges {
+            let faces = &edge_faces[&(a.min(c), a.max(c))];
+            // The diagonal of a quad between two rulings (not a meridian edge, where the
+            // band bends).
+            if radial(a).dot(&radial(c)) < 1.0 - 1e-12 {
+                diagonals += 1;
+                assert_eq!(faces.len(), 2, "{name}");
+                let sine = normal(faces[0]).cross(&normal(faces[1])).norm();
+                assert!(sine < 1e-9, "{name}: a quad between rulings folds by {sine:e}");
+            }
+        }
+        assert_eq!(diagonals, mesh.triangles.len() / 2, "{name}: every quad checked");
+        assert_eq!(
+            revolution.seam_edges.len(),
+            bands.len(),
+            "{name}: one seam ruling per band"
+        );
     }
 }

@@ -841,6 +841,10 @@ pub struct PhotoReport {
     /// What the symmetrisation (§7) did (absent when it is switched off).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub symmetrization: Option<sheetform_photo::SymmetrizationInfo>,
+    /// The bands closed around their axis (`back_side: revolve`; absent otherwise): the
+    /// model and the pattern are then the whole object.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub revolution: Option<sheetform_photo::Revolution>,
     /// Largest depth sensitivity of a curve: how much of an arbitrary shift of the depth
     /// prior it follows (0: the drawing fixes its depth; 1: free).
     pub depth_sensitivity_max: f64,

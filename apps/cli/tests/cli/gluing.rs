@@ -16,7 +16,7 @@ fn count(v: &Value, key: &str) -> u64 {
 /// clear of every other cut line, the seam IDs the report says are printed on both copies
 /// found next to both copies, no crossing cut lines, no label over a line or outside its
 /// piece, pieces apart by the clearance, and a DXF layer for each kind of line.
-fn assert_gluable(name: &str, out: &Path) -> (Value, Value) {
+pub(crate) fn assert_gluable(name: &str, out: &Path) -> (Value, Value) {
     let r = report(out);
     let a = pattern_audit(out);
     let p = &r["pattern"];

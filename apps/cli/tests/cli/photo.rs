@@ -151,3 +151,115 @@ fn photo_bad_input_is_an_error_and_writes_nothing() {
         "{file} is stale: regenerate with `sheetform schema photo > {file}`"
     );
 }
+
+/// Issue 37's whole objects: `--back-side revolve` closes the espresso cup's band round
+/// its axis, from its JSON annotation and from its Inkscape drawing. Read from the files:
+/// model.obj is a closed band (its open edges are two whole circles: each loop's length is
+/// `2π` times its mean distance from its centre, where a half circle's would be about
+/// `0.6 ×` that), its `vt` is the pattern at 1:1, the pattern is one piece of the band's
+/// area cut along one seam, with the seam's ID on both copies and one glue tab.
+#[test]
+fn a_cup_closed_round_its_axis_is_cut_as_one_whole_band() {
+    for annotation in ["examples/photo/coffee-cup.json", "examples/photo/coffee-cup.svg"] {
+        let tmp = tempfile::tempdir().unwrap();
+        let out = tmp.path();
+        let o = sheetform(&[
+            "photo",
+            repo().join(annotation).to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--back-side",
+            "revolve",
+        ]);
+        assert!(
+            o.status.success(),
+            "{annotation}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let r = report(out);
+        assert_eq!(r["status"], "ok", "{annotation}");
+        assert_eq!(r["photo"]["revolution"]["bands"].as_array().unwrap().len(), 1);
+        assert!(r.get("warnings").is_none(), "{annotation}: {r}");
+        let obj = read_obj(&out.join("model.obj"));
+        assert!(
+            obj_isometry_error(&obj) < 1e-9,
+            "{annotation}: vt is the pattern at 1:1"
+        );
+        // Open edges of the model, its vertices welded by position.
+        let key = |v: usize| obj.v[v].map(|x| (x * 1e6).round() as i64);
+        let mut ids = std::collections::HashMap::new();
+        let id: Vec<usize> = (0..obj.v.len())
+            .map(|v| {
+                let n = ids.len();
+                *ids.entry(key(v)).or_insert(n)
+            })
+            .collect();
+        let mut edges: std::collections::HashMap<(usize, usize), usize> = Default::default();
+        let mut area = 0.0;
+        for f in &obj.faces {
+            for k in 0..3 {
+                let (a, b) = (id[f[k].0], id[f[(k + 1) % 3].0]);
+                *edges.entry((a.min(b), a.max(b))).or_default() += 1;
+            }
+            let p = f.map(|(v, _)| nalgebra::Vector3::from(obj.v[v]));
+            area += (p[1] - p[0]).cross(&(p[2] - p[0])).norm() / 2.0;
+        }
+        let mut position = vec![nalgebra::Vector3::zeros(); ids.len()];
+        for v in 0..obj.v.len() {
+            position[id[v]] = nalgebra::Vector3::from(obj.v[v]);
+        }
+        let open: Vec<(usize, usize)> = edges.iter().filter(|(_, &n)| n == 1).map(|(&e, _)| e).collect();
+        assert!(edges.values().all(|&n| n <= 2), "{annotation}: a non-manifold edge");
+        // The open edges in loops.
+        let mut next: std::collections::HashMap<usize, Vec<usize>> = Default::default();
+        for &(a, b) in &open {
+            next.entry(a).or_default().push(b);
+            next.entry(b).or_default().push(a);
+        }
+        assert!(
+            next.values().all(|n| n.len() == 2),
+            "{annotation}: the open edges are loops"
+        );
+        let mut seen = std::collections::HashSet::new();
+        let mut loops = 0;
+        for &start in next.keys() {
+            if !seen.insert(start) {
+                continue;
+            }
+            let mut ring = vec![start];
+            let mut at = start;
+            while let Some(&n) = next[&at].iter().find(|n| !seen.contains(*n)) {
+                seen.insert(n);
+                ring.push(n);
+                at = n;
+            }
+            loops += 1;
+            let centre = ring.iter().map(|&v| position[v]).sum::<nalgebra::Vector3<f64>>() / ring.len() as f64;
+            let radius = ring.iter().map(|&v| (position[v] - centre).norm()).sum::<f64>() / ring.len() as f64;
+            let length: f64 = (0..ring.len())
+                .map(|k| (position[ring[k]] - position[ring[(k + 1) % ring.len()]]).norm())
+                .sum();
+            let ratio = length / (std::f64::consts::TAU * radius);
+            assert!(
+                (ratio - 1.0).abs() < 0.005,
+                "{annotation}: an open edge loop is no whole circle ({ratio})"
+            );
+        }
+        assert_eq!(loops, 2, "{annotation}: the rim and the bottom");
+        // One piece of the band's area (the DXF's cut outline holds the tab too: its area
+        // is the band's and the tab's, the tab under a tenth of it).
+        let dxf = ezdxf_cut(&out.join("pattern.dxf"));
+        assert_eq!(dxf["errors"], 0);
+        assert_eq!(dxf["count"], 1, "{annotation}: one piece");
+        let printed = dxf["area"].as_f64().unwrap().abs();
+        assert!(
+            printed > area && printed < 1.1 * area,
+            "{annotation}: {printed} against {area} mm²"
+        );
+        let (r, audit) = crate::gluing::assert_gluable(annotation, out);
+        assert_eq!(r["pattern"]["seam_count"], 1, "{annotation}: one seam closes the band");
+        assert_eq!(audit["seams_id_both"], 1, "{annotation}: {audit}");
+        assert_eq!(audit["pairs_tab_one"], 1, "{annotation}: {audit}");
+        assert_eq!(audit["glued_edge_pairs"], 1, "{annotation}: {audit}");
+    }
+}

@@ -184,6 +184,7 @@ def photo(
     outputs: _Outputs = "all",
     progress: Optional[Callable[[str, float], Any]] = None,
     pattern: Optional[Union[PatternOptions, dict[str, Any]]] = None,
+    back_side: Optional[Literal["visible", "revolve"]] = None,
 ) -> Run:
     """Reconstructs a developable model and its pattern from an annotated photograph (system D)."""
 

@@ -8,8 +8,8 @@ use sheetform_io::{glb_bytes_projected, UpAxis};
 use sheetform_io::{obj_string, stl_bytes, Texture};
 use sheetform_mesh::{Ruling, SheetMesh, TriangleMesh};
 use sheetform_photo::{
-    annotation_from_svg, overlay_png, overlay_svg, reconstruct, svg_image_reference, AngleSummary, CurveNetwork,
-    PatchSurface, PhotoAnnotation, PhotoError, PhotoReconstruction, Projection,
+    annotation_from_svg, overlay_png, overlay_svg, reconstruct, svg_image_reference, AngleSummary, BackSide,
+    CurveNetwork, PatchSurface, PhotoAnnotation, PhotoError, PhotoReconstruction, Projection,
 };
 
 use super::context::RunContext;
@@ -17,15 +17,34 @@ use super::error::{Outcome, PipelineError};
 use super::flatten::sheet_from_charts;
 use super::outputs::{output_names, pattern_files, PatternOutputOptions, RenderedFiles, SMOOTH_PANEL_BEND_DEGREES};
 use super::sheet_report::{chart_report, sheet_mesh_report};
+use sheetform_pattern::TabOptions;
 use std::time::Instant;
 
 /// Knobs of `sheetform photo`.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct PhotoRunOptions {
     /// How the pattern is written.
     pub pattern: PatternOutputOptions,
     /// Input path, recorded in the report.
     pub input: Option<String>,
+    /// What to make of the side the photo does not show, over the annotation's
+    /// `back_side` (an SVG drawing has no mark for it).
+    pub back_side: Option<BackSide>,
+    /// Glue tabs of a whole object (`back_side: revolve`, whose pieces are glued along
+    /// their seams) when `pattern.tabs` asks for none and there is no seam allowance or
+    /// sheet thickness (`None`: no tabs). Default: one side of every seam, as a net's.
+    pub whole_object_tabs: Option<TabOptions>,
+}
+
+impl Default for PhotoRunOptions {
+    fn default() -> Self {
+        Self {
+            pattern: PatternOutputOptions::default(),
+            input: None,
+            back_side: None,
+            whole_object_tabs: Some(TabOptions::default()),
+        }
+    }
 }
 
 /// What `sheetform photo` reads: an annotation, or a drawing made over the photo in an SVG
@@ -158,6 +177,9 @@ pub fn run_photo(
         )
         .into());
     }
+    if let Some(back_side) = options.back_side {
+        annotation.back_side = back_side;
+    }
     // A perspective camera without a focal length takes the photo's EXIF one.
     let camera = &mut annotation.camera;
     let focal_length_from_exif = camera.projection == Projection::Perspective
@@ -225,6 +247,21 @@ pub fn run_photo(
             corner_uvs: None,
             seam_edges: vec![],
         };
+        // A band closed around its axis is cut open along its seam first.
+        let seam: Vec<[u32; 2]> = reconstruction
+            .revolution
+            .iter()
+            .flat_map(|r| r.seam_edges.iter())
+            .filter_map(|&[a, b]| Some([*local.get(&a)?, *local.get(&b)?]))
+            .collect();
+        let (patch_mesh, vertices, triangles) = if seam.is_empty() {
+            (patch_mesh, vertices, triangles)
+        } else {
+            let opened = sheetform_mesh::cut_along_edges(&patch_mesh, &seam);
+            let vertices: Vec<u32> = opened.origin.iter().map(|&v| vertices[v as usize]).collect();
+            let triangles = opened.mesh.triangles.clone();
+            (opened.mesh, vertices, triangles)
+        };
         // Ruled strips unfold exactly; a filled (minimal-surface) patch is only nearly
         // developable: least-squares conformal maps when the exact unfolding fails.
         let (flat, solver, method) = match exact_unfold(&patch_mesh, &UnfoldOptions::default()) {
@@ -255,18 +292,33 @@ pub fn run_photo(
         merged_count: 0,
         straightened_count: 0,
     };
-    let tab_room = options.pattern.room_between_pieces(mm);
+    // A whole object is glued along its seams: the tabs a net gets, unless the pattern
+    // asks for others, none, a seam allowance or a sheet thickness.
+    let mut pattern_options = options.pattern;
+    if reconstruction.revolution.is_some()
+        && pattern_options.tabs.is_none()
+        && pattern_options.allowance.seam_allowance_mm == 0.0
+        && pattern_options.allowance.bend.is_none()
+    {
+        pattern_options.tabs = options.whole_object_tabs;
+    }
+    let tab_room = pattern_options.room_between_pieces(mm);
     let mut sheet = sheet_from_charts(&model, &chart_set.charts, &name, Some(&groups), unit, tab_room);
     // The strips' rulings are bending guides (the pattern draws rulings as guides, never
     // as mountain or valley folds), the zipper edges between them smooth edges (drawn as
-    // neither): each in its chart's numbering of the sheet.
-    let mut sheet_vertex = std::collections::HashMap::new();
+    // neither): each in its chart's numbering of the sheet, through a face that has it
+    // (a band cut open along its seam has two copies of the seam's vertices).
+    let mut chart_offset = Vec::with_capacity(chart_set.charts.len());
     let mut offset = 0u32;
-    for (c, chart) in chart_set.charts.iter().enumerate() {
-        for (k, &v) in chart.vertices.iter().enumerate() {
-            sheet_vertex.insert((c as u32, v), offset + k as u32);
-        }
+    for chart in &chart_set.charts {
+        chart_offset.push(offset);
         offset += chart.vertices.len() as u32;
+    }
+    let mut face_corners = vec![[u32::MAX; 3]; mesh.triangles.len()];
+    for (c, chart) in chart_set.charts.iter().enumerate() {
+        for (&f, t) in chart.faces.iter().zip(&chart.triangles) {
+            face_corners[f as usize] = t.map(|k| chart_offset[c] + k);
+        }
     }
     let mut edge_face = std::collections::HashMap::new();
     for (f, t) in mesh.triangles.iter().enumerate() {
@@ -278,10 +330,12 @@ pub fn run_photo(
     let sheet_edge = |[a, b]: [u32; 2]| -> Option<(u32, [u32; 2])> {
         let &face = edge_face.get(&(a.min(b), a.max(b)))?;
         let chart = model.face_groups[face];
-        Some((
-            chart,
-            [*sheet_vertex.get(&(chart, a))?, *sheet_vertex.get(&(chart, b))?],
-        ))
+        let corner = |v: u32| {
+            let k = mesh.triangles[face].iter().position(|&w| w == v)?;
+            let s = face_corners[face][k];
+            (s != u32::MAX).then_some(s)
+        };
+        Some((chart, [corner(a)?, corner(b)?]))
     };
     for &edge in &mesh.ruling_edges {
         if let Some((chart, [sa, sb])) = sheet_edge(edge) {
@@ -327,7 +381,7 @@ pub fn run_photo(
     let (pattern, pattern_report) = pattern_files(
         &sheet,
         &name,
-        &options.pattern,
+        &pattern_options,
         context.outputs,
         None,
         UpAxis::Y,
@@ -405,6 +459,7 @@ pub fn run_photo(
         refinement_bound: sheetform_photo::REFINEMENT_BOUND,
         developability_error_symmetrized: r.symmetrization.as_ref().map(|_| symmetrized),
         symmetrization: r.symmetrization.clone(),
+        revolution: r.revolution.clone(),
         depth_sensitivity_max: r.depth_sensitivity.iter().copied().fold(0.0, f64::max),
         depth_sensitivity_bound: sheetform_photo::DEPTH_SENSITIVITY_BOUND,
         depth_undetermined_curves: r.depth_undetermined_curves(),
@@ -413,6 +468,16 @@ pub fn run_photo(
         millimetres_per_pixel: r.unit_per_pixel * mm,
         stage_times: r.times,
     });
+    for band in r.revolution.iter().flat_map(|v| &v.bands) {
+        if band.fit_rms_relative > sheetform_photo::REVOLUTION_FIT_WARNING {
+            report.warnings.push(format!(
+                "patch {} is {:.1} % off a cone round the axis fitted to the bands: its closed band is a fit, not \
+                 what the photo shows; check the traced curves (or draw it with `back_side: visible`)",
+                band.patch,
+                100.0 * band.fit_rms_relative
+            ));
+        }
+    }
     report.ruling_count = Some(r.ruling_count());
     report.developability_error_max_rad = Some(r.ruling_errors_final.iter().copied().fold(0.0, f64::max));
     if !developable {
