@@ -443,6 +443,7 @@ function drawPhotoEditor(scene) {
     (symmetry.points || []).forEach((point, k) => handle(`symmetry.points.${k}`, point, '#e74c3c', true));
     $('flip-depth').checked = Boolean(symmetry.flip_depth);
   }
+  $('back-side').value = scene.back_side || 'visible';
   if (scene.true_size) {
     const { from: [x1, y1], to: [x2, y2] } = scene.true_size;
     svgElement('line', { x1, y1, x2, y2, stroke: '#27ae60', 'stroke-width': unit * 0.7, 'stroke-dasharray': `${4 * unit} ${2 * unit}`, 'pointer-events': 'none' }, marks);
@@ -651,6 +652,13 @@ $('flip-depth').addEventListener('change', (event) => {
   if (state.mode !== 'photo' || !state.scene) return;
   const next = structuredClone(latestScene());
   next.symmetry.flip_depth = event.target.checked;
+  commit(next);
+});
+$('back-side').addEventListener('change', (event) => {
+  if (state.mode !== 'photo' || !state.scene) return;
+  const next = structuredClone(latestScene());
+  if (event.target.value === 'visible') delete next.back_side;
+  else next.back_side = event.target.value;
   commit(next);
 });
 $('photo-pane').addEventListener('change', (event) => {

@@ -509,6 +509,21 @@ try {
   assert.equal(JSON.parse(await sceneText()).symmetry.flip_depth, true);
   await answered(() => page.click('#undo'));
   assert.equal(await sceneText(), cupScene);
+  // The whole cup: its band closed round its axis, one piece with one seam; undone.
+  const seen = await meshReply();
+  await answered(() => page.selectOption('#back-side', 'revolve'));
+  assert.equal(JSON.parse(await sceneText()).back_side, 'revolve');
+  const whole = await meshReply();
+  assert.equal(whole.report.status, 'ok', await page.textContent('#status'));
+  assert.equal(whole.report.photo.revolution.bands.length, 1);
+  assert.equal(whole.report.pattern.seam_count, 1);
+  assert.ok(whole.model.positions.length > seen.model.positions.length, 'the whole band has more vertices');
+  await page.selectOption('#photo-pane', 'model');
+  await page.screenshot({ path: join(outputDir, 'photo-whole.png') });
+  await page.selectOption('#photo-pane', 'photo');
+  await answered(() => page.click('#undo'));
+  assert.equal(await sceneText(), cupScene);
+  assert.equal(await page.inputValue('#back-side'), 'visible');
   // Two edits in quick succession, the second made before the first is answered: both
   // land, and two undos take them back one at a time.
   await page.fill('#true-size', '70');
