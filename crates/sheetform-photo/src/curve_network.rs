@@ -279,9 +279,19 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
                 continue;
             }
             let same_pair = same_two_curves(&junctions[i].1, &junctions[j].1);
-            let close = (junctions[i].0 - junctions[j].0).norm() <= graze;
+            let distance = (junctions[i].0 - junctions[j].0).norm();
             let (end_i, end_j) = (junctions[i].1.iter().any(at_end), junctions[j].1.iter().any(at_end));
-            if same_pair && close && end_i && !end_j {
+            if !(same_pair && end_i && !end_j) {
+                continue;
+            }
+            // Farther than `graze` (up to four times), the end's tail up to the crossing
+            // still grazes when it never leaves the other curve by more than twice the
+            // snap distance: a sliver, not a region (a noisy straight silhouette along a
+            // rim's short segment, 1.7 px from it over 12 px).
+            let grazing = distance <= graze
+                || (distance <= 4.0 * graze
+                    && tail_hugs(&curves, &junctions[i].1, &junctions[j].1, 2.0 * lengths.snap));
+            if grazing {
                 keep[i] = false;
             }
         }
@@ -572,6 +582,29 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
         curves: network_curves,
         junction_count: clusters.len(),
         occluded_crossing_count: occluded,
+    })
+}
+
+/// Whether the curve that ends at junction `end` stays within `width` of the other curve
+/// all along its tail from that end to its place at junction `crossing` (the same two
+/// curves): sampled every tenth of a segment.
+fn tail_hugs(curves: &[Vec<[Vec2; 4]>], end: &[CurvePlace], crossing: &[CurvePlace], width: f64) -> bool {
+    let Some(tail) = end.iter().find(|p| p.u == 0.0 || p.u == curves[p.curve].len() as f64) else {
+        return false;
+    };
+    let Some(other) = end.iter().find(|p| p.curve != tail.curve) else {
+        return false;
+    };
+    let Some(to) = crossing.iter().find(|p| p.curve == tail.curve) else {
+        return false;
+    };
+    let (from, to) = (tail.u.min(to.u), tail.u.max(to.u));
+    let steps = ((to - from) * 10.0).ceil().max(1.0) as usize;
+    (0..=steps).all(|k| {
+        let p = point_at(&curves[tail.curve], from + (to - from) * k as f64 / steps as f64);
+        curves[other.curve]
+            .iter()
+            .any(|segment| cubic::nearest_parameter(segment, p).1 <= width)
     })
 }
 

@@ -9,10 +9,13 @@
 //! of each connected drawing clockwise.
 //!
 //! Angles are taken along the chord from the node to the segment's point at a quarter of
-//! its length, not along the end tangent: a silhouette meets its rim *tangentially* (the
-//! contour of a cone or cylinder touches its end ellipses), and only the curve's bending
-//! away separates the two; a short chord (a few pixels) is swamped by a pixel of tracing
-//! noise. Segments cross only at nodes, so the chords keep the segments' order.
+//! its length, and at least a thirtieth of the photo's diagonal along its curve (into the
+//! curve's next segments when it is shorter), not along the end tangent: a silhouette
+//! meets its rim *tangentially* (the contour of a cone or cylinder touches its end
+//! ellipses), and only the curve's bending away separates the two; a short chord (a few
+//! pixels) is swamped by a pixel of tracing noise. Segments cross only at nodes, so the
+//! chords keep the segments' order. A face's outline that crosses itself in a small loop
+//! (a noisy silhouette crossing its rim a hair from their node) has the loop cut out.
 
 use crate::annotation::{image_to_model, PhotoAnnotation};
 use crate::cubic;
@@ -22,6 +25,9 @@ use nalgebra::Vector2;
 use sheetform_geometry::{signed_area, Polygon};
 
 type Vec2 = Vector2<f64>;
+
+/// Most segments of a curve followed to order the curves leaving a node.
+const MAX_ORDER_SEGMENTS: usize = 8;
 
 /// A traversal of a segment: `segment` from its first to its last control point, or the
 /// other way when `reversed`.
@@ -119,7 +125,25 @@ pub fn find_patches(network: &CurveNetwork, annotation: &PhotoAnnotation) -> Res
         let mut changed = false;
         for (s, seg) in network.segments.iter().enumerate() {
             let free = degree[seg.points[0] as usize] == 1 || degree[seg.points[3] as usize] == 1;
-            if !trimmed[s] && free && cubic::hull_length(&network.control_points(s)) <= graze {
+            if trimmed[s] || !free {
+                continue;
+            }
+            // Short, or up to four times as long but hugging another curve (within twice
+            // the snap distance all along: the tail of an end that grazed a rim, see
+            // `curve_network.rs`).
+            let b = network.control_points(s);
+            let length = cubic::hull_length(&b);
+            let hugs = || {
+                (0..=10).all(|k| {
+                    let p = cubic::point(&b, k as f64 / 10.0);
+                    (0..network.segments.len()).any(|o| {
+                        o != s
+                            && !trimmed[o]
+                            && cubic::nearest_parameter(&network.control_points(o), p).1 <= 2.0 * lengths.snap
+                    })
+                })
+            };
+            if length <= graze || (length <= 4.0 * graze && hugs()) {
                 trimmed[s] = true;
                 changed = true;
             }
@@ -128,7 +152,13 @@ pub fn find_patches(network: &CurveNetwork, annotation: &PhotoAnnotation) -> Res
             break;
         }
     }
-    // Outgoing half-edges per node with their angle.
+    // Outgoing half-edges per node with their angle, taken along a chord of at least a
+    // thirtieth of the diagonal (16 px on a 480 px photo): two curves that leave a node
+    // tangentially (a silhouette and its rim) are told apart by how far they have bent
+    // apart, `c²κ/2` at chord `c` (5 px at 20 px on a rim's end, κ ≈ 1/35 px), which a
+    // pixel of tracing noise must not swamp; a segment shorter than that is followed into
+    // the next segments of its curve.
+    let order_distance = annotation.diagonal() / 30.0;
     let mut outgoing: Vec<Vec<(f64, usize)>> = vec![Vec::new(); network.points.len()];
     for id in 0..half_count {
         let h = HalfEdge::from_id(id);
@@ -137,7 +167,12 @@ pub fn find_patches(network: &CurveNetwork, annotation: &PhotoAnnotation) -> Res
         }
         let b = h.control_points(network);
         let (start, _) = h.nodes(network);
-        let d = leaving_direction(&b, 0.25 * cubic::hull_length(&b));
+        let d = leaving_direction(
+            network,
+            h,
+            &trimmed,
+            (0.25 * cubic::hull_length(&b)).max(order_distance),
+        );
         outgoing[start as usize].push((d.y.atan2(d.x), id));
     }
     for list in &mut outgoing {
@@ -190,8 +225,17 @@ pub fn find_patches(network: &CurveNetwork, annotation: &PhotoAnnotation) -> Res
         if area <= 0.0 || dangling {
             continue;
         }
-        let Ok(polygon) = Polygon::new(ring, vec![]) else {
-            continue;
+        // A pixel of tracing noise where a silhouette leaves its rim tangentially can make
+        // the two cross a hair from their node: that small loop is cut out of the ring.
+        let polygon = match Polygon::new(ring.clone(), vec![]) {
+            Ok(polygon) => polygon,
+            Err(_) => {
+                let small = (16.0 * lengths.snap * lengths.snap).max(1e-3 * area);
+                let Ok(polygon) = Polygon::new(without_small_loops(ring, small), vec![]) else {
+                    continue;
+                };
+                polygon
+            }
         };
         let opening = annotation.openings.iter().any(|&o| polygon.contains(image_to_model(o)));
         face_patch[f] = patches.len();
@@ -259,28 +303,146 @@ pub fn find_patches(network: &CurveNetwork, annotation: &PhotoAnnotation) -> Res
     Ok(patches)
 }
 
-/// Direction from a segment's start to its point at chord distance `r` (or its end
-/// when shorter).
-fn leaving_direction(b: &[Vec2; 4], r: f64) -> Vec2 {
-    let chord = (b[3] - b[0]).norm();
-    let r = r.min(0.3 * cubic::hull_length(b)).max(1e-9);
-    let (mut lo, mut hi) = (0.0, 1.0);
-    if chord > r {
-        for _ in 0..50 {
-            let mid = 0.5 * (lo + hi);
-            if (cubic::point(b, mid) - b[0]).norm() < r {
-                lo = mid;
-            } else {
-                hi = mid;
+/// `ring` with every loop of at most `max_area` that two of its edges cut off by crossing
+/// replaced by the crossing point (at most 16 loops; the bigger side is kept).
+fn without_small_loops(mut ring: Vec<Vec2>, max_area: f64) -> Vec<Vec2> {
+    let orient = |p: Vec2, q: Vec2, r: Vec2| (q - p).perp(&(r - p));
+    for _ in 0..16 {
+        let n = ring.len();
+        let mut crossing = None;
+        'search: for i in 0..n {
+            let (a, b) = (ring[i], ring[(i + 1) % n]);
+            for j in i + 2..n {
+                if i == 0 && j == n - 1 {
+                    continue;
+                }
+                let (c, d) = (ring[j], ring[(j + 1) % n]);
+                let (s1, s2) = (orient(a, b, c), orient(a, b, d));
+                let (s3, s4) = (orient(c, d, a), orient(c, d, b));
+                if s1 * s2 < 0.0 && s3 * s4 < 0.0 {
+                    crossing = Some((i, j, a + (b - a) * (s3 / (s3 - s4))));
+                    break 'search;
+                }
             }
         }
-    } else {
-        hi = 1.0;
+        let Some((i, j, p)) = crossing else {
+            break;
+        };
+        let mut inner: Vec<Vec2> = ring[i + 1..=j].to_vec();
+        inner.push(p);
+        let mut outer: Vec<Vec2> = ring[j + 1..].iter().chain(&ring[..=i]).copied().collect();
+        outer.push(p);
+        let (inner_area, outer_area) = (signed_area(&inner).abs(), signed_area(&outer).abs());
+        if inner_area.min(outer_area) > max_area {
+            break;
+        }
+        ring = if inner_area <= outer_area { outer } else { inner };
     }
-    let d = cubic::point(b, hi) - b[0];
+    ring
+}
+
+/// Direction from a half-edge's start to the point at chord distance `r` along its
+/// curve: past the segment's end into the next segments of the same traced curve (not
+/// trimmed ones) while it is shorter, to the last point reached when the curve ends
+/// first. The tangent at the start if that point is the start.
+fn leaving_direction(network: &CurveNetwork, h: HalfEdge, trimmed: &[bool], r: f64) -> Vec2 {
+    let first = h.control_points(network);
+    let start = first[0];
+    let curve = &network.curves[network.segments[h.segment as usize].curve as usize];
+    let mut at = curve.segments.iter().position(|&s| s == h.segment);
+    let mut current = h;
+    let mut last = start;
+    for _ in 0..MAX_ORDER_SEGMENTS {
+        let b = current.control_points(network);
+        // The first sample at chord distance `r`, then bisection between it and the one
+        // before.
+        let samples = 32;
+        let mut previous = 0.0;
+        for k in 1..=samples {
+            let t = k as f64 / samples as f64;
+            let q = cubic::point(&b, t);
+            if (q - start).norm() >= r {
+                let (mut lo, mut hi) = (previous, t);
+                for _ in 0..40 {
+                    let mid = 0.5 * (lo + hi);
+                    if (cubic::point(&b, mid) - start).norm() < r {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                return cubic::point(&b, hi) - start;
+            }
+            previous = t;
+            last = q;
+        }
+        // The next segment of the curve in the direction of travel.
+        let Some(k) = at else { break };
+        let n = curve.segments.len();
+        let next = if current.reversed {
+            if k > 0 {
+                Some(k - 1)
+            } else if curve.closed {
+                Some(n - 1)
+            } else {
+                None
+            }
+        } else if k + 1 < n {
+            Some(k + 1)
+        } else if curve.closed {
+            Some(0)
+        } else {
+            None
+        };
+        let Some(next) = next else { break };
+        let segment = curve.segments[next];
+        if trimmed[segment as usize] || segment == h.segment {
+            break;
+        }
+        at = Some(next);
+        current = HalfEdge {
+            segment,
+            reversed: current.reversed,
+        };
+    }
+    let d = last - start;
     if d.norm() > 0.0 {
         d
     } else {
-        cubic::derivative(b, 0.0)
+        cubic::derivative(&first, 0.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 100 px square whose right side, near its top corner, makes a 2 px wide loop
+    /// across the top side (a noisy silhouette crossing its rim a hair from their node):
+    /// the loop is cut out and the outline is valid with the square's area; a loop over the
+    /// bound (0.01 px² here) is left.
+    #[test]
+    fn a_small_loop_at_a_tangential_node_is_cut_out() {
+        let ring = vec![
+            Vec2::new(0.0, 0.0),
+            Vec2::new(100.0, 0.0),
+            Vec2::new(100.0, 99.0),
+            Vec2::new(97.0, 101.0),
+            Vec2::new(99.0, 100.5),
+            Vec2::new(0.0, 100.0),
+        ];
+        assert!(
+            Polygon::new(ring.clone(), vec![]).is_err(),
+            "the loop crosses the outline"
+        );
+        let repaired = without_small_loops(ring.clone(), 50.0);
+        let polygon = Polygon::new(repaired.clone(), vec![]).expect("the loop is cut out");
+        let area = signed_area(polygon.outer()).abs();
+        assert!((area - 10_000.0).abs() < 50.0, "{area}: {repaired:?}");
+        assert_eq!(
+            without_small_loops(ring.clone(), 0.01),
+            ring,
+            "a loop over the bound is kept"
+        );
     }
 }
