@@ -1,6 +1,6 @@
 """Random views of exact developables for the photo property tests (issue 37).
 
-    python3 tools/photo_random_views.py SEED COUNT DIR [--noise SIGMA]
+    python3 tools/photo_random_views.py SEED COUNT DIR [--noise SIGMA [--exact-marks]]
 
 Writes COUNT annotations `view-NN.json` and their ground truth `view-NN.truth.json` to
 DIR, made by `tools/make_photo_examples.py` (same conventions, same truth format) from
@@ -14,7 +14,9 @@ random models and cameras drawn with `random.Random(SEED)`:
   symmetry plane 30-60 deg from the plane seen edge-on (either side), orthographic or
   perspective (horizontal field of view 35-65 deg), half each;
 - with `--noise SIGMA`: the orthographic views get the examples' annotation noise
-  (`add_noise`: nodes moved by N(0, SIGMA^2) px, C1 joins kept), SIGMA in px.
+  (`add_noise`: nodes moved by N(0, SIGMA^2) px, C1 joins kept), SIGMA in px; with
+  `--exact-marks` as well, on the curves only (the symmetry marks and the true size as
+  drawn without noise).
 
 A view the generator cannot draw (a silhouette that does not exist from that camera) is
 drawn again; the seeds are fixed, so the same command writes the same files. No PNG is
@@ -89,6 +91,11 @@ def main(argv):
             variant, mpe.NOISE_SIGMA = "noisy", noise
         try:
             name, _, ann, truth, _ = mpe.build(spec, variant)
+            if noise is not None and "--exact-marks" in argv:
+                # The noise on the curves only: the symmetry marks and the true size
+                # of the noise-free drawing.
+                _, _, exact, _, _ = mpe.build(spec, "ortho")
+                ann["symmetry"], ann["true_size"] = exact["symmetry"], exact["true_size"]
         except (ValueError, ZeroDivisionError, IndexError, TypeError):
             continue
         name = spec["name"]
