@@ -596,6 +596,12 @@ pub(crate) fn serve_command(
             options.root.display()
         );
     }
+    if !sheetform_serve::EDITOR_EMBEDDED {
+        say!(
+            "sheetform: warning: this binary was built without npm, so the editor's three.js is not embedded: {url} \
+             says so, the API works; install Node.js and npm and build again for the editor"
+        );
+    }
     if open {
         let opener = if cfg!(target_os = "macos") { "open" } else { "xdg-open" };
         if let Err(e) = std::process::Command::new(opener).arg(&url).spawn() {

@@ -45,6 +45,18 @@ const ASSETS: [(&str, &str, &[u8]); 6] = [
     ),
 ];
 
+/// Whether the editor's three.js is embedded (`build.rs` goes on without it, with a
+/// warning, where npm is missing).
+pub const EDITOR_EMBEDDED: bool = !cfg!(sheetform_without_three);
+
+/// The page served instead of the editor by a binary built without three.js.
+const WITHOUT_EDITOR: &str = "<!doctype html><meta charset=utf-8><title>sheetform</title>\
+<h1>sheetform serve: built without its editor</h1>\
+<p>This binary was built where npm was missing, so the web editor's three.js was not \
+embedded. The server's API (<code>/api/…</code>) and every command work.</p>\
+<p>For the editor, install Node.js and npm, then build again (<code>cargo build --release</code>; \
+or <code>npm ci --prefix apps/serve/web</code> first).</p>";
+
 pub(crate) fn routes() -> Router<Arc<AppState>> {
     Router::new()
         .route("/", get(|| async { asset("index.html") }))
@@ -52,6 +64,24 @@ pub(crate) fn routes() -> Router<Arc<AppState>> {
 }
 
 fn asset(path: &str) -> Response {
+    asset_of(path, EDITOR_EMBEDDED)
+}
+
+/// [`asset`] of a binary with (`embedded`) or without the editor's three.js.
+fn asset_of(path: &str, embedded: bool) -> Response {
+    if !embedded && (path == "index.html" || path.starts_with("vendor/")) {
+        let status = if path == "index.html" {
+            StatusCode::OK
+        } else {
+            StatusCode::NOT_FOUND
+        };
+        return (
+            status,
+            [(header::CONTENT_TYPE, "text/html; charset=utf-8")],
+            WITHOUT_EDITOR,
+        )
+            .into_response();
+    }
     match ASSETS.iter().find(|(name, _, _)| *name == path) {
         Some((_, content_type, bytes)) => (
             [
@@ -62,5 +92,40 @@ fn asset(path: &str) -> Response {
         )
             .into_response(),
         None => (StatusCode::NOT_FOUND, "not found").into_response(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn body(response: Response) -> (StatusCode, String) {
+        let status = response.status();
+        let bytes = tokio::runtime::Builder::new_current_thread()
+            .build()
+            .unwrap()
+            .block_on(axum::body::to_bytes(response.into_body(), usize::MAX))
+            .unwrap();
+        (status, String::from_utf8_lossy(&bytes).into_owned())
+    }
+
+    /// Built where npm was missing: the editor page says so and how to get it, three.js is
+    /// not found, our other files are still served; built with it, the editor.
+    #[test]
+    fn a_binary_built_without_npm_says_so_instead_of_the_editor() {
+        let (status, page) = body(asset_of("index.html", false));
+        assert_eq!(status, StatusCode::OK);
+        assert!(
+            page.contains("built without its editor") && page.contains("npm"),
+            "{page}"
+        );
+        let (status, _) = body(asset_of("vendor/three/three.module.js", false));
+        assert_eq!(status, StatusCode::NOT_FOUND);
+        let (status, script) = body(asset_of("editor.js", false));
+        assert_eq!(status, StatusCode::OK);
+        assert!(!script.is_empty());
+        let (status, page) = body(asset_of("index.html", true));
+        assert_eq!(status, StatusCode::OK);
+        assert!(page.contains("sheetform editor"), "{page}");
     }
 }

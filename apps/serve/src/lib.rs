@@ -37,6 +37,7 @@
 
 mod api;
 mod assets;
+pub use assets::EDITOR_EMBEDDED;
 mod ffd;
 mod files;
 mod mesh;
