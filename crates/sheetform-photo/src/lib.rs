@@ -72,6 +72,7 @@ pub use reconstruction::{
 pub use revolved_bands::{
     fit_revolution_axis, revolve_bands, Revolution, RevolvedBand, MAX_REVOLUTION_SEGMENTS, MIN_REVOLUTION_RULINGS,
     REVOLUTION_FIT_BOUND, REVOLUTION_FIT_WARNING, REVOLUTION_SILHOUETTE_BOUND_DEGREES,
+    REVOLUTION_SILHOUETTE_WARNING_DEGREES,
 };
 pub use ruling_alignment::{align_rulings, align_rulings_in_perspective, move_ruling_ends};
 pub use ruling_propagation::{

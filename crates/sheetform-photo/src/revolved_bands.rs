@@ -65,6 +65,12 @@ pub const REVOLUTION_FIT_WARNING: f64 = 0.02;
 /// Largest angle between the fitted cone and the camera's rays at the visible band's
 /// sides (degrees): above it the band is refused (see [`RevolvedBand::silhouette_angle_degrees`]).
 pub const REVOLUTION_SILHOUETTE_BOUND_DEGREES: f64 = 10.0;
+/// Angle between the fitted cone and the camera's rays at a band's silhouettes above which
+/// the report warns that the symmetry marks may be off (degrees): exact views are within
+/// 0.9°; the synthetic views with a frame point or a mirror point moved 3 px are at
+/// 1.2–3.5° (in an orthographic view such a mark only shears the model, which nothing
+/// else in the drawing shows).
+pub const REVOLUTION_SILHOUETTE_WARNING_DEGREES: f64 = 1.5;
 /// Fewest rulings round a closed band.
 pub const MIN_REVOLUTION_RULINGS: usize = 24;
 /// Most mesh edges along the axis round a closed band (one every half degree).

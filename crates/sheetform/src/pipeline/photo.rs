@@ -469,6 +469,15 @@ pub fn run_photo(
         stage_times: r.times,
     });
     for band in r.revolution.iter().flat_map(|v| &v.bands) {
+        if band.silhouette_angle_degrees > sheetform_photo::REVOLUTION_SILHOUETTE_WARNING_DEGREES {
+            report.warnings.push(format!(
+                "patch {}: at its silhouettes the cone round the fitted axis meets the camera's rays at {:.1}° \
+                 instead of grazing them (exact drawings: under 1°): the symmetry frame or the mirror points are \
+                 likely a few pixels off (a 3 px error makes 1.2-3.5° and shears the whole model); check them on \
+                 the photo",
+                band.patch, band.silhouette_angle_degrees
+            ));
+        }
         if band.fit_rms_relative > sheetform_photo::REVOLUTION_FIT_WARNING {
             report.warnings.push(format!(
                 "patch {} is {:.1} % off a cone round the axis fitted to the bands: its closed band is a fit, not \
