@@ -288,10 +288,22 @@ pub(crate) async fn solve<T: Send + 'static>(
     state: &AppState,
     job: impl FnOnce(&AtomicBool) -> Result<T, ApiError> + Send + 'static,
 ) -> Result<T, ApiError> {
+    solve_with_slots(state, 1, job).await
+}
+
+/// [`solve`] for a job that keeps `slots` threads busy (a develop with a mirror plane
+/// searches its two layouts at once): it takes that many of the solve slots (at most
+/// all of them), so that the server's bound counts threads, not requests.
+pub(crate) async fn solve_with_slots<T: Send + 'static>(
+    state: &AppState,
+    slots: usize,
+    job: impl FnOnce(&AtomicBool) -> Result<T, ApiError> + Send + 'static,
+) -> Result<T, ApiError> {
+    let slots = slots.clamp(1, state.solve_slots) as u32;
     let permit = state
         .solves
         .clone()
-        .acquire_owned()
+        .acquire_many_owned(slots)
         .await
         .map_err(|_| ApiError::invalid("the server is stopping"))?;
     let cancel = Arc::new(AtomicBool::new(false));
@@ -702,4 +714,35 @@ async fn bend_file(
         Ok((run.files, run.report))
     })
     .await
+}
+
+#[cfg(test)]
+mod solve_slot_tests {
+    use super::*;
+
+    /// A job that keeps two threads busy takes two of the solve slots while it runs (one
+    /// left of three), a plain one takes one, and one asking more than there are takes
+    /// them all instead of waiting for ever.
+    #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+    async fn a_two_thread_solve_takes_two_slots() {
+        let slots = 3;
+        let state = AppState {
+            root: std::path::PathBuf::from("."),
+            solves: Arc::new(tokio::sync::Semaphore::new(slots)),
+            solve_slots: slots,
+            last_ffd_design: std::sync::Mutex::new(None),
+            body_budget: Arc::new(tokio::sync::Semaphore::new(1)),
+            body_budget_bytes: 0,
+            max_request_bytes: 0,
+            body_read_timeout: std::time::Duration::from_secs(1),
+        };
+        for (asked, left) in [(1, 2), (2, 1), (5, 0)] {
+            let solves = state.solves.clone();
+            let free = solve_with_slots(&state, asked, move |_| Ok(solves.available_permits()))
+                .await
+                .unwrap();
+            assert_eq!(free, left, "{asked} slots asked");
+            assert_eq!(state.solves.available_permits(), slots, "given back");
+        }
+    }
 }

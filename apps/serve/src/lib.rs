@@ -141,6 +141,8 @@ pub(crate) struct AppState {
     /// Bounds the solves running at once (a permit stays with its solve until it ends,
     /// also when the client has gone).
     pub solves: Arc<tokio::sync::Semaphore>,
+    /// Its size: the most slots one solve may take.
+    pub solve_slots: usize,
     /// The last FFD design restored, to resume the next run from (a drag appends a
     /// deformation: only that one is restored; see `ffd.rs`).
     pub last_ffd_design: std::sync::Mutex<Option<Arc<sheetform::ffd::FfdDesign>>>,
@@ -175,6 +177,7 @@ pub fn router(options: &ServeOptions) -> Result<axum::Router, ServeError> {
     let state = Arc::new(AppState {
         root,
         solves: Arc::new(tokio::sync::Semaphore::new(options.max_concurrent_solves.max(1))),
+        solve_slots: options.max_concurrent_solves.max(1),
         last_ffd_design: std::sync::Mutex::new(None),
         body_budget: Arc::new(tokio::sync::Semaphore::new(
             api::budget_units(budget_bytes).min(tokio::sync::Semaphore::MAX_PERMITS),

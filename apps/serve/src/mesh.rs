@@ -5,7 +5,9 @@
 //! library's `run_check` and `run_flatten` or `run_develop`; nothing of a pipeline is
 //! repeated here.
 
-use crate::api::{attachment, output_file, pattern_svg, printable, solve, ApiBody, ApiError, ApiQuery, MeshArrays};
+use crate::api::{
+    attachment, output_file, pattern_svg, printable, solve_with_slots, ApiBody, ApiError, ApiQuery, MeshArrays,
+};
 use crate::AppState;
 use axum::body::Bytes;
 use axum::extract::{Path, State};
@@ -123,6 +125,16 @@ impl MeshQuery {
         }
     }
 
+    /// The solve slots the request takes: 2 for a develop with a mirror plane (its two
+    /// layouts are searched on two threads at once), 1 otherwise.
+    fn solve_slots(&self) -> usize {
+        if matches!(self.mirror(), Ok(Some(_))) {
+            2
+        } else {
+            1
+        }
+    }
+
     /// The mirror plane asked for, parsed as the CLI's `--mirror`; only the `develop`
     /// layout takes one.
     fn mirror(&self) -> Result<Option<Mirror>, ApiError> {
@@ -228,7 +240,11 @@ async fn mesh(
     ApiBody(body): ApiBody<Bytes>,
 ) -> Result<Response, ApiError> {
     let root = state.root.clone();
-    let reply = solve(&state, move |cancel| check_and_flatten(&query, &body, root, cancel)).await?;
+    let slots = query.solve_slots();
+    let reply = solve_with_slots(&state, slots, move |cancel| {
+        check_and_flatten(&query, &body, root, cancel)
+    })
+    .await?;
     Ok(Json(reply).into_response())
 }
 
@@ -242,7 +258,8 @@ async fn mesh_file(
 ) -> Result<Response, ApiError> {
     let root = state.root.clone();
     let wanted = file.clone();
-    let bytes = solve(&state, move |cancel| {
+    let slots = query.solve_slots();
+    let bytes = solve_with_slots(&state, slots, move |cancel| {
         let mesh = query.read(&body)?;
         let run = query.lay_out(mesh, &RunContext::new(root).with_cancel(cancel))?;
         let command = if query.charts.as_deref() == Some("develop") {
