@@ -82,10 +82,37 @@ fn is_mesh(name: &str) -> bool {
         .is_some_and(|(_, extension)| MESH_EXTENSIONS.contains(&extension.to_ascii_lowercase().as_str()))
 }
 
-/// The scene files (`*.json`) and the meshes (`*.obj`, `*.ply`, `*.stl`, `*.off`) below
-/// the served directory, as relative paths with `/`, sorted; hidden directories,
-/// `target` and `node_modules` are skipped.
-fn listed_files(root: &std::path::Path) -> (Vec<String>, Vec<String>) {
+/// Largest JSON file read to tell which editor mode it opens in when the files are listed
+/// (a scene is a few KiB; a larger JSON is not listed).
+const MAX_LISTED_SCENE_BYTES: u64 = 4 << 20;
+
+/// The editor mode a JSON document opens in, recognised by its content as the editor's
+/// `load` does: `bend` (an `outline` and `regions`), `slit` (a `sheet` object), `ffd` (a
+/// `model` object and `deformations`), `photo` (an `image` object and `curves`); `None`
+/// for any other JSON (a report, a schema, package.json, a photo's truth file).
+fn scene_mode(text: &str) -> Option<&'static str> {
+    let value: serde_json::Value = serde_json::from_str(text).ok()?;
+    let object = value.as_object()?;
+    let array = |key: &str| object.get(key).is_some_and(serde_json::Value::is_array);
+    let map = |key: &str| object.get(key).is_some_and(serde_json::Value::is_object);
+    if array("outline") && array("regions") {
+        Some("bend")
+    } else if map("sheet") {
+        Some("slit")
+    } else if map("model") && array("deformations") {
+        Some("ffd")
+    } else if map("image") && array("curves") {
+        Some("photo")
+    } else {
+        None
+    }
+}
+
+/// The scenes (`*.json` files a mode of the editor opens, by content: `(path, mode)`) and
+/// the meshes (`*.obj`, `*.ply`, `*.stl`, `*.off`) below the served directory, as relative
+/// paths with `/`, sorted; hidden directories, `target` and `node_modules` are skipped,
+/// and JSON files that are no scene (reports, schemas, package files) are not listed.
+fn listed_files(root: &std::path::Path) -> (Vec<(String, &'static str)>, Vec<String>) {
     let (mut scenes, mut meshes) = (Vec::new(), Vec::new());
     let mut pending = vec![(PathBuf::new(), 0usize)];
     'walk: while let Some((relative, depth)) = pending.pop() {
@@ -105,19 +132,26 @@ fn listed_files(root: &std::path::Path) -> (Vec<String>, Vec<String>) {
             if !kind.is_file() || name.starts_with('.') {
                 continue;
             }
-            let list = if name.ends_with(".json") {
-                &mut scenes
+            let relative_name = path
+                .components()
+                .map(|c| c.as_os_str().to_string_lossy())
+                .collect::<Vec<_>>()
+                .join("/");
+            if name.ends_with(".json") {
+                let small = entry.metadata().is_ok_and(|m| m.len() <= MAX_LISTED_SCENE_BYTES);
+                let mode = small
+                    .then(|| std::fs::read_to_string(root.join(&path)).ok())
+                    .flatten()
+                    .and_then(|text| scene_mode(&text));
+                match mode {
+                    Some(mode) => scenes.push((relative_name, mode)),
+                    None => continue,
+                }
             } else if is_mesh(&name) {
-                &mut meshes
+                meshes.push(relative_name);
             } else {
                 continue;
-            };
-            list.push(
-                path.components()
-                    .map(|c| c.as_os_str().to_string_lossy())
-                    .collect::<Vec<_>>()
-                    .join("/"),
-            );
+            }
             if scenes.len() + meshes.len() >= MAX_LISTED_FILES {
                 break 'walk;
             }
@@ -128,12 +162,23 @@ fn listed_files(root: &std::path::Path) -> (Vec<String>, Vec<String>) {
     (scenes, meshes)
 }
 
+/// `GET /api/files`: `files` (every scene), `scenes` (per editor mode) and `meshes`.
 async fn list(State(state): State<Arc<AppState>>) -> Response {
     let root = state.root.clone();
-    let (files, meshes) = tokio::task::spawn_blocking(move || listed_files(&root))
+    let (scenes, meshes) = tokio::task::spawn_blocking(move || listed_files(&root))
         .await
         .unwrap_or_default();
-    Json(serde_json::json!({ "files": files, "meshes": meshes })).into_response()
+    let mut by_mode: serde_json::Map<String, serde_json::Value> = ["bend", "slit", "ffd", "photo"]
+        .iter()
+        .map(|m| (m.to_string(), serde_json::json!([])))
+        .collect();
+    for (path, mode) in &scenes {
+        if let Some(serde_json::Value::Array(list)) = by_mode.get_mut(*mode) {
+            list.push(serde_json::json!(path));
+        }
+    }
+    let files: Vec<&String> = scenes.iter().map(|(path, _)| path).collect();
+    Json(serde_json::json!({ "files": files, "scenes": by_mode, "meshes": meshes })).into_response()
 }
 
 fn resolver(state: &AppState) -> AssetResolver {

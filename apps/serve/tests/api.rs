@@ -1514,3 +1514,54 @@ fn the_routes_fuzz_target_exercises_every_route_and_layout_the_editor_uses() {
         assert!(fuzzed, "the mesh layout `{layout}` is not fuzzed: {routes:?}");
     }
 }
+
+/// The file list names each scene under the editor mode that opens it, recognised by
+/// content, and lists no JSON that is no scene: a report, a package file, a schema, a
+/// photo's truth file, a broken file.
+#[tokio::test]
+async fn scenes_are_listed_per_mode_and_other_json_files_are_not() {
+    let (_dir, root) = served();
+    for (from, to) in [
+        ("examples/slit/chair.json", "scenes/chair.json"),
+        ("examples/ffd/two-panels.json", "scenes/two-panels.json"),
+        ("examples/photo/coffee-cup.json", "photo/cup.json"),
+        (
+            "examples/photo/synthetic/cone-ortho.truth.json",
+            "photo/cone.truth.json",
+        ),
+        ("apps/serve/web/package.json", "package.json"),
+        ("docs/schema/report.schema.json", "schema/report.schema.json"),
+    ] {
+        std::fs::create_dir_all(root.join(to).parent().unwrap()).unwrap();
+        std::fs::copy(repository().join(from), root.join(to)).unwrap();
+    }
+    std::fs::create_dir_all(root.join("out")).unwrap();
+    std::fs::write(root.join("out/report.json"), r#"{"command": "bend", "status": "ok"}"#).unwrap();
+    std::fs::write(root.join("out/broken.json"), "{ not json").unwrap();
+    let app = router(&ServeOptions {
+        root,
+        ..Default::default()
+    })
+    .unwrap();
+    let (status, body) = send(&app, "GET", "/api/files", Body::empty()).await;
+    assert_eq!(status, StatusCode::OK);
+    let listing = json(&body);
+    assert_eq!(
+        listing["scenes"],
+        serde_json::json!({
+            "bend": ["scenes/bent-rectangle.json"],
+            "slit": ["scenes/chair.json"],
+            "ffd": ["scenes/two-panels.json"],
+            "photo": ["photo/cup.json"],
+        })
+    );
+    assert_eq!(
+        listing["files"],
+        serde_json::json!([
+            "photo/cup.json",
+            "scenes/bent-rectangle.json",
+            "scenes/chair.json",
+            "scenes/two-panels.json"
+        ])
+    );
+}

@@ -1346,12 +1346,24 @@ function fillSelect(select, names) {
   }
 }
 
+/** The served scenes per mode (recognised by content by the server), for the list. */
+const scenesByMode = { bend: [], slit: [], ffd: [], photo: [] };
+
+/** The file list shows the current mode's scenes only (the mesh mode has its own list). */
+function fillSceneList() {
+  const list = $('file-list');
+  const kept = list.value;
+  fillSelect(list, scenesByMode[state.mode] || []);
+  if ([...list.options].some((o) => o.value === kept)) list.value = kept;
+}
+
 async function listFiles() {
   const response = await fetch('/api/files');
-  const { files, meshes } = await response.json();
-  fillSelect($('file-list'), files);
+  const { scenes, meshes } = await response.json();
+  for (const mode of Object.keys(scenesByMode)) scenesByMode[mode] = (scenes && scenes[mode]) || [];
+  fillSceneList();
   fillSelect($('mesh-list'), meshes);
-  return files;
+  return scenesByMode[state.mode] || [];
 }
 
 async function openFile(path) {
@@ -1399,6 +1411,7 @@ function setMode(mode) {
   }[mode];
   fillSelect($('download'), ['Download…', ...DOWNLOADS[mode]]);
   $('download').options[0].value = '';
+  if (mode !== 'mesh') fillSceneList();
   state.undo = [];
   state.redo = [];
   updateHistoryButtons();

@@ -92,6 +92,18 @@ try {
     await idle();
   }
 
+  // 0. The file list shows the current mode's scenes only, recognised by their content:
+  // never a report, a schema, a package file or a photo's truth file.
+  const listed = () => page.evaluate(() => [...document.querySelectorAll('#file-list option')].map((o) => o.value));
+  {
+    const bendScenes = await listed();
+    assert.ok(bendScenes.includes('examples/desk.json') && bendScenes.includes('examples/bent-rectangle.json'), `${bendScenes}`);
+    for (const name of bendScenes) {
+      assert.ok(!/package(-lock)?\.json$|schema|report\.json$|truth\.json$/.test(name), `${name} is no bend scene`);
+    }
+    assert.ok(!bendScenes.includes('examples/slit/chair.json') && !bendScenes.includes('examples/photo/coffee-cup.json'), 'other modes\' scenes');
+  }
+
   // 1. Open the bundled example through the file list.
   await page.selectOption('#file-list', 'examples/bent-rectangle.json');
   await page.click('#open');
@@ -224,6 +236,8 @@ try {
   // pattern with their gaps shown per strip; a sheet length changed in its field is
   // undone exactly; a strip count the sheet cannot have is refused and the last scene
   // kept. The round trip of the drags is measured (issue 20: the chair under 30 ms).
+  await page.click('#modes .mode[data-mode="slit"]');
+  assert.deepEqual((await listed()).filter((name) => !name.startsWith('examples/slit/')), [], 'slit scenes only');
   await page.selectOption('#file-list', 'examples/slit/chair.json');
   await page.click('#open');
   await page.waitForFunction(() => window.sheetformEditor.state.mode === 'slit' && window.sheetformEditor.idle() && window.sheetformEditor.state.reply);
@@ -328,6 +342,7 @@ try {
   // pattern); undo restores the exact previous scene; a long restoration is cancelled
   // and a lattice squashed flat is refused, the last result kept both times.
   const maxAbs = (xs) => xs.reduce((m, x) => Math.max(m, Math.abs(x)), 0);
+  await page.click('#modes .mode[data-mode="ffd"]');
   await page.selectOption('#file-list', 'examples/ffd/skirt.json');
   await answered(() => page.click('#open'));
   let ffd = await meshReply();
@@ -434,6 +449,12 @@ try {
   // again (still isometric to the pattern) and undone exactly; a curve added with four
   // clicks appears; deleting a silhouette leaves a curve without a cycle: refused, the
   // last annotation kept.
+  await page.click('#modes .mode[data-mode="photo"]');
+  {
+    const photoScenes = await listed();
+    assert.ok(photoScenes.includes('examples/photo/synthetic/cone-ortho.json'), `${photoScenes}`);
+    assert.ok(!photoScenes.some((name) => name.endsWith('.truth.json') || name === 'examples/desk.json'), `${photoScenes}`);
+  }
   await page.selectOption('#file-list', 'examples/photo/coffee-cup.json');
   await answered(() => page.click('#open'));
   assert.equal(await page.evaluate(() => window.sheetformEditor.state.mode), 'photo');
