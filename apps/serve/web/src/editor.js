@@ -668,9 +668,44 @@ $('photo-pane').addEventListener('change', (event) => {
 
 // ---------------------------------------------------------------- pattern view
 
+/** CSS pixels per millimetre (the pattern's user unit) at true scale. */
+const CSS_PX_PER_MM = 96 / 25.4;
+
 function drawPattern(svg) {
   $('pattern').innerHTML = svg;
   state.highlight = null;
+  // A pattern larger than the pane is fitted to it, unless the user chose the scale.
+  const drawn = $('pattern').querySelector('svg');
+  if (drawn && !state.fitChosen) {
+    const box = drawn.viewBox.baseVal;
+    const pane = $('pattern-view');
+    const fits = box && box.width * CSS_PX_PER_MM <= pane.clientWidth - 24 && box.height * CSS_PX_PER_MM <= pane.clientHeight - 40;
+    $('fit').checked = !fits;
+    $('pattern').classList.toggle('fit', !fits);
+  }
+  readableLabels();
+}
+
+/** Screen pixels per pattern millimetre as drawn now. */
+function patternScale() {
+  const svg = $('pattern').querySelector('svg');
+  const box = svg && svg.viewBox.baseVal;
+  return box && box.width > 0 ? svg.getBoundingClientRect().width / box.width : CSS_PX_PER_MM;
+}
+
+/** Labels at least 10 screen pixels high at any zoom (the files keep their sizes; the
+ * strokes are scale-independent by the style sheet). */
+function readableLabels() {
+  const scale = patternScale();
+  if (!(scale > 0)) return;
+  $('pattern-scale').textContent = $('fit').checked
+    ? `Flat pattern fitted to the view (1 mm = ${(scale / CSS_PX_PER_MM).toPrecision(2)} CSS mm)`
+    : 'Flat pattern at true scale (1 mm = 1 CSS mm)';
+  for (const text of $('pattern').querySelectorAll('#labels text')) {
+    if (!text.dataset.size) text.dataset.size = text.getAttribute('font-size');
+    const size = Number(text.dataset.size);
+    if (size > 0) text.setAttribute('font-size', Math.max(size, 10 / scale).toFixed(3));
+  }
 }
 
 // ---------------------------------------------------------------- pieces and IDs, 2D ↔ 3D
@@ -736,7 +771,12 @@ $('pattern').addEventListener('pointerover', (event) => {
   }
 });
 $('pattern').addEventListener('pointerleave', () => highlightPieces(null));
-$('fit').addEventListener('change', (e) => $('pattern').classList.toggle('fit', e.target.checked));
+$('fit').addEventListener('change', (e) => {
+  state.fitChosen = true;
+  $('pattern').classList.toggle('fit', e.target.checked);
+  readableLabels();
+});
+window.addEventListener('resize', readableLabels);
 
 // ---------------------------------------------------------------- status
 

@@ -796,6 +796,43 @@ try {
     rmSync(join(repository, 'target/editor-test'), { recursive: true, force: true });
   }
 
+  // 10c. The pattern pane: the 1 m desk's pattern, larger than the pane, opens fitted to
+  // it (it opened on an empty corner), with strokes of a constant width on screen and
+  // labels at least 10 px high at that zoom.
+  await page.evaluate(() => { window.sheetformEditor.state.fitChosen = false; });
+  await page.selectOption('#file-list', 'examples/desk.json');
+  await answered(() => page.click('#open'));
+  assert.equal(await page.isChecked('#fit'), true, 'a pattern larger than the pane is fitted');
+  const pane = await page.evaluate(() => {
+    const svg = document.querySelector('#pattern svg');
+    const cut = svg.querySelector('#cut path');
+    const style = getComputedStyle(cut);
+    const labels = [...svg.querySelectorAll('#labels text')].map((t) => t.getBoundingClientRect()).map((r) => Math.min(r.width, r.height));
+    // The drawing inside the svg box (its aspect kept): the viewBox scaled by the smaller ratio.
+    const box = svg.getBoundingClientRect();
+    const view = svg.viewBox.baseVal;
+    const ratio = Math.min(box.width / view.width, box.height / view.height);
+    const paneBox = document.querySelector('#pattern-view').getBoundingClientRect();
+    return {
+      width: view.width * ratio,
+      height: view.height * ratio,
+      bottom: box.top + (box.height + view.height * ratio) / 2,
+      paneBottom: paneBox.bottom,
+      paneWidth: document.querySelector('#pattern-view').clientWidth,
+      stroke: style.strokeWidth,
+      effect: style.vectorEffect,
+      smallestLabel: Math.min(...labels),
+      labelCount: labels.length,
+    };
+  });
+  assert.ok(pane.width <= pane.paneWidth, `fitted: ${pane.width} of ${pane.paneWidth} px`);
+  assert.ok(pane.bottom <= pane.paneBottom - 20, `fitted above the caption: ${JSON.stringify(pane)}`);
+  assert.equal(pane.effect, 'non-scaling-stroke');
+  assert.equal(pane.stroke, '1.5px');
+  assert.match(await page.textContent('#pattern-scale'), /fitted to the view \(1 mm = 0\.\d+ CSS mm\)/);
+  assert.ok(pane.labelCount > 0 && pane.smallestLabel >= 8, `labels readable: ${JSON.stringify(pane)}`);
+  await page.screenshot({ path: join(outputDir, 'bend-desk-pattern.png') });
+
   // 11. The server: no file outside its directory, hostile requests answered with an
   // error, and it keeps serving.
   for (const path of ['..%2FCargo.toml', '%2Fetc%2Fpasswd', '..%2F..%2Fetc%2Fpasswd']) {
