@@ -58,13 +58,17 @@ pub fn check_region(
             admissible: false,
             regression_margin: margin,
             failure: Some(InadmissibleDetail {
+                // In the user's terms (the paper's test is Eq. 6, see the module doc).
                 message: format!(
-                    "region {region}: the curve of regression enters the sheet for s in [{}, {}] (Eq. 6), first at flat ({}, {}), {} along the ruling from the geodesic",
+                    "region {region}: the sheet would fold onto itself there: its rulings meet (the curve of \
+                     regression) {} from the curve, inside the sheet, where the curve is between {} and {} from its \
+                     start, first near flat ({}, {}); bend the curve less there, or cut the sheet back before that \
+                     point",
+                    short_number(l.abs()),
                     refused_number(s.arc_length, &[samples[b].arc_length]),
                     refused_number(samples[b].arc_length, &[s.arc_length]),
                     short_number(flat.x),
-                    short_number(flat.y),
-                    short_number(l)
+                    short_number(flat.y)
                 ),
                 region,
                 arc_length_range: [s.arc_length, samples[b].arc_length],

@@ -45,17 +45,27 @@ pub enum BendError {
         /// Allowed relative difference.
         tolerance: f64,
     },
-    /// The flat geodesic segment leaves the sheet (crosses the outline or a hole).
+    /// The flat geodesic segment leaves the sheet (crosses the outline or a hole): told in
+    /// the user's terms, the curve's length against the sheet ahead of its start.
     #[error(
-        "region {region} (`{name}`): the flat geodesic segment leaves the sheet near ({}, {})",
+        "region {region} (`{name}`): the curve is {} long, but its flat segment leaves the sheet {} from its \
+         start, near ({}, {}): shorten the curve by {} or more, or move the segment's start or turn its \
+         direction so that the curve's length of sheet lies ahead of it",
+        sheetform_geometry::short_number(*.curve_length),
+        sheetform_geometry::short_number(*.on_sheet_length),
         sheetform_geometry::short_number(*.x),
-        sheetform_geometry::short_number(*.y)
+        sheetform_geometry::short_number(*.y),
+        sheetform_geometry::short_number(*.curve_length - *.on_sheet_length)
     )]
     GeodesicLeavesSheet {
         /// Region index.
         region: usize,
         /// Region name.
         name: String,
+        /// Length of the control curve (= of its flat segment).
+        curve_length: f64,
+        /// Length of the flat segment from its start to where it leaves the sheet.
+        on_sheet_length: f64,
         /// Flat x where it leaves.
         x: f64,
         /// Flat y where it leaves.

@@ -371,17 +371,20 @@ fn check_region_on_sheet(k: usize, region: &CurvedRegion, sheet: &Polygon) -> Re
     // The flat path must stay on the sheet: every chord of a fine polyline along it (one
     // chord for a straight path).
     let eps = 1e-9 * sheet.scale();
-    let leaves = |p: Vec2| BendError::GeodesicLeavesSheet {
+    let pieces = if region.flat.is_straight() { 1 } else { 256 };
+    // `p` on chord `i` of the polyline below: its arc length from the start.
+    let leaves = |p: Vec2, i: usize, a: Vec2| BendError::GeodesicLeavesSheet {
         region: k,
         name: name.clone(),
+        curve_length: length,
+        on_sheet_length: length * i as f64 / pieces as f64 + (p - a).norm(),
         x: p.x,
         y: p.y,
     };
-    let pieces = if region.flat.is_straight() { 1 } else { 256 };
     let points: Vec<Vec2> = (0..=pieces)
         .map(|i| region.flat.frame(length * i as f64 / pieces as f64).point)
         .collect();
-    for w in points.windows(2) {
+    for (chord, w) in points.windows(2).enumerate() {
         let (a, b) = (w[0], w[1]);
         for edge in sheet.edges() {
             if let Some((s, _)) = sheetform_geometry::segment_intersection(a, b, edge.start, edge.end) {
@@ -391,7 +394,7 @@ fn check_region_on_sheet(k: usize, region: &CurvedRegion, sheet: &Polygon) -> Re
                     // path does not cross it: probe on both sides.
                     let d = (b - a).normalize() * (10.0 * eps);
                     if !sheet.contains(p + d) || !sheet.contains(p - d) {
-                        return Err(leaves(p));
+                        return Err(leaves(p, chord, a));
                     }
                 }
             }
@@ -401,7 +404,7 @@ fn check_region_on_sheet(k: usize, region: &CurvedRegion, sheet: &Polygon) -> Re
             if !sheet.contains(p) {
                 let (d, _) = crate::ruling_extent::locate_on_boundary(sheet, p, 0..sheet.ring_count());
                 if d > eps {
-                    return Err(leaves(p));
+                    return Err(leaves(p, chord, a));
                 }
             }
         }
