@@ -85,6 +85,9 @@ fn is_mesh(name: &str) -> bool {
 /// Largest JSON file read to tell which editor mode it opens in when the files are listed
 /// (a scene is a few KiB; a larger JSON is not listed).
 const MAX_LISTED_SCENE_BYTES: u64 = 4 << 20;
+/// Most bytes of JSON read over one listing (past it, the remaining JSON files are not
+/// listed): the editor lists after every save, and a tree of reports is not read whole.
+const MAX_LISTING_BYTES: u64 = 64 << 20;
 
 /// The editor mode a JSON document opens in, recognised by its content as the editor's
 /// `load` does: `bend` (an `outline` and `regions`), `slit` (a `sheet` object), `ffd` (a
@@ -114,6 +117,8 @@ fn scene_mode(text: &str) -> Option<&'static str> {
 /// and JSON files that are no scene (reports, schemas, package files) are not listed.
 fn listed_files(root: &std::path::Path) -> (Vec<(String, &'static str)>, Vec<String>) {
     let (mut scenes, mut meshes) = (Vec::new(), Vec::new());
+    // Every file looked at counts towards MAX_LISTED_FILES, listed or not.
+    let (mut examined, mut bytes_read) = (0usize, 0u64);
     let mut pending = vec![(PathBuf::new(), 0usize)];
     'walk: while let Some((relative, depth)) = pending.pop() {
         let Ok(entries) = std::fs::read_dir(root.join(&relative)) else {
@@ -138,8 +143,13 @@ fn listed_files(root: &std::path::Path) -> (Vec<(String, &'static str)>, Vec<Str
                 .collect::<Vec<_>>()
                 .join("/");
             if name.ends_with(".json") {
-                let small = entry.metadata().is_ok_and(|m| m.len() <= MAX_LISTED_SCENE_BYTES);
-                let mode = small
+                examined += 1;
+                let size = entry.metadata().map_or(u64::MAX, |m| m.len());
+                let readable = size <= MAX_LISTED_SCENE_BYTES && bytes_read + size <= MAX_LISTING_BYTES;
+                if readable {
+                    bytes_read += size;
+                }
+                let mode = readable
                     .then(|| std::fs::read_to_string(root.join(&path)).ok())
                     .flatten()
                     .and_then(|text| scene_mode(&text));
@@ -152,7 +162,7 @@ fn listed_files(root: &std::path::Path) -> (Vec<(String, &'static str)>, Vec<Str
             } else {
                 continue;
             }
-            if scenes.len() + meshes.len() >= MAX_LISTED_FILES {
+            if examined + meshes.len() >= MAX_LISTED_FILES {
                 break 'walk;
             }
         }

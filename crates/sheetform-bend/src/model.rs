@@ -386,6 +386,8 @@ fn check_region_on_sheet(k: usize, region: &CurvedRegion, sheet: &Polygon) -> Re
         .collect();
     for (chord, w) in points.windows(2).enumerate() {
         let (a, b) = (w[0], w[1]);
+        // The crossing nearest the chord's start (the edges come in the outline's order).
+        let mut first: Option<f64> = None;
         for edge in sheet.edges() {
             if let Some((s, _)) = sheetform_geometry::segment_intersection(a, b, edge.start, edge.end) {
                 let p = a + (b - a) * s;
@@ -393,11 +395,14 @@ fn check_region_on_sheet(k: usize, region: &CurvedRegion, sheet: &Polygon) -> Re
                     // Touching the boundary at an interior point is only fine if the
                     // path does not cross it: probe on both sides.
                     let d = (b - a).normalize() * (10.0 * eps);
-                    if !sheet.contains(p + d) || !sheet.contains(p - d) {
-                        return Err(leaves(p, chord, a));
+                    if (!sheet.contains(p + d) || !sheet.contains(p - d)) && first.is_none_or(|f| s < f) {
+                        first = Some(s);
                     }
                 }
             }
+        }
+        if let Some(s) = first {
+            return Err(leaves(a + (b - a) * s, chord, a));
         }
         for i in 1..16 {
             let p = a + (b - a) * (i as f64 / 16.0);

@@ -290,7 +290,7 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
             // rim's short segment, 1.7 px from it over 12 px).
             let grazing = distance <= graze
                 || (distance <= 4.0 * graze
-                    && tail_hugs(&curves, &junctions[i].1, &junctions[j].1, 2.0 * lengths.snap));
+                    && tail_hugs(&curves, at_end, &junctions[i].1, &junctions[j].1, 2.0 * lengths.snap));
             if grazing {
                 keep[i] = false;
             }
@@ -585,11 +585,17 @@ pub fn build_curve_network(annotation: &PhotoAnnotation) -> Result<CurveNetwork,
     })
 }
 
-/// Whether the curve that ends at junction `end` stays within `width` of the other curve
-/// all along its tail from that end to its place at junction `crossing` (the same two
-/// curves): sampled every tenth of a segment.
-fn tail_hugs(curves: &[Vec<[Vec2; 4]>], end: &[CurvePlace], crossing: &[CurvePlace], width: f64) -> bool {
-    let Some(tail) = end.iter().find(|p| p.u == 0.0 || p.u == curves[p.curve].len() as f64) else {
+/// Whether the curve that ends at junction `end` (an open curve's end by `at_end`) stays
+/// within `width` of the other curve all along its tail from that end to its place at
+/// junction `crossing` (the same two curves): sampled every tenth of a segment.
+fn tail_hugs(
+    curves: &[Vec<[Vec2; 4]>],
+    at_end: impl Fn(&CurvePlace) -> bool,
+    end: &[CurvePlace],
+    crossing: &[CurvePlace],
+    width: f64,
+) -> bool {
+    let Some(tail) = end.iter().find(|p| at_end(p)) else {
         return false;
     };
     let Some(other) = end.iter().find(|p| p.curve != tail.curve) else {

@@ -13,8 +13,9 @@
 //! curve's next segments when it is shorter), not along the end tangent: a silhouette
 //! meets its rim *tangentially* (the contour of a cone or cylinder touches its end
 //! ellipses), and only the curve's bending away separates the two; a short chord (a few
-//! pixels) is swamped by a pixel of tracing noise. Segments cross only at nodes, so the
-//! chords keep the segments' order. A face's outline that crosses itself in a small loop
+//! pixels) is swamped by a pixel of tracing noise. Segments cross only at nodes, and a
+//! chord is followed past no node where other curves meet, so the chords keep the
+//! segments' order. A face's outline that crosses itself in a small loop
 //! (a noisy silhouette crossing its rim a hair from their node) has the loop cut out.
 
 use crate::annotation::{image_to_model, PhotoAnnotation};
@@ -157,8 +158,16 @@ pub fn find_patches(network: &CurveNetwork, annotation: &PhotoAnnotation) -> Res
     // tangentially (a silhouette and its rim) are told apart by how far they have bent
     // apart, `c²κ/2` at chord `c` (5 px at 20 px on a rim's end, κ ≈ 1/35 px), which a
     // pixel of tracing noise must not swamp; a segment shorter than that is followed into
-    // the next segments of its curve.
+    // the next segments of its curve, up to the first node where other curves meet (past
+    // it the chord could pass them, and the order would no longer be the segments').
     let order_distance = annotation.diagonal() / 30.0;
+    let mut degree = vec![0usize; network.points.len()];
+    for (s, seg) in network.segments.iter().enumerate() {
+        if !trimmed[s] {
+            degree[seg.points[0] as usize] += 1;
+            degree[seg.points[3] as usize] += 1;
+        }
+    }
     let mut outgoing: Vec<Vec<(f64, usize)>> = vec![Vec::new(); network.points.len()];
     for id in 0..half_count {
         let h = HalfEdge::from_id(id);
@@ -171,6 +180,7 @@ pub fn find_patches(network: &CurveNetwork, annotation: &PhotoAnnotation) -> Res
             network,
             h,
             &trimmed,
+            &degree,
             (0.25 * cubic::hull_length(&b)).max(order_distance),
         );
         outgoing[start as usize].push((d.y.atan2(d.x), id));
@@ -343,9 +353,9 @@ fn without_small_loops(mut ring: Vec<Vec2>, max_area: f64) -> Vec<Vec2> {
 
 /// Direction from a half-edge's start to the point at chord distance `r` along its
 /// curve: past the segment's end into the next segments of the same traced curve (not
-/// trimmed ones) while it is shorter, to the last point reached when the curve ends
+/// trimmed ones, and not past a node of `degree` above 2) while it is shorter, to the last point reached when the curve ends
 /// first. The tangent at the start if that point is the start.
-fn leaving_direction(network: &CurveNetwork, h: HalfEdge, trimmed: &[bool], r: f64) -> Vec2 {
+fn leaving_direction(network: &CurveNetwork, h: HalfEdge, trimmed: &[bool], degree: &[usize], r: f64) -> Vec2 {
     let first = h.control_points(network);
     let start = first[0];
     let curve = &network.curves[network.segments[h.segment as usize].curve as usize];
@@ -376,7 +386,12 @@ fn leaving_direction(network: &CurveNetwork, h: HalfEdge, trimmed: &[bool], r: f
             previous = t;
             last = q;
         }
-        // The next segment of the curve in the direction of travel.
+        // The next segment of the curve in the direction of travel, unless other curves
+        // meet at the node between.
+        let (_, node) = current.nodes(network);
+        if degree[node as usize] > 2 {
+            break;
+        }
         let Some(k) = at else { break };
         let n = curve.segments.len();
         let next = if current.reversed {

@@ -12,7 +12,8 @@
 //!    approximation for reverse engineering", §3): the normals of a surface of revolution
 //!    all meet its axis, so their Plücker coordinates `(n, p × n)` lie in the linear line
 //!    complex `C = (c, c̄)` with `(p × n)·c + n·c̄ = 0`. The complex minimising
-//!    `Σ w (p×n·c + n·c̄)²` (one term per triangle, `w` its area) under `|c| = 1` is
+//!    `Σ w (p×n·c + n·c̄)²` (one term per band vertex, `n` its area-weighted normal,
+//!    `w = 1`) under `|c| = 1` is
 //!    found in closed form: `c̄ = −E⁺Bᵀc` with `A = Σ w (p×n)(p×n)ᵀ`, `B = Σ w (p×n)nᵀ`,
 //!    `E = Σ w nnᵀ`, and `c` the eigenvector of the least eigenvalue of
 //!    `S = A − B E⁺ Bᵀ`. The axis runs along `c` through `c × c̄`. (The pitch `c·c̄`, which
@@ -76,7 +77,7 @@ pub const MIN_REVOLUTION_RULINGS: usize = 24;
 /// Most mesh edges along the axis round a closed band (one every half degree).
 pub const MAX_REVOLUTION_SEGMENTS: usize = 720;
 
-/// One band closed around the axis (the `photo.back_side.bands` entries of report.json).
+/// One band closed around the axis (the `photo.revolution.bands` entries of report.json).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct RevolvedBand {
     /// The patch (1-based, as errors name them).
@@ -94,7 +95,7 @@ pub struct RevolvedBand {
     pub silhouette_angle_degrees: f64,
 }
 
-/// What closing the bands did (the `photo.back_side` section of report.json).
+/// What closing the bands did (the `photo.revolution` section of report.json).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Revolution {
     /// A point of the fitted axis (model frame, model units).
@@ -288,7 +289,7 @@ struct Band {
 /// [`PhotoError::Field`] on `back_side` when there is no ruled band or the bands fix no
 /// axis; [`PhotoError::Patch`] naming a patch that is filled rather than ruled, is not a
 /// surface of revolution about the axis ([`REVOLUTION_FIT_BOUND`]), has no height along
-/// it, or narrows to a point.
+/// it, narrows to a point, or lies over the same stretch of the axis as another band.
 pub fn revolve_bands(
     mesh: &PatchMesh,
     plane: &SymmetryPlane,
@@ -423,18 +424,14 @@ pub fn revolve_bands(
                 .normalize();
                 normal.dot(&ray).abs().min(1.0).asin().to_degrees()
             })
-            .fold(0.0, f64::max);
-        if silhouette_angle.is_nan() || silhouette_angle > REVOLUTION_SILHOUETTE_BOUND_DEGREES {
-            return Err(patch_error(
-                p,
-                format!(
-                    "is not a surface of revolution about the axis fitted to the bands: where it ends at its \
-                     silhouettes, the cone fitted round that axis meets the camera's rays at {silhouette_angle:.0}° \
-                     instead of grazing them (at most {REVOLUTION_SILHOUETTE_BOUND_DEGREES}°); an elliptic or \
-                     flattened band cannot be closed round an axis"
-                ),
-            ));
-        }
+            // (NaN kept: a degenerate radius is refused below, not read as 0°.)
+            .fold(0.0, |most: f64, angle| {
+                if most.is_nan() || angle.is_nan() {
+                    f64::NAN
+                } else {
+                    most.max(angle)
+                }
+            });
         if fit_rms_relative.is_nan() || fit_rms_relative > REVOLUTION_FIT_BOUND {
             return Err(patch_error(
                 p,
@@ -529,6 +526,40 @@ pub fn revolve_bands(
                         .into(),
                 ));
             }
+        }
+    }
+    // Two bands over the same stretch of the axis would both become whole cones there.
+    for a in 0..bands.len() {
+        for b in a + 1..bands.len() {
+            let ([a0, a1], [b0, b1]) = (ring_of[a], ring_of[b]);
+            if a0.max(b0) < a1.min(b1) {
+                let (first, second) = (bands[a].patch.min(bands[b].patch), bands[a].patch.max(bands[b].patch));
+                return Err(patch_error(
+                    first,
+                    format!(
+                        "and patch {} lie over the same stretch of the axis fitted to the bands, so both would close \
+                         into the same cone; draw that band as one patch (without a curve between them), or keep \
+                         the visible side only (`back_side: visible`)",
+                        second + 1
+                    ),
+                ));
+            }
+        }
+    }
+    // Each band's sides are silhouettes (checked once no two bands share a stretch of the
+    // axis: a band split by a curve has a side that is not).
+    for band in &bands {
+        let (p, silhouette_angle) = (band.patch, band.silhouette_angle);
+        if silhouette_angle.is_nan() || silhouette_angle > REVOLUTION_SILHOUETTE_BOUND_DEGREES {
+            return Err(patch_error(
+                p,
+                format!(
+                    "is not a surface of revolution about the axis fitted to the bands: where it ends at its \
+                     silhouettes, the cone fitted round that axis meets the camera's rays at {silhouette_angle:.0}° \
+                     instead of grazing them (at most {REVOLUTION_SILHOUETTE_BOUND_DEGREES}°); an elliptic or \
+                     flattened band cannot be closed round an axis"
+                ),
+            ));
         }
     }
     // 4. The seam: the ruling in the symmetry plane away from the camera.
@@ -789,6 +820,17 @@ mod tests {
         )
         .expect_err("an elliptic cylinder is no surface of revolution");
         assert!(error.to_string().contains("not a surface of revolution"), "{error}");
+        // The band split in two patches by a curve between its silhouettes: both would
+        // close into the same cylinder.
+        let mut split = half_elliptic_cylinder(30.0, 30.0);
+        split.patch_kind.push(PatchSurface::Ruled);
+        let half = split.face_patch.len() / 2;
+        for p in &mut split.face_patch[half..] {
+            *p = 1;
+        }
+        let error = revolve_bands(&split, &plane(), &Camera::orthographic(), 1.0, 1.0, 4.0)
+            .expect_err("two patches over one band");
+        assert!(error.to_string().contains("same stretch of the axis"), "{error}");
         let mut filled = half_elliptic_cylinder(30.0, 30.0);
         filled.patch_kind[0] = PatchSurface::Filled;
         let error = revolve_bands(&filled, &plane(), &Camera::orthographic(), 1.0, 1.0, 4.0)

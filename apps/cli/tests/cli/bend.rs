@@ -196,6 +196,15 @@ fn bad_input_gets_a_clear_error_and_no_output() {
         "leaves the sheet 60 from its start, near (60, 0): shorten the curve by",
     );
     bad_input(
+        "geodesic crosses a hole before the outline",
+        // The outline's right side (x = 60) comes before the hole (x = 40…50) in the
+        // list of edges: the crossing nearest the start is named.
+        r#"{"outline":[[0,-20],[60,-20],[60,20],[0,20]],"holes":[[[40,-5],[50,-5],[50,5],[40,5]]],
+            "regions":[{"flat_start":[0,0],"flat_direction":[1,0],
+            "curve":{"type":"bezier","control_points":[[0,0,0],[40,0,10],[80,0,0]]}}]}"#,
+        "leaves the sheet 40 from its start, near (40, 0)",
+    );
+    bad_input(
         "degree one",
         &scene(
             rect,

@@ -23,6 +23,7 @@ const $ = (id) => document.getElementById(id);
 /** Editor state: the last admissible scene and what the server said of it. */
 const state = {
   mode: 'bend', // 'bend', 'slit', 'ffd', 'photo' or 'mesh'
+  fitChosen: false, // the pattern's scale was chosen with the checkbox (no automatic fit since)
   ffdController: null, // FFD mode: aborts the restoration under way
   ffdPending: null, // FFD mode: the newest scene waiting for the run under way to stop
   progress: [], // FFD mode: the progress lines of the last run
@@ -686,11 +687,14 @@ function drawPattern(svg) {
   readableLabels();
 }
 
-/** Screen pixels per pattern millimetre as drawn now. */
+/** Screen pixels per pattern millimetre as drawn now (the drawing keeps its aspect in
+ * the svg's box: the smaller of the two ratios). */
 function patternScale() {
   const svg = $('pattern').querySelector('svg');
   const box = svg && svg.viewBox.baseVal;
-  return box && box.width > 0 ? svg.getBoundingClientRect().width / box.width : CSS_PX_PER_MM;
+  if (!box || !(box.width > 0) || !(box.height > 0)) return CSS_PX_PER_MM;
+  const drawn = svg.getBoundingClientRect();
+  return Math.min(drawn.width / box.width, drawn.height / box.height);
 }
 
 /** Labels at least 10 screen pixels high at any zoom (the files keep their sizes; the
@@ -701,6 +705,14 @@ function readableLabels() {
   $('pattern-scale').textContent = $('fit').checked
     ? `Flat pattern fitted to the view (1 mm = ${(scale / CSS_PX_PER_MM).toPrecision(2)} CSS mm)`
     : 'Flat pattern at true scale (1 mm = 1 CSS mm)';
+  // Dashes are drawn in screen pixels with non-scaling strokes: each layer's pattern (in
+  // mm) at its true-scale size on screen, or larger when zoomed in.
+  const dash = Math.max(scale, CSS_PX_PER_MM);
+  for (const layer of $('pattern').querySelectorAll('svg g[stroke-dasharray]')) {
+    if (!layer.dataset.dash) layer.dataset.dash = layer.getAttribute('stroke-dasharray');
+    if (layer.dataset.dash === 'none') continue;
+    layer.style.strokeDasharray = layer.dataset.dash.split(/[ ,]+/).map((v) => `${(Number(v) * dash).toFixed(2)}px`).join(' ');
+  }
   for (const text of $('pattern').querySelectorAll('#labels text')) {
     if (!text.dataset.size) text.dataset.size = text.getAttribute('font-size');
     const size = Number(text.dataset.size);
@@ -1391,6 +1403,7 @@ const scenesByMode = { bend: [], slit: [], ffd: [], photo: [] };
 
 /** The file list shows the current mode's scenes only (the mesh mode has its own list). */
 function fillSceneList() {
+  if (state.mode === 'mesh') return;
   const list = $('file-list');
   const kept = list.value;
   fillSelect(list, scenesByMode[state.mode] || []);

@@ -821,6 +821,8 @@ try {
       paneWidth: document.querySelector('#pattern-view').clientWidth,
       stroke: style.strokeWidth,
       effect: style.vectorEffect,
+      // A fold layer's dashes, in screen pixels, at least their true-scale size.
+      dashes: getComputedStyle(svg.querySelector('g[stroke-dasharray]:not([stroke-dasharray="none"])')).strokeDasharray,
       smallestLabel: Math.min(...labels),
       labelCount: labels.length,
     };
@@ -829,6 +831,7 @@ try {
   assert.ok(pane.bottom <= pane.paneBottom - 20, `fitted above the caption: ${JSON.stringify(pane)}`);
   assert.equal(pane.effect, 'non-scaling-stroke');
   assert.equal(pane.stroke, '1.5px');
+  assert.ok(pane.dashes.split(/[ ,]+/).map(parseFloat).every((d) => d >= 2), `dashes readable: ${pane.dashes}`);
   assert.match(await page.textContent('#pattern-scale'), /fitted to the view \(1 mm = 0\.\d+ CSS mm\)/);
   assert.ok(pane.labelCount > 0 && pane.smallestLabel >= 8, `labels readable: ${JSON.stringify(pane)}`);
   await page.screenshot({ path: join(outputDir, 'bend-desk-pattern.png') });
