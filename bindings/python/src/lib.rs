@@ -33,6 +33,8 @@ fn native_module(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(mesh_functions::develop, module)?)?;
     module.add_function(wrap_pyfunction!(mesh_functions::pattern, module)?)?;
     module.add_class::<run::Run>()?;
+    module.add_function(wrap_pyfunction!(run::_restore_run, module)?)?;
+    module.add_function(wrap_pyfunction!(run::_restore_mesh, module)?)?;
     module.add_class::<run::Mesh>()?;
     module.add_class::<pattern_options::PatternOptions>()?;
     module.add_class::<bend_editor::BendEditor>()?;

@@ -100,6 +100,18 @@ pub struct Mesh {
 
 #[pymethods]
 impl Mesh {
+    /// Pickling: rebuilt from its three arrays by `sheetform._native._restore_mesh`.
+    fn __reduce__(&self, py: Python<'_>) -> PyResult<(Py<PyAny>, Py<PyAny>)> {
+        let restore = py.import("sheetform._native")?.getattr("_restore_mesh")?;
+        let arguments = (
+            self.vertices.clone_ref(py),
+            self.faces.clone_ref(py),
+            self.angle_defects_rad.clone_ref(py),
+        )
+            .into_pyobject(py)?;
+        Ok((restore.unbind(), arguments.into_any().unbind()))
+    }
+
     fn __repr__(&self, py: Python<'_>) -> String {
         use numpy::PyUntypedArrayMethods;
         format!(
@@ -274,6 +286,40 @@ impl Run {
         crate::errors::detached(py, || write_outputs(&directory, files, report))?.map_err(|e| python_error(py, e))
     }
 
+    /// Pickling (for worker processes: multiprocessing, Dask): the arrays, the report, the
+    /// outcome, the meshes and the rendered files, rebuilt by
+    /// `sheetform._native._restore_run`. An FFD run's design (`warm_start`) stays behind:
+    /// an unpickled run resumes nothing.
+    fn __reduce__(&self, py: Python<'_>) -> PyResult<(Py<PyAny>, Py<PyAny>)> {
+        let restore = py.import("sheetform._native")?.getattr("_restore_run")?;
+        let state = PyDict::new(py);
+        state.set_item("vertices", self.vertices.clone_ref(py))?;
+        state.set_item("faces", self.faces.clone_ref(py))?;
+        state.set_item("uv", self.uv.as_ref().map(|a| a.clone_ref(py)))?;
+        state.set_item("face_pieces", self.face_pieces.as_ref().map(|a| a.clone_ref(py)))?;
+        state.set_item("pieces", self.pieces.clone())?;
+        state.set_item(
+            "angle_defects_rad",
+            self.angle_defects_rad.as_ref().map(|a| a.clone_ref(py)),
+        )?;
+        state.set_item(
+            "source_vertices",
+            self.source_vertices.as_ref().map(|a| a.clone_ref(py)),
+        )?;
+        state.set_item("outcome", self.outcome)?;
+        state.set_item("meshes", self.meshes.clone_ref(py))?;
+        state.set_item("pipeline_seconds", self.pipeline_seconds)?;
+        let report = serde_json::to_string(&self.report_value)
+            .map_err(|e| crate::errors::internal_error(Box::new(e.to_string())))?;
+        state.set_item("report_json", report)?;
+        let files = PyDict::new(py);
+        for (name, bytes) in &self.files {
+            files.set_item(name, PyBytes::new(py, bytes))?;
+        }
+        state.set_item("files", files)?;
+        Ok((restore.unbind(), (state,).into_pyobject(py)?.into_any().unbind()))
+    }
+
     fn __repr__(&self, py: Python<'_>) -> String {
         use numpy::PyUntypedArrayMethods;
         let n = self.vertices.bind(py).shape()[0];
@@ -296,4 +342,76 @@ pub(crate) fn output_set(outputs: &str) -> PyResult<OutputSet> {
             format!("`{other}`: one of \"all\", \"preview\""),
         )),
     }
+}
+
+/// Rebuilds a pickled [`Mesh`] (its `__reduce__`).
+#[pyfunction]
+pub(crate) fn _restore_mesh(
+    vertices: Py<PyArray2<f64>>,
+    faces: Py<PyArray2<i64>>,
+    angle_defects_rad: Py<PyArray1<f64>>,
+) -> Mesh {
+    Mesh {
+        vertices,
+        faces,
+        angle_defects_rad,
+    }
+}
+
+/// Rebuilds a pickled [`Run`] (its `__reduce__`): the report from its JSON, so that
+/// `write` writes the same `report.json`.
+#[pyfunction]
+pub(crate) fn _restore_run(py: Python<'_>, state: &Bound<'_, PyDict>) -> PyResult<Run> {
+    let item = |key: &str| -> PyResult<Bound<'_, PyAny>> {
+        state
+            .get_item(key)?
+            .ok_or_else(|| crate::errors::invalid_argument("state", format!("no `{key}` in a pickled Run")))
+    };
+    let optional =
+        |key: &str| -> PyResult<Option<Bound<'_, PyAny>>> { Ok(state.get_item(key)?.filter(|v| !v.is_none())) };
+    let report_json: String = item("report_json")?.extract()?;
+    let report_value: Report = serde_json::from_str(&report_json)
+        .map_err(|e| crate::errors::invalid_argument("state", format!("the pickled report: {e}")))?;
+    let outcome: String = item("outcome")?.extract()?;
+    let outcome = match outcome.as_str() {
+        "ok" => "ok",
+        "overlapping" => "overlapping",
+        "out_of_tolerance" => "out_of_tolerance",
+        other => return Err(crate::errors::invalid_argument("state", format!("outcome `{other}`"))),
+    };
+    let files_dict = item("files")?;
+    let files_dict = files_dict.cast::<PyDict>()?;
+    let mut files: RenderedFiles = Vec::with_capacity(files_dict.len());
+    for (name, bytes) in files_dict.iter() {
+        files.push((name.extract()?, bytes.extract()?));
+    }
+    Ok(Run {
+        vertices: item("vertices")?.extract()?,
+        faces: item("faces")?.extract()?,
+        uv: match optional("uv")? {
+            Some(v) => Some(v.extract::<Py<PyArray2<f64>>>().map_err(PyErr::from)?),
+            None => None,
+        },
+        face_pieces: match optional("face_pieces")? {
+            Some(v) => Some(v.extract::<Py<PyArray1<i64>>>().map_err(PyErr::from)?),
+            None => None,
+        },
+        pieces: item("pieces")?.extract()?,
+        angle_defects_rad: match optional("angle_defects_rad")? {
+            Some(v) => Some(v.extract::<Py<PyArray1<f64>>>().map_err(PyErr::from)?),
+            None => None,
+        },
+        source_vertices: match optional("source_vertices")? {
+            Some(v) => Some(v.extract::<Py<PyArray1<i64>>>().map_err(PyErr::from)?),
+            None => None,
+        },
+        report: to_python(py, &report_value)?.unbind(),
+        outcome,
+        meshes: item("meshes")?.cast::<PyDict>()?.clone().unbind(),
+        pipeline_seconds: item("pipeline_seconds")?.extract()?,
+        files,
+        report_value,
+        files_dict: std::sync::OnceLock::new(),
+        ffd_design: None,
+    })
 }

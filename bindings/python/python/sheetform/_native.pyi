@@ -18,7 +18,9 @@ __all__ = [
     "develop",
     "pattern",
     "Run",
+    "_restore_run",
     "Mesh",
+    "_restore_mesh",
     "PatternOptions",
     "BendEditor",
     "SheetformError",
@@ -297,3 +299,13 @@ class BendEditor:
         """Takes the last applied edit back; ``False`` when there is none."""
     def bend(self, *, outputs: _Outputs = "preview") -> Run:
         """Bends the current scene."""
+
+def _restore_run(state: dict[str, Any]) -> Run:
+    """Rebuilds a pickled ``Run`` (pickle calls it; not for direct use)."""
+
+def _restore_mesh(
+    vertices: npt.NDArray[np.float64],
+    faces: npt.NDArray[np.int64],
+    angle_defects_rad: npt.NDArray[np.float64],
+) -> Mesh:
+    """Rebuilds a pickled ``Mesh`` (pickle calls it; not for direct use)."""
