@@ -13,7 +13,8 @@ use sheetform::bend::BendScene;
 use sheetform::bend::EditInfo;
 use sheetform::mesh::SheetMesh;
 use sheetform::pipeline::{
-    edit_bend_scene, run_bend, BendEdit, BendRunOptions, ErrorKind, OutputSet, PipelineError, RenderedFiles, RunContext,
+    edit_bend_scene_with, run_bend, BendEdit, BendEditOptions, BendRunOptions, ErrorKind, OutputSet, PipelineError,
+    RenderedFiles, RunContext,
 };
 use sheetform::report::Report;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -261,8 +262,20 @@ struct BendReply {
     regression_curves: Vec<Vec<f64>>,
     pattern_svg: String,
     report: Report,
+    /// Each region's curve coordinates → the model's frame, where the editor draws the
+    /// curve's handles (Bo & Wang §4.2: only region 0 is placed as its curve says).
+    region_frames: Vec<RegionFrame>,
     /// Server time for parsing, solving and rendering (ms).
     server_ms: f64,
+}
+
+/// A rigid motion `x ↦ R x + t`.
+#[derive(Debug, Serialize)]
+struct RegionFrame {
+    /// `R`, row by row.
+    rotation: [[f64; 3]; 3],
+    /// `t` (model units).
+    translation: [f64; 3],
 }
 
 /// Parses a bend scene at the edge (the same parser as the CLI's).
@@ -546,6 +559,16 @@ fn preview(
             .map(|stretch| stretch.iter().flat_map(|p| [p.x, p.y, p.z]).collect())
             .collect(),
         pattern_svg: pattern_svg(&run.files),
+        region_frames: run
+            .sheet
+            .placement
+            .region_motions
+            .iter()
+            .map(|m| RegionFrame {
+                rotation: std::array::from_fn(|i| std::array::from_fn(|j| m.rotation[(i, j)])),
+                translation: [m.translation.x, m.translation.y, m.translation.z],
+            })
+            .collect(),
         report: run.report,
         server_ms: start.elapsed().as_secs_f64() * 1e3,
     })
@@ -571,6 +594,10 @@ async fn bend(
 struct EditRequest {
     scene: serde_json::Value,
     edit: serde_json::Value,
+    /// An edit past the admissible shapes stops at their boundary instead of being
+    /// refused ([`BendEditOptions::stop_at_boundary`]).
+    #[serde(default)]
+    stop_at_boundary: bool,
 }
 
 /// The reply to an edit: the edited scene, what the edit did, and its preview.
@@ -578,6 +605,11 @@ struct EditRequest {
 struct EditReply {
     scene: BendScene,
     edit: EditInfo,
+    /// How much of the asked move was made (1: all of it; less: it stopped at the
+    /// boundary of the admissible shapes).
+    moved_fraction: f64,
+    /// Why it stopped short, when it did.
+    stopped_because: Option<String>,
     #[serde(flatten)]
     preview: BendReply,
 }
@@ -603,7 +635,21 @@ async fn bend_edit(
                 sheetform::geometry::shortened_message(&e.to_string())
             ))
         })?;
-        let result = edit_bend_scene(&scene, &edit)?;
+        let options = BendEditOptions {
+            stop_at_boundary: request.stop_at_boundary,
+            ..BendEditOptions::default()
+        };
+        let result = edit_bend_scene_with(&scene, &edit, &options)?;
+        if !result.info.applied && request.stop_at_boundary {
+            // Already at the boundary, and the move leads out at once: nothing moves.
+            return Err(ApiError::new(
+                StatusCode::UNPROCESSABLE_ENTITY,
+                "at_boundary",
+                result
+                    .stopped_because
+                    .unwrap_or_else(|| "the edit would make the shape inadmissible".into()),
+            ));
+        }
         if !result.info.applied {
             return Err(ApiError::new(
                 StatusCode::UNPROCESSABLE_ENTITY,
@@ -618,6 +664,8 @@ async fn bend_edit(
         Ok(EditReply {
             scene: result.scene,
             edit: result.info,
+            moved_fraction: result.moved_fraction,
+            stopped_because: result.stopped_because,
             preview,
         })
     })

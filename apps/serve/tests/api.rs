@@ -1565,3 +1565,100 @@ async fn scenes_are_listed_per_mode_and_other_json_files_are_not() {
         ])
     );
 }
+
+/// Issue 38: an edit past the admissible shapes, asked to stop at their boundary, goes
+/// part of the way (200, `moved_fraction` below 1, the reason it stopped); asked again
+/// from there it cannot move at all (422 `at_boundary`); without the option it is
+/// refused whole (422 `inadmissible`). Each region's frame comes with the reply, so the
+/// desk's four legs are drawn (and dragged) where they are.
+#[tokio::test]
+async fn an_edit_past_the_admissible_shapes_stops_at_their_boundary() {
+    let (_dir, root) = served();
+    let app = router(&ServeOptions {
+        root,
+        ..Default::default()
+    })
+    .unwrap();
+    let scene: Value = serde_json::from_str(
+        r#"{"outline": [[0, -60], [240, -60], [240, 60], [0, 60]], "regions": [{"flat_start": [0, 0],
+        "flat_direction": [1, 0], "curve": {"type": "bezier",
+        "control_points": [[0, 0, 0], [80, 10, 0], [150, -10, 60], [170, 10, 120]]}}]}"#,
+    )
+    .unwrap();
+    let edit = serde_json::json!({"kind": "move_control_point", "region": 0, "index": 2, "position": [150, -20, 60]});
+    let ask = |scene: &Value, stop: bool| {
+        serde_json::json!({"scene": scene, "edit": edit, "stop_at_boundary": stop}).to_string()
+    };
+    let (status, body) = send(&app, "POST", "/api/bend/edit", ask(&scene, false)).await;
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert_eq!(json(&body)["error"]["kind"], "inadmissible");
+    let (status, body) = send(&app, "POST", "/api/bend/edit", ask(&scene, true)).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let reply = json(&body);
+    let fraction = reply["moved_fraction"].as_f64().unwrap();
+    assert!(fraction > 0.0 && fraction < 1.0, "{fraction}");
+    assert!(reply["stopped_because"]
+        .as_str()
+        .unwrap()
+        .contains("curve of regression"));
+    assert_eq!(reply["report"]["status"], "ok");
+    let y = reply["scene"]["regions"][0]["curve"]["control_points"][2][1]
+        .as_f64()
+        .unwrap();
+    assert!((y - (-10.0 - 10.0 * fraction)).abs() < 1e-9, "{y}");
+    // Asked again, the move creeps closer (each stop is within 1/256 of what is left to
+    // go), until it cannot start at all: nothing moves, and it says so.
+    let mut at = reply["scene"].clone();
+    let mut ended = None;
+    for _ in 0..12 {
+        let (status, body) = send(&app, "POST", "/api/bend/edit", ask(&at, true)).await;
+        if status == StatusCode::OK {
+            let next = json(&body)["scene"].clone();
+            let y_next = next["regions"][0]["curve"]["control_points"][2][1].as_f64().unwrap();
+            let y_now = at["regions"][0]["curve"]["control_points"][2][1].as_f64().unwrap();
+            assert!(y_next < y_now && y_now - y_next < 10.0 / 256.0, "{y_now} -> {y_next}");
+            at = next;
+        } else {
+            ended = Some((status, json(&body)));
+            break;
+        }
+    }
+    let (status, error) = ended.expect("the creeping move reaches the boundary");
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert_eq!(error["error"]["kind"], "at_boundary", "{error}");
+    // The desk: one frame per region, rigid, the legs' starts on the table's edges.
+    let desk = std::fs::read(repository().join("examples/desk.json")).unwrap();
+    let (status, body) = send(&app, "POST", "/api/bend", desk).await;
+    assert_eq!(status, StatusCode::OK);
+    let frames = json(&body)["region_frames"].as_array().unwrap().clone();
+    assert_eq!(frames.len(), 4);
+    let mut starts = Vec::new();
+    for frame in &frames {
+        let r: Vec<Vec<f64>> = serde_json::from_value(frame["rotation"].clone()).unwrap();
+        for i in 0..3 {
+            for j in 0..3 {
+                let dot: f64 = (0..3).map(|k| r[i][k] * r[j][k]).sum();
+                assert!((dot - f64::from(u8::from(i == j))).abs() < 1e-9, "{frame}");
+            }
+        }
+        let t: Vec<f64> = serde_json::from_value(frame["translation"].clone()).unwrap();
+        starts.push(t);
+    }
+    // The curves start at their origin: each leg's start is its frame's translation, on
+    // the table's edge 150 mm from its middle (region 0 is placed as its curve says, so
+    // the middle is 150 mm behind its start), all four different.
+    let middle = [0, 1].map(|a| starts.iter().map(|t| t[a]).sum::<f64>() / 4.0);
+    for t in &starts {
+        assert!(
+            ((t[0] - middle[0]).hypot(t[1] - middle[1]) - 150.0).abs() < 1e-6,
+            "{starts:?}"
+        );
+        assert!(t[2].abs() < 1e-9, "{starts:?}");
+    }
+    for (a, b) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
+        assert!(
+            (starts[a][0] - starts[b][0]).hypot(starts[a][1] - starts[b][1]) > 100.0,
+            "{starts:?}"
+        );
+    }
+}

@@ -9,7 +9,9 @@ use crate::run::{output_set, run_interruptibly, Run, RunParts};
 use numpy::PyArray2;
 use pyo3::prelude::*;
 use sheetform::bend::{BendModel, BendScene, CurveSpec};
-use sheetform::pipeline::{edit_bend_scene, run_bend, BendEdit, BendRunOptions, EndHandleSpec, LengthMethod};
+use sheetform::pipeline::{
+    edit_bend_scene_with, run_bend, BendEdit, BendEditOptions, BendRunOptions, EndHandleSpec, LengthMethod,
+};
 use std::path::PathBuf;
 
 /// Most edits kept for `undo`.
@@ -17,9 +19,10 @@ const MAX_UNDO: usize = 1_000;
 
 /// An editable bend scene: move a control point, drag keeping the curve's length, drag
 /// the end handles; each edit returns what it did (a dict: `applied`,
-/// `rejected_because`, `curve_length_before`, `curve_length_after`, `solver`). An edit
-/// that would make the shape inadmissible is refused and the scene kept, as in the web
-/// editor.
+/// `rejected_because`, `curve_length_before`, `curve_length_after`, `solver`,
+/// `moved_fraction`, `stopped_because`). An edit that would make the shape inadmissible
+/// is refused and the scene kept, or, with `stop_at_boundary=True`, goes as far as the
+/// shape stays admissible, as the web editor's drags do.
 ///
 /// `BendEditor(scene, root=None)`: `scene` as a dict or the path of its file. Regions and
 /// control points are numbered from 0; negative numbers count from the end, as Python
@@ -56,13 +59,18 @@ impl BendEditor {
     }
 
     /// A control point of `region`'s curve, negative numbers counted from the end.
-    fn control_point_index(&self, region: usize, index: i64) -> PyResult<usize> {
+    /// `bezier_only`: the length-preserving drag edits Bézier curves only.
+    fn control_point_index(&self, region: usize, index: i64, bezier_only: bool) -> PyResult<usize> {
         let count = match &self.scene.regions[region].curve {
             CurveSpec::Bezier { control_points } => control_points.len(),
+            CurveSpec::Bspline { control_points, .. } if !bezier_only => control_points.len(),
             _ => {
                 return Err(invalid_argument(
                     "region",
-                    format!("region {region}: not a Bézier control curve"),
+                    format!(
+                        "region {region}: not a {} control curve",
+                        if bezier_only { "Bézier" } else { "Bézier or B-spline" }
+                    ),
                 ))
             }
         };
@@ -74,16 +82,24 @@ impl BendEditor {
         })
     }
 
-    fn apply(&mut self, py: Python<'_>, edit: BendEdit) -> PyResult<Py<PyAny>> {
+    fn apply(&mut self, py: Python<'_>, edit: BendEdit, stop_at_boundary: bool) -> PyResult<Py<PyAny>> {
         let scene = &self.scene;
-        let result = crate::errors::detached(py, || edit_bend_scene(scene, &edit))?.map_err(|e| python_error(py, e))?;
+        let options = BendEditOptions {
+            stop_at_boundary,
+            ..BendEditOptions::default()
+        };
+        let result = crate::errors::detached(py, || edit_bend_scene_with(scene, &edit, &options))?
+            .map_err(|e| python_error(py, e))?;
+        let info = to_python(py, &result.info)?;
+        info.set_item("moved_fraction", result.moved_fraction)?;
+        info.set_item("stopped_because", result.stopped_because)?;
         if result.info.applied {
             self.history.push_back(std::mem::replace(&mut self.scene, result.scene));
             if self.history.len() > MAX_UNDO {
                 self.history.pop_front();
             }
         }
-        Ok(to_python(py, &result.info)?.unbind())
+        Ok(info.unbind())
     }
 }
 
@@ -112,36 +128,38 @@ impl BendEditor {
         Ok(to_python(py, &self.scene)?.unbind())
     }
 
-    /// The Bézier control points of `region`'s curve, `(k, 3)`.
+    /// The control points of `region`'s curve (Bézier or B-spline), `(k, 3)`.
     fn control_points<'py>(&self, py: Python<'py>, region: i64) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let region = self.region(region)?;
         let spec = &self.scene.regions[region];
         match &spec.curve {
-            CurveSpec::Bezier { control_points } => {
+            CurveSpec::Bezier { control_points } | CurveSpec::Bspline { control_points, .. } => {
                 let points: Vec<_> = control_points
                     .iter()
                     .map(|p| sheetform::geometry::Vec3::new(p[0], p[1], p[2]))
                     .collect();
                 crate::convert::points3(py, &points)
             }
-            _ => Err(invalid_argument(
+            CurveSpec::Helix { .. } => Err(invalid_argument(
                 "region",
-                format!("region {region}: not a Bézier control curve"),
+                format!("region {region}: a helix has no control points"),
             )),
         }
     }
 
-    /// Moves one control point of `region`'s curve to `position` (§4.1.1); the curve's
-    /// length changes with it.
+    /// Moves one control point of `region`'s curve (Bézier or B-spline) to `position`
+    /// (§4.1.1); the curve's length changes with it.
+    #[pyo3(signature = (region, index, position, *, stop_at_boundary=false))]
     fn move_control_point(
         &mut self,
         py: Python<'_>,
         region: i64,
         index: i64,
         position: Vec<f64>,
+        stop_at_boundary: bool,
     ) -> PyResult<Py<PyAny>> {
         let region = self.region(region)?;
-        let index = self.control_point_index(region, index)?;
+        let index = self.control_point_index(region, index, false)?;
         let position = point("position", position)?;
         self.apply(
             py,
@@ -150,13 +168,14 @@ impl BendEditor {
                 index,
                 position,
             },
+            stop_at_boundary,
         )
     }
 
     /// Moves one control point and restores the curve's length (§4.1.3): `method="trim"`
     /// cuts or extends the curve at its old arc length (the paper's), `"scale"` scales it
     /// about the dragged point.
-    #[pyo3(signature = (region, index, position, method="trim"))]
+    #[pyo3(signature = (region, index, position, method="trim", *, stop_at_boundary=false))]
     fn drag_preserving_length(
         &mut self,
         py: Python<'_>,
@@ -164,9 +183,10 @@ impl BendEditor {
         index: i64,
         position: Vec<f64>,
         method: &str,
+        stop_at_boundary: bool,
     ) -> PyResult<Py<PyAny>> {
         let region = self.region(region)?;
-        let index = self.control_point_index(region, index)?;
+        let index = self.control_point_index(region, index, true)?;
         let position = point("position", position)?;
         let method = match method {
             "trim" => LengthMethod::Trim,
@@ -186,12 +206,14 @@ impl BendEditor {
                 position,
                 method,
             },
+            stop_at_boundary,
         )
     }
 
     /// Drags the end handles (§4.1.2): the curve's end points and the surface normals
     /// wanted there (each optional); the interior control points follow.
-    #[pyo3(signature = (region, *, start_position=None, start_normal=None, end_position=None, end_normal=None))]
+    #[pyo3(signature = (region, *, start_position=None, start_normal=None, end_position=None, end_normal=None, stop_at_boundary=false))]
+    #[allow(clippy::too_many_arguments)]
     fn drag_end_handles(
         &mut self,
         py: Python<'_>,
@@ -200,6 +222,7 @@ impl BendEditor {
         start_normal: Option<Vec<f64>>,
         end_position: Option<Vec<f64>>,
         end_normal: Option<Vec<f64>>,
+        stop_at_boundary: bool,
     ) -> PyResult<Py<PyAny>> {
         let region = self.region(region)?;
         let start = EndHandleSpec {
@@ -210,7 +233,7 @@ impl BendEditor {
             position: end_position.map(|p| point("end_position", p)).transpose()?,
             normal: end_normal.map(|p| point("end_normal", p)).transpose()?,
         };
-        self.apply(py, BendEdit::DragEndHandles { region, start, end })
+        self.apply(py, BendEdit::DragEndHandles { region, start, end }, stop_at_boundary)
     }
 
     /// Takes the last applied edit back; `False` when there is none.

@@ -48,6 +48,26 @@ def test_an_inadmissible_edit_is_refused_and_the_scene_kept():
     np.testing.assert_array_equal(editor.control_points(0), before)
 
 
+def test_a_move_past_the_boundary_stops_there_when_asked():
+    editor = sheetform.BendEditor(TORSION)
+    before = editor.control_points(0).copy()
+    info = editor.move_control_point(0, 2, [150.0, -20.0, 60.0], stop_at_boundary=True)
+    assert info["applied"] is True
+    t = info["moved_fraction"]
+    assert 0.0 < t < 1.0
+    assert "regression" in info["stopped_because"]
+    np.testing.assert_allclose(editor.control_points(0)[2], before[2] + t * (np.array([150.0, -20.0, 60.0]) - before[2]))
+    assert editor.bend().report["status"] == "ok"
+    # One bisection step further is inadmissible.
+    further = before[2] + (t + 1 / 256) * (np.array([150.0, -20.0, 60.0]) - before[2])
+    assert sheetform.BendEditor(TORSION).move_control_point(0, 2, list(further))["applied"] is False
+    # The desk's legs are B-splines: their points move too.
+    desk = sheetform.BendEditor(REPO / "examples/desk.json")
+    assert desk.control_points(1).shape == (6, 3)
+    info = desk.move_control_point(1, 3, [100.0, 0.0, -110.0])
+    assert info["applied"] and info["moved_fraction"] == 1.0 and info["stopped_because"] is None
+
+
 def test_a_length_preserving_drag_keeps_the_length_and_bends_as_the_cli_would():
     editor = sheetform.BendEditor(REPO / "examples/bent-rectangle.json")
     start = curve_length(editor.control_points(0))

@@ -38,6 +38,7 @@ pub use control_curve::{AnalyticCurve, ControlCurve, CurveShape};
 pub use curve_of_regression::{curve_of_regression_near_sheet, regression_distance};
 pub use edit::{
     solve_end_normals, trim_to_length, BendEditor, EditInfo, EndHandle, EndHandleOptions, LengthPreservation,
+    MAX_EDIT_COORDINATE,
 };
 pub use error::{BendError, InadmissibleDetail};
 pub use flat_layout::{flat_layout, Cell, EdgeKind, FlatLayout};

@@ -1,7 +1,7 @@
 //! `sheetform serve` in a browser (issue 20): the Playwright script
 //! `apps/serve/web/tests/editor.test.mjs` drives Debian's chromium against this binary
-//! (loading an example, dragging a control point with the mouse, undo, an inadmissible
-//! drag refused, the server's confinement and faults). Its screenshots and the measured
+//! (loading an example, dragging a control point with the mouse, undo, a drag stopped
+//! at the boundary of the admissible shapes, the server's confinement and faults). Its screenshots and the measured
 //! round trip of an edit go to `target/tmp/browser-tests/`.
 
 use crate::common::repo;
@@ -26,7 +26,7 @@ fn the_web_editor_passes_its_browser_test() {
     let round_trip = &figures["bend_1000_rulings_round_trip_ms"];
     assert!(round_trip["count"].as_u64().unwrap() >= 20, "{figures}");
     eprintln!("browser test figures (not a timing assertion): {figures}");
-    for shot in ["bend.png", "bend-refused.png"] {
+    for shot in ["bend.png", "bend-boundary.png"] {
         let bytes = std::fs::read(output_dir.join(shot)).expect("the screenshot");
         assert!(bytes.starts_with(b"\x89PNG") && bytes.len() > 10_000, "{shot}");
     }

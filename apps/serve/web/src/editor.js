@@ -43,6 +43,7 @@ const state = {
   roundTrips: [], // ms from an edit's event to the redraw of its reply
   stages: [], // where each round trip's time went (ms)
   refusals: 0,
+  boundaryStops: 0, // edits that stopped at the boundary of the admissible shapes
   answers: 0, // server answers (solved or refused), for tests and scripts to wait on
   inFlight: false,
   pending: null, // the newest edit waiting for the one in flight: { scene, started }
@@ -133,6 +134,42 @@ function dragMode() {
   return $('drag-mode').value;
 }
 
+/** Region `region`'s curve coordinates → the model's frame (Bo & Wang §4.2: each region
+ * after the first is placed by the pieces it is attached to), from the last reply. */
+function regionMatrix(region) {
+  const frame = state.reply && state.reply.region_frames && state.reply.region_frames[region];
+  const m = new THREE.Matrix4();
+  if (!frame) return m;
+  const [r0, r1, r2] = frame.rotation;
+  const t = frame.translation;
+  return m.set(r0[0], r0[1], r0[2], t[0], r1[0], r1[1], r1[2], t[1], r2[0], r2[1], r2[2], t[2], 0, 0, 0, 1);
+}
+
+/** The plane of a planar control polygon (curve coordinates): `{ normal, point }`, or
+ * null when the points are collinear or not in one plane (within 1e-6 of its size). */
+function controlPlane(points) {
+  const p = points.map((q) => new THREE.Vector3(...q));
+  if (p.length < 3) return null;
+  const far = p.reduce((a, q) => (q.distanceTo(p[0]) > a.distanceTo(p[0]) ? q : a), p[0]);
+  const size = far.distanceTo(p[0]);
+  if (size === 0) return null;
+  const line = new THREE.Line3(p[0], far);
+  const off = p.reduce((a, q) => (line.closestPointToPoint(q, false, new THREE.Vector3()).distanceTo(q)
+    > line.closestPointToPoint(a, false, new THREE.Vector3()).distanceTo(a) ? q : a), p[0]);
+  const normal = far.clone().sub(p[0]).cross(off.clone().sub(p[0]));
+  if (normal.length() <= 1e-9 * size * size) return null;
+  normal.normalize();
+  const planar = p.every((q) => Math.abs(q.clone().sub(p[0]).dot(normal)) <= 1e-6 * size);
+  return planar ? { normal, point: p[0] } : null;
+}
+
+/** The drag locks of the 3D view (as in DCC tools: X, Y, Z keys lock an axis, with
+ * Shift the plane across it); "auto" keeps a planar curve's points in its plane. */
+const LOCKS = {
+  x: { axis: [1, 0, 0] }, y: { axis: [0, 1, 0] }, z: { axis: [0, 0, 1] },
+  yz: { normal: [1, 0, 0] }, zx: { normal: [0, 1, 0] }, xy: { normal: [0, 0, 1] },
+};
+
 function drawHandles(scene) {
   handles.clear();
   handleLines.clear();
@@ -150,11 +187,15 @@ function drawHandles(scene) {
   }
   const ends = dragMode() === 'ends';
   for (const { region, points } of draggableCurves(scene)) {
+    // The length-preserving drag and the end handles edit Bézier curves (§4.1.2–3).
+    if (dragMode() !== 'move' && scene.regions[region].curve.type !== 'bezier') continue;
+    const frame = regionMatrix(region);
+    const placed = (q) => new THREE.Vector3(...q).applyMatrix4(frame);
     points.forEach((p, index) => {
       const isEnd = index === 0 || index === points.length - 1;
       if (ends && !isEnd) return;
       const ball = new THREE.Mesh(handleGeometry, handleMaterial);
-      ball.position.set(p[0], p[1], p[2]);
+      ball.position.copy(placed(p));
       ball.scale.setScalar(handleRadius);
       ball.userData = ends ? { region, end: index === 0 ? 'start' : 'end', what: 'position', index } : { region, index };
       ball.renderOrder = 2;
@@ -162,8 +203,8 @@ function drawHandles(scene) {
     });
     if (ends && points.length >= 4) {
       for (const atEnd of [false, true]) {
-        const origin = new THREE.Vector3(...points[atEnd ? points.length - 1 : 0]);
-        const tip = origin.clone().add(endNormal(points, atEnd).multiplyScalar(handleRadius * 10));
+        const origin = placed(points[atEnd ? points.length - 1 : 0]);
+        const tip = origin.clone().add(endNormal(points, atEnd).transformDirection(frame).multiplyScalar(handleRadius * 10));
         const ball = new THREE.Mesh(handleGeometry, normalMaterial);
         ball.position.copy(tip);
         ball.scale.setScalar(handleRadius * 0.8);
@@ -173,7 +214,7 @@ function drawHandles(scene) {
         handleLines.add(new THREE.Line(new THREE.BufferGeometry().setFromPoints([origin, tip]), new THREE.LineBasicMaterial({ color: 0x2e8b57, depthTest: false })));
       }
     }
-    const polygon = new THREE.BufferGeometry().setFromPoints(points.map((p) => new THREE.Vector3(...p)));
+    const polygon = new THREE.BufferGeometry().setFromPoints(points.map(placed));
     handleLines.add(new THREE.Line(polygon, new THREE.LineDashedMaterial({ color: 0xe8731a, dashSize: 4, gapSize: 3, depthTest: false })));
     handleLines.children.at(-1).computeLineDistances();
   }
@@ -852,6 +893,11 @@ function showReport(reply, roundTrip) {
     `server ${short(reply.server_ms)} ms`,
     roundTrip === undefined ? null : `round trip ${short(roundTrip)} ms`,
   ];
+  if (reply.moved_fraction !== undefined && reply.moved_fraction < 1) {
+    // The drag went past the admissible shapes: the point stopped at their boundary.
+    showStatus('boundary', `stopped at the edge of what can bend (${Math.round(100 * reply.moved_fraction)} % of this move): ${reply.stopped_because} · ${parts.filter(Boolean).join(' · ')}`);
+    return;
+  }
   showStatus('ok', parts.filter(Boolean).join(' · '));
 }
 
@@ -934,7 +980,7 @@ async function solveNow(scene, started, edit) {
   let received;
   try {
     response = edit
-      ? await post(`/api/bend/edit${dirQuery()}`, JSON.stringify({ scene, edit }))
+      ? await post(`/api/bend/edit${dirQuery()}`, JSON.stringify({ scene, edit, stop_at_boundary: true }))
       : await post(`/api/${mode}${dirQuery()}`, JSON.stringify(scene));
     received = performance.now();
     body = await response.json();
@@ -944,6 +990,15 @@ async function solveNow(scene, started, edit) {
   } catch (error) {
     state.lastError = String(error);
     showStatus('error', `the server did not answer: ${error}`);
+    return false;
+  }
+  if (!response.ok && body.error && body.error.kind === 'at_boundary') {
+    // A drag held past the boundary of the admissible shapes: the point stays there.
+    state.boundaryStops += 1;
+    state.lastError = body.error;
+    drawHandles(state.scene);
+    render();
+    showStatus('boundary', `stopped at the edge of what can bend: ${body.error.message}`);
     return false;
   }
   if (!response.ok) {
@@ -967,7 +1022,8 @@ async function solveNow(scene, started, edit) {
   }
   if (edit) {
     scene = body.scene;
-    state.lastEdit = body.edit;
+    state.lastEdit = { ...body.edit, moved_fraction: body.moved_fraction, stopped_because: body.stopped_because };
+    if (body.moved_fraction < 1) state.boundaryStops += 1;
   }
   state.scene = scene;
   state.sceneByMode[state.mode] = scene;
@@ -1191,7 +1247,17 @@ window.addEventListener('keydown', (e) => {
   if ((e.ctrlKey || e.metaKey) && e.key.toLowerCase() === 'z') {
     e.preventDefault();
     if (e.shiftKey) redo(); else undo();
+    return;
   }
+  // Drag locks, as in DCC tools: X, Y or Z locks the axis, with Shift the plane across
+  // it; the same key again goes back to "auto". Not while typing in a field.
+  const key = e.key.toLowerCase();
+  if (e.ctrlKey || e.metaKey || e.altKey || !['x', 'y', 'z'].includes(key)) return;
+  if (e.target instanceof HTMLInputElement || e.target instanceof HTMLTextAreaElement || e.target instanceof HTMLSelectElement) return;
+  const lock = e.shiftKey ? { x: 'yz', y: 'zx', z: 'xy' }[key] : key;
+  const select = $('drag-lock');
+  select.value = select.value === lock ? 'auto' : lock;
+  if (drag) drag.constraint = dragConstraint(drag, content.worldToLocal(drag.handle.getWorldPosition(new THREE.Vector3())));
 });
 
 // ---------------------------------------------------------------- dragging
@@ -1204,6 +1270,48 @@ function pointerRay(event) {
   const ndc = new THREE.Vector2(((event.clientX - rect.left) / rect.width) * 2 - 1, -((event.clientY - rect.top) / rect.height) * 2 + 1);
   raycaster.setFromCamera(ndc, camera);
   return raycaster.ray;
+}
+
+/** What a dragged point may do, in the model's frame (`content`'s local coordinates):
+ * `{ line }` (an axis through it) or `{ plane }` (a plane through it). The lock chosen
+ * (or its key) wins; otherwise a slit curve's point stays in its curve's plane, a bend
+ * curve's point (or end normal) in its curve's plane when the curve is planar, and
+ * anything else moves in the plane facing the camera. */
+function dragConstraint(data, origin) {
+  const slitCurvePoint = state.mode === 'slit' && data.anchor === undefined;
+  const lock = LOCKS[$('drag-lock').value];
+  if (lock && !slitCurvePoint) {
+    return lock.axis
+      ? { line: { origin, direction: new THREE.Vector3(...lock.axis) } }
+      : { plane: new THREE.Plane().setFromNormalAndCoplanarPoint(new THREE.Vector3(...lock.normal), origin) };
+  }
+  let normal = null;
+  if (slitCurvePoint) {
+    normal = new THREE.Vector3(...(data.curve === 'leg_curve' ? [0, 0, 1] : [1, 0, 0]));
+  } else if (state.mode === 'bend' && data.region !== undefined && $('drag-lock').value === 'auto') {
+    const plane = controlPlane(state.scene.regions[data.region].curve.control_points);
+    if (plane) normal = plane.normal.transformDirection(regionMatrix(data.region));
+  }
+  if (!normal) normal = camera.getWorldDirection(new THREE.Vector3()).transformDirection(content.matrixWorld.clone().invert());
+  return { plane: new THREE.Plane().setFromNormalAndCoplanarPoint(normal, origin) };
+}
+
+/** Where the pointer puts a dragged point under its constraint (model frame), or null. */
+function constrainedPoint(event, constraint) {
+  const ray = pointerRay(event).clone().applyMatrix4(content.matrixWorld.clone().invert());
+  if (constraint.line) {
+    const { origin, direction } = constraint.line;
+    const onLine = new THREE.Vector3();
+    ray.distanceSqToSegment(origin.clone().addScaledVector(direction, -1e7), origin.clone().addScaledVector(direction, 1e7), null, onLine);
+    return onLine;
+  }
+  const { plane } = constraint;
+  if (Math.abs(plane.normal.dot(ray.direction)) >= 0.15) return ray.intersectPlane(plane, new THREE.Vector3());
+  // A plane seen (nearly) edge-on: the pointer's place in the plane facing the camera,
+  // projected onto it (the direct intersection would fly off to infinity).
+  const facing = new THREE.Plane().setFromNormalAndCoplanarPoint(ray.direction, plane.coplanarPoint(new THREE.Vector3()));
+  const hit = ray.intersectPlane(facing, new THREE.Vector3());
+  return hit && plane.projectPoint(hit, new THREE.Vector3());
 }
 
 canvas.addEventListener('pointerdown', (event) => {
@@ -1232,14 +1340,13 @@ canvas.addEventListener('pointerdown', (event) => {
     commit(scene);
     return;
   }
-  // A bend handle or a slit anchor moves in the plane facing the camera; a slit curve's
-  // point in the curve's own plane (the leg's z = 0, the seat's symmetry plane x = 0).
-  const normal = state.mode === 'slit' && data.anchor === undefined
-    ? new THREE.Vector3(...(data.curve === 'leg_curve' ? [0, 0, 1] : [1, 0, 0])).applyQuaternion(content.quaternion)
-    : camera.getWorldDirection(new THREE.Vector3());
+  // The point moves under its constraint (dragConstraint); a bend handle's place is
+  // sent in its curve's own coordinates (the region's frame when the drag began).
+  const origin = content.worldToLocal(hit.object.getWorldPosition(new THREE.Vector3()));
   drag = {
     ...hit.object.userData, handle: hit.object, moved: false, before: JSON.stringify(state.scene),
-    plane: new THREE.Plane().setFromNormalAndCoplanarPoint(normal, hit.object.getWorldPosition(new THREE.Vector3())),
+    constraint: dragConstraint(data, origin),
+    toCurve: data.region === undefined ? null : regionMatrix(data.region).invert(),
   };
   hit.object.material = handleActive;
   controls.enabled = false;
@@ -1258,9 +1365,8 @@ canvas.addEventListener('pointermove', (event) => {
   }
   if (!drag) return;
   const started = performance.now();
-  const world = pointerRay(event).intersectPlane(drag.plane, new THREE.Vector3());
-  if (!world) return;
-  const point = content.worldToLocal(world);
+  const point = constrainedPoint(event, drag.constraint);
+  if (!point) return;
   drag.handle.position.copy(point);
   render();
   drag.moved = true;
@@ -1273,13 +1379,13 @@ canvas.addEventListener('pointermove', (event) => {
   }
   // FFD: the control point follows the pointer; the restoration runs on release.
   if (state.mode === 'ffd') return;
-  const position = [point.x, point.y, point.z];
+  const onCurve = point.clone().applyMatrix4(drag.toCurve);
+  const position = onCurve.toArray();
   const mode = dragMode();
+  // Every bend drag is an edit of the last admissible scene that stops at the boundary
+  // of the admissible shapes instead of being refused.
   if (mode === 'move') {
-    // The candidate: the last admissible scene with this one point moved.
-    const scene = structuredClone(state.scene);
-    scene.regions[drag.region].curve.control_points[drag.index] = position;
-    requestSolve(scene, started);
+    requestSolve(state.scene, started, { kind: 'move_control_point', region: drag.region, index: drag.index, position });
   } else if (mode === 'length') {
     requestSolve(state.scene, started, { kind: 'drag_preserving_length', region: drag.region, index: drag.index, position });
   } else {
@@ -1292,7 +1398,7 @@ canvas.addEventListener('pointermove', (event) => {
       edit[drag.end].position = position;
     } else {
       const origin = new THREE.Vector3(...points[drag.end === 'start' ? 0 : points.length - 1]);
-      edit[drag.end].normal = point.clone().sub(origin).toArray();
+      edit[drag.end].normal = onCurve.clone().sub(origin).toArray();
     }
     requestSolve(state.scene, started, edit);
   }
@@ -1768,7 +1874,12 @@ window.sheetformEditor = {
   setMode,
   /** The page coordinates of a control point's handle. */
   handleScreenPosition(region, index) {
-    return pageCoordinates(content.localToWorld(new THREE.Vector3(...state.scene.regions[region].curve.control_points[index])));
+    const p = new THREE.Vector3(...state.scene.regions[region].curve.control_points[index]).applyMatrix4(regionMatrix(region));
+    return pageCoordinates(content.localToWorld(p));
+  },
+  /** A bend control point's place in the model's frame (its region's frame applied). */
+  handleModelPosition(region, index) {
+    return new THREE.Vector3(...state.scene.regions[region].curve.control_points[index]).applyMatrix4(regionMatrix(region)).toArray();
   },
   /** The page coordinates of control point `index` of curve `curve` (photo mode). */
   photoPointScreenPosition(curve, index) {

@@ -278,11 +278,20 @@ class BendEditor:
     def scene(self) -> dict[str, Any]:
         """The current scene as a dict."""
     def control_points(self, region: int) -> npt.NDArray[np.float64]:
-        """The Bézier control points of ``region``'s curve, ``(k, 3)``."""
-    def move_control_point(self, region: int, index: int, position: _Point) -> dict[str, Any]:
-        """Moves one control point (§4.1.1); returns the edit info."""
+        """The control points of ``region``'s curve (Bézier or B-spline), ``(k, 3)``."""
+    def move_control_point(
+        self, region: int, index: int, position: _Point, *, stop_at_boundary: bool = False
+    ) -> dict[str, Any]:
+        """Moves one control point (§4.1.1); returns the edit info. ``stop_at_boundary``:
+        a move past the admissible shapes goes as far as they allow (``moved_fraction``)."""
     def drag_preserving_length(
-        self, region: int, index: int, position: _Point, method: Literal["trim", "scale"] = "trim"
+        self,
+        region: int,
+        index: int,
+        position: _Point,
+        method: Literal["trim", "scale"] = "trim",
+        *,
+        stop_at_boundary: bool = False,
     ) -> dict[str, Any]:
         """Moves one control point and restores the curve's length (§4.1.3)."""
     def drag_end_handles(
@@ -293,6 +302,7 @@ class BendEditor:
         start_normal: Optional[_Point] = None,
         end_position: Optional[_Point] = None,
         end_normal: Optional[_Point] = None,
+        stop_at_boundary: bool = False,
     ) -> dict[str, Any]:
         """Drags the end handles (§4.1.2)."""
     def undo(self) -> bool:

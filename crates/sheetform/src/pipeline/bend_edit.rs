@@ -7,7 +7,8 @@ use super::error::PipelineError;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use sheetform_bend::{
-    BendEditor, BendError, BendModel, BendScene, CurveSpec, EditInfo, EndHandle, EndHandleOptions, LengthPreservation,
+    bend, BendEditor, BendError, BendModel, BendScene, CurveSpec, EditInfo, EndHandle, EndHandleOptions,
+    LengthPreservation, MAX_EDIT_COORDINATE,
 };
 use sheetform_geometry::Vec3;
 
@@ -81,43 +82,293 @@ pub struct BendEditResult {
     pub scene: BendScene,
     /// What the edit did: applied, or why not (the shape would not be admissible).
     pub info: EditInfo,
+    /// How much of the asked move was made: 1 for the whole edit, less when it stopped at
+    /// the boundary of the admissible shapes ([`BendEditOptions::stop_at_boundary`]), 0
+    /// when it was refused.
+    pub moved_fraction: f64,
+    /// Why the edit stopped short of what was asked (the refusal of the whole move), when
+    /// it did.
+    pub stopped_because: Option<String>,
+}
+
+/// How an edit meets the boundary of the admissible shapes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BendEditOptions {
+    /// An edit that would make the shape inadmissible stops at the boundary instead of
+    /// being refused: the moved points (and turned normals) go the largest fraction of
+    /// the way that stays admissible, found by bisection. Off by default: the edit is
+    /// then refused whole.
+    pub stop_at_boundary: bool,
+    /// Bisection steps: the stop is within `2^-steps` of the asked move from the
+    /// boundary (one bend per step). At most [`MAX_BOUNDARY_STEPS`].
+    pub boundary_steps: u32,
+}
+
+impl Default for BendEditOptions {
+    fn default() -> Self {
+        Self {
+            stop_at_boundary: false,
+            boundary_steps: 8,
+        }
+    }
+}
+
+/// The most bisection steps an edit may take to find the boundary (each one bends the
+/// sheet; 30 steps place the stop within 1e-9 of the move).
+pub const MAX_BOUNDARY_STEPS: u32 = 30;
+
+/// Applies `edit` to `scene`, refused whole when the shape would not be admissible
+/// ([`edit_bend_scene_with`] with the default options).
+///
+/// # Errors
+/// As [`edit_bend_scene_with`].
+pub fn edit_bend_scene(scene: &BendScene, edit: &BendEdit) -> Result<BendEditResult, PipelineError> {
+    edit_bend_scene_with(scene, edit, &BendEditOptions::default())
 }
 
 /// Applies `edit` to `scene` through [`BendEditor`]: the region's control points in the
 /// returned scene are the edited curve's. An edit that would make the shape
-/// inadmissible is not an error: `info.applied` is false and the scene is unchanged.
+/// inadmissible is not an error: `info.applied` is false and the scene is unchanged, or,
+/// with [`BendEditOptions::stop_at_boundary`], the edit goes as far as the shape stays
+/// admissible (`moved_fraction` says how far).
+///
+/// A stopped edit is the asked one scaled along its way: the moved point (or end) at
+/// `p0 + t (p1 − p0)`, an end normal turned to `normalize((1 − t) n0 + t n1)`, with `t`
+/// the largest admissible fraction found by bisection from the admissible start (`t =
+/// 0`). The admissible set need not be convex along the way: the stop is a boundary
+/// point, the first one bisection meets.
+///
+/// Moving a control point works on Bézier and B-spline curves (a periodic B-spline's
+/// wrapped copies follow); the length-preserving drag and the end handles need a Bézier
+/// curve.
 ///
 /// # Errors
 /// [`PipelineError::Bend`] for an invalid or inadmissible starting scene, a region or
-/// point that does not exist, a curve that is not Bézier, bad handles.
-pub fn edit_bend_scene(scene: &BendScene, edit: &BendEdit) -> Result<BendEditResult, PipelineError> {
-    let region = match edit {
+/// point that does not exist, a curve without control points, bad handles, more than
+/// [`MAX_BOUNDARY_STEPS`] steps.
+pub fn edit_bend_scene_with(
+    scene: &BendScene,
+    edit: &BendEdit,
+    options: &BendEditOptions,
+) -> Result<BendEditResult, PipelineError> {
+    if options.boundary_steps > MAX_BOUNDARY_STEPS {
+        return Err(edit_error(format!(
+            "boundary_steps is {}, at most {MAX_BOUNDARY_STEPS}",
+            options.boundary_steps
+        )));
+    }
+    let mut editor = None;
+    let whole = apply_edit(scene, edit, &mut editor)?;
+    if whole.info.applied || !options.stop_at_boundary {
+        return Ok(whole);
+    }
+    // The start must be admissible for the bisection to mean anything.
+    if editor.is_none() {
+        BendEditor::new(BendModel::from_scene(scene)?)?;
+    }
+    let mut best: Option<BendEditResult> = None;
+    let (mut low, mut high) = (0.0_f64, 1.0_f64);
+    for _ in 0..options.boundary_steps {
+        let t = 0.5 * (low + high);
+        let attempt = apply_edit(scene, &edit_part(scene, edit, t)?, &mut editor)?;
+        if attempt.info.applied {
+            low = t;
+            best = Some(attempt);
+        } else {
+            high = t;
+        }
+    }
+    let stopped_because = whole.info.rejected_because.clone();
+    Ok(match best {
+        Some(result) => BendEditResult {
+            moved_fraction: low,
+            stopped_because,
+            ..result
+        },
+        None => BendEditResult {
+            stopped_because,
+            ..whole
+        },
+    })
+}
+
+fn edit_error(message: String) -> PipelineError {
+    PipelineError::Bend(BendError::Edit { message })
+}
+
+fn edited_region(edit: &BendEdit) -> usize {
+    match edit {
         BendEdit::MoveControlPoint { region, .. }
         | BendEdit::DragPreservingLength { region, .. }
         | BendEdit::DragEndHandles { region, .. } => *region,
-    };
-    let edit_error = |message: String| PipelineError::Bend(BendError::Edit { message });
+    }
+}
+
+/// The control points of `region`'s curve in the scene (Bézier or B-spline; a periodic
+/// B-spline's without its wrapped copies).
+fn scene_control_points(scene: &BendScene, region: usize) -> Result<&Vec<[f64; 3]>, PipelineError> {
     let Some(spec) = scene.regions.get(region) else {
         return Err(edit_error(format!(
             "no region {region} (the scene has {})",
             scene.regions.len()
         )));
     };
-    if !matches!(spec.curve, CurveSpec::Bezier { .. }) {
+    match &spec.curve {
+        CurveSpec::Bezier { control_points } | CurveSpec::Bspline { control_points, .. } => Ok(control_points),
+        CurveSpec::Helix { .. } => Err(edit_error(format!(
+            "region {region}'s curve is a helix: it has no control points (change its radius, rise or angles)"
+        ))),
+    }
+}
+
+fn vector(p: [f64; 3]) -> Vec3 {
+    Vec3::new(p[0], p[1], p[2])
+}
+
+/// The principal normal of a Bézier curve at its start (`at_end` false) or end, up to a
+/// positive factor: `d × (P2 − 2P1 + P0) × d` with `d = P1 − P0` (§4.1.2).
+fn end_normal(points: &[[f64; 3]], at_end: bool) -> Vec3 {
+    let n = points.len() - 1;
+    let (p0, p1, p2) = if at_end {
+        (vector(points[n]), vector(points[n - 1]), vector(points[n - 2]))
+    } else {
+        (vector(points[0]), vector(points[1]), vector(points[2]))
+    };
+    let d = p1 - p0;
+    d.cross(&(p2 - 2.0 * p1 + p0)).cross(&d)
+}
+
+/// `edit` made the fraction `t` of the way from `scene`'s state.
+fn edit_part(scene: &BendScene, edit: &BendEdit, t: f64) -> Result<BendEdit, PipelineError> {
+    let lerp = |from: [f64; 3], to: [f64; 3]| std::array::from_fn(|a| from[a] + t * (to[a] - from[a]));
+    let points = scene_control_points(scene, edited_region(edit))?;
+    let at = |index: usize| {
+        points.get(index).copied().ok_or_else(|| {
+            edit_error(format!(
+                "control point {index} does not exist (the curve has {})",
+                points.len()
+            ))
+        })
+    };
+    Ok(match edit {
+        BendEdit::MoveControlPoint {
+            region,
+            index,
+            position,
+        } => BendEdit::MoveControlPoint {
+            region: *region,
+            index: *index,
+            position: lerp(at(*index)?, *position),
+        },
+        BendEdit::DragPreservingLength {
+            region,
+            index,
+            position,
+            method,
+        } => BendEdit::DragPreservingLength {
+            region: *region,
+            index: *index,
+            position: lerp(at(*index)?, *position),
+            method: *method,
+        },
+        BendEdit::DragEndHandles { region, start, end } => {
+            if points.len() < 3 {
+                return Err(edit_error(format!(
+                    "end handles need degree ≥ 3, the curve has degree {}",
+                    points.len() - 1
+                )));
+            }
+            let part = |handle: &EndHandleSpec, at_end: bool| {
+                let here = points[if at_end { points.len() - 1 } else { 0 }];
+                let normal = handle.normal.map(|wanted| {
+                    let now = end_normal(points, at_end);
+                    let wanted = vector(wanted);
+                    if now.norm() == 0.0 || wanted.norm() == 0.0 {
+                        return [wanted.x, wanted.y, wanted.z];
+                    }
+                    let turned = now.normalize() * (1.0 - t) + wanted.normalize() * t;
+                    // Opposite normals half way: no direction between them; keep the wanted one.
+                    let turned = if turned.norm() < 1e-9 { wanted } else { turned };
+                    [turned.x, turned.y, turned.z]
+                });
+                EndHandleSpec {
+                    position: handle.position.map(|p| lerp(here, p)),
+                    normal,
+                }
+            };
+            BendEdit::DragEndHandles {
+                region: *region,
+                start: part(start, false),
+                end: part(end, true),
+            }
+        }
+    })
+}
+
+/// One edit, applied whole or refused. `editor` caches the library's editor of the
+/// starting scene (one bend) across the bisection's attempts.
+fn apply_edit(
+    scene: &BendScene,
+    edit: &BendEdit,
+    editor: &mut Option<BendEditor>,
+) -> Result<BendEditResult, PipelineError> {
+    let region = edited_region(edit);
+    let points = scene_control_points(scene, region)?;
+    if let BendEdit::MoveControlPoint { index, position, .. } = edit {
+        // Any curve with control points: the scene with the point moved, bent as the CLI
+        // bends it (a periodic B-spline's wrapped copies follow in the model).
+        check_index(*index, points.len())?;
+        check_position(*position)?;
+        let mut edited = scene.clone();
+        if let CurveSpec::Bezier { control_points } | CurveSpec::Bspline { control_points, .. } =
+            &mut edited.regions[region].curve
+        {
+            control_points[*index] = *position;
+        }
+        let before = BendModel::from_scene(scene)?.regions[region].curve.length();
+        let attempt = BendModel::from_scene(&edited).and_then(|model| bend(&model).map(|_| model));
+        return Ok(match attempt {
+            Ok(model) => BendEditResult {
+                scene: edited,
+                info: EditInfo {
+                    applied: true,
+                    rejected_because: None,
+                    solver: None,
+                    curve_length_before: before,
+                    curve_length_after: model.regions[region].curve.length(),
+                },
+                moved_fraction: 1.0,
+                stopped_because: None,
+            },
+            Err(e) => BendEditResult {
+                scene: scene.clone(),
+                info: EditInfo {
+                    applied: false,
+                    rejected_because: Some(e.to_string()),
+                    solver: None,
+                    curve_length_before: before,
+                    curve_length_after: before,
+                },
+                moved_fraction: 0.0,
+                stopped_because: None,
+            },
+        });
+    }
+    if !matches!(scene.regions[region].curve, CurveSpec::Bezier { .. }) {
         return Err(edit_error(format!(
-            "region {region}: the editor edits Bézier control curves"
+            "region {region}: the length-preserving drag and the end handles edit Bézier control curves (move its control points instead)"
         )));
     }
-    let vector = |p: [f64; 3]| Vec3::new(p[0], p[1], p[2]);
     let handle = |h: &EndHandleSpec| EndHandle {
         position: h.position.map(vector),
         normal: h.normal.map(vector),
     };
-    let mut editor = BendEditor::new(BendModel::from_scene(scene)?)?;
+    let mut editor = match editor {
+        Some(editor) => editor.clone(),
+        None => editor.insert(BendEditor::new(BendModel::from_scene(scene)?)?).clone(),
+    };
     let info = match edit {
-        BendEdit::MoveControlPoint { index, position, .. } => {
-            editor.move_control_point(region, *index, vector(*position))?
-        }
+        BendEdit::MoveControlPoint { .. } => unreachable!("moved above"),
         BendEdit::DragPreservingLength {
             index,
             position,
@@ -145,7 +396,35 @@ pub fn edit_bend_scene(scene: &BendScene, edit: &BendEdit) -> Result<BendEditRes
             .collect();
         edited.regions[region].curve = CurveSpec::Bezier { control_points: points };
     }
-    Ok(BendEditResult { scene: edited, info })
+    let moved_fraction = if info.applied { 1.0 } else { 0.0 };
+    Ok(BendEditResult {
+        scene: edited,
+        info,
+        moved_fraction,
+        stopped_because: None,
+    })
+}
+
+fn check_index(index: usize, count: usize) -> Result<(), PipelineError> {
+    if index >= count {
+        return Err(edit_error(format!(
+            "control point {index} does not exist (the curve has {count})"
+        )));
+    }
+    Ok(())
+}
+
+fn check_position(p: [f64; 3]) -> Result<(), PipelineError> {
+    if p.iter().all(|c| c.is_finite() && c.abs() <= MAX_EDIT_COORDINATE) {
+        Ok(())
+    } else {
+        Err(edit_error(format!(
+            "a position must be finite and within {MAX_EDIT_COORDINATE:e} of the origin, got ({}, {}, {})",
+            sheetform_geometry::short_number(p[0]),
+            sheetform_geometry::short_number(p[1]),
+            sheetform_geometry::short_number(p[2])
+        )))
+    }
 }
 
 #[cfg(test)]
@@ -227,6 +506,177 @@ mod tests {
             position: [142.0, 9.0, 62.0],
         };
         assert!(edit_bend_scene(&scene, &small).unwrap().info.applied);
+    }
+
+    fn torsion_scene() -> BendScene {
+        BendScene::from_json(
+            r#"{"outline": [[0, -60], [240, -60], [240, 60], [0, 60]], "regions": [{"flat_start": [0, 0],
+            "flat_direction": [1, 0], "curve": {"type": "bezier",
+            "control_points": [[0, 0, 0], [80, 10, 0], [150, -10, 60], [170, 10, 120]]}}]}"#,
+        )
+        .unwrap()
+    }
+
+    fn stopping() -> BendEditOptions {
+        BendEditOptions {
+            stop_at_boundary: true,
+            ..BendEditOptions::default()
+        }
+    }
+
+    /// A move past the admissible set stops at its boundary: the point goes part of the
+    /// way, the shape bends, and a step of the bisection's resolution further is refused.
+    #[test]
+    fn a_move_past_the_boundary_stops_there() {
+        let scene = torsion_scene();
+        let edit = BendEdit::MoveControlPoint {
+            region: 0,
+            index: 2,
+            position: [150.0, -20.0, 60.0],
+        };
+        let result = edit_bend_scene_with(&scene, &edit, &stopping()).unwrap();
+        assert!(result.info.applied);
+        let t = result.moved_fraction;
+        assert!(t > 0.0 && t < 1.0, "moved {t}");
+        assert!(result.stopped_because.as_deref().unwrap_or("").contains("regression"));
+        let CurveSpec::Bezier { control_points } = &result.scene.regions[0].curve else {
+            panic!()
+        };
+        assert!(
+            (control_points[2][1] - (-10.0 - 10.0 * t)).abs() < 1e-12,
+            "{control_points:?}"
+        );
+        assert_eq!(control_points[2][0], 150.0);
+        // Admissible where it stopped, refused one bisection step further.
+        run_bend(
+            &result.scene,
+            &BendRunOptions::default(),
+            &RunContext::new(".").with_outputs(OutputSet::Preview),
+        )
+        .unwrap();
+        let further = edit_part(&scene, &edit, t + 1.0 / 256.0).unwrap();
+        assert!(!edit_bend_scene(&scene, &further).unwrap().info.applied);
+        // Without the option the same edit is refused whole.
+        let refused = edit_bend_scene(&scene, &edit).unwrap();
+        assert!(!refused.info.applied);
+        assert_eq!(refused.moved_fraction, 0.0);
+        // An admissible edit is made whole, stop or not.
+        let small = BendEdit::MoveControlPoint {
+            region: 0,
+            index: 2,
+            position: [142.0, 9.0, 62.0],
+        };
+        assert_eq!(
+            edit_bend_scene_with(&scene, &small, &stopping())
+                .unwrap()
+                .moved_fraction,
+            1.0
+        );
+    }
+
+    /// The desk's legs are B-splines: their control points move (the editor's drags), in
+    /// the curve's plane; a leg pulled far outward stops where its flat segment would
+    /// leave the sheet.
+    #[test]
+    fn b_spline_control_points_move_and_stop_at_the_sheet() {
+        let scene = BendScene::from_json(include_str!("../../../../examples/desk.json")).unwrap();
+        let small = BendEdit::MoveControlPoint {
+            region: 1,
+            index: 3,
+            position: [100.0, 0.0, -110.0],
+        };
+        let result = edit_bend_scene_with(&scene, &small, &stopping()).unwrap();
+        assert!(result.info.applied, "{:?}", result.info.rejected_because);
+        assert_eq!(result.moved_fraction, 1.0);
+        let CurveSpec::Bspline {
+            control_points, degree, ..
+        } = &result.scene.regions[1].curve
+        else {
+            panic!("still a B-spline")
+        };
+        assert_eq!(*degree, 3);
+        assert_eq!(control_points[3], [100.0, 0.0, -110.0]);
+        assert!(result.info.curve_length_after > result.info.curve_length_before);
+        // The last point pulled 2 m outward: the leg would be longer than the sheet.
+        let far = BendEdit::MoveControlPoint {
+            region: 0,
+            index: 5,
+            position: [2130.0, 0.0, -280.0],
+        };
+        assert!(!edit_bend_scene(&scene, &far).unwrap().info.applied);
+        let stopped = edit_bend_scene_with(&scene, &far, &stopping()).unwrap();
+        assert!(stopped.info.applied);
+        assert!(
+            stopped.moved_fraction > 0.0 && stopped.moved_fraction < 0.5,
+            "{}",
+            stopped.moved_fraction
+        );
+        assert!(stopped.stopped_because.is_some());
+    }
+
+    /// A periodic B-spline's first points are wrapped round: moving one moves the closed
+    /// curve, which stays closed.
+    #[test]
+    fn a_closed_curves_point_moves_with_its_wrapped_copy() {
+        let scene = BendScene::from_json(include_str!("../../../../examples/closed-strip.json")).unwrap();
+        let CurveSpec::Bspline { control_points, .. } = &scene.regions[0].curve else {
+            panic!()
+        };
+        let p = control_points[0];
+        let edit = BendEdit::MoveControlPoint {
+            region: 0,
+            index: 0,
+            position: [p[0] * 1.03, p[1] * 1.03, p[2]],
+        };
+        let result = edit_bend_scene_with(&scene, &edit, &stopping()).unwrap();
+        assert!(result.info.applied, "{:?}", result.info.rejected_because);
+        assert!(result.moved_fraction > 0.0);
+        run_bend(
+            &result.scene,
+            &BendRunOptions::default(),
+            &RunContext::new(".").with_outputs(OutputSet::Preview),
+        )
+        .unwrap();
+    }
+
+    /// A stopped end-handle drag turns the normal part of the way, between the present
+    /// normal and the wanted one.
+    #[test]
+    fn an_end_handle_turned_too_far_stops_part_of_the_way() {
+        let scene = rectangle();
+        let CurveSpec::Bezier { control_points } = &scene.regions[0].curve else {
+            panic!()
+        };
+        let now = end_normal(control_points, false).normalize();
+        let wanted = Vec3::new(0.0, 1.0, -0.3).normalize();
+        let edit = BendEdit::DragEndHandles {
+            region: 0,
+            start: EndHandleSpec {
+                position: None,
+                normal: Some([wanted.x, wanted.y, wanted.z]),
+            },
+            end: EndHandleSpec::default(),
+        };
+        let half = edit_part(&scene, &edit, 0.5).unwrap();
+        let BendEdit::DragEndHandles { start, .. } = half else {
+            panic!()
+        };
+        let turned = vector(start.normal.unwrap()).normalize();
+        assert!((turned - (now + wanted).normalize()).norm() < 1e-12);
+        let result = edit_bend_scene_with(&scene, &edit, &stopping()).unwrap();
+        assert!(result.moved_fraction <= 1.0);
+        if result.moved_fraction < 1.0 {
+            assert!(result.stopped_because.is_some());
+        }
+        assert!(edit_bend_scene_with(
+            &scene,
+            &edit,
+            &BendEditOptions {
+                boundary_steps: 31,
+                ..stopping()
+            }
+        )
+        .is_err());
     }
 
     /// End handles: the wanted normals are reached at both ends.
