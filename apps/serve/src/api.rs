@@ -640,7 +640,7 @@ async fn bend_edit(
             ..BendEditOptions::default()
         };
         let result = edit_bend_scene_with(&scene, &edit, &options)?;
-        if !result.info.applied && request.stop_at_boundary {
+        if !result.info.applied && request.stop_at_boundary && edit.is_continuous() {
             // Already at the boundary, and the move leads out at once: nothing moves.
             return Err(ApiError::new(
                 StatusCode::UNPROCESSABLE_ENTITY,

@@ -45,13 +45,25 @@ pub fn svg_bytes(pattern: &Pattern, title: &str, margin_mm: f64) -> Vec<u8> {
         r##"<g id="cut" inkscape:groupmode="layer" inkscape:label="cut" fill="none" stroke="#e00000" stroke-width="0.1">"##
     );
     // Each cut loop names its piece (`data-piece`, the piece's number) and the mesh
-    // pieces it holds (`data-mesh-pieces`): the editor lights them up in 3D.
+    // pieces it holds (`data-mesh-pieces`): the editor lights them up in 3D. Its
+    // `data-flat-transform` is the SVG matrix from the pattern's first layout (the mesh's
+    // flat coordinates in mm) to this drawing: where an editor draws its handles.
     for (k, piece) in pattern.pieces.iter().enumerate() {
         let held: Vec<String> = piece.mesh_pieces.iter().map(u32::to_string).collect();
+        let [a, b, c, d, e, f] = piece.placement.0;
+        let transform = format!(
+            "matrix({} {} {} {} {} {})",
+            short(a),
+            short(-b),
+            short(c),
+            short(-d),
+            short(px(e)),
+            short(py(f))
+        );
         for cycle in &piece.cut {
             let _ = writeln!(
                 s,
-                r#"<path data-piece="{k}" data-mesh-pieces="{}" d="{}"/>"#,
+                r#"<path data-piece="{k}" data-mesh-pieces="{}" data-flat-transform="{transform}" d="{}"/>"#,
                 held.join(" "),
                 path_data([cycle], &px, &py)
             );
@@ -185,6 +197,18 @@ fn write_texture(
 }
 
 /// SVG path data of closed rings (`M … L … Z` each), in the SVG's user space.
+/// A number with up to 6 decimals, trailing zeros dropped (exact for the integers and
+/// the signs of a rotation).
+fn short(x: f64) -> String {
+    let text = format!("{:.6}", if x == 0.0 { 0.0 } else { x });
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    if text == "-0" {
+        "0".into()
+    } else {
+        text.into()
+    }
+}
+
 fn path_data<'a>(
     rings: impl IntoIterator<Item = &'a Vec<Vec2>>,
     px: &impl Fn(f64) -> f64,
@@ -199,4 +223,57 @@ fn path_data<'a>(
     }
     d.truncate(d.trim_end().len());
     d
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{PatternPiece, Placement};
+
+    /// Each cut loop's `data-flat-transform` takes the piece's first layout onto the
+    /// drawing: a square turned a quarter and moved (as packing moves it) is drawn where
+    /// the matrix puts its first-layout corners.
+    #[test]
+    fn the_flat_transform_maps_the_first_layout_onto_the_drawing() {
+        let first = [
+            Vec2::new(0.0, 0.0),
+            Vec2::new(20.0, 0.0),
+            Vec2::new(20.0, 10.0),
+            Vec2::new(0.0, 10.0),
+        ];
+        let placement = Placement([0.0, 1.0, -1.0, 0.0, 50.0, 7.0]);
+        let pattern = Pattern {
+            pieces: vec![PatternPiece {
+                cut: vec![first.iter().map(|p| placement.apply(*p)).collect()],
+                placement,
+                ..Default::default()
+            }],
+            ..Default::default()
+        };
+        let svg = String::from_utf8(svg_bytes(&pattern, "t", 10.0)).unwrap();
+        let path = svg.lines().find(|l| l.contains("data-flat-transform")).unwrap();
+        let field = |name: &str| {
+            let start = path.find(&format!("{name}=\"")).unwrap() + name.len() + 2;
+            path[start..start + path[start..].find('"').unwrap()].to_string()
+        };
+        let m: Vec<f64> = field("data-flat-transform")
+            .trim_start_matches("matrix(")
+            .trim_end_matches(')')
+            .split(' ')
+            .map(|v| v.parse().unwrap())
+            .collect();
+        let drawn: Vec<Vec2> = field("d")
+            .split(' ')
+            .filter(|t| *t != "Z")
+            .map(|t| {
+                let (x, y) = t.trim_start_matches(['M', 'L']).split_once(',').unwrap();
+                Vec2::new(x.parse().unwrap(), y.parse().unwrap())
+            })
+            .collect();
+        assert_eq!(drawn.len(), 4);
+        for (p, q) in first.iter().zip(&drawn) {
+            let mapped = Vec2::new(m[0] * p.x + m[2] * p.y + m[4], m[1] * p.x + m[3] * p.y + m[5]);
+            assert!((mapped - q).norm() < 1e-4, "{mapped:?} vs {q:?}");
+        }
+    }
 }

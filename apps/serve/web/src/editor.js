@@ -726,7 +726,205 @@ function drawPattern(svg) {
     $('pattern').classList.toggle('fit', !fits);
   }
   readableLabels();
+  drawSheetHandles();
 }
+
+// ---------------------------------------------------------------- the flat sheet's handles (bend)
+
+const SVG_NS = 'http://www.w3.org/2000/svg';
+const MM_PER_UNIT = { mm: 1, cm: 10, m: 1000, in: 25.4 };
+
+/** The pattern drawing's matrix from the scene's flat coordinates (model units) to the
+ * SVG's user units: the cut loop's `data-flat-transform` (first layout in mm → drawing)
+ * after the unit's scale. Null without a pattern. */
+function flatMatrix() {
+  const path = $('pattern').querySelector('svg #cut path[data-flat-transform]');
+  if (!path || !state.scene) return null;
+  const [a, b, c, d, e, f] = path.dataset.flatTransform.replace(/[^-\d.e ]/g, ' ').trim().split(/\s+/).map(Number);
+  const k = MM_PER_UNIT[state.scene.units || 'mm'] || 1;
+  return new DOMMatrix([a * k, b * k, c * k, d * k, e, f]);
+}
+
+/** A flat point `[x, y]` of the scene in the drawing's user units. */
+function flatToDrawing(matrix, p) {
+  const q = new DOMPoint(p[0], p[1]).matrixTransform(matrix);
+  return [q.x, q.y];
+}
+
+/** Where the pointer is on the scene's flat sheet (model units). */
+function pointerOnSheet(event) {
+  const svg = $('pattern').querySelector('svg');
+  const matrix = flatMatrix();
+  if (!svg || !matrix) return null;
+  const user = new DOMPoint(event.clientX, event.clientY).matrixTransform(svg.getScreenCTM().inverse());
+  const q = user.matrixTransform(matrix.inverse());
+  return [q.x, q.y];
+}
+
+/** The flat segment of region `k`: its start and its end (the curve's length along its
+ * direction), or null when a flat curve sets where it lies. */
+function flatSegment(scene, k) {
+  const region = scene.regions[k];
+  if (!region.flat_start) return null;
+  const start = region.flat_start;
+  const d = region.flat_direction || (region.flat_end ? [region.flat_end[0] - start[0], region.flat_end[1] - start[1]] : [1, 0]);
+  const norm = Math.hypot(d[0], d[1]) || 1;
+  const lengthMm = state.reply && state.reply.report.regions && state.reply.report.regions[k] && state.reply.report.regions[k].curve_length_mm;
+  const length = (lengthMm || 0) / (MM_PER_UNIT[scene.units || 'mm'] || 1);
+  const u = [d[0] / norm, d[1] / norm];
+  const arc = region.flat_curve && region.flat_curve.type === 'arc' ? region.flat_curve : null;
+  if (!arc) return { start, end: [start[0] + u[0] * length, start[1] + u[1] * length], path: null };
+  // A flat arc (§5) leaves the start along the direction: drawn as the arc, its
+  // direction handle a third of the way along its tangent.
+  const side = arc.turn === 'right' ? -1 : 1;
+  const centre = [start[0] - side * u[1] * arc.radius, start[1] + side * u[0] * arc.radius];
+  const from = Math.atan2(start[1] - centre[1], start[0] - centre[0]);
+  const path = Array.from({ length: 65 }, (_, i) => {
+    const angle = from + (side * (i / 64) * length) / arc.radius;
+    return [centre[0] + arc.radius * Math.cos(angle), centre[1] + arc.radius * Math.sin(angle)];
+  });
+  return { start, end: [start[0] + (u[0] * length) / 3, start[1] + (u[1] * length) / 3], path };
+}
+
+/** Handles on the flat sheet, drawn over the pattern (bend mode): each vertex of the
+ * outline and of the holes (drag it; Shift+click deletes it; double-click an edge to
+ * insert one), and each region's flat segment (blue: drag its start, or its end to turn
+ * it). Every change is an edit of the library's that stops at the boundary of the
+ * admissible shapes. */
+function drawSheetHandles() {
+  const svg = $('pattern').querySelector('svg');
+  const matrix = flatMatrix();
+  if (state.mode !== 'bend' || !svg || !matrix) return;
+  const scene = state.scene;
+  const group = document.createElementNS(SVG_NS, 'g');
+  group.id = 'sheet-handles';
+  const element = (name, attributes) => {
+    const e = document.createElementNS(SVG_NS, name);
+    for (const [k, v] of Object.entries(attributes)) e.setAttribute(k, v);
+    group.appendChild(e);
+    return e;
+  };
+  const loops = [[undefined, scene.outline], ...(scene.holes || []).map((h, k) => [k, h])];
+  for (const [hole, vertices] of loops) {
+    vertices.forEach((p, i) => {
+      const [x1, y1] = flatToDrawing(matrix, p);
+      const [x2, y2] = flatToDrawing(matrix, vertices[(i + 1) % vertices.length]);
+      const edge = element('line', { x1, y1, x2, y2, class: 'sheet-edge', 'data-after': i });
+      if (hole !== undefined) edge.dataset.hole = hole;
+    });
+    vertices.forEach((p, i) => {
+      const [cx, cy] = flatToDrawing(matrix, p);
+      const vertex = element('circle', { cx, cy, r: 1, class: 'sheet-vertex', 'data-index': i });
+      if (hole !== undefined) vertex.dataset.hole = hole;
+    });
+  }
+  scene.regions.forEach((_, k) => {
+    const segment = flatSegment(scene, k);
+    if (!segment) return;
+    const [x1, y1] = flatToDrawing(matrix, segment.start);
+    const [x2, y2] = flatToDrawing(matrix, segment.end);
+    element('line', { x1, y1, x2, y2, class: 'flat-segment' });
+    if (segment.path) element('polyline', { points: segment.path.map((p) => flatToDrawing(matrix, p).join(',')).join(' '), class: 'flat-segment' });
+    element('circle', { cx: x1, cy: y1, r: 1, class: 'flat-handle', 'data-region': k, 'data-what': 'start' });
+    element('circle', { cx: x2, cy: y2, r: 1, class: 'flat-handle', 'data-region': k, 'data-what': 'direction' });
+  });
+  svg.appendChild(group);
+  sizeSheetHandles();
+}
+
+/** Handles 6 screen pixels in radius at any zoom. */
+function sizeSheetHandles() {
+  const r = 6 / patternScale();
+  for (const circle of $('pattern').querySelectorAll('#sheet-handles circle')) circle.setAttribute('r', r.toFixed(4));
+}
+
+let sheetDrag = null; // { edit fields, before, moved }
+
+/** An edit of the flat sheet (or of a parameter) that is not a drag: applied (or
+ * refused) as one step of the history. */
+function editOnce(edit) {
+  const before = JSON.stringify(state.scene);
+  requestSolve(state.scene, performance.now(), edit);
+  window.addEventListener('sheetform-idle', () => {
+    if (JSON.stringify(state.scene) !== before) {
+      state.undo.push(before);
+      state.redo = [];
+      updateHistoryButtons();
+    }
+  }, { once: true });
+}
+
+$('pattern').addEventListener('pointerdown', (event) => {
+  const target = event.target;
+  if (state.mode !== 'bend' || event.button !== 0 || !target.closest || !target.closest('#sheet-handles')) return;
+  const hole = target.dataset.hole === undefined ? null : Number(target.dataset.hole);
+  if (target.classList.contains('sheet-vertex')) {
+    event.preventDefault();
+    if (event.shiftKey) {
+      editOnce({ kind: 'delete_outline_vertex', hole, index: Number(target.dataset.index) });
+      return;
+    }
+    sheetDrag = { kind: 'move_outline_vertex', hole, index: Number(target.dataset.index), handle: target };
+  } else if (target.classList.contains('flat-handle')) {
+    event.preventDefault();
+    sheetDrag = { kind: 'move_flat_segment', region: Number(target.dataset.region), what: target.dataset.what, handle: target };
+  } else {
+    return;
+  }
+  sheetDrag.before = JSON.stringify(state.scene);
+  sheetDrag.moved = false;
+  $('pattern').setPointerCapture(event.pointerId);
+});
+
+$('pattern').addEventListener('pointermove', (event) => {
+  if (!sheetDrag) return;
+  const started = performance.now();
+  const p = pointerOnSheet(event);
+  if (!p) return;
+  sheetDrag.moved = true;
+  if (sheetDrag.kind === 'move_outline_vertex') {
+    requestSolve(state.scene, started, { kind: 'move_outline_vertex', hole: sheetDrag.hole, index: sheetDrag.index, position: p });
+  } else if (sheetDrag.what === 'start') {
+    requestSolve(state.scene, started, { kind: 'move_flat_segment', region: sheetDrag.region, start: p });
+  } else {
+    const { start } = flatSegment(state.scene, sheetDrag.region);
+    requestSolve(state.scene, started, { kind: 'move_flat_segment', region: sheetDrag.region, direction: [p[0] - start[0], p[1] - start[1]] });
+  }
+});
+
+function endSheetDrag(event) {
+  if (!sheetDrag) return;
+  const { before, moved } = sheetDrag;
+  sheetDrag = null;
+  if ($('pattern').hasPointerCapture(event.pointerId)) $('pattern').releasePointerCapture(event.pointerId);
+  const settle = () => {
+    if (moved && JSON.stringify(state.scene) !== before) {
+      state.undo.push(before);
+      state.redo = [];
+      updateHistoryButtons();
+    }
+  };
+  if (state.inFlight) window.addEventListener('sheetform-idle', settle, { once: true });
+  else settle();
+}
+$('pattern').addEventListener('pointerup', endSheetDrag);
+$('pattern').addEventListener('pointercancel', endSheetDrag);
+
+$('pattern').addEventListener('dblclick', (event) => {
+  const target = event.target;
+  if (state.mode !== 'bend' || !target.classList || !target.classList.contains('sheet-edge')) return;
+  const hole = target.dataset.hole === undefined ? null : Number(target.dataset.hole);
+  const after = Number(target.dataset.after);
+  const vertices = hole === null ? state.scene.outline : state.scene.holes[hole];
+  const a = vertices[after];
+  const b = vertices[(after + 1) % vertices.length];
+  const p = pointerOnSheet(event);
+  if (!p) return;
+  // The new vertex on the edge, where it was clicked: the shape does not change.
+  const ab = [b[0] - a[0], b[1] - a[1]];
+  const t = Math.min(1, Math.max(0, ((p[0] - a[0]) * ab[0] + (p[1] - a[1]) * ab[1]) / (ab[0] ** 2 + ab[1] ** 2 || 1)));
+  editOnce({ kind: 'insert_outline_vertex', hole, after, position: [a[0] + t * ab[0], a[1] + t * ab[1]] });
+});
 
 /** Screen pixels per pattern millimetre as drawn now (the drawing keeps its aspect in
  * the svg's box: the smaller of the two ratios). */
@@ -828,8 +1026,9 @@ $('fit').addEventListener('change', (e) => {
   state.fitChosen = true;
   $('pattern').classList.toggle('fit', e.target.checked);
   readableLabels();
+  sizeSheetHandles();
 });
-window.addEventListener('resize', readableLabels);
+window.addEventListener('resize', () => { readableLabels(); sizeSheetHandles(); });
 
 // ---------------------------------------------------------------- status
 
@@ -996,6 +1195,7 @@ async function solveNow(scene, started, edit) {
     // A drag held past the boundary of the admissible shapes: the point stays there.
     state.boundaryStops += 1;
     state.lastError = body.error;
+    fillCurveParameters(state.scene);
     drawHandles(state.scene);
     render();
     showStatus('boundary', `stopped at the edge of what can bend: ${body.error.message}`);
@@ -1015,6 +1215,7 @@ async function solveNow(scene, started, edit) {
     }
     drawHandles(state.scene || scene);
     if (state.mode === 'slit' && state.scene) fillSlitInputs(state.scene);
+    if (state.mode === 'bend') fillCurveParameters(state.scene);
     render();
     const kept = state.scene ? ' — kept the last admissible shape' : '';
     showStatus('refused', `refused (${body.error.kind.replace('_', ' ')}): ${body.error.message}${kept}`);
@@ -1030,6 +1231,7 @@ async function solveNow(scene, started, edit) {
   state.reply = body;
   state.lastError = null;
   if (state.mode === 'slit') fillSlitInputs(scene);
+  if (state.mode === 'bend') fillCurveParameters(scene);
   drawModel(body.model, body.angle_defects_rad);
   drawRegression(body.regression_curves || []);
   drawHandles(scene);
@@ -1566,7 +1768,7 @@ function setMode(mode) {
     ffd: '3D model: drag a purple lattice control point and release it: the panels follow and their developability is restored (Cancel stops it); orbit, pan and zoom elsewhere.',
     mesh: '3D model: each piece of the pattern in its own colour (or the angle defect at each vertex); orbit, pan and zoom; drop a mesh file here.',
     slit: '3D model: drag an orange point of the leg curve or a blue point of the seat curve (each in its own plane); click a grey ridge-line end to anchor it, drag the yellow anchor to pull the strip (shift-click removes it); orbit, pan and zoom elsewhere.',
-    bend: '3D model: drag an orange control point (in end-handle mode: an end, or a green normal tip); orbit, pan and zoom elsewhere. Red: the curve of regression where it comes near the sheet.',
+    bend: '3D model: drag an orange control point (in end-handle mode: an end, or a green normal tip; X, Y, Z lock an axis, Shift the plane across); orbit, pan and zoom elsewhere. Red: the curve of regression where it comes near the sheet. Pattern: drag the sheet\'s orange corners (double-click an edge to add one, Shift+click to delete) and the blue flat segment\'s ends.',
   }[mode];
   fillSelect($('download'), ['Download…', ...DOWNLOADS[mode]]);
   $('download').options[0].value = '';
@@ -1611,6 +1813,55 @@ function clearView(mode) {
 
 // The slit sheet's lengths and strip count (Tsuruta et al. Fig. 2: L1..L4, N).
 const SLIT_INPUTS = { l1: 'l1_width', l2: 'l2_panel_length', l3: 'l3_strip_length', l4: 'l4_slit_width', strips: 'strip_count' };
+
+/** Fields for the analytic curves' parameters (bend mode): each helix's radius, pitch
+ * (rise per turn, `2π` times its rise per radian) and turn (degrees), each flat arc's
+ * radius. A change is an edit that stops at the boundary of the admissible shapes. */
+function fillCurveParameters(scene) {
+  const box = $('curve-parameters');
+  const fields = [];
+  (scene && scene.regions ? scene.regions : []).forEach((region, k) => {
+    const name = region.name || `region ${k}`;
+    const curve = region.curve;
+    if (curve.type === 'helix') {
+      const rise = curve.rise_per_radian || 0;
+      const turn = ((curve.end_angle - (curve.start_angle || 0)) * 180) / Math.PI;
+      fields.push([k, name, 'radius', 'radius', curve.radius, 1]);
+      fields.push([k, name, 'pitch', 'pitch', 2 * Math.PI * rise, 1]);
+      fields.push([k, name, 'turn', 'turn °', turn, 5]);
+    }
+    if (region.flat_curve && region.flat_curve.type === 'arc') fields.push([k, name, 'arc', 'flat arc radius', region.flat_curve.radius, 1]);
+  });
+  box.replaceChildren(...fields.map(([k, name, what, label, value, step]) => {
+    const wrapper = document.createElement('label');
+    wrapper.textContent = `${name} ${label} `;
+    const input = document.createElement('input');
+    Object.assign(input, { type: 'number', step, value: Number(value.toPrecision(6)) });
+    input.dataset.region = k;
+    input.dataset.what = what;
+    wrapper.appendChild(input);
+    return wrapper;
+  }));
+  box.hidden = state.mode !== 'bend' || fields.length === 0;
+}
+
+$('curve-parameters').addEventListener('change', (event) => {
+  const input = event.target;
+  const value = Number(input.value);
+  if (state.mode !== 'bend' || !state.scene || input.value === '' || !Number.isFinite(value)) {
+    fillCurveParameters(state.scene);
+    return;
+  }
+  const region = Number(input.dataset.region);
+  const curve = state.scene.regions[region].curve;
+  const edit = input.dataset.what === 'arc'
+    ? { kind: 'set_flat_arc', region, radius: value }
+    : { kind: 'set_helix', region };
+  if (input.dataset.what === 'radius') edit.radius = value;
+  if (input.dataset.what === 'pitch') edit.rise_per_radian = value / (2 * Math.PI);
+  if (input.dataset.what === 'turn') edit.end_angle = (curve.start_angle || 0) + (value * Math.PI) / 180;
+  editOnce(edit);
+});
 
 function fillSlitInputs(scene) {
   for (const [id, field] of Object.entries(SLIT_INPUTS)) $(id).value = scene.sheet[field];

@@ -920,6 +920,121 @@ try {
     }
   }
 
+  // 10e. The flat sheet in the pattern pane (bend): the outline's vertices and each
+  // region's flat segment as handles drawn where the pattern is cut; a vertex dragged
+  // inward stops where the sheet's edge meets the flat segment's end; a vertex inserted
+  // on an edge (double-click) and deleted (Shift+click); the flat segment turned; each a
+  // step of the history.
+  {
+    const text = readFileSync(join(repository, 'examples/bent-rectangle.json'), 'utf8');
+    await page.evaluate(() => { window.sheetformEditor.state.fitChosen = false; });
+    await answered(() => page.evaluate((t) => window.sheetformEditor.load(t, 'examples/bent-rectangle.json'), text));
+    // The handles sit on the cut outline's corners (the drawing's own coordinates).
+    const corners = await page.evaluate(() => {
+      const svg = document.querySelector('#pattern svg');
+      const d = svg.querySelector('#cut path').getAttribute('d');
+      const cut = d.match(/-?[\d.]+,-?[\d.]+/g).map((p) => p.split(',').map(Number));
+      const handles = [...svg.querySelectorAll('#sheet-handles circle.sheet-vertex')].map((c) => [Number(c.getAttribute('cx')), Number(c.getAttribute('cy'))]);
+      return { cut, handles };
+    });
+    assert.equal(corners.handles.length, 4);
+    for (const h of corners.handles) {
+      assert.ok(corners.cut.some((c) => Math.hypot(c[0] - h[0], c[1] - h[1]) < 1e-3), `handle ${h} on a cut corner: ${JSON.stringify(corners.cut)}`);
+    }
+    const sheetHandle = (selector) => page.evaluate((sel) => {
+      const box = document.querySelector(`#pattern #sheet-handles ${sel}`).getBoundingClientRect();
+      return { x: box.left + box.width / 2, y: box.top + box.height / 2 };
+    }, selector);
+    const scale = await page.evaluate(() => {
+      const svg = document.querySelector('#pattern svg');
+      const box = svg.viewBox.baseVal;
+      const drawn = svg.getBoundingClientRect();
+      return Math.min(drawn.width / box.width, drawn.height / box.height);
+    });
+    // Vertex 2 (240, 60) dragged 140 mm to the left (screen x is the flat x).
+    const length = await page.evaluate(() => window.sheetformEditor.state.reply.report.regions[0].curve_length_mm);
+    const undoBefore = await page.evaluate(() => window.sheetformEditor.state.undo.length);
+    const start = await sheetHandle('circle.sheet-vertex[data-index="2"]');
+    await page.mouse.move(start.x, start.y);
+    await page.mouse.down();
+    for (let k = 1; k <= 7; k++) {
+      await page.mouse.move(start.x - (140 * scale * k) / 7, start.y);
+      await idle();
+    }
+    await page.mouse.up();
+    await idle();
+    const outline = await page.evaluate(() => window.sheetformEditor.state.scene.outline);
+    const boundary = 2 * length - 240;
+    assert.ok(outline[2][0] >= boundary - 1e-6 && outline[2][0] < boundary + 2, `stopped at x = ${outline[2][0]}, the boundary is ${boundary}`);
+    assert.ok(Math.abs(outline[2][1] - 60) < 2 / scale, `${outline[2]}`);
+    assert.equal(await page.getAttribute('#status', 'data-state'), 'boundary');
+    figures.outline_vertex_stop_mm = { x: outline[2][0], boundary };
+    assert.equal(await page.evaluate(() => window.sheetformEditor.state.undo.length), undoBefore + 1, 'one step of the history');
+    await page.screenshot({ path: join(outputDir, 'bend-sheet-outline.png') });
+    // Double-click the bottom edge: a vertex on it (the shape unchanged); Shift+click deletes it.
+    const a = await sheetHandle('circle.sheet-vertex[data-index="0"]');
+    const b = await sheetHandle('circle.sheet-vertex[data-index="1"]');
+    await answered(() => page.mouse.dblclick((a.x + b.x) / 2, (a.y + b.y) / 2));
+    const inserted = await page.evaluate(() => window.sheetformEditor.state.scene.outline);
+    assert.equal(inserted.length, 5, JSON.stringify(inserted));
+    assert.ok(Math.abs(inserted[1][1] + 60) < 1e-9 && Math.abs(inserted[1][0] - 120) < 3 / scale, JSON.stringify(inserted[1]));
+    const middle = await sheetHandle('circle.sheet-vertex[data-index="1"]');
+    await page.keyboard.down('Shift');
+    await answered(() => page.mouse.click(middle.x, middle.y));
+    await page.keyboard.up('Shift');
+    assert.deepEqual(await page.evaluate(() => window.sheetformEditor.state.scene.outline), outline, 'deleted: the outline before');
+    // The flat segment's end dragged up turns it; it stops where its end reaches the
+    // sheet's long edge, at asin(60 / L) from the x axis.
+    await answered(() => page.evaluate((t) => window.sheetformEditor.load(t, 'examples/bent-rectangle.json'), text));
+    const tip = await sheetHandle('circle.flat-handle[data-what="direction"]');
+    await page.mouse.move(tip.x, tip.y);
+    await page.mouse.down();
+    for (let k = 1; k <= 6; k++) {
+      await page.mouse.move(tip.x, tip.y - 30 * scale * k);
+      await idle();
+    }
+    await page.mouse.up();
+    await idle();
+    const region = await page.evaluate(() => window.sheetformEditor.state.scene.regions[0]);
+    const angle = Math.atan2(region.flat_direction[1], region.flat_direction[0]);
+    const edge = Math.asin(60 / length);
+    assert.ok(angle <= edge + 1e-9 && edge - angle < 0.01, `turned by ${angle} rad, the edge at ${edge}: ${await page.textContent('#status')}`);
+    figures.flat_segment_turn_rad = { angle, edge };
+    await page.screenshot({ path: join(outputDir, 'bend-sheet-segment.png') });
+    await page.click('#undo');
+    await idle();
+    assert.deepEqual(await page.evaluate(() => window.sheetformEditor.state.scene.regions[0].flat_direction), [1, 0], 'undo takes the turn back');
+
+    // Parameters as fields: the arc band's helix radius and pitch and its flat arc's
+    // radius; the tube's radius cannot grow past its sheet (the sheet is 2π·40 long):
+    // the change stops there and says why.
+    const arcBand = readFileSync(join(repository, 'examples/arc-band.json'), 'utf8');
+    await answered(() => page.evaluate((t) => window.sheetformEditor.load(t, 'examples/arc-band.json'), arcBand));
+    assert.equal(await page.isVisible('#curve-parameters'), true);
+    const field = (what) => `#curve-parameters input[data-region="0"][data-what="${what}"]`;
+    assert.equal(Number(await page.inputValue(field('radius'))), 40);
+    assert.ok(Math.abs(Number(await page.inputValue(field('pitch'))) - 20 * Math.PI) < 1e-3);
+    await answered(() => page.fill(field('radius'), '44').then(() => page.press(field('radius'), 'Enter')));
+    await answered(() => page.fill(field('pitch'), '70').then(() => page.press(field('pitch'), 'Enter')));
+    await answered(() => page.fill(field('arc'), '66').then(() => page.press(field('arc'), 'Enter')));
+    const band = await page.evaluate(() => window.sheetformEditor.state.scene.regions[0]);
+    assert.equal(band.curve.radius, 44);
+    assert.ok(Math.abs(band.curve.rise_per_radian - 70 / (2 * Math.PI)) < 1e-12);
+    assert.equal(band.flat_curve.radius, 66);
+    const bandLength = await page.evaluate(() => window.sheetformEditor.state.reply.report.regions[0].curve_length_mm);
+    assert.ok(Math.abs(bandLength - Math.hypot(44, 70 / (2 * Math.PI)) * Math.PI / 2) < 1e-6, `${bandLength}`);
+    assert.equal(await page.evaluate(() => window.sheetformEditor.state.undo.length), 3, 'three steps of the history');
+    await page.screenshot({ path: join(outputDir, 'bend-parameters.png') });
+    const tube = readFileSync(join(repository, 'examples/tube.json'), 'utf8');
+    await answered(() => page.evaluate((t) => window.sheetformEditor.load(t, 'examples/tube.json'), tube));
+    await answered(() => page.fill(field('radius'), '45').then(() => page.press(field('radius'), 'Enter')));
+    assert.equal(await page.getAttribute('#status', 'data-state'), 'boundary');
+    assert.match(await page.textContent('#status'), /leaves the sheet/);
+    assert.equal(Number(await page.inputValue(field('radius'))), 40, 'the field shows the radius kept');
+    await answered(() => page.fill(field('radius'), '35').then(() => page.press(field('radius'), 'Enter')));
+    assert.equal(await page.evaluate(() => window.sheetformEditor.state.scene.regions[0].curve.radius), 35);
+  }
+
   // 11. The server: no file outside its directory, hostile requests answered with an
   // error, and it keeps serving.
   for (const path of ['..%2FCargo.toml', '%2Fetc%2Fpasswd', '..%2F..%2Fetc%2Fpasswd']) {

@@ -7,10 +7,10 @@ use super::error::PipelineError;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use sheetform_bend::{
-    bend, BendEditor, BendError, BendModel, BendScene, CurveSpec, EditInfo, EndHandle, EndHandleOptions,
+    bend, BendEditor, BendError, BendModel, BendScene, CurveSpec, EditInfo, EndHandle, EndHandleOptions, FlatCurveSpec,
     LengthPreservation, MAX_EDIT_COORDINATE,
 };
-use sheetform_geometry::Vec3;
+use sheetform_geometry::{Vec2, Vec3};
 
 /// How a length-preserving drag restores the curve's length (§4.1.3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
@@ -73,6 +73,97 @@ pub enum BendEdit {
         #[serde(default)]
         end: EndHandleSpec,
     },
+    /// Move a vertex of the sheet's outline (or of a hole) on the flat sheet.
+    MoveOutlineVertex {
+        /// The hole whose vertex moves (absent: the outline).
+        #[serde(default)]
+        hole: Option<usize>,
+        /// Vertex index.
+        index: usize,
+        /// New position `[x, y]` on the flat sheet.
+        position: [f64; 2],
+    },
+    /// Insert a vertex into the outline (or a hole) after vertex `after`.
+    InsertOutlineVertex {
+        /// The hole (absent: the outline).
+        #[serde(default)]
+        hole: Option<usize>,
+        /// The new vertex follows this one.
+        after: usize,
+        /// Its position `[x, y]` on the flat sheet.
+        position: [f64; 2],
+    },
+    /// Delete a vertex of the outline (or of a hole); three must remain.
+    DeleteOutlineVertex {
+        /// The hole (absent: the outline).
+        #[serde(default)]
+        hole: Option<usize>,
+        /// Vertex index.
+        index: usize,
+    },
+    /// Move a region's flat geodesic segment on the sheet: its start, its direction, or
+    /// both (its length stays the curve's). `flat_end` gives way to `flat_direction`.
+    MoveFlatSegment {
+        /// Region index.
+        region: usize,
+        /// New start `[x, y]` (absent: kept).
+        #[serde(default)]
+        start: Option<[f64; 2]>,
+        /// New direction `[x, y]`, any length but zero (absent: kept).
+        #[serde(default)]
+        direction: Option<[f64; 2]>,
+    },
+    /// Change a helix (or circle) control curve's parameters; each one absent is kept.
+    SetHelix {
+        /// Region index.
+        region: usize,
+        /// Radius (model units, positive).
+        #[serde(default)]
+        radius: Option<f64>,
+        /// Rise along the axis per radian (the pitch is `2π` times it; 0: a circle).
+        #[serde(default)]
+        rise_per_radian: Option<f64>,
+        /// Start angle (radians).
+        #[serde(default)]
+        start_angle: Option<f64>,
+        /// End angle (radians).
+        #[serde(default)]
+        end_angle: Option<f64>,
+    },
+    /// Change the radius of a region's flat arc (a non-geodesic control curve, §5).
+    SetFlatArc {
+        /// Region index.
+        region: usize,
+        /// The arc's radius on the flat sheet (model units, positive).
+        radius: f64,
+    },
+}
+
+impl BendEdit {
+    /// The region whose curve the edit changes or follows (none for the outline's edits,
+    /// whose [`EditInfo`] curve lengths are 0).
+    pub fn region(&self) -> Option<usize> {
+        match self {
+            BendEdit::MoveControlPoint { region, .. }
+            | BendEdit::DragPreservingLength { region, .. }
+            | BendEdit::DragEndHandles { region, .. }
+            | BendEdit::MoveFlatSegment { region, .. }
+            | BendEdit::SetHelix { region, .. }
+            | BendEdit::SetFlatArc { region, .. } => Some(*region),
+            BendEdit::MoveOutlineVertex { .. }
+            | BendEdit::InsertOutlineVertex { .. }
+            | BendEdit::DeleteOutlineVertex { .. } => None,
+        }
+    }
+
+    /// The edit can be made part of the way (a move, a turn, a change of number); an
+    /// insertion or a deletion cannot, and is made whole or refused.
+    pub fn is_continuous(&self) -> bool {
+        !matches!(
+            self,
+            BendEdit::InsertOutlineVertex { .. } | BendEdit::DeleteOutlineVertex { .. }
+        )
+    }
 }
 
 /// What an edit gave.
@@ -159,7 +250,7 @@ pub fn edit_bend_scene_with(
     }
     let mut editor = None;
     let whole = apply_edit(scene, edit, &mut editor)?;
-    if whole.info.applied || !options.stop_at_boundary {
+    if whole.info.applied || !options.stop_at_boundary || !edit.is_continuous() {
         return Ok(whole);
     }
     // The start must be admissible for the bisection to mean anything.
@@ -194,14 +285,6 @@ pub fn edit_bend_scene_with(
 
 fn edit_error(message: String) -> PipelineError {
     PipelineError::Bend(BendError::Edit { message })
-}
-
-fn edited_region(edit: &BendEdit) -> usize {
-    match edit {
-        BendEdit::MoveControlPoint { region, .. }
-        | BendEdit::DragPreservingLength { region, .. }
-        | BendEdit::DragEndHandles { region, .. } => *region,
-    }
 }
 
 /// The control points of `region`'s curve in the scene (Bézier or B-spline; a periodic
@@ -241,7 +324,82 @@ fn end_normal(points: &[[f64; 3]], at_end: bool) -> Vec3 {
 /// `edit` made the fraction `t` of the way from `scene`'s state.
 fn edit_part(scene: &BendScene, edit: &BendEdit, t: f64) -> Result<BendEdit, PipelineError> {
     let lerp = |from: [f64; 3], to: [f64; 3]| std::array::from_fn(|a| from[a] + t * (to[a] - from[a]));
-    let points = scene_control_points(scene, edited_region(edit))?;
+    let lerp2 = |from: [f64; 2], to: [f64; 2]| std::array::from_fn(|a| from[a] + t * (to[a] - from[a]));
+    let number = |from: f64, to: Option<f64>| to.map(|to| from + t * (to - from));
+    match edit {
+        BendEdit::MoveOutlineVertex { hole, index, position } => {
+            let vertex = outline_loop(scene, *hole)?
+                .get(*index)
+                .copied()
+                .ok_or_else(|| edit_error(no_vertex(*hole, *index, outline_loop(scene, *hole).map_or(0, Vec::len))))?;
+            return Ok(BendEdit::MoveOutlineVertex {
+                hole: *hole,
+                index: *index,
+                position: lerp2(vertex, *position),
+            });
+        }
+        BendEdit::InsertOutlineVertex { .. } | BendEdit::DeleteOutlineVertex { .. } => return Ok(edit.clone()),
+        BendEdit::MoveFlatSegment {
+            region,
+            start,
+            direction,
+        } => {
+            let (here, heading) = flat_segment(scene, *region)?;
+            let direction = direction.map(|wanted| {
+                let (now, wanted) = (Vec2::from(heading).normalize(), Vec2::from(wanted));
+                if wanted.norm() == 0.0 {
+                    return [0.0, 0.0];
+                }
+                let turned = now * (1.0 - t) + wanted.normalize() * t;
+                // Opposite directions half way: no direction between them; keep the wanted one.
+                let turned = if turned.norm() < 1e-9 { wanted } else { turned };
+                [turned.x, turned.y]
+            });
+            return Ok(BendEdit::MoveFlatSegment {
+                region: *region,
+                start: start.map(|p| lerp2(here, p)),
+                direction,
+            });
+        }
+        BendEdit::SetHelix {
+            region,
+            radius,
+            rise_per_radian,
+            start_angle,
+            end_angle,
+        } => {
+            let Some(CurveSpec::Helix {
+                radius: r,
+                rise_per_radian: c,
+                start_angle: a,
+                end_angle: b,
+                ..
+            }) = scene.regions.get(*region).map(|spec| &spec.curve)
+            else {
+                return Err(edit_error(format!("region {region} has no helix")));
+            };
+            return Ok(BendEdit::SetHelix {
+                region: *region,
+                radius: number(*r, *radius),
+                rise_per_radian: number(*c, *rise_per_radian),
+                start_angle: number(*a, *start_angle),
+                end_angle: number(*b, *end_angle),
+            });
+        }
+        BendEdit::SetFlatArc { region, radius } => {
+            let Some(Some(FlatCurveSpec::Arc { radius: r, .. })) =
+                scene.regions.get(*region).map(|spec| spec.flat_curve.as_ref())
+            else {
+                return Err(edit_error(format!("region {region} has no flat arc")));
+            };
+            return Ok(BendEdit::SetFlatArc {
+                region: *region,
+                radius: r + t * (radius - r),
+            });
+        }
+        _ => {}
+    }
+    let points = scene_control_points(scene, edit.region().unwrap_or(0))?;
     let at = |index: usize| {
         points.get(index).copied().ok_or_else(|| {
             edit_error(format!(
@@ -302,6 +460,204 @@ fn edit_part(scene: &BendScene, edit: &BendEdit, t: f64) -> Result<BendEdit, Pip
                 end: part(end, true),
             }
         }
+        _ => unreachable!("the scene's own edits are made part of the way above"),
+    })
+}
+
+/// The outline (`hole` absent) or a hole of the scene.
+fn outline_loop(scene: &BendScene, hole: Option<usize>) -> Result<&Vec<[f64; 2]>, PipelineError> {
+    match hole {
+        None => Ok(&scene.outline),
+        Some(h) => scene
+            .holes
+            .get(h)
+            .ok_or_else(|| edit_error(format!("no hole {h} (the sheet has {})", scene.holes.len()))),
+    }
+}
+
+fn no_vertex(hole: Option<usize>, index: usize, count: usize) -> String {
+    match hole {
+        None => format!("the outline has no vertex {index} (it has {count})"),
+        Some(h) => format!("hole {h} has no vertex {index} (it has {count})"),
+    }
+}
+
+/// A region's flat segment: its start and direction on the sheet.
+fn flat_segment(scene: &BendScene, region: usize) -> Result<([f64; 2], [f64; 2]), PipelineError> {
+    let spec = scene
+        .regions
+        .get(region)
+        .ok_or_else(|| edit_error(format!("no region {region} (the scene has {})", scene.regions.len())))?;
+    let Some(start) = spec.flat_start else {
+        return Err(edit_error(format!(
+            "region {region} has no flat segment to move (its flat curve sets where it lies)"
+        )));
+    };
+    let direction = match (spec.flat_direction, spec.flat_end) {
+        (Some(d), _) => d,
+        (None, Some(end)) => [end[0] - start[0], end[1] - start[1]],
+        (None, None) => [1.0, 0.0],
+    };
+    Ok((start, direction))
+}
+
+fn check_position2(p: [f64; 2]) -> Result<(), PipelineError> {
+    check_position([p[0], p[1], 0.0])
+}
+
+/// The scene with one of its own edits made (the outline's, a flat segment's, a helix's):
+/// not yet checked for admissibility.
+fn edited_scene(scene: &BendScene, edit: &BendEdit) -> Result<BendScene, PipelineError> {
+    let mut edited = scene.clone();
+    match edit {
+        BendEdit::MoveOutlineVertex { hole, index, position } => {
+            check_position2(*position)?;
+            let vertices = loop_mut(&mut edited, scene, *hole)?;
+            let count = vertices.len();
+            *vertices
+                .get_mut(*index)
+                .ok_or_else(|| edit_error(no_vertex(*hole, *index, count)))? = *position;
+        }
+        BendEdit::InsertOutlineVertex { hole, after, position } => {
+            check_position2(*position)?;
+            let vertices = loop_mut(&mut edited, scene, *hole)?;
+            if *after >= vertices.len() {
+                return Err(edit_error(no_vertex(*hole, *after, vertices.len())));
+            }
+            if vertices.len() >= MAX_OUTLINE_VERTICES {
+                return Err(edit_error(format!(
+                    "a loop of the sheet has at most {MAX_OUTLINE_VERTICES} vertices"
+                )));
+            }
+            vertices.insert(after + 1, *position);
+        }
+        BendEdit::DeleteOutlineVertex { hole, index } => {
+            let vertices = loop_mut(&mut edited, scene, *hole)?;
+            if *index >= vertices.len() {
+                return Err(edit_error(no_vertex(*hole, *index, vertices.len())));
+            }
+            if vertices.len() <= 3 {
+                return Err(edit_error(
+                    "a loop of the sheet keeps at least 3 vertices (delete the hole instead)".into(),
+                ));
+            }
+            vertices.remove(*index);
+        }
+        BendEdit::MoveFlatSegment {
+            region,
+            start,
+            direction,
+        } => {
+            let (here, heading) = flat_segment(scene, *region)?;
+            let start = start.unwrap_or(here);
+            check_position2(start)?;
+            let direction = direction.unwrap_or(heading);
+            check_position2(direction)?;
+            if direction == [0.0, 0.0] {
+                return Err(edit_error(format!(
+                    "region {region}: a flat direction cannot be the zero vector"
+                )));
+            }
+            let spec = &mut edited.regions[*region];
+            spec.flat_start = Some(start);
+            spec.flat_direction = Some(direction);
+            spec.flat_end = None;
+        }
+        BendEdit::SetHelix {
+            region,
+            radius,
+            rise_per_radian,
+            start_angle,
+            end_angle,
+        } => {
+            for (name, value) in [
+                ("radius", radius),
+                ("rise_per_radian", rise_per_radian),
+                ("start_angle", start_angle),
+                ("end_angle", end_angle),
+            ] {
+                if let Some(v) = value {
+                    if !v.is_finite() || v.abs() > MAX_EDIT_COORDINATE {
+                        return Err(edit_error(format!(
+                            "{name} must be finite and at most {MAX_EDIT_COORDINATE:e} in size, got {v}"
+                        )));
+                    }
+                }
+            }
+            let Some(CurveSpec::Helix {
+                radius: r,
+                rise_per_radian: c,
+                start_angle: a,
+                end_angle: b,
+                ..
+            }) = edited.regions.get_mut(*region).map(|spec| &mut spec.curve)
+            else {
+                return Err(edit_error(format!("region {region} has no helix")));
+            };
+            for (field, value) in [(r, radius), (c, rise_per_radian), (a, start_angle), (b, end_angle)] {
+                if let Some(v) = value {
+                    *field = *v;
+                }
+            }
+            // The flat segment's length follows the curve's.
+            free_flat_length(&mut edited.regions[*region]);
+        }
+        BendEdit::SetFlatArc { region, radius } => {
+            if !radius.is_finite() || radius.abs() > MAX_EDIT_COORDINATE {
+                return Err(edit_error(format!(
+                    "radius must be finite and at most {MAX_EDIT_COORDINATE:e}, got {radius}"
+                )));
+            }
+            let Some(Some(FlatCurveSpec::Arc { radius: r, .. })) =
+                edited.regions.get_mut(*region).map(|spec| spec.flat_curve.as_mut())
+            else {
+                return Err(edit_error(format!("region {region} has no flat arc")));
+            };
+            *r = *radius;
+        }
+        BendEdit::MoveControlPoint {
+            region,
+            index,
+            position,
+        } => {
+            check_position(*position)?;
+            let count = scene_control_points(scene, *region)?.len();
+            check_index(*index, count)?;
+            if let CurveSpec::Bezier { control_points } | CurveSpec::Bspline { control_points, .. } =
+                &mut edited.regions[*region].curve
+            {
+                control_points[*index] = *position;
+            }
+            free_flat_length(&mut edited.regions[*region]);
+        }
+        BendEdit::DragPreservingLength { .. } | BendEdit::DragEndHandles { .. } => {
+            unreachable!("solved by the library's editor")
+        }
+    }
+    Ok(edited)
+}
+
+/// A region's flat segment given by its end becomes one given by its direction, so that
+/// its length follows the curve's when the curve changes.
+fn free_flat_length(spec: &mut sheetform_bend::CurvedRegionSpec) {
+    if let (Some(start), Some(end), None) = (spec.flat_start, spec.flat_end, spec.flat_direction) {
+        spec.flat_direction = Some([end[0] - start[0], end[1] - start[1]]);
+        spec.flat_end = None;
+    }
+}
+
+/// The most vertices a loop of the sheet may reach by insertions in the editor.
+pub const MAX_OUTLINE_VERTICES: usize = 10_000;
+
+fn loop_mut<'a>(
+    edited: &'a mut BendScene,
+    scene: &BendScene,
+    hole: Option<usize>,
+) -> Result<&'a mut Vec<[f64; 2]>, PipelineError> {
+    outline_loop(scene, hole)?;
+    Ok(match hole {
+        None => &mut edited.outline,
+        Some(h) => &mut edited.holes[h],
     })
 }
 
@@ -312,20 +668,15 @@ fn apply_edit(
     edit: &BendEdit,
     editor: &mut Option<BendEditor>,
 ) -> Result<BendEditResult, PipelineError> {
-    let region = edited_region(edit);
-    let points = scene_control_points(scene, region)?;
-    if let BendEdit::MoveControlPoint { index, position, .. } = edit {
-        // Any curve with control points: the scene with the point moved, bent as the CLI
-        // bends it (a periodic B-spline's wrapped copies follow in the model).
-        check_index(*index, points.len())?;
-        check_position(*position)?;
-        let mut edited = scene.clone();
-        if let CurveSpec::Bezier { control_points } | CurveSpec::Bspline { control_points, .. } =
-            &mut edited.regions[region].curve
-        {
-            control_points[*index] = *position;
-        }
-        let before = BendModel::from_scene(scene)?.regions[region].curve.length();
+    if !matches!(
+        edit,
+        BendEdit::DragPreservingLength { .. } | BendEdit::DragEndHandles { .. }
+    ) {
+        // The scene's own edits: the scene changed, bent as the CLI bends it (a periodic
+        // B-spline's wrapped copies follow in the model).
+        let edited = edited_scene(scene, edit)?;
+        let length = |model: &BendModel| edit.region().map_or(0.0, |r| model.regions[r].curve.length());
+        let before = length(&BendModel::from_scene(scene)?);
         let attempt = BendModel::from_scene(&edited).and_then(|model| bend(&model).map(|_| model));
         return Ok(match attempt {
             Ok(model) => BendEditResult {
@@ -335,7 +686,7 @@ fn apply_edit(
                     rejected_because: None,
                     solver: None,
                     curve_length_before: before,
-                    curve_length_after: model.regions[region].curve.length(),
+                    curve_length_after: length(&model),
                 },
                 moved_fraction: 1.0,
                 stopped_because: None,
@@ -354,6 +705,8 @@ fn apply_edit(
             },
         });
     }
+    let region = edit.region().unwrap_or(0);
+    scene_control_points(scene, region)?;
     if !matches!(scene.regions[region].curve, CurveSpec::Bezier { .. }) {
         return Err(edit_error(format!(
             "region {region}: the length-preserving drag and the end handles edit Bézier control curves (move its control points instead)"
@@ -368,7 +721,6 @@ fn apply_edit(
         None => editor.insert(BendEditor::new(BendModel::from_scene(scene)?)?).clone(),
     };
     let info = match edit {
-        BendEdit::MoveControlPoint { .. } => unreachable!("moved above"),
         BendEdit::DragPreservingLength {
             index,
             position,
@@ -384,6 +736,7 @@ fn apply_edit(
         BendEdit::DragEndHandles { start, end, .. } => {
             editor.drag_end_handles(region, handle(start), handle(end), &EndHandleOptions::default())?
         }
+        _ => unreachable!("the scene's own edits are made above"),
     };
     let mut edited = scene.clone();
     if info.applied {
@@ -395,6 +748,7 @@ fn apply_edit(
             .map(|p| [p.x, p.y, p.z])
             .collect();
         edited.regions[region].curve = CurveSpec::Bezier { control_points: points };
+        free_flat_length(&mut edited.regions[region]);
     }
     let moved_fraction = if info.applied { 1.0 } else { 0.0 };
     Ok(BendEditResult {
@@ -677,6 +1031,178 @@ mod tests {
             }
         )
         .is_err());
+    }
+
+    fn curve_length(scene: &BendScene, region: usize) -> f64 {
+        BendModel::from_scene(scene).unwrap().regions[region].curve.length()
+    }
+
+    /// An outline vertex dragged inward stops where the sheet's edge meets the end of the
+    /// flat segment: the right edge from (240, −60) to (X, 60) crosses y = 0 at
+    /// `(240 + X)/2`, which must stay past the segment's end at `L` (the curve's length),
+    /// so the stop is at `X = 2L − 240`.
+    #[test]
+    fn an_outline_vertex_stops_where_the_edge_meets_the_flat_segment() {
+        let scene = rectangle();
+        let length = curve_length(&scene, 0);
+        let edit = BendEdit::MoveOutlineVertex {
+            hole: None,
+            index: 2,
+            position: [100.0, 60.0],
+        };
+        assert!(!edit_bend_scene(&scene, &edit).unwrap().info.applied);
+        let stopped = edit_bend_scene_with(&scene, &edit, &stopping()).unwrap();
+        assert!(stopped.info.applied);
+        let x = stopped.scene.outline[2][0];
+        let expected = 2.0 * length - 240.0;
+        assert!(
+            x >= expected - 1e-9 && x - expected < 140.0 / 256.0,
+            "stopped at {x}, boundary {expected}"
+        );
+        assert_eq!(stopped.scene.outline[2][1], 60.0);
+        // Outward it is made whole.
+        let outward = BendEdit::MoveOutlineVertex {
+            hole: None,
+            index: 2,
+            position: [300.0, 80.0],
+        };
+        let result = edit_bend_scene_with(&scene, &outward, &stopping()).unwrap();
+        assert_eq!(result.moved_fraction, 1.0);
+        assert_eq!(result.scene.outline[2], [300.0, 80.0]);
+        assert_eq!(result.info.curve_length_before, 0.0, "an outline edit changes no curve");
+    }
+
+    /// A vertex inserted on an edge changes nothing of the shape; deleted, the scene is
+    /// the one before; a loop keeps three vertices; holes are edited as the outline.
+    #[test]
+    fn outline_vertices_are_inserted_and_deleted() {
+        let scene = rectangle();
+        let insert = BendEdit::InsertOutlineVertex {
+            hole: None,
+            after: 1,
+            position: [240.0, 0.0],
+        };
+        let inserted = edit_bend_scene_with(&scene, &insert, &stopping()).unwrap();
+        assert!(inserted.info.applied);
+        assert_eq!(inserted.scene.outline.len(), 5);
+        assert_eq!(inserted.scene.outline[2], [240.0, 0.0]);
+        let deleted =
+            edit_bend_scene(&inserted.scene, &BendEdit::DeleteOutlineVertex { hole: None, index: 2 }).unwrap();
+        assert_eq!(deleted.scene, scene);
+        let mut triangle = scene.clone();
+        triangle.outline.pop();
+        let e = edit_bend_scene(&triangle, &BendEdit::DeleteOutlineVertex { hole: None, index: 0 }).unwrap_err();
+        assert!(e.to_string().contains("at least 3"), "{e}");
+        let e = edit_bend_scene(&scene, &BendEdit::DeleteOutlineVertex { hole: None, index: 9 }).unwrap_err();
+        assert!(e.to_string().contains("no vertex 9"), "{e}");
+        let holed = BendScene::from_json(include_str!("../../../../examples/sheet-with-hole.json")).unwrap();
+        let hole = &holed.holes[0];
+        let c = [0, 1].map(|a| hole.iter().map(|p| p[a]).sum::<f64>() / hole.len() as f64);
+        let p = hole[0];
+        let smaller = BendEdit::MoveOutlineVertex {
+            hole: Some(0),
+            index: 0,
+            position: [c[0] + 0.9 * (p[0] - c[0]), c[1] + 0.9 * (p[1] - c[1])],
+        };
+        let result = edit_bend_scene_with(&holed, &smaller, &stopping()).unwrap();
+        assert!(result.info.applied, "{:?}", result.info.rejected_because);
+        let e = edit_bend_scene(
+            &holed,
+            &BendEdit::MoveOutlineVertex {
+                hole: Some(3),
+                index: 0,
+                position: [0.0, 0.0],
+            },
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("no hole 3"), "{e}");
+    }
+
+    /// The flat segment turned toward the sheet's long edge stops where its end reaches
+    /// that edge: the direction at angle `asin(60 / L)` (the edge at y = 60).
+    #[test]
+    fn a_flat_segment_turned_too_far_stops_at_the_edge() {
+        let scene = rectangle();
+        let length = curve_length(&scene, 0);
+        let moved = edit_bend_scene_with(
+            &scene,
+            &BendEdit::MoveFlatSegment {
+                region: 0,
+                start: Some([10.0, 5.0]),
+                direction: None,
+            },
+            &stopping(),
+        )
+        .unwrap();
+        assert_eq!(moved.moved_fraction, 1.0);
+        assert_eq!(moved.scene.regions[0].flat_start, Some([10.0, 5.0]));
+        let turn = BendEdit::MoveFlatSegment {
+            region: 0,
+            start: None,
+            direction: Some([0.0, 1.0]),
+        };
+        let stopped = edit_bend_scene_with(&scene, &turn, &stopping()).unwrap();
+        assert!(stopped.info.applied && stopped.moved_fraction < 1.0);
+        let d = stopped.scene.regions[0].flat_direction.unwrap();
+        let angle = d[1].atan2(d[0]);
+        let boundary = (60.0 / length).asin();
+        // Bisection on the nlerp fraction t: the angle is atan(t / (1 − t)).
+        let t = stopped.moved_fraction;
+        let resolution = ((t + 1.0 / 256.0) / (1.0 - t - 1.0 / 256.0)).atan() - (t / (1.0 - t)).atan();
+        assert!(
+            angle <= boundary + 1e-9 && boundary - angle < resolution,
+            "{angle} vs {boundary}"
+        );
+    }
+
+    /// A helix's radius and rise, and a flat arc's radius, change; the arc band's flat arc
+    /// follows the helix's length.
+    #[test]
+    fn helix_and_flat_arc_parameters_change() {
+        let scene = BendScene::from_json(include_str!("../../../../examples/arc-band.json")).unwrap();
+        let before = curve_length(&scene, 0);
+        let edit = BendEdit::SetHelix {
+            region: 0,
+            radius: Some(42.0),
+            rise_per_radian: Some(11.0),
+            start_angle: None,
+            end_angle: None,
+        };
+        let result = edit_bend_scene_with(&scene, &edit, &stopping()).unwrap();
+        assert!(result.info.applied, "{:?}", result.info.rejected_because);
+        let (r, c) = (42.0_f64, 11.0_f64);
+        let expected = (r * r + c * c).sqrt() * std::f64::consts::FRAC_PI_2;
+        assert!(
+            (result.info.curve_length_after - expected).abs() < 1e-9 * expected,
+            "{}",
+            result.info.curve_length_after
+        );
+        assert!((result.info.curve_length_before - before).abs() < 1e-12);
+        let arc = BendEdit::SetFlatArc {
+            region: 0,
+            radius: 64.0,
+        };
+        let result = edit_bend_scene_with(&scene, &arc, &stopping()).unwrap();
+        assert!(result.info.applied, "{:?}", result.info.rejected_because);
+        let Some(FlatCurveSpec::Arc { radius, .. }) = &result.scene.regions[0].flat_curve else {
+            panic!()
+        };
+        assert_eq!(*radius, 64.0);
+        let e = edit_bend_scene(
+            &scene,
+            &BendEdit::SetHelix {
+                region: 0,
+                radius: Some(f64::NAN),
+                rise_per_radian: None,
+                start_angle: None,
+                end_angle: None,
+            },
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("radius must be finite"), "{e}");
+        let rectangle = rectangle();
+        let e = edit_bend_scene(&rectangle, &arc).unwrap_err();
+        assert!(e.to_string().contains("no flat arc"), "{e}");
     }
 
     /// End handles: the wanted normals are reached at both ends.
