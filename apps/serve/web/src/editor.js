@@ -856,7 +856,7 @@ function editOnce(edit) {
 
 $('pattern').addEventListener('pointerdown', (event) => {
   const target = event.target;
-  if (state.mode !== 'bend' || event.button !== 0 || !target.closest || !target.closest('#sheet-handles')) return;
+  if (addingBend || state.mode !== 'bend' || event.button !== 0 || !target.closest || !target.closest('#sheet-handles')) return;
   const hole = target.dataset.hole === undefined ? null : Number(target.dataset.hole);
   if (target.classList.contains('sheet-vertex')) {
     event.preventDefault();
@@ -867,6 +867,16 @@ $('pattern').addEventListener('pointerdown', (event) => {
     sheetDrag = { kind: 'move_outline_vertex', hole, index: Number(target.dataset.index), handle: target };
   } else if (target.classList.contains('flat-handle')) {
     event.preventDefault();
+    if (event.shiftKey && target.dataset.what === 'start') {
+      const scene = structuredClone(latestScene());
+      if (scene.regions.length < 2) {
+        showStatus('refused', 'a bend sheet keeps at least one curved region');
+        return;
+      }
+      scene.regions.splice(Number(target.dataset.region), 1);
+      commit(scene);
+      return;
+    }
     sheetDrag = { kind: 'move_flat_segment', region: Number(target.dataset.region), what: target.dataset.what, handle: target };
   } else {
     return;
@@ -924,6 +934,100 @@ $('pattern').addEventListener('dblclick', (event) => {
   const ab = [b[0] - a[0], b[1] - a[1]];
   const t = Math.min(1, Math.max(0, ((p[0] - a[0]) * ab[0] + (p[1] - a[1]) * ab[1]) / (ab[0] ** 2 + ab[1] ** 2 || 1)));
   editOnce({ kind: 'insert_outline_vertex', hole, after, position: [a[0] + t * ab[0], a[1] + t * ab[1]] });
+});
+
+// ---------------------------------------------------------------- new designs
+
+/** The length of a Bézier curve (control points `[x, y, z]`), by 512 chords. */
+function bezierLength(points) {
+  const at = (t) => {
+    let p = points.map((q) => [...q]);
+    while (p.length > 1) p = p.slice(1).map((q, i) => q.map((x, a) => (1 - t) * p[i][a] + t * x));
+    return p[0];
+  };
+  let length = 0;
+  let last = at(0);
+  for (let i = 1; i <= 512; i++) {
+    const next = at(i / 512);
+    length += Math.hypot(next[0] - last[0], next[1] - last[1], next[2] - last[2]);
+    last = next;
+  }
+  return length;
+}
+
+/** A planar curl `length` long (the curve's own frame: it leaves the origin along +x and
+ * rises in the xz plane), to reshape: the curve of a new bend. */
+function planarCurl(length) {
+  const shape = [[0, 0, 0], [70, 0, 0], [130, 0, 20], [170, 0, 80]];
+  const k = length / bezierLength(shape);
+  return shape.map((p) => p.map((x) => Math.round(x * k * 1e6) / 1e6));
+}
+
+/** The slit templates (the bundled examples' designs, Tsuruta et al.). */
+const SLIT_TEMPLATES = {
+  chair: {
+    name: 'chair', units: 'mm',
+    sheet: { l1_width: 420, l2_panel_length: 430, l3_strip_length: 300, l4_slit_width: 6, strip_count: 6, quads_per_strip: 10 },
+    leg_curve: { control_points: [[350, 0], [315, 240], [240, 445]] },
+    seat_curve: { control_points: [[0, 360], [140, 300], [300, 330], [420, 470]] },
+  },
+  bench: {
+    name: 'bench', units: 'mm',
+    sheet: { l1_width: 360, l2_panel_length: 380, l3_strip_length: 420, l4_slit_width: 5, strip_count: 4, quads_per_strip: 10 },
+    leg_curve: { control_points: [[410, 0], [395, 200], [360, 395]] },
+    seat_curve: { control_points: [[0, 330], [180, 322], [360, 330]] },
+  },
+};
+
+/** A new bend sheet: a 240 × 120 mm rectangle bent by one planar curl along its middle,
+ * every part of it to reshape (the sheet's corners, the flat segment, the curve). */
+function newBendScene() {
+  return {
+    name: 'new sheet',
+    units: 'mm',
+    outline: [[0, -60], [240, -60], [240, 60], [0, 60]],
+    regions: [{ name: 'bend 1', flat_start: [20, 0], flat_direction: [1, 0], curve: { type: 'bezier', control_points: planarCurl(180) } }],
+  };
+}
+
+$('new-design').addEventListener('click', () => {
+  const scene = state.mode === 'slit' ? structuredClone(SLIT_TEMPLATES[$('slit-template').value]) : newBendScene();
+  // An unsaved design: Save asks where it goes.
+  load(JSON.stringify(scene, null, 2), null);
+});
+
+/** Adding a bend: the first click on the pattern is its flat segment's start. */
+let addingBend = null;
+
+$('add-bend').addEventListener('click', () => {
+  if (state.mode !== 'bend' || !state.scene) return;
+  addingBend = { start: null };
+  $('pattern').classList.add('adding');
+  showStatus('busy', 'a new bend: click on the pattern where its flat segment starts, then where it ends');
+});
+
+$('pattern').addEventListener('click', (event) => {
+  if (!addingBend || state.mode !== 'bend') return;
+  const p = pointerOnSheet(event);
+  if (!p) return;
+  if (!addingBend.start) {
+    addingBend.start = p;
+    showStatus('busy', 'a new bend: now click where its flat segment ends');
+    return;
+  }
+  const a = addingBend.start;
+  addingBend = null;
+  $('pattern').classList.remove('adding');
+  const d = [p[0] - a[0], p[1] - a[1]];
+  const length = Math.hypot(d[0], d[1]);
+  if (!(length > 0)) {
+    showStatus('refused', 'a flat segment needs two different points');
+    return;
+  }
+  const scene = structuredClone(latestScene());
+  const n = scene.regions.length + 1;
+  scene.regions.push({ name: `bend ${n}`, flat_start: a, flat_direction: d, curve: { type: 'bezier', control_points: planarCurl(length) } });
+  commit(scene);
 });
 
 /** Screen pixels per pattern millimetre as drawn now (the drawing keeps its aspect in

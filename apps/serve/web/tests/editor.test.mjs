@@ -1035,6 +1035,69 @@ try {
     assert.equal(await page.evaluate(() => window.sheetformEditor.state.scene.regions[0].curve.radius), 35);
   }
 
+  // 10f. New designs: a new bend sheet (a rectangle bent by one curl), a bend added by
+  // two clicks on the pattern and removed by Shift+click on its start, saved as a scene
+  // the CLI bends unchanged; a new slit design from a template.
+  {
+    await answered(() => page.click('#new-design'));
+    const fresh = await page.evaluate(() => window.sheetformEditor.state.scene);
+    assert.equal(fresh.regions.length, 1);
+    assert.equal(await page.evaluate(() => window.sheetformEditor.state.reply.report.status), 'ok');
+    const curl = await page.evaluate(() => window.sheetformEditor.state.reply.report.regions[0].curve_length_mm);
+    assert.ok(Math.abs(curl - 180) < 0.01, `the curl is 180 mm long: ${curl}`);
+    const onSheet = (x, y) => page.evaluate(([x, y]) => {
+      const svg = document.querySelector('#pattern svg');
+      const m = new DOMMatrix(document.querySelector('#pattern svg #cut path').dataset.flatTransform.replace(/[^-\d.e ]/g, ' ').trim().split(/\s+/).map(Number));
+      const q = new DOMPoint(x, y).matrixTransform(m).matrixTransform(svg.getScreenCTM());
+      return { x: q.x, y: q.y };
+    }, [x, y]);
+    // The first bend lies along y = 0 from x = 20 to 200, its rulings across the sheet.
+    // A bend across the sheet's end would cross them: refused, saying where.
+    const clicks = async (from, to) => {
+      const a = await onSheet(...from);
+      const b = await onSheet(...to);
+      await page.mouse.click(a.x, a.y);
+      await answered(() => page.mouse.click(b.x, b.y));
+    };
+    await page.click('#add-bend');
+    await clicks([225, -50], [225, 50]);
+    assert.equal(await page.getAttribute('#status', 'data-state'), 'refused');
+    assert.match(await page.textContent('#status'), /cross on the sheet/);
+    assert.equal(await page.evaluate(() => window.sheetformEditor.state.scene.regions.length), 1);
+    // One beyond it, after a flat strip, along the same line: added.
+    await page.click('#add-bend');
+    await clicks([205, 0], [235, 0]);
+    const two = await page.evaluate(() => window.sheetformEditor.state.scene.regions);
+    assert.equal(two.length, 2, await page.textContent('#status'));
+    assert.ok(Math.abs(two[1].flat_start[0] - 205) < 1 && Math.abs(two[1].flat_start[1]) < 1, JSON.stringify(two[1]));
+    const second = await page.evaluate(() => window.sheetformEditor.state.reply.report.regions[1].curve_length_mm);
+    assert.ok(Math.abs(second - Math.hypot(two[1].flat_direction[0], two[1].flat_direction[1])) < 0.01, `the curl as long as the clicked segment: ${second}`);
+    await page.screenshot({ path: join(outputDir, 'bend-new-sheet.png') });
+    // Remove it again: Shift+click its start handle.
+    const start = await page.evaluate(() => {
+      const box = document.querySelector('#sheet-handles circle.flat-handle[data-region="1"][data-what="start"]').getBoundingClientRect();
+      return { x: box.left + box.width / 2, y: box.top + box.height / 2 };
+    });
+    await page.keyboard.down('Shift');
+    await answered(() => page.mouse.click(start.x, start.y));
+    await page.keyboard.up('Shift');
+    assert.equal(await page.evaluate(() => window.sheetformEditor.state.scene.regions.length), 1);
+    // The new sheet, saved, is a scene the CLI bends.
+    const saved = await page.evaluate(() => JSON.stringify(window.sheetformEditor.state.scene));
+    const bent = await (await fetch(`${url}api/bend`, { method: 'POST', body: saved })).json();
+    assert.equal(bent.report.status, 'ok');
+    // Slit: a new design from the bench template.
+    await page.click('#modes .mode[data-mode="slit"]');
+    await page.selectOption('#slit-template', 'bench');
+    await answered(() => page.click('#new-design'));
+    const bench = await page.evaluate(() => window.sheetformEditor.state.scene);
+    assert.equal(bench.sheet.strip_count, 4);
+    assert.deepEqual(bench, JSON.parse(readFileSync(join(repository, 'examples/slit/bench.json'), 'utf8')), 'the template is the bundled bench');
+    assert.equal(await page.evaluate(() => window.sheetformEditor.state.reply.report.status), 'ok');
+    await page.click('#modes .mode[data-mode="bend"]');
+    await answered(() => page.evaluate((t) => window.sheetformEditor.load(t, 'examples/bent-rectangle.json'), readFileSync(join(repository, 'examples/bent-rectangle.json'), 'utf8')));
+  }
+
   // 11. The server: no file outside its directory, hostile requests answered with an
   // error, and it keeps serving.
   for (const path of ['..%2FCargo.toml', '%2Fetc%2Fpasswd', '..%2F..%2Fetc%2Fpasswd']) {
