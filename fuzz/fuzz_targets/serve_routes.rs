@@ -20,7 +20,7 @@ use tower::ServiceExt;
 /// (`apps/serve/web/src/editor.js`) sends a body to, with the layouts its mesh mode offers
 /// (auto, smooth, net, `never`, "whole", and `develop`, with a mirror plane too); new ones
 /// are added at the end, so that the seeds of `tools/fuzz.sh` keep their routes.
-const ROUTES: [(&str, &str); 19] = [
+const ROUTES: [(&str, &str); 20] = [
     ("POST", "/api/bend"),
     ("POST", "/api/bend/edit"),
     ("POST", "/api/slit"),
@@ -40,6 +40,7 @@ const ROUTES: [(&str, &str); 19] = [
     ("POST", "/api/mesh?name=m.obj&charts=never"),
     ("POST", "/api/mesh?name=m.obj&charts=develop"),
     ("POST", "/api/mesh?name=m.obj&charts=develop&mirror=x"),
+    ("PUT", "/api/photos/fuzzed.png"),
 ];
 
 /// The bend scene an edit is applied to.

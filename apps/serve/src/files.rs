@@ -30,6 +30,7 @@ pub(crate) fn routes() -> Router<Arc<AppState>> {
         .route("/api/files", get(list))
         .route("/api/files/{*path}", get(open).put(save))
         .route("/api/relocate", axum::routing::post(relocate))
+        .route("/api/photos/{name}", axum::routing::put(upload_photo))
 }
 
 /// `?from=DIR&to=DIR`: a scene file's directory before and after a "save as", both
@@ -111,12 +112,16 @@ fn scene_mode(text: &str) -> Option<&'static str> {
     }
 }
 
-/// The scenes (`*.json` files a mode of the editor opens, by content: `(path, mode)`) and
-/// the meshes (`*.obj`, `*.ply`, `*.stl`, `*.off`) below the served directory, as relative
-/// paths with `/`, sorted; hidden directories, `target` and `node_modules` are skipped,
-/// and JSON files that are no scene (reports, schemas, package files) are not listed.
-fn listed_files(root: &std::path::Path) -> (Vec<(String, &'static str)>, Vec<String>) {
-    let (mut scenes, mut meshes) = (Vec::new(), Vec::new());
+/// What [`listed_files`] finds: scenes with their modes, meshes, photographs.
+type Listed = (Vec<(String, &'static str)>, Vec<String>, Vec<String>);
+
+/// The scenes (`*.json` files a mode of the editor opens, by content: `(path, mode)`),
+/// the meshes (`*.obj`, `*.ply`, `*.stl`, `*.off`) and the photographs (`*.png`, `*.jpg`,
+/// `*.jpeg`) below the served directory, as relative paths with `/`, sorted; hidden
+/// directories, `target` and `node_modules` are skipped, and JSON files that are no
+/// scene (reports, schemas, package files) are not listed.
+fn listed_files(root: &std::path::Path) -> Listed {
+    let (mut scenes, mut meshes, mut photos) = (Vec::new(), Vec::new(), Vec::new());
     // Every file looked at counts towards MAX_LISTED_FILES, listed or not.
     let (mut examined, mut bytes_read) = (0usize, 0u64);
     let mut pending = vec![(PathBuf::new(), 0usize)];
@@ -159,23 +164,27 @@ fn listed_files(root: &std::path::Path) -> (Vec<(String, &'static str)>, Vec<Str
                 }
             } else if is_mesh(&name) {
                 meshes.push(relative_name);
+            } else if image_type(&name).is_some() {
+                photos.push(relative_name);
             } else {
                 continue;
             }
-            if examined + meshes.len() >= MAX_LISTED_FILES {
+            if examined + meshes.len() + photos.len() >= MAX_LISTED_FILES {
                 break 'walk;
             }
         }
     }
     scenes.sort();
     meshes.sort();
-    (scenes, meshes)
+    photos.sort();
+    (scenes, meshes, photos)
 }
 
-/// `GET /api/files`: `files` (every scene), `scenes` (per editor mode) and `meshes`.
+/// `GET /api/files`: `files` (every scene), `scenes` (per editor mode), `meshes` and
+/// `photos` (PNG and JPEG images, to annotate).
 async fn list(State(state): State<Arc<AppState>>) -> Response {
     let root = state.root.clone();
-    let (scenes, meshes) = tokio::task::spawn_blocking(move || listed_files(&root))
+    let (scenes, meshes, photos) = tokio::task::spawn_blocking(move || listed_files(&root))
         .await
         .unwrap_or_default();
     let mut by_mode: serde_json::Map<String, serde_json::Value> = ["bend", "slit", "ffd", "photo"]
@@ -188,7 +197,96 @@ async fn list(State(state): State<Arc<AppState>>) -> Response {
         }
     }
     let files: Vec<&String> = scenes.iter().map(|(path, _)| path).collect();
-    Json(serde_json::json!({ "files": files, "scenes": by_mode, "meshes": meshes })).into_response()
+    Json(serde_json::json!({ "files": files, "scenes": by_mode, "meshes": meshes, "photos": photos })).into_response()
+}
+
+/// The directory inside the served one where photographs chosen from disk are kept.
+const PHOTO_DIRECTORY: &str = "photos";
+/// Most copies of one photograph's name tried (`name-2.png`, `name-3.png`, …).
+const MAX_PHOTO_NAME_TRIES: usize = 1_000;
+
+/// `PUT /api/photos/{name}` with a PNG or JPEG: the photograph chosen from disk (or
+/// dropped) in the editor, kept as `photos/NAME` in the served directory so that an
+/// annotation can name it. A file already there is never replaced: the photograph gets
+/// the next free name (`NAME-2.png`, …), or the existing one's when it is the same
+/// bytes. Answers `{"path": …}`.
+async fn upload_photo(
+    State(state): State<Arc<AppState>>,
+    Path(name): Path<String>,
+    ApiBody(body): ApiBody<axum::body::Bytes>,
+) -> Result<Response, ApiError> {
+    printable("name", &name)?;
+    let Some((stem, extension)) = name.rsplit_once('.') else {
+        return Err(ApiError::invalid(
+            "name: a photograph is a `.png`, `.jpg` or `.jpeg` file",
+        ));
+    };
+    let kind =
+        image_type(&name).ok_or_else(|| ApiError::invalid("name: a photograph is a `.png`, `.jpg` or `.jpeg` file"))?;
+    if stem.is_empty() || name.contains(['/', '\\']) || name.starts_with('.') {
+        return Err(ApiError::invalid(format!(
+            "name: `{}` is not a plain file name",
+            sheetform::geometry::quoted_token(&name)
+        )));
+    }
+    let signature: &[u8] = if kind == "image/png" {
+        b"\x89PNG\r\n\x1a\n"
+    } else {
+        b"\xff\xd8\xff"
+    };
+    if !body.starts_with(signature) {
+        return Err(ApiError::invalid(format!(
+            "`{}` is not a {} image (its first bytes say otherwise)",
+            sheetform::geometry::quoted_token(&name),
+            if kind == "image/png" { "PNG" } else { "JPEG" }
+        )));
+    }
+    let root = state.root.clone();
+    let (stem, extension) = (stem.to_string(), extension.to_string());
+    let path = tokio::task::spawn_blocking(move || -> Result<String, ApiError> {
+        let directory = root.join(PHOTO_DIRECTORY);
+        let failed = |e: std::io::Error| {
+            ApiError::new(
+                axum::http::StatusCode::INTERNAL_SERVER_ERROR,
+                "output",
+                format!(
+                    "the photograph cannot be kept in `{PHOTO_DIRECTORY}/`: {}",
+                    os_reason(&e)
+                ),
+            )
+        };
+        std::fs::create_dir_all(&directory).map_err(failed)?;
+        // A link out of the served directory is not followed.
+        if !directory.canonicalize().is_ok_and(|full| full.starts_with(&root)) {
+            return Err(ApiError::invalid(not_inside("path", PHOTO_DIRECTORY)));
+        }
+        for k in 1..=MAX_PHOTO_NAME_TRIES {
+            let file = if k == 1 {
+                format!("{stem}.{extension}")
+            } else {
+                format!("{stem}-{k}.{extension}")
+            };
+            let full = directory.join(&file);
+            let relative = format!("{PHOTO_DIRECTORY}/{file}");
+            match std::fs::symlink_metadata(&full) {
+                Ok(meta) => {
+                    if meta.is_file() && std::fs::read(&full).is_ok_and(|bytes| bytes == body.as_ref()) {
+                        return Ok(relative);
+                    }
+                }
+                Err(_) => {
+                    write_keeping_mode(&full, &body).map_err(failed)?;
+                    return Ok(relative);
+                }
+            }
+        }
+        Err(ApiError::invalid(format!(
+            "name: {MAX_PHOTO_NAME_TRIES} photographs named `{stem}` are kept already"
+        )))
+    })
+    .await
+    .map_err(|e| solve_stopped(&e))??;
+    Ok(Json(serde_json::json!({ "path": path })).into_response())
 }
 
 fn resolver(state: &AppState) -> AssetResolver {

@@ -18,6 +18,7 @@
 //! | `POST /api/mesh/file/{name}?name=…` | one of the files `sheetform flatten` writes, for download |
 //! | `GET /api/files` | the scene files (`*.json`) and the meshes under the served directory |
 //! | `GET /api/files/{path}` / `PUT /api/files/{path}` | open / save a scene file, confined to the served directory |
+//! | `PUT /api/photos/{name}` | a PNG or JPEG chosen from disk, kept as `photos/NAME` (never replacing a file) |
 //! | `POST /api/relocate?from=…&to=…` | a scene in, the asset paths that name the same files once the scene is saved in `to` instead of `from` out ([`sheetform::pipeline::relocated_scene_assets`]; the editor's "save as") |
 //!
 //! On loopback (the default) a request whose `Host` or `Origin` names another machine is

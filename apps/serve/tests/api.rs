@@ -1662,3 +1662,57 @@ async fn an_edit_past_the_admissible_shapes_stops_at_their_boundary() {
         );
     }
 }
+
+/// Issue 38: a photograph chosen from disk is kept as `photos/NAME` in the served
+/// directory and listed among the photographs; the same bytes again reuse it, other
+/// bytes under the same name get the next free name; what is not a PNG or JPEG, or not
+/// a plain name, is refused and nothing is written.
+#[tokio::test]
+async fn a_photograph_from_disk_is_kept_without_replacing_a_file() {
+    let (_dir, root) = served();
+    let app = router(&ServeOptions {
+        root: root.clone(),
+        ..Default::default()
+    })
+    .unwrap();
+    let tube = std::fs::read(repository().join("examples/photo/tube.png")).unwrap();
+    let coffee = std::fs::read(repository().join("examples/photo/coffee.png")).unwrap();
+    let put = |name: &str, bytes: Vec<u8>| {
+        let app = app.clone();
+        let uri = format!("/api/photos/{name}");
+        async move { send(&app, "PUT", &uri, bytes).await }
+    };
+    let (status, body) = put("shot.png", tube.clone()).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    assert_eq!(json(&body)["path"], "photos/shot.png");
+    assert_eq!(std::fs::read(root.join("photos/shot.png")).unwrap(), tube);
+    let (_, body) = put("shot.png", tube.clone()).await;
+    assert_eq!(json(&body)["path"], "photos/shot.png", "the same bytes: the same file");
+    let (_, body) = put("shot.png", coffee.clone()).await;
+    assert_eq!(json(&body)["path"], "photos/shot-2.png");
+    assert_eq!(
+        std::fs::read(root.join("photos/shot.png")).unwrap(),
+        tube,
+        "not replaced"
+    );
+    for (name, bytes, says) in [
+        ("fake.png", b"GIF89a".to_vec(), "not a PNG image"),
+        ("fake.jpg", tube.clone(), "not a JPEG image"),
+        ("notes.txt", tube.clone(), "`.png`, `.jpg` or `.jpeg`"),
+        (".png", tube.clone(), "not a plain file name"),
+        ("..%2Fescape.png", tube.clone(), "not a plain file name"),
+    ] {
+        let (status, body) = put(name, bytes).await;
+        assert_eq!(status, StatusCode::BAD_REQUEST, "{name}");
+        let message = json(&body)["error"]["message"].as_str().unwrap().to_string();
+        assert!(message.contains(says), "{name}: {message}");
+    }
+    assert!(!root.join("escape.png").exists() && !root.join("photos/fake.png").exists());
+    let (_, body) = send(&app, "GET", "/api/files", Body::empty()).await;
+    let photos = json(&body)["photos"].clone();
+    assert_eq!(
+        photos,
+        serde_json::json!(["photos/shot-2.png", "photos/shot.png"]),
+        "{photos}"
+    );
+}

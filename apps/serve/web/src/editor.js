@@ -641,8 +641,37 @@ function newAnnotation(path, width, height) {
 }
 
 $('new-annotation').addEventListener('click', async () => {
-  const path = window.prompt('The photograph (a PNG or JPEG path in the served directory):', 'examples/photo/coffee.png');
-  if (!path) return;
+  const response = await fetch('/api/files');
+  const { photos } = response.ok ? await response.json() : { photos: [] };
+  fillSelect($('photo-choice'), photos || []);
+  $('photo-chosen').disabled = !(photos && photos.length);
+  $('photo-file').value = '';
+  $('photo-chooser').showModal();
+});
+$('photo-chooser').addEventListener('close', () => {
+  if ($('photo-chooser').returnValue === 'served' && $('photo-choice').value) startAnnotation($('photo-choice').value);
+});
+$('photo-file').addEventListener('change', (event) => {
+  const file = event.target.files[0];
+  $('photo-chooser').close('file');
+  if (file) annotatePhotoFile(file);
+});
+
+/** A photograph from disk (chosen or dropped): kept in the served directory (the
+ * server picks a free name under `photos/`), then annotated. */
+async function annotatePhotoFile(file) {
+  showStatus('busy', `keeping ${file.name} in the served directory…`);
+  const response = await fetch(`/api/photos/${encodeURIComponent(file.name)}`, { method: 'PUT', body: file });
+  const body = await response.json();
+  if (!response.ok) {
+    showStatus('error', `${file.name}: ${body.error.message}`);
+    return;
+  }
+  await startAnnotation(body.path);
+}
+
+/** A new annotation on the photograph `path` (in the served directory). */
+async function startAnnotation(path) {
   const image = new Image();
   image.src = `/api/files/${path.split('/').map(encodeURIComponent).join('/')}`;
   try {
@@ -676,7 +705,7 @@ $('new-annotation').addEventListener('click', async () => {
   $('photo-editor').hidden = false;
   drawPhotoEditor(state.scene);
   showStatus('busy', 'a new annotation: add the curves (Add curve, four clicks each), then drag the symmetry marks (cyan frame, red points) and the true-size segment (green) into place');
-});
+}
 
 $('true-size').addEventListener('change', (event) => {
   if (state.mode !== 'photo' || !state.scene) return;
@@ -2125,6 +2154,8 @@ modelView.addEventListener('drop', async (event) => {
   if (!file) return;
   if (isMeshName(file.name)) {
     await loadMesh(file.name, await file.arrayBuffer());
+  } else if (/\.(png|jpe?g)$/i.test(file.name)) {
+    await annotatePhotoFile(file);
   } else {
     setMode('bend');
     load(await file.text(), null);

@@ -27,7 +27,7 @@
 
 import { spawn } from 'node:child_process';
 import { createInterface } from 'node:readline';
-import { mkdirSync, readFileSync, rmSync } from 'node:fs';
+import { existsSync, mkdirSync, readFileSync, readdirSync, rmSync } from 'node:fs';
 import { join } from 'node:path';
 import assert from 'node:assert/strict';
 import { chromium } from 'playwright-core';
@@ -589,8 +589,14 @@ try {
   // A new annotation on a photograph: the marks placed in its middle, no curve yet; the
   // curves traced one by one, each step kept (and undoable) while the annotation cannot
   // be reconstructed yet, the reason shown.
-  page.once('dialog', (dialog) => dialog.accept('examples/photo/tube.png'));
+  // The photograph is chosen in a dialog listing the served ones (no path to type).
   await page.click('#new-annotation');
+  await page.waitForSelector('#photo-chooser[open]');
+  const offered = await page.evaluate(() => [...document.querySelectorAll('#photo-choice option')].map((o) => o.value));
+  assert.ok(offered.includes('examples/photo/tube.png') && offered.includes('examples/photo/coffee.png'), `${offered}`);
+  assert.ok(!offered.some((name) => !/\.(png|jpe?g)$/i.test(name)), `photographs only: ${offered}`);
+  await page.selectOption('#photo-choice', 'examples/photo/tube.png');
+  await page.click('#photo-chosen');
   await page.waitForFunction(() => window.sheetformEditor.state.scene && window.sheetformEditor.state.scene.curves.length === 0);
   const fresh = JSON.parse(await sceneText());
   assert.deepEqual(fresh.image, { path: 'examples/photo/tube.png', width: 480, height: 360 });
@@ -1094,6 +1100,36 @@ try {
     assert.equal(bench.sheet.strip_count, 4);
     assert.deepEqual(bench, JSON.parse(readFileSync(join(repository, 'examples/slit/bench.json'), 'utf8')), 'the template is the bundled bench');
     assert.equal(await page.evaluate(() => window.sheetformEditor.state.reply.report.status), 'ok');
+    // Photo: a photograph chosen from disk is kept as photos/NAME in the served
+    // directory and annotated; the same bytes again reuse it, other bytes under the same
+    // name get the next free name (no file is replaced).
+    await page.click('#modes .mode[data-mode="photo"]');
+    const photoDir = join(repository, 'photos');
+    const hadPhotoDir = existsSync(photoDir);
+    const fromDisk = async (file) => {
+      await page.click('#new-annotation');
+      await page.waitForSelector('#photo-chooser[open]');
+      const before = await page.evaluate(() => window.sheetformEditor.state.generation);
+      await page.setInputFiles('#photo-file', file);
+      await page.waitForFunction((n) => window.sheetformEditor.state.generation > n && window.sheetformEditor.state.scene && window.sheetformEditor.state.scene.curves.length === 0, before);
+      return page.evaluate(() => window.sheetformEditor.state.scene.image);
+    };
+    try {
+      const tube = readFileSync(join(repository, 'examples/photo/tube.png'));
+      const first = await fromDisk({ name: 'editor-test-photo.png', mimeType: 'image/png', buffer: tube });
+      assert.deepEqual(first, { path: 'photos/editor-test-photo.png', width: 480, height: 360 });
+      assert.ok(readFileSync(join(photoDir, 'editor-test-photo.png')).equals(tube), 'kept byte for byte');
+      assert.equal((await fromDisk({ name: 'editor-test-photo.png', mimeType: 'image/png', buffer: tube })).path, 'photos/editor-test-photo.png');
+      const coffee = readFileSync(join(repository, 'examples/photo/coffee.png'));
+      assert.equal((await fromDisk({ name: 'editor-test-photo.png', mimeType: 'image/png', buffer: coffee })).path, 'photos/editor-test-photo-2.png');
+      assert.ok(readFileSync(join(photoDir, 'editor-test-photo.png')).equals(tube), 'the first one is not replaced');
+      const notPng = await fetch(`${url}api/photos/fake.png`, { method: 'PUT', body: 'not a picture' });
+      assert.equal(notPng.status, 400);
+      assert.match((await notPng.json()).error.message, /not a PNG image/);
+    } finally {
+      for (const name of ['editor-test-photo.png', 'editor-test-photo-2.png']) rmSync(join(photoDir, name), { force: true });
+      if (!hadPhotoDir && existsSync(photoDir) && readdirSync(photoDir).length === 0) rmSync(photoDir, { recursive: true });
+    }
     await page.click('#modes .mode[data-mode="bend"]');
     await answered(() => page.evaluate((t) => window.sheetformEditor.load(t, 'examples/bent-rectangle.json'), readFileSync(join(repository, 'examples/bent-rectangle.json'), 'utf8')));
   }
