@@ -632,16 +632,7 @@ fn noisy_random_views_figures() {
 /// they come is the open noise item (`noisy_random_views_figures`).
 #[test]
 fn noisy_random_views_are_all_reconstructed() {
-    let dir = tempfile::tempdir().unwrap();
-    let script = examples().join("../../tools/photo_random_views.py");
-    let done = std::process::Command::new("python3")
-        .arg(&script)
-        .args(["2029", "24"])
-        .arg(dir.path())
-        .args(["--noise", "1"])
-        .output()
-        .expect("python3 runs");
-    assert!(done.status.success(), "{}", String::from_utf8_lossy(&done.stderr));
+    let dir = drawn_random_views(2029, 24, &["--noise", "1"]);
     let refused: Vec<String> = (0..24)
         .filter_map(|k| {
             let path = dir.path().join(format!("view-{k:02}.json"));
@@ -652,21 +643,29 @@ fn noisy_random_views_are_all_reconstructed() {
     assert!(refused.is_empty(), "{}", refused.join("\n"));
 }
 
+/// `count` random views drawn by `tools/photo_random_views.py` (seed `seed`; `extra`:
+/// its noise options) in a new temporary directory: `view-KK.json` and
+/// `view-KK.truth.json` each.
+fn drawn_random_views(seed: u64, count: usize, extra: &[&str]) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    let script = examples().join("../../tools/photo_random_views.py");
+    let done = std::process::Command::new("python3")
+        .arg(&script)
+        .arg(seed.to_string())
+        .arg(count.to_string())
+        .arg(dir.path())
+        .args(extra)
+        .output()
+        .expect("python3 runs");
+    assert!(done.status.success(), "{}", String::from_utf8_lossy(&done.stderr));
+    dir
+}
+
 /// Reconstructs `count` random views (seed `seed`; `extra`: the generator's noise
 /// options) as they are and closed round their axis; what is out of the bounds, one line
 /// each.
 fn random_views(seed: u64, count: usize, extra: &[&str]) -> Vec<String> {
-    let dir = tempfile::tempdir().unwrap();
-    let script = examples().join("../../tools/photo_random_views.py");
-    let mut command = std::process::Command::new("python3");
-    command
-        .arg(&script)
-        .arg(seed.to_string())
-        .arg(count.to_string())
-        .arg(dir.path());
-    command.args(extra);
-    let done = command.output().expect("python3 runs");
-    assert!(done.status.success(), "{}", String::from_utf8_lossy(&done.stderr));
+    let dir = drawn_random_views(seed, count, extra);
     let mut failures = Vec::new();
     for k in 0..count {
         let name = format!("view-{k:02}");

@@ -679,10 +679,7 @@ pub fn run_develop(
     // The pieces are glued along their seams: they get the tabs a net gets (one side of
     // every seam) unless the pattern options ask for others, none, a seam allowance or a
     // sheet thickness.
-    let mut pattern = options.flatten.pattern;
-    if pattern.tabs.is_none() && pattern.allowance.seam_allowance_mm == 0.0 && pattern.allowance.bend.is_none() {
-        pattern.tabs = options.flatten.net_tabs;
-    }
+    let pattern = options.flatten.pattern.glued_with(options.flatten.net_tabs);
     let flatten_options = FlattenOptions {
         pattern,
         charts: ChartMode::Smooth,

@@ -229,14 +229,11 @@ pub fn run_flatten(
     report.layout_reason = Some(reason);
     // A net gets glue tabs unless the pattern options say otherwise (or ask for a seam
     // allowance or a sheet thickness instead).
-    let mut pattern_options = options.pattern;
-    if layout == Layout::Net
-        && pattern_options.tabs.is_none()
-        && pattern_options.allowance.seam_allowance_mm == 0.0
-        && pattern_options.allowance.bend.is_none()
-    {
-        pattern_options.tabs = options.net_tabs;
-    }
+    let pattern_options = if layout == Layout::Net {
+        options.pattern.glued_with(options.net_tabs)
+    } else {
+        options.pattern
+    };
     // Room between charts for glue tabs (model units).
     let tab_room = pattern_options.room_between_pieces(mm);
     let (sheet, source_vertices, solved) = match layout {
@@ -493,7 +490,8 @@ fn size_warnings(mesh: &TriangleMesh, options: &FlattenOptions, net: bool) -> Ve
 fn net_limits(options: &FlattenOptions) -> NetOptions {
     let pattern = &options.pattern;
     let model_mm = options.unit.millimetres() * pattern.scale;
-    let tabs = pattern.tabs.or(options.net_tabs);
+    // The tabs the net will be drawn with.
+    let tabs = pattern.glued_with(options.net_tabs).tabs;
     let clearance_mm = tabs.map_or(sheetform_pattern::DEFAULT_CUT_CLEARANCE_MM, |t| t.clearance_mm);
     let slit_mm = tabs.map_or(clearance_mm, |t| t.width_mm * t.min_width_fraction + t.clearance_mm);
     let around_mm =

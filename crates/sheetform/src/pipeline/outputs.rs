@@ -55,6 +55,17 @@ pub struct PatternOutputOptions {
 }
 
 impl PatternOutputOptions {
+    /// These options for pieces glued along their seams (a net, developed pieces, a whole
+    /// object from a photograph): `tabs` when no tabs were asked for (nor none), nor a
+    /// seam allowance or a sheet thickness, which take the tabs' place.
+    pub fn glued_with(self, tabs: Option<TabOptions>) -> Self {
+        let mut glued = self;
+        if glued.tabs.is_none() && glued.allowance.seam_allowance_mm == 0.0 && glued.allowance.bend.is_none() {
+            glued.tabs = tabs;
+        }
+        glued
+    }
+
     /// The sheets the pieces are packed on: those asked for, except that a sheet the size
     /// of the PDF's paper (`--sheet a4` with the A4 page) is that paper's printable area
     /// (inside the PDF's margins and above its scale bar), so that every sheet prints on

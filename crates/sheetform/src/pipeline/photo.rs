@@ -294,14 +294,11 @@ pub fn run_photo(
     };
     // A whole object is glued along its seams: the tabs a net gets, unless the pattern
     // asks for others, none, a seam allowance or a sheet thickness.
-    let mut pattern_options = options.pattern;
-    if reconstruction.revolution.is_some()
-        && pattern_options.tabs.is_none()
-        && pattern_options.allowance.seam_allowance_mm == 0.0
-        && pattern_options.allowance.bend.is_none()
-    {
-        pattern_options.tabs = options.whole_object_tabs;
-    }
+    let pattern_options = if reconstruction.revolution.is_some() {
+        options.pattern.glued_with(options.whole_object_tabs)
+    } else {
+        options.pattern
+    };
     let tab_room = pattern_options.room_between_pieces(mm);
     let mut sheet = sheet_from_charts(&model, &chart_set.charts, &name, Some(&groups), unit, tab_room);
     // The strips' rulings are bending guides (the pattern draws rulings as guides, never
