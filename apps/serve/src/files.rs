@@ -268,16 +268,23 @@ async fn upload_photo(
             };
             let full = directory.join(&file);
             let relative = format!("{PHOTO_DIRECTORY}/{file}");
-            match std::fs::symlink_metadata(&full) {
-                Ok(meta) => {
-                    if meta.is_file() && std::fs::read(&full).is_ok_and(|bytes| bytes == body.as_ref()) {
-                        return Ok(relative);
-                    }
-                }
-                Err(_) => {
-                    write_keeping_mode(&full, &body).map_err(failed)?;
+            if let Ok(meta) = std::fs::symlink_metadata(&full) {
+                // The same photograph already kept: its name (sizes first, so that no
+                // other file is read whole).
+                let same = meta.is_file()
+                    && meta.len() == body.len() as u64
+                    && std::fs::read(&full).is_ok_and(|bytes| bytes == body.as_ref());
+                if same {
                     return Ok(relative);
                 }
+                continue;
+            }
+            // Written beside it, then moved in only if the name is still free: two
+            // uploads of one name at once never replace each other.
+            match write_new(&directory, &full, &body) {
+                Ok(()) => return Ok(relative),
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+                Err(e) => return Err(failed(e)),
             }
         }
         Err(ApiError::invalid(format!(
@@ -402,6 +409,24 @@ async fn save(
 /// file it replaces; a new file gets 0666 less the umask, as any program's new file
 /// (`sheetform::io::write_atomic`'s temporary file is 0600, which a save made the
 /// scene's mode).
+/// Writes `bytes` to the new file `full` (in `directory`): a temporary file beside it,
+/// flushed, then moved to `full` unless a file of that name appeared meanwhile
+/// (`AlreadyExists`). Mode 0666 less the umask.
+fn write_new(directory: &std::path::Path, full: &std::path::Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write;
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".upload.").suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let mut file = builder.tempfile_in(directory)?;
+    file.write_all(bytes)?;
+    file.as_file().sync_all()?;
+    file.persist_noclobber(full).map(|_| ()).map_err(|e| e.error)
+}
+
 fn write_keeping_mode(full: &std::path::Path, bytes: &[u8]) -> std::io::Result<()> {
     use std::io::Write;
     let directory = full.parent().unwrap_or(std::path::Path::new("."));

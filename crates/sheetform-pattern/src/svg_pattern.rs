@@ -196,7 +196,6 @@ fn write_texture(
     let _ = writeln!(s, "</g>");
 }
 
-/// SVG path data of closed rings (`M … L … Z` each), in the SVG's user space.
 /// A number with up to 6 decimals, trailing zeros dropped (exact for the integers and
 /// the signs of a rotation).
 fn short(x: f64) -> String {
@@ -209,6 +208,7 @@ fn short(x: f64) -> String {
     }
 }
 
+/// SVG path data of closed rings (`M … L … Z` each), in the SVG's user space.
 fn path_data<'a>(
     rings: impl IntoIterator<Item = &'a Vec<Vec2>>,
     px: &impl Fn(f64) -> f64,

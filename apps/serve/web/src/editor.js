@@ -149,7 +149,8 @@ function regionMatrix(region) {
  * null when the points are collinear or not in one plane (within 1e-6 of its size). */
 function controlPlane(points) {
   const p = points.map((q) => new THREE.Vector3(...q));
-  if (p.length < 3) return null;
+  // Three points are always in a plane: a curve of degree 2 is not held in one.
+  if (p.length < 4) return null;
   const far = p.reduce((a, q) => (q.distanceTo(p[0]) > a.distanceTo(p[0]) ? q : a), p[0]);
   const size = far.distanceTo(p[0]);
   if (size === 0) return null;
@@ -646,6 +647,8 @@ $('new-annotation').addEventListener('click', async () => {
   fillSelect($('photo-choice'), photos || []);
   $('photo-chosen').disabled = !(photos && photos.length);
   $('photo-file').value = '';
+  // Esc closes it without changing returnValue: the last answer must not start again.
+  $('photo-chooser').returnValue = '';
   $('photo-chooser').showModal();
 });
 $('photo-chooser').addEventListener('close', () => {
@@ -780,13 +783,21 @@ function flatToDrawing(matrix, p) {
   return [q.x, q.y];
 }
 
-/** Where the pointer is on the scene's flat sheet (model units). */
-function pointerOnSheet(event) {
+/** The page → flat sheet (model units) mapping of the pattern as drawn now, or null. */
+function screenToSheet() {
   const svg = $('pattern').querySelector('svg');
   const matrix = flatMatrix();
   if (!svg || !matrix) return null;
-  const user = new DOMPoint(event.clientX, event.clientY).matrixTransform(svg.getScreenCTM().inverse());
-  const q = user.matrixTransform(matrix.inverse());
+  return matrix.inverse().multiply(svg.getScreenCTM().inverse());
+}
+
+/** Where the pointer is on the scene's flat sheet (model units), by `mapping` (default:
+ * the pattern as drawn now). A drag keeps the mapping it began with: the pattern is
+ * redrawn round its new bounds at each step, and a corner dragged outward would
+ * otherwise move the drawing under the pointer and run away from it. */
+function pointerOnSheet(event, mapping = screenToSheet()) {
+  if (!mapping) return null;
+  const q = new DOMPoint(event.clientX, event.clientY).matrixTransform(mapping);
   return [q.x, q.y];
 }
 
@@ -873,9 +884,11 @@ let sheetDrag = null; // { edit fields, before, moved }
  * refused) as one step of the history. */
 function editOnce(edit) {
   const before = JSON.stringify(state.scene);
+  const generation = state.generation;
   requestSolve(state.scene, performance.now(), edit);
   window.addEventListener('sheetform-idle', () => {
-    if (JSON.stringify(state.scene) !== before) {
+    // Not when another design was loaded meanwhile (its history is its own).
+    if (state.generation === generation && JSON.stringify(state.scene) !== before) {
       state.undo.push(before);
       state.redo = [];
       updateHistoryButtons();
@@ -912,13 +925,14 @@ $('pattern').addEventListener('pointerdown', (event) => {
   }
   sheetDrag.before = JSON.stringify(state.scene);
   sheetDrag.moved = false;
+  sheetDrag.mapping = screenToSheet();
   $('pattern').setPointerCapture(event.pointerId);
 });
 
 $('pattern').addEventListener('pointermove', (event) => {
   if (!sheetDrag) return;
   const started = performance.now();
-  const p = pointerOnSheet(event);
+  const p = pointerOnSheet(event, sheetDrag.mapping);
   if (!p) return;
   sheetDrag.moved = true;
   if (sheetDrag.kind === 'move_outline_vertex') {
@@ -934,10 +948,11 @@ $('pattern').addEventListener('pointermove', (event) => {
 function endSheetDrag(event) {
   if (!sheetDrag) return;
   const { before, moved } = sheetDrag;
+  const generation = state.generation;
   sheetDrag = null;
   if ($('pattern').hasPointerCapture(event.pointerId)) $('pattern').releasePointerCapture(event.pointerId);
   const settle = () => {
-    if (moved && JSON.stringify(state.scene) !== before) {
+    if (state.generation === generation && moved && JSON.stringify(state.scene) !== before) {
       state.undo.push(before);
       state.redo = [];
       updateHistoryButtons();
@@ -1017,6 +1032,53 @@ function newBendScene() {
     outline: [[0, -60], [240, -60], [240, 60], [0, 60]],
     regions: [{ name: 'bend 1', flat_start: [20, 0], flat_direction: [1, 0], curve: { type: 'bezier', control_points: planarCurl(180) } }],
   };
+}
+
+/** A new FFD design around the mesh `path` (relative to the served directory): a cubic
+ * 4 × 4 × 4 lattice round its bounding box, and a first deformation with no edit yet
+ * (drag a lattice point to add one). */
+function newFfdScene(path, upAxis) {
+  return {
+    name: path.split('/').at(-1).replace(/\.[^.]*$/, ''),
+    units: 'mm',
+    up_axis: upAxis,
+    model: { mesh: path },
+    lattice: { degrees: [3, 3, 3], counts: [4, 4, 4], margin: 0.05 },
+    deformations: [{ name: 'start', edits: [] }],
+  };
+}
+
+$('new-ffd').addEventListener('click', async () => {
+  const response = await fetch('/api/files');
+  const { meshes } = response.ok ? await response.json() : { meshes: [] };
+  fillSelect($('mesh-choice'), meshes || []);
+  $('mesh-chosen').disabled = !(meshes && meshes.length);
+  $('mesh-chooser').returnValue = '';
+  $('mesh-chooser').showModal();
+});
+$('mesh-chooser').addEventListener('close', () => {
+  if ($('mesh-chooser').returnValue !== 'chosen' || !$('mesh-choice').value) return;
+  load(JSON.stringify(newFfdScene($('mesh-choice').value, $('mesh-up').value), null, 2), null);
+});
+
+/** The lattice's counts in their fields (FFD mode). */
+function fillLatticeFields(scene) {
+  const counts = (scene && scene.lattice && scene.lattice.counts) || [4, 4, 4];
+  ['lattice-u', 'lattice-v', 'lattice-w'].forEach((id, a) => { $(id).value = counts[a]; });
+}
+for (const id of ['lattice-u', 'lattice-v', 'lattice-w']) {
+  $(id).addEventListener('change', () => {
+    if (state.mode !== 'ffd' || !state.scene) return;
+    const counts = ['lattice-u', 'lattice-v', 'lattice-w'].map((k) => Number($(k).value));
+    if (!counts.every((n) => Number.isInteger(n) && n >= 2)) {
+      fillLatticeFields(state.scene);
+      showStatus('refused', 'a lattice count is a whole number of at least 2');
+      return;
+    }
+    const scene = structuredClone(latestScene());
+    scene.lattice = { ...scene.lattice, counts };
+    commit(scene);
+  });
 }
 
 $('new-design').addEventListener('click', () => {
@@ -1458,6 +1520,7 @@ async function runFfd(scene, history = 'remember') {
       drawHandles(state.scene);
       render();
       const kept = state.reply ? ' — kept the last result' : '';
+      fillLatticeFields(state.scene);
       showStatus('refused', `refused (${state.lastError.kind.replace('_', ' ')}): ${state.lastError.message}${kept}`);
       return;
     }
@@ -1475,6 +1538,7 @@ async function runFfd(scene, history = 'remember') {
     state.sceneByMode.ffd = scene;
     state.reply = last.result;
     state.lastError = null;
+    fillLatticeFields(scene);
     drawFfdModel(last.result);
     drawPattern(last.result.pattern_svg);
     render();
@@ -1587,12 +1651,13 @@ window.addEventListener('keydown', (e) => {
   // Drag locks, as in DCC tools: X, Y or Z locks the axis, with Shift the plane across
   // it; the same key again goes back to "auto". Not while typing in a field.
   const key = e.key.toLowerCase();
-  if (e.ctrlKey || e.metaKey || e.altKey || !['x', 'y', 'z'].includes(key)) return;
+  if (e.repeat || e.ctrlKey || e.metaKey || e.altKey || !['x', 'y', 'z'].includes(key)) return;
   if (e.target instanceof HTMLInputElement || e.target instanceof HTMLTextAreaElement || e.target instanceof HTMLSelectElement) return;
   const lock = e.shiftKey ? { x: 'yz', y: 'zx', z: 'xy' }[key] : key;
   const select = $('drag-lock');
   select.value = select.value === lock ? 'auto' : lock;
-  if (drag) drag.constraint = dragConstraint(drag, content.worldToLocal(drag.handle.getWorldPosition(new THREE.Vector3())));
+  // During a drag the new lock goes through where the point is now.
+  if (drag) drag.constraint = dragConstraint(drag, drag.point.clone());
 });
 
 // ---------------------------------------------------------------- dragging
@@ -1681,6 +1746,7 @@ canvas.addEventListener('pointerdown', (event) => {
   drag = {
     ...hit.object.userData, handle: hit.object, moved: false, before: JSON.stringify(state.scene),
     constraint: dragConstraint(data, origin),
+    point: origin.clone(), // where the point is now (the model's frame)
     toCurve: data.region === undefined ? null : regionMatrix(data.region).invert(),
   };
   hit.object.material = handleActive;
@@ -1702,6 +1768,7 @@ canvas.addEventListener('pointermove', (event) => {
   const started = performance.now();
   const point = constrainedPoint(event, drag.constraint);
   if (!point) return;
+  drag.point = point.clone();
   drag.handle.position.copy(point);
   render();
   drag.moved = true;

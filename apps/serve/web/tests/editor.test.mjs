@@ -977,6 +977,23 @@ try {
     figures.outline_vertex_stop_mm = { x: outline[2][0], boundary };
     assert.equal(await page.evaluate(() => window.sheetformEditor.state.undo.length), undoBefore + 1, 'one step of the history');
     await page.screenshot({ path: join(outputDir, 'bend-sheet-outline.png') });
+    // A corner dragged outward (the drawing grows round it at each step) lands under the
+    // pointer: (0, −60) dragged 20 mm left and 20 mm down goes to (−20, −80).
+    {
+      const corner = await sheetHandle('circle.sheet-vertex[data-index="0"]');
+      await page.mouse.move(corner.x, corner.y);
+      await page.mouse.down();
+      for (let k = 1; k <= 4; k++) {
+        await page.mouse.move(corner.x - 5 * scale * k, corner.y + 5 * scale * k);
+        await idle();
+      }
+      await page.mouse.up();
+      await idle();
+      const moved = await page.evaluate(() => window.sheetformEditor.state.scene.outline[0]);
+      assert.ok(Math.hypot(moved[0] + 20, moved[1] + 80) < 2 / scale, `the corner is under the pointer: ${moved}`);
+      await page.click('#undo');
+      await idle();
+    }
     // Double-click the bottom edge: a vertex on it (the shape unchanged); Shift+click deletes it.
     const a = await sheetHandle('circle.sheet-vertex[data-index="0"]');
     const b = await sheetHandle('circle.sheet-vertex[data-index="1"]');
@@ -1130,6 +1147,37 @@ try {
       for (const name of ['editor-test-photo.png', 'editor-test-photo-2.png']) rmSync(join(photoDir, name), { force: true });
       if (!hadPhotoDir && existsSync(photoDir) && readdirSync(photoDir).length === 0) rmSync(photoDir, { recursive: true });
     }
+    // FFD: a new design around any mesh under the served directory (an automatic
+    // lattice, a first deformation with no edit), its lattice counts changed in their
+    // fields, a lattice point dragged: a scene `sheetform ffd` runs as saved.
+    await page.click('#modes .mode[data-mode="ffd"]');
+    await page.click('#new-ffd');
+    await page.waitForSelector('#mesh-chooser[open]');
+    const meshes = await page.evaluate(() => [...document.querySelectorAll('#mesh-choice option')].map((o) => o.value));
+    assert.ok(meshes.includes('examples/meshes/crumpled-developable.obj'), `${meshes}`);
+    await page.selectOption('#mesh-choice', 'examples/meshes/crumpled-developable.obj');
+    await page.selectOption('#mesh-up', 'y');
+    await answered(() => page.click('#mesh-chosen'));
+    const shade = await meshReply();
+    assert.equal(shade.report.status, 'ok', await page.textContent('#status'));
+    assert.deepEqual(shade.lattice.counts, [4, 4, 4]);
+    assert.equal(await page.inputValue('#lattice-u'), '4');
+    await page.fill('#lattice-u', '5');
+    await answered(() => page.press('#lattice-u', 'Enter'));
+    assert.deepEqual((await meshReply()).lattice.counts, [5, 4, 4], await page.textContent('#status'));
+    {
+      const start = await page.evaluate(() => window.sheetformEditor.latticeScreenPosition(4, 3, 3));
+      await page.mouse.move(start.x, start.y);
+      await page.mouse.down();
+      for (let step = 1; step <= 6; step++) await page.mouse.move(start.x + 4 * step, start.y - 2 * step);
+      await answered(() => page.mouse.up());
+    }
+    const newFfd = JSON.parse(await sceneText());
+    assert.equal(newFfd.deformations.length, 2, JSON.stringify(newFfd.deformations));
+    assert.equal((await meshReply()).report.status, 'ok', await page.textContent('#status'));
+    const ran = await (await fetch(`${url}api/ffd`, { method: 'POST', body: JSON.stringify(newFfd) })).text();
+    assert.match(ran.trim().split('\n').at(-1), /"status":"ok"/, 'the saved design runs as the CLI runs it');
+    await page.screenshot({ path: join(outputDir, 'ffd-new-from-mesh.png') });
     await page.click('#modes .mode[data-mode="bend"]');
     await answered(() => page.evaluate((t) => window.sheetformEditor.load(t, 'examples/bent-rectangle.json'), readFileSync(join(repository, 'examples/bent-rectangle.json'), 'utf8')));
   }

@@ -346,11 +346,20 @@ fn edit_part(scene: &BendScene, edit: &BendEdit, t: f64) -> Result<BendEdit, Pip
         } => {
             let (here, heading) = flat_segment(scene, *region)?;
             let direction = direction.map(|wanted| {
-                let (now, wanted) = (Vec2::from(heading).normalize(), Vec2::from(wanted));
+                let (now, wanted) = (Vec2::from(heading), Vec2::from(wanted));
                 if wanted.norm() == 0.0 {
                     return [0.0, 0.0];
                 }
-                let turned = now * (1.0 - t) + wanted.normalize() * t;
+                // (Scaled by the largest component first: a tiny heading has a norm.)
+                let unit = |v: Vec2| {
+                    let v = v / v.amax();
+                    v / v.norm()
+                };
+                if now.amax() == 0.0 {
+                    return [wanted.x, wanted.y];
+                }
+                let (now, wanted) = (unit(now), unit(wanted));
+                let turned = now * (1.0 - t) + wanted * t;
                 // Opposite directions half way: no direction between them; keep the wanted one.
                 let turned = if turned.norm() < 1e-9 { wanted } else { turned };
                 [turned.x, turned.y]
@@ -1017,11 +1026,25 @@ mod tests {
         };
         let turned = vector(start.normal.unwrap()).normalize();
         assert!((turned - (now + wanted).normalize()).norm() < 1e-12);
+        // Turned that far the sheet would fold onto itself: refused whole, stopped part
+        // of the way, with the normal turned toward the wanted one.
+        assert!(!edit_bend_scene(&scene, &edit).unwrap().info.applied);
         let result = edit_bend_scene_with(&scene, &edit, &stopping()).unwrap();
-        assert!(result.moved_fraction <= 1.0);
-        if result.moved_fraction < 1.0 {
-            assert!(result.stopped_because.is_some());
-        }
+        assert!(result.info.applied);
+        assert!(
+            result.moved_fraction > 0.0 && result.moved_fraction < 1.0,
+            "{}",
+            result.moved_fraction
+        );
+        assert!(result.stopped_because.is_some());
+        let CurveSpec::Bezier { control_points: after } = &result.scene.regions[0].curve else {
+            panic!()
+        };
+        let reached = end_normal(after, false).normalize();
+        assert!(
+            reached.dot(&wanted) > now.dot(&wanted),
+            "turned toward the wanted normal"
+        );
         assert!(edit_bend_scene_with(
             &scene,
             &edit,
