@@ -50,7 +50,35 @@ fn point(argument: &str, p: Vec<f64>) -> PyResult<[f64; 3]> {
     }
 }
 
+fn flat_point(argument: &str, p: Vec<f64>) -> PyResult<[f64; 2]> {
+    match p.as_slice() {
+        [x, y] if p.iter().all(|c| c.is_finite()) => Ok([*x, *y]),
+        _ => Err(invalid_argument(
+            argument,
+            format!("two finite numbers expected, got {p:?}"),
+        )),
+    }
+}
+
 impl BendEditor {
+    /// A vertex of the outline (`hole` None) or of a hole, negative numbers counted from
+    /// the end; `insert` allows none (an index checked by the library).
+    fn loop_vertex(&self, hole: Option<i64>, index: i64) -> PyResult<(Option<usize>, usize)> {
+        let (hole, vertices) = match hole {
+            None => (None, &self.scene.outline),
+            Some(h) => {
+                let count = self.scene.holes.len();
+                let h = from_end(h, count)
+                    .ok_or_else(|| invalid_argument("hole", format!("no hole {h} (the sheet has {count})")))?;
+                (Some(h), &self.scene.holes[h])
+            }
+        };
+        let count = vertices.len();
+        let index = from_end(index, count)
+            .ok_or_else(|| invalid_argument("index", format!("no vertex {index} (the loop has {count})")))?;
+        Ok((hole, index))
+    }
+
     /// A region number, negative ones counted from the end as Python indexes.
     fn region(&self, region: i64) -> PyResult<usize> {
         let count = self.scene.regions.len();
@@ -234,6 +262,113 @@ impl BendEditor {
             normal: end_normal.map(|p| point("end_normal", p)).transpose()?,
         };
         self.apply(py, BendEdit::DragEndHandles { region, start, end }, stop_at_boundary)
+    }
+
+    /// Moves a vertex of the sheet's outline (or of hole `hole`) to `position` `[x, y]` on
+    /// the flat sheet.
+    #[pyo3(signature = (index, position, *, hole=None, stop_at_boundary=false))]
+    fn move_outline_vertex(
+        &mut self,
+        py: Python<'_>,
+        index: i64,
+        position: Vec<f64>,
+        hole: Option<i64>,
+        stop_at_boundary: bool,
+    ) -> PyResult<Py<PyAny>> {
+        let (hole, index) = self.loop_vertex(hole, index)?;
+        let position = flat_point("position", position)?;
+        self.apply(
+            py,
+            BendEdit::MoveOutlineVertex { hole, index, position },
+            stop_at_boundary,
+        )
+    }
+
+    /// Inserts a vertex at `position` after vertex `after` of the outline (or of hole
+    /// `hole`).
+    #[pyo3(signature = (after, position, *, hole=None))]
+    fn insert_outline_vertex(
+        &mut self,
+        py: Python<'_>,
+        after: i64,
+        position: Vec<f64>,
+        hole: Option<i64>,
+    ) -> PyResult<Py<PyAny>> {
+        let (hole, after) = self.loop_vertex(hole, after)?;
+        let position = flat_point("position", position)?;
+        self.apply(py, BendEdit::InsertOutlineVertex { hole, after, position }, false)
+    }
+
+    /// Deletes a vertex of the outline (or of hole `hole`); three must remain.
+    #[pyo3(signature = (index, *, hole=None))]
+    fn delete_outline_vertex(&mut self, py: Python<'_>, index: i64, hole: Option<i64>) -> PyResult<Py<PyAny>> {
+        let (hole, index) = self.loop_vertex(hole, index)?;
+        self.apply(py, BendEdit::DeleteOutlineVertex { hole, index }, false)
+    }
+
+    /// Moves `region`'s flat segment: its `start` `[x, y]`, its `direction`, or both.
+    #[pyo3(signature = (region, *, start=None, direction=None, stop_at_boundary=false))]
+    fn move_flat_segment(
+        &mut self,
+        py: Python<'_>,
+        region: i64,
+        start: Option<Vec<f64>>,
+        direction: Option<Vec<f64>>,
+        stop_at_boundary: bool,
+    ) -> PyResult<Py<PyAny>> {
+        let region = self.region(region)?;
+        let start = start.map(|p| flat_point("start", p)).transpose()?;
+        let direction = direction.map(|p| flat_point("direction", p)).transpose()?;
+        self.apply(
+            py,
+            BendEdit::MoveFlatSegment {
+                region,
+                start,
+                direction,
+            },
+            stop_at_boundary,
+        )
+    }
+
+    /// Changes `region`'s helix: `radius`, `rise_per_radian` (the pitch over 2π),
+    /// `start_angle`, `end_angle` (radians); each one left out is kept.
+    #[pyo3(signature = (region, *, radius=None, rise_per_radian=None, start_angle=None, end_angle=None, stop_at_boundary=false))]
+    #[allow(clippy::too_many_arguments)]
+    fn set_helix(
+        &mut self,
+        py: Python<'_>,
+        region: i64,
+        radius: Option<f64>,
+        rise_per_radian: Option<f64>,
+        start_angle: Option<f64>,
+        end_angle: Option<f64>,
+        stop_at_boundary: bool,
+    ) -> PyResult<Py<PyAny>> {
+        let region = self.region(region)?;
+        self.apply(
+            py,
+            BendEdit::SetHelix {
+                region,
+                radius,
+                rise_per_radian,
+                start_angle,
+                end_angle,
+            },
+            stop_at_boundary,
+        )
+    }
+
+    /// Changes the radius of `region`'s flat arc (a non-geodesic control curve).
+    #[pyo3(signature = (region, radius, *, stop_at_boundary=false))]
+    fn set_flat_arc(
+        &mut self,
+        py: Python<'_>,
+        region: i64,
+        radius: f64,
+        stop_at_boundary: bool,
+    ) -> PyResult<Py<PyAny>> {
+        let region = self.region(region)?;
+        self.apply(py, BendEdit::SetFlatArc { region, radius }, stop_at_boundary)
     }
 
     /// Takes the last applied edit back; `False` when there is none.

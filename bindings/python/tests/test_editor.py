@@ -132,3 +132,34 @@ def test_the_editor_reads_its_files_from_where_it_was_opened(tmp_path, monkeypat
     editor = sheetform.BendEditor(json.loads((REPO / "examples/textured-sheet.json").read_text()), root="examples")
     monkeypatch.chdir(tmp_path)
     assert editor.bend().outcome == "ok"
+
+
+def test_the_sheet_and_the_analytic_curves_are_edited_as_in_the_web_editor():
+    editor = sheetform.BendEditor(REPO / "examples/bent-rectangle.json")
+    length = editor.bend().report["regions"][0]["curve_length_mm"]
+    # A corner dragged inward stops where the sheet's edge meets the flat segment's end:
+    # the edge from (240, -60) to (X, 60) crosses y = 0 at (240 + X) / 2 = L.
+    info = editor.move_outline_vertex(2, [100.0, 60.0], stop_at_boundary=True)
+    assert info["applied"] and 0.0 < info["moved_fraction"] < 1.0
+    x = editor.scene["outline"][2][0]
+    assert 2 * length - 240 <= x < 2 * length - 240 + 140 / 256
+    assert editor.undo()
+    assert editor.insert_outline_vertex(-1, [0.0, 0.0])["applied"]
+    assert len(editor.scene["outline"]) == 5
+    assert editor.delete_outline_vertex(-1)["applied"]
+    assert len(editor.scene["outline"]) == 4
+    with pytest.raises(sheetform.InvalidInputError, match="no hole 0"):
+        editor.move_outline_vertex(0, [0.0, 0.0], hole=0)
+    with pytest.raises(sheetform.InvalidInputError, match="two finite numbers"):
+        editor.move_outline_vertex(0, [0.0, 0.0, 0.0])
+    info = editor.move_flat_segment(0, start=[10.0, 5.0])
+    assert info["applied"] and editor.scene["regions"][0]["flat_start"] == [10.0, 5.0]
+    band = sheetform.BendEditor(REPO / "examples/arc-band.json")
+    info = band.set_helix(0, radius=42.0, rise_per_radian=11.0)
+    assert info["applied"], info["rejected_because"]
+    assert np.isclose(info["curve_length_after"], np.hypot(42.0, 11.0) * np.pi / 2, rtol=1e-9)
+    assert band.set_flat_arc(0, 64.0)["applied"]
+    assert band.scene["regions"][0]["flat_curve"]["radius"] == 64.0
+    tube = sheetform.BendEditor(REPO / "examples/tube.json")
+    info = tube.set_helix(0, radius=45.0, stop_at_boundary=True)
+    assert info["applied"] is False and "leaves the sheet" in info["stopped_because"]

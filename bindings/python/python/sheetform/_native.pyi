@@ -305,6 +305,43 @@ class BendEditor:
         stop_at_boundary: bool = False,
     ) -> dict[str, Any]:
         """Drags the end handles (§4.1.2)."""
+    def move_outline_vertex(
+        self,
+        index: int,
+        position: Sequence[float],
+        *,
+        hole: Optional[int] = None,
+        stop_at_boundary: bool = False,
+    ) -> dict[str, Any]:
+        """Moves a vertex of the outline (or of a hole) on the flat sheet."""
+    def insert_outline_vertex(
+        self, after: int, position: Sequence[float], *, hole: Optional[int] = None
+    ) -> dict[str, Any]:
+        """Inserts a vertex after vertex ``after`` of the outline (or of a hole)."""
+    def delete_outline_vertex(self, index: int, *, hole: Optional[int] = None) -> dict[str, Any]:
+        """Deletes a vertex of the outline (or of a hole); three must remain."""
+    def move_flat_segment(
+        self,
+        region: int,
+        *,
+        start: Optional[Sequence[float]] = None,
+        direction: Optional[Sequence[float]] = None,
+        stop_at_boundary: bool = False,
+    ) -> dict[str, Any]:
+        """Moves a region's flat segment: its start, its direction, or both."""
+    def set_helix(
+        self,
+        region: int,
+        *,
+        radius: Optional[float] = None,
+        rise_per_radian: Optional[float] = None,
+        start_angle: Optional[float] = None,
+        end_angle: Optional[float] = None,
+        stop_at_boundary: bool = False,
+    ) -> dict[str, Any]:
+        """Changes a region's helix; each parameter left out is kept."""
+    def set_flat_arc(self, region: int, radius: float, *, stop_at_boundary: bool = False) -> dict[str, Any]:
+        """Changes the radius of a region's flat arc."""
     def undo(self) -> bool:
         """Takes the last applied edit back; ``False`` when there is none."""
     def bend(self, *, outputs: _Outputs = "preview") -> Run:
