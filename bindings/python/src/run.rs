@@ -388,23 +388,17 @@ pub(crate) fn _restore_run(py: Python<'_>, state: &Bound<'_, PyDict>) -> PyResul
     Ok(Run {
         vertices: item("vertices")?.extract()?,
         faces: item("faces")?.extract()?,
-        uv: match optional("uv")? {
-            Some(v) => Some(v.extract::<Py<PyArray2<f64>>>().map_err(PyErr::from)?),
-            None => None,
-        },
-        face_pieces: match optional("face_pieces")? {
-            Some(v) => Some(v.extract::<Py<PyArray1<i64>>>().map_err(PyErr::from)?),
-            None => None,
-        },
+        uv: optional("uv")?.map(|v| v.extract().map_err(PyErr::from)).transpose()?,
+        face_pieces: optional("face_pieces")?
+            .map(|v| v.extract().map_err(PyErr::from))
+            .transpose()?,
         pieces: item("pieces")?.extract()?,
-        angle_defects_rad: match optional("angle_defects_rad")? {
-            Some(v) => Some(v.extract::<Py<PyArray1<f64>>>().map_err(PyErr::from)?),
-            None => None,
-        },
-        source_vertices: match optional("source_vertices")? {
-            Some(v) => Some(v.extract::<Py<PyArray1<i64>>>().map_err(PyErr::from)?),
-            None => None,
-        },
+        angle_defects_rad: optional("angle_defects_rad")?
+            .map(|v| v.extract().map_err(PyErr::from))
+            .transpose()?,
+        source_vertices: optional("source_vertices")?
+            .map(|v| v.extract().map_err(PyErr::from))
+            .transpose()?,
         report: to_python(py, &report_value)?.unbind(),
         outcome,
         meshes: item("meshes")?.cast::<PyDict>()?.clone().unbind(),

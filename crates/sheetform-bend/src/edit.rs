@@ -111,8 +111,8 @@ impl BendEditor {
     /// `region`'s curve with control point `index` moved to `position` (not yet applied).
     fn moved_shape(&self, region: usize, index: usize, position: Vec3) -> Result<CurveShape, BendError> {
         let mut pts = self.control_points(region)?;
-        check_index(index, pts.len())?;
-        check_finite(position)?;
+        check_control_point_index(index, pts.len())?;
+        check_edit_coordinates(position.as_slice())?;
         pts[index] = position;
         self.model.regions[region]
             .curve
@@ -198,10 +198,10 @@ impl BendEditor {
         }
         for h in [start, end] {
             if let Some(p) = h.position {
-                check_finite(p)?;
+                check_edit_coordinates(p.as_slice())?;
             }
             if let Some(v) = h.normal {
-                check_finite(v)?;
+                check_edit_coordinates(v.as_slice())?;
                 if v.norm() == 0.0 {
                     return Err(BendError::Edit {
                         message: "a normal handle is the zero vector".into(),
@@ -303,7 +303,11 @@ pub fn trim_to_length(curve: &Bezier3, target: f64) -> (Bezier3, SolverInfo) {
     (extended_segment(curve, t1), info)
 }
 
-fn check_index(index: usize, count: usize) -> Result<(), BendError> {
+/// Control point `index` exists on a curve of `count` points.
+///
+/// # Errors
+/// [`BendError::Edit`] naming the index and the count.
+pub fn check_control_point_index(index: usize, count: usize) -> Result<(), BendError> {
     if index >= count {
         return Err(BendError::Edit {
             message: format!("control point {index} does not exist (the curve has {count})"),
@@ -317,19 +321,42 @@ fn check_index(index: usize, count: usize) -> Result<(), BendError> {
 /// to 1e200 panicked in the trim's de Casteljau steps).
 pub const MAX_EDIT_COORDINATE: f64 = 1e9;
 
-fn check_finite(v: Vec3) -> Result<(), BendError> {
-    if v.iter().all(|c| c.is_finite() && c.abs() <= MAX_EDIT_COORDINATE) {
-        Ok(())
-    } else {
-        Err(BendError::Edit {
-            message: format!(
-                "a position or direction must be finite and within {MAX_EDIT_COORDINATE:e} of the origin, got ({}, {}, {})",
-                sheetform_geometry::short_number(v.x),
-                sheetform_geometry::short_number(v.y),
-                sheetform_geometry::short_number(v.z)
-            ),
-        })
+/// A position or direction an edit asks for (3D, or a point of the flat sheet) is finite
+/// and within [`MAX_EDIT_COORDINATE`] of the origin.
+///
+/// # Errors
+/// [`BendError::Edit`] quoting the coordinates.
+pub fn check_edit_coordinates(coordinates: &[f64]) -> Result<(), BendError> {
+    if coordinates
+        .iter()
+        .all(|c| c.is_finite() && c.abs() <= MAX_EDIT_COORDINATE)
+    {
+        return Ok(());
     }
+    let quoted: Vec<String> = coordinates
+        .iter()
+        .map(|c| sheetform_geometry::short_number(*c).to_string())
+        .collect();
+    Err(BendError::Edit {
+        message: format!(
+            "a position or direction must be finite and within {MAX_EDIT_COORDINATE:e} of the origin, got ({})",
+            quoted.join(", ")
+        ),
+    })
+}
+
+/// A number an edit sets (a radius, an angle) is finite and at most
+/// [`MAX_EDIT_COORDINATE`] in size.
+///
+/// # Errors
+/// [`BendError::Edit`] naming it.
+pub fn check_edit_number(name: &str, value: f64) -> Result<(), BendError> {
+    if value.is_finite() && value.abs() <= MAX_EDIT_COORDINATE {
+        return Ok(());
+    }
+    Err(BendError::Edit {
+        message: format!("{name} must be finite and at most {MAX_EDIT_COORDINATE:e} in size, got {value}"),
+    })
 }
 
 /// The Bézier curve on `[0, t1]` of the polynomial `curve` (also for `t1 > 1`:

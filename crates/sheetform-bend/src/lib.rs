@@ -37,8 +37,8 @@ pub use bend::{bend, place, region_geometries, region_geometry, BentSheet, Place
 pub use control_curve::{AnalyticCurve, ControlCurve, CurveShape};
 pub use curve_of_regression::{curve_of_regression_near_sheet, regression_distance};
 pub use edit::{
-    solve_end_normals, trim_to_length, BendEditor, EditInfo, EndHandle, EndHandleOptions, LengthPreservation,
-    MAX_EDIT_COORDINATE,
+    check_control_point_index, check_edit_coordinates, check_edit_number, solve_end_normals, trim_to_length,
+    BendEditor, EditInfo, EndHandle, EndHandleOptions, LengthPreservation, MAX_EDIT_COORDINATE,
 };
 pub use error::{BendError, InadmissibleDetail};
 pub use flat_layout::{flat_layout, Cell, EdgeKind, FlatLayout};

@@ -50,16 +50,8 @@ pub fn svg_bytes(pattern: &Pattern, title: &str, margin_mm: f64) -> Vec<u8> {
     // flat coordinates in mm) to this drawing: where an editor draws its handles.
     for (k, piece) in pattern.pieces.iter().enumerate() {
         let held: Vec<String> = piece.mesh_pieces.iter().map(u32::to_string).collect();
-        let [a, b, c, d, e, f] = piece.placement.0;
-        let transform = format!(
-            "matrix({} {} {} {} {} {})",
-            short(a),
-            short(-b),
-            short(c),
-            short(-d),
-            short(px(e)),
-            short(py(f))
-        );
+        let [a, b, c, d, e, f] = first_layout_to_drawing(piece, &px, &py);
+        let transform = format!("matrix({a:.6} {b:.6} {c:.6} {d:.6} {e:.4} {f:.4})");
         for cycle in &piece.cut {
             let _ = writeln!(
                 s,
@@ -179,11 +171,10 @@ fn write_texture(
     for (k, piece) in pattern.pieces.iter().enumerate() {
         // Image frame (u right, v down) → first layout (mm, y up) → the piece's place →
         // the SVG's user space.
+        let [a, b, c, d, e, f] = first_layout_to_drawing(piece, px, py);
         let to_svg = |u: f64, v: f64| {
-            let q = piece
-                .placement
-                .apply(Vec2::new(texture.origin.x + u, texture.origin.y + texture.size.y - v));
-            Vec2::new(px(q.x), py(q.y))
+            let (x, y) = (texture.origin.x + u, texture.origin.y + texture.size.y - v);
+            Vec2::new(a * x + c * y + e, b * x + d * y + f)
         };
         let (o, x, y) = (to_svg(0.0, 0.0), to_svg(1.0, 0.0), to_svg(0.0, 1.0));
         let (x, y) = (x - o, y - o);
@@ -196,16 +187,24 @@ fn write_texture(
     let _ = writeln!(s, "</g>");
 }
 
-/// A number with up to 6 decimals, trailing zeros dropped (exact for the integers and
-/// the signs of a rotation).
-fn short(x: f64) -> String {
-    let text = format!("{:.6}", if x == 0.0 { 0.0 } else { x });
-    let text = text.trim_end_matches('0').trim_end_matches('.');
-    if text == "-0" {
-        "0".into()
-    } else {
-        text.into()
-    }
+/// The SVG matrix `[a, b, c, d, e, f]` (`x' = a x + c y + e`, `y' = b x + d y + f`) from
+/// `piece`'s first layout (mm, y up) to the drawing's user space: its placement, then
+/// `px`/`py`.
+fn first_layout_to_drawing(
+    piece: &crate::PatternPiece,
+    px: &impl Fn(f64) -> f64,
+    py: &impl Fn(f64) -> f64,
+) -> [f64; 6] {
+    let to_svg = |p: Vec2| {
+        let q = piece.placement.apply(p);
+        Vec2::new(px(q.x), py(q.y))
+    };
+    let (o, x, y) = (
+        to_svg(Vec2::zeros()),
+        to_svg(Vec2::new(1.0, 0.0)),
+        to_svg(Vec2::new(0.0, 1.0)),
+    );
+    [x.x - o.x, x.y - o.y, y.x - o.x, y.y - o.y, o.x, o.y]
 }
 
 /// SVG path data of closed rings (`M … L … Z` each), in the SVG's user space.

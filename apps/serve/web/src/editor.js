@@ -641,15 +641,21 @@ function newAnnotation(path, width, height) {
   };
 }
 
-$('new-annotation').addEventListener('click', async () => {
+/** Opens the chooser dialog `dialog` with the served files of `kind` (`/api/files`'s
+ * `photos` or `meshes`) in its list `select`; its button `start` only when there is one. */
+async function openChooser(dialog, select, start, kind) {
   const response = await fetch('/api/files');
-  const { photos } = response.ok ? await response.json() : { photos: [] };
-  fillSelect($('photo-choice'), photos || []);
-  $('photo-chosen').disabled = !(photos && photos.length);
-  $('photo-file').value = '';
+  const names = (response.ok && (await response.json())[kind]) || [];
+  fillSelect($(select), names);
+  $(start).disabled = names.length === 0;
   // Esc closes it without changing returnValue: the last answer must not start again.
-  $('photo-chooser').returnValue = '';
-  $('photo-chooser').showModal();
+  $(dialog).returnValue = '';
+  $(dialog).showModal();
+}
+
+$('new-annotation').addEventListener('click', () => {
+  $('photo-file').value = '';
+  openChooser('photo-chooser', 'photo-choice', 'photo-chosen', 'photos');
 });
 $('photo-chooser').addEventListener('close', () => {
   if ($('photo-chooser').returnValue === 'served' && $('photo-choice').value) startAnnotation($('photo-choice').value);
@@ -880,20 +886,30 @@ function sizeSheetHandles() {
 
 let sheetDrag = null; // { edit fields, before, moved }
 
-/** An edit of the flat sheet (or of a parameter) that is not a drag: applied (or
- * refused) as one step of the history. */
-function editOnce(edit) {
-  const before = JSON.stringify(state.scene);
+/** Once the requests under way are answered: the scene `before` (JSON; null: none) goes
+ * on the undo stack when the design changed from it — the same design, not one loaded
+ * meanwhile (its history is its own) — then `then` runs. One step of the history for a
+ * drag or a one-off edit, however many requests it made. */
+function rememberWhenSettled(before, then = () => {}) {
   const generation = state.generation;
-  requestSolve(state.scene, performance.now(), edit);
-  window.addEventListener('sheetform-idle', () => {
-    // Not when another design was loaded meanwhile (its history is its own).
-    if (state.generation === generation && JSON.stringify(state.scene) !== before) {
+  const settle = () => {
+    if (before !== null && state.generation === generation && JSON.stringify(state.scene) !== before) {
       state.undo.push(before);
       state.redo = [];
       updateHistoryButtons();
     }
-  }, { once: true });
+    then();
+  };
+  if (state.inFlight) window.addEventListener('sheetform-idle', settle, { once: true });
+  else settle();
+}
+
+/** An edit of the flat sheet (or of a parameter) that is not a drag: applied (or
+ * refused) as one step of the history. */
+function editOnce(edit) {
+  const before = JSON.stringify(state.scene);
+  requestSolve(state.scene, performance.now(), edit);
+  rememberWhenSettled(before);
 }
 
 $('pattern').addEventListener('pointerdown', (event) => {
@@ -948,18 +964,9 @@ $('pattern').addEventListener('pointermove', (event) => {
 function endSheetDrag(event) {
   if (!sheetDrag) return;
   const { before, moved } = sheetDrag;
-  const generation = state.generation;
   sheetDrag = null;
   if ($('pattern').hasPointerCapture(event.pointerId)) $('pattern').releasePointerCapture(event.pointerId);
-  const settle = () => {
-    if (state.generation === generation && moved && JSON.stringify(state.scene) !== before) {
-      state.undo.push(before);
-      state.redo = [];
-      updateHistoryButtons();
-    }
-  };
-  if (state.inFlight) window.addEventListener('sheetform-idle', settle, { once: true });
-  else settle();
+  rememberWhenSettled(moved ? before : null);
 }
 $('pattern').addEventListener('pointerup', endSheetDrag);
 $('pattern').addEventListener('pointercancel', endSheetDrag);
@@ -1048,14 +1055,7 @@ function newFfdScene(path, upAxis) {
   };
 }
 
-$('new-ffd').addEventListener('click', async () => {
-  const response = await fetch('/api/files');
-  const { meshes } = response.ok ? await response.json() : { meshes: [] };
-  fillSelect($('mesh-choice'), meshes || []);
-  $('mesh-chosen').disabled = !(meshes && meshes.length);
-  $('mesh-chooser').returnValue = '';
-  $('mesh-chooser').showModal();
-});
+$('new-ffd').addEventListener('click', () => openChooser('mesh-chooser', 'mesh-choice', 'mesh-chosen', 'meshes'));
 $('mesh-chooser').addEventListener('close', () => {
   if ($('mesh-chooser').returnValue !== 'chosen' || !$('mesh-choice').value) return;
   load(JSON.stringify(newFfdScene($('mesh-choice').value, $('mesh-up').value), null, 2), null);
@@ -1831,17 +1831,10 @@ function endDrag(event) {
     }
     return;
   }
-  const settle = () => {
-    if (moved && JSON.stringify(state.scene) !== before) {
-      state.undo.push(before);
-      state.redo = [];
-      updateHistoryButtons();
-    }
+  rememberWhenSettled(moved ? before : null, () => {
     drawHandles(state.scene);
     render();
-  };
-  if (state.inFlight) window.addEventListener('sheetform-idle', settle, { once: true });
-  else settle();
+  });
 }
 canvas.addEventListener('pointerup', endDrag);
 canvas.addEventListener('pointercancel', endDrag);

@@ -4,11 +4,12 @@
 //! result comes back as a new scene, the same file the CLI reads.
 
 use super::error::PipelineError;
+use nalgebra::SVector;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use sheetform_bend::{
-    bend, BendEditor, BendError, BendModel, BendScene, CurveSpec, EditInfo, EndHandle, EndHandleOptions, FlatCurveSpec,
-    LengthPreservation, MAX_EDIT_COORDINATE,
+    bend, check_control_point_index, check_edit_coordinates, check_edit_number, BendEditor, BendError, BendModel,
+    BendScene, CurveSpec, EditInfo, EndHandle, EndHandleOptions, FlatCurveSpec, LengthPreservation,
 };
 use sheetform_geometry::{Vec2, Vec3};
 
@@ -321,6 +322,27 @@ fn end_normal(points: &[[f64; 3]], at_end: bool) -> Vec3 {
     d.cross(&(p2 - 2.0 * p1 + p0)).cross(&d)
 }
 
+/// The fraction `t` of the turn from the direction `now` to `wanted`: normalised linear
+/// interpolation, each first scaled by its largest component (a tiny vector has a norm).
+/// A zero `now` or `wanted` gives `wanted` (the edit refuses a zero one); opposite
+/// directions give `wanted` where the interpolation passes through zero.
+fn turned_part<const D: usize>(now: SVector<f64, D>, wanted: SVector<f64, D>, t: f64) -> SVector<f64, D> {
+    if now.amax() == 0.0 || wanted.amax() == 0.0 {
+        return wanted;
+    }
+    let unit = |v: SVector<f64, D>| {
+        let v = v / v.amax();
+        v / v.norm()
+    };
+    let (now, wanted) = (unit(now), unit(wanted));
+    let turned = now * (1.0 - t) + wanted * t;
+    if turned.norm() < 1e-9 {
+        wanted
+    } else {
+        turned
+    }
+}
+
 /// `edit` made the fraction `t` of the way from `scene`'s state.
 fn edit_part(scene: &BendScene, edit: &BendEdit, t: f64) -> Result<BendEdit, PipelineError> {
     let lerp = |from: [f64; 3], to: [f64; 3]| std::array::from_fn(|a| from[a] + t * (to[a] - from[a]));
@@ -345,25 +367,7 @@ fn edit_part(scene: &BendScene, edit: &BendEdit, t: f64) -> Result<BendEdit, Pip
             direction,
         } => {
             let (here, heading) = flat_segment(scene, *region)?;
-            let direction = direction.map(|wanted| {
-                let (now, wanted) = (Vec2::from(heading), Vec2::from(wanted));
-                if wanted.norm() == 0.0 {
-                    return [0.0, 0.0];
-                }
-                // (Scaled by the largest component first: a tiny heading has a norm.)
-                let unit = |v: Vec2| {
-                    let v = v / v.amax();
-                    v / v.norm()
-                };
-                if now.amax() == 0.0 {
-                    return [wanted.x, wanted.y];
-                }
-                let (now, wanted) = (unit(now), unit(wanted));
-                let turned = now * (1.0 - t) + wanted * t;
-                // Opposite directions half way: no direction between them; keep the wanted one.
-                let turned = if turned.norm() < 1e-9 { wanted } else { turned };
-                [turned.x, turned.y]
-            });
+            let direction = direction.map(|wanted| turned_part(Vec2::from(heading), Vec2::from(wanted), t).into());
             return Ok(BendEdit::MoveFlatSegment {
                 region: *region,
                 start: start.map(|p| lerp2(here, p)),
@@ -447,17 +451,9 @@ fn edit_part(scene: &BendScene, edit: &BendEdit, t: f64) -> Result<BendEdit, Pip
             }
             let part = |handle: &EndHandleSpec, at_end: bool| {
                 let here = points[if at_end { points.len() - 1 } else { 0 }];
-                let normal = handle.normal.map(|wanted| {
-                    let now = end_normal(points, at_end);
-                    let wanted = vector(wanted);
-                    if now.norm() == 0.0 || wanted.norm() == 0.0 {
-                        return [wanted.x, wanted.y, wanted.z];
-                    }
-                    let turned = now.normalize() * (1.0 - t) + wanted.normalize() * t;
-                    // Opposite normals half way: no direction between them; keep the wanted one.
-                    let turned = if turned.norm() < 1e-9 { wanted } else { turned };
-                    [turned.x, turned.y, turned.z]
-                });
+                let normal = handle
+                    .normal
+                    .map(|wanted| turned_part(end_normal(points, at_end), vector(wanted), t).into());
                 EndHandleSpec {
                     position: handle.position.map(|p| lerp(here, p)),
                     normal,
@@ -510,17 +506,13 @@ fn flat_segment(scene: &BendScene, region: usize) -> Result<([f64; 2], [f64; 2])
     Ok((start, direction))
 }
 
-fn check_position2(p: [f64; 2]) -> Result<(), PipelineError> {
-    check_position([p[0], p[1], 0.0])
-}
-
 /// The scene with one of its own edits made (the outline's, a flat segment's, a helix's):
 /// not yet checked for admissibility.
 fn edited_scene(scene: &BendScene, edit: &BendEdit) -> Result<BendScene, PipelineError> {
     let mut edited = scene.clone();
     match edit {
         BendEdit::MoveOutlineVertex { hole, index, position } => {
-            check_position2(*position)?;
+            check_edit_coordinates(position)?;
             let vertices = loop_mut(&mut edited, scene, *hole)?;
             let count = vertices.len();
             *vertices
@@ -528,7 +520,7 @@ fn edited_scene(scene: &BendScene, edit: &BendEdit) -> Result<BendScene, Pipelin
                 .ok_or_else(|| edit_error(no_vertex(*hole, *index, count)))? = *position;
         }
         BendEdit::InsertOutlineVertex { hole, after, position } => {
-            check_position2(*position)?;
+            check_edit_coordinates(position)?;
             let vertices = loop_mut(&mut edited, scene, *hole)?;
             if *after >= vertices.len() {
                 return Err(edit_error(no_vertex(*hole, *after, vertices.len())));
@@ -559,9 +551,9 @@ fn edited_scene(scene: &BendScene, edit: &BendEdit) -> Result<BendScene, Pipelin
         } => {
             let (here, heading) = flat_segment(scene, *region)?;
             let start = start.unwrap_or(here);
-            check_position2(start)?;
+            check_edit_coordinates(&start)?;
             let direction = direction.unwrap_or(heading);
-            check_position2(direction)?;
+            check_edit_coordinates(&direction)?;
             if direction == [0.0, 0.0] {
                 return Err(edit_error(format!(
                     "region {region}: a flat direction cannot be the zero vector"
@@ -586,11 +578,7 @@ fn edited_scene(scene: &BendScene, edit: &BendEdit) -> Result<BendScene, Pipelin
                 ("end_angle", end_angle),
             ] {
                 if let Some(v) = value {
-                    if !v.is_finite() || v.abs() > MAX_EDIT_COORDINATE {
-                        return Err(edit_error(format!(
-                            "{name} must be finite and at most {MAX_EDIT_COORDINATE:e} in size, got {v}"
-                        )));
-                    }
+                    check_edit_number(name, *v)?;
                 }
             }
             let Some(CurveSpec::Helix {
@@ -612,11 +600,7 @@ fn edited_scene(scene: &BendScene, edit: &BendEdit) -> Result<BendScene, Pipelin
             free_flat_length(&mut edited.regions[*region]);
         }
         BendEdit::SetFlatArc { region, radius } => {
-            if !radius.is_finite() || radius.abs() > MAX_EDIT_COORDINATE {
-                return Err(edit_error(format!(
-                    "radius must be finite and at most {MAX_EDIT_COORDINATE:e}, got {radius}"
-                )));
-            }
+            check_edit_number("radius", *radius)?;
             let Some(Some(FlatCurveSpec::Arc { radius: r, .. })) =
                 edited.regions.get_mut(*region).map(|spec| spec.flat_curve.as_mut())
             else {
@@ -629,9 +613,9 @@ fn edited_scene(scene: &BendScene, edit: &BendEdit) -> Result<BendScene, Pipelin
             index,
             position,
         } => {
-            check_position(*position)?;
+            check_edit_coordinates(position)?;
             let count = scene_control_points(scene, *region)?.len();
-            check_index(*index, count)?;
+            check_control_point_index(*index, count)?;
             if let CurveSpec::Bezier { control_points } | CurveSpec::Bspline { control_points, .. } =
                 &mut edited.regions[*region].curve
             {
@@ -766,28 +750,6 @@ fn apply_edit(
         moved_fraction,
         stopped_because: None,
     })
-}
-
-fn check_index(index: usize, count: usize) -> Result<(), PipelineError> {
-    if index >= count {
-        return Err(edit_error(format!(
-            "control point {index} does not exist (the curve has {count})"
-        )));
-    }
-    Ok(())
-}
-
-fn check_position(p: [f64; 3]) -> Result<(), PipelineError> {
-    if p.iter().all(|c| c.is_finite() && c.abs() <= MAX_EDIT_COORDINATE) {
-        Ok(())
-    } else {
-        Err(edit_error(format!(
-            "a position must be finite and within {MAX_EDIT_COORDINATE:e} of the origin, got ({}, {}, {})",
-            sheetform_geometry::short_number(p[0]),
-            sheetform_geometry::short_number(p[1]),
-            sheetform_geometry::short_number(p[2])
-        )))
-    }
 }
 
 #[cfg(test)]
