@@ -8,6 +8,8 @@
 //! - [`develop_pieces`]: the target's vertices moved as little as possible so that every
 //!   vertex inside a piece is flat (angle sum 2π): a constrained Gauss–Newton projection
 //!   on the shared [`sheetform_solve::KktSystem`];
+//! - [`smooth_seams`]: seams slid over a surface onto smooth curves (the pipeline slides
+//!   the automatic seams over the developed surface and develops the pieces again);
 //! - [`slit_unflattened_vertices`]: slits from the cone points a solve could not flatten.
 //!
 //! The pieces are then unfolded exactly and laid out by the pipeline (`run_develop`),
@@ -20,6 +22,7 @@ mod developable_projection;
 mod developable_segmentation;
 mod error;
 mod seam_pieces;
+mod seam_smoothing;
 
 pub use cone_slits::slit_unflattened_vertices;
 pub use developable_projection::{
@@ -32,3 +35,4 @@ pub use developable_segmentation::{
 };
 pub use error::DevelopError;
 pub use seam_pieces::{mirror_interior, seam_pieces, SeamPieces};
+pub use seam_smoothing::{smooth_seams, SeamSmoothingOptions, SmoothedSeams, MAX_SEAM_SMOOTHING_ITERATIONS};

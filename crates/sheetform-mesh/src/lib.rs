@@ -37,7 +37,10 @@ pub use mirror_plane::{
 };
 pub use sheet_mesh::{Piece, PieceKind, Ruling, SheetMesh};
 pub use shortest_edge_path::shortest_edge_path;
-pub use surface_distance::{surface_distance, vertex_distances, SurfaceDistance, SurfaceDistanceOptions, SurfaceIndex};
+pub use surface_distance::{
+    closest_point_on_triangle, surface_distance, vertex_distances, SurfaceDistance, SurfaceDistanceOptions,
+    SurfaceIndex,
+};
 pub use topology::{mesh_topology, mesh_topology_with_edges, MeshTopology};
 pub use triangle_mesh::{coincident_vertices, TriangleMesh};
 pub use union_find::UnionFind;

@@ -290,7 +290,7 @@ impl SurfaceIndex {
 /// the distance is then the better conditioned `|n·(p−a)|/|n|`); and a degenerate triangle
 /// (see [`DEGENERATE`]: collinear corners, a repeated corner, a single point) is measured as
 /// its three sides, so it never gives NaN.
-fn closest_point_on_triangle(p: Vec3, [a, b, c]: [Vec3; 3]) -> Vec3 {
+pub fn closest_point_on_triangle(p: Vec3, [a, b, c]: [Vec3; 3]) -> Vec3 {
     let ab = b - a;
     let ac = c - a;
     let normal = ab.cross(&ac);
