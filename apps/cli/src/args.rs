@@ -210,6 +210,11 @@ pub(crate) enum Command {
         /// plane unless one is needed); pieces come in mirrored pairs.
         #[arg(long, value_name = "PLANE", value_parser = str::parse::<sheetform::pipeline::Mirror>)]
         mirror: Option<sheetform::pipeline::Mirror>,
+        /// Automatic seams: sweeps that slide the seams found over the target onto
+        /// smooth curves, removing the staircase of mesh edges (0: seams along the
+        /// mesh's edges as found).
+        #[arg(long, value_name = "SWEEPS", default_value_t = sheetform::pipeline::SeamSmoothingOptions::default().iterations)]
+        seam_smoothing: usize,
         /// Smoothness against closeness: 0 moves each vertex as little as possible,
         /// larger values spread the change over its neighbours.
         #[arg(long, value_name = "WEIGHT", default_value_t = 0.1)]

@@ -112,6 +112,7 @@ fn main() -> ExitCode {
             max_distance,
             work_faces,
             mirror,
+            seam_smoothing,
             smoothness,
             tolerance,
             max_iterations,
@@ -133,6 +134,10 @@ fn main() -> ExitCode {
                 fixed_groups: fixed,
                 work_faces: Some(work_faces),
                 mirror,
+                seam_smoothing: sheetform::pipeline::SeamSmoothingOptions {
+                    iterations: seam_smoothing,
+                    ..Default::default()
+                },
                 develop: sheetform::pipeline::DevelopOptions {
                     smoothness,
                     defect_tolerance: tolerance,

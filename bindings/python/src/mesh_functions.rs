@@ -12,7 +12,7 @@ use sheetform::mesh::LengthUnit;
 use sheetform::pipeline::{
     mesh_from_arrays, run_check, run_develop, run_flatten, run_pattern, seam_edges_from_array, sheet_mesh_from_arrays,
     ChartMode, CheckOptions, DevelopOptions, DevelopRunOptions, DistanceBound, FlattenMethod, FlattenOptions,
-    SeamSource, SegmentationOptions, DEFAULT_ANGLE_TOLERANCE,
+    SeamSmoothingOptions, SeamSource, SegmentationOptions, DEFAULT_ANGLE_TOLERANCE,
 };
 
 /// The mesh of `vertices` and `faces` with its drawn `seams` (`(k, 2)` vertex pairs), read
@@ -214,8 +214,10 @@ pub(crate) fn flatten(
 /// faces (a scan) is remeshed first into about this many even triangles, its boundary, seams
 /// and fixed vertices kept. `mirror`: a mirror plane the result keeps, `"x"`, `"y"` or
 /// `"z"` (through the middle of the mesh) or placed, `"x=0"`: the half with more area is
-/// developed and joined with its mirror image. `smoothness`, `tolerance` (radians) and
-/// `max_iterations` steer the developability solve.
+/// developed and joined with its mirror image. `seam_smoothing` (default 6): sweeps that
+/// slide the automatic seams onto smooth curves instead of the staircase of mesh edges (0:
+/// along the edges as found). `smoothness`, `tolerance` (radians) and `max_iterations`
+/// steer the developability solve.
 ///
 /// Returns a `Run` (`uv` the pattern at 1:1, `face_pieces` the piece of each face,
 /// `source_vertices` the target vertex each output vertex copies, -1 for a vertex the
@@ -224,7 +226,7 @@ pub(crate) fn flatten(
 /// keeps a defect above `tolerance` or the distance bound is not met (the closest
 /// result is returned).
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, *, seams=None, automatic_seams=true, max_pieces=12, normal_tolerance=2.0, cone_angle=60.0, fixed=None, max_distance=None, work_faces=None, mirror=None, smoothness=0.1, tolerance=1e-10, max_iterations=100, unit="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None))]
+#[pyo3(signature = (vertices, faces, *, seams=None, automatic_seams=true, max_pieces=12, normal_tolerance=2.0, cone_angle=60.0, fixed=None, max_distance=None, work_faces=None, mirror=None, seam_smoothing=6, smoothness=0.1, tolerance=1e-10, max_iterations=100, unit="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn develop(
     py: Python<'_>,
@@ -239,6 +241,7 @@ pub(crate) fn develop(
     max_distance: Option<&Bound<'_, PyAny>>,
     work_faces: Option<usize>,
     mirror: Option<&str>,
+    seam_smoothing: usize,
     smoothness: f64,
     tolerance: f64,
     max_iterations: usize,
@@ -277,6 +280,10 @@ pub(crate) fn develop(
         max_distance,
         work_faces,
         mirror,
+        seam_smoothing: SeamSmoothingOptions {
+            iterations: seam_smoothing,
+            ..Default::default()
+        },
         segmentation: SegmentationOptions {
             max_pieces,
             normal_tolerance_degrees: normal_tolerance,

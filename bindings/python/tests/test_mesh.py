@@ -333,3 +333,26 @@ def test_develop_with_a_distance_bound_and_its_refusals():
         sheetform.develop(sphere.vertices, sphere.faces, max_distance="far")
     with pytest.raises(sheetform.InvalidInputError, match="max_pieces"):
         sheetform.develop(sphere.vertices, sphere.faces, max_pieces=0)
+
+
+def test_develop_slides_automatic_seams_onto_smooth_curves_unless_told_not_to():
+    """An icosphere's automatic seams step along its edges: with the default smoothing the
+    report counts the seam vertices slid onto smooth curves and the printed cut is
+    shorter; `seam_smoothing=0` keeps them on the mesh's edges. Both are exact."""
+    sphere = trimesh.creation.icosphere(subdivisions=3, radius=50.0)
+    smooth = sheetform.develop(sphere.vertices, sphere.faces, outputs="preview")
+    stepped = sheetform.develop(sphere.vertices, sphere.faces, seam_smoothing=0, outputs="preview")
+    assert smooth.report["develop"]["seam_smoothed_vertex_count"] > 50
+    assert stepped.report["develop"]["seam_smoothed_vertex_count"] == 0
+    assert smooth.outcome == stepped.outcome == "ok"
+
+    def cut_length(run):
+        # Border edges of the flat pattern: edges of one face only.
+        edges = np.sort(np.concatenate([run.faces[:, [0, 1]], run.faces[:, [1, 2]], run.faces[:, [2, 0]]]), axis=1)
+        unique, counts = np.unique(edges, axis=0, return_counts=True)
+        border = unique[counts == 1]
+        return np.linalg.norm(run.uv[border[:, 0]] - run.uv[border[:, 1]], axis=1).sum()
+
+    assert cut_length(smooth) < 0.97 * cut_length(stepped)
+    with pytest.raises(sheetform.InvalidInputError, match="seam_smoothing"):
+        sheetform.develop(sphere.vertices, sphere.faces, seam_smoothing=1000, outputs="preview")

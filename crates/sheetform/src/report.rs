@@ -711,6 +711,12 @@ pub struct DevelopReport {
     /// Automatic seams: slits cut from cone points inside a piece (a box's corner) to
     /// its border, so they need not be flattened (counted in `seam_edge_count`).
     pub slit_count: usize,
+    /// Automatic seams: seam vertices slid onto smooth curves over the developed surface
+    /// before the pieces were developed again (0: the seams run along the mesh's edges
+    /// as found: smoothing off, nothing to smooth, or its result not developable or
+    /// farther than allowed).
+    #[serde(default)]
+    pub seam_smoothed_vertex_count: usize,
     /// Vertices inside a piece, made flat (angle sum 2π).
     pub constrained_vertex_count: usize,
     /// Largest angle defect inside a piece, in the target.

@@ -937,3 +937,76 @@ fn a_mirror_plane_is_kept_exactly() {
         assert!(String::from_utf8_lossy(&o.stderr).contains("--mirror"), "{bad}");
     }
 }
+
+/// Corners of the printed cut loops (pattern.svg's cut layer) where the cut turns by
+/// more than 30°, and the loops' total length (mm).
+fn cut_corners(svg: &str) -> (usize, f64) {
+    let mut corners = 0;
+    let mut length = 0.0;
+    for mut points in crate::common::svg_cut_loops(svg) {
+        if points.len() > 1 && points.first() == points.last() {
+            points.pop();
+        }
+        let n = points.len();
+        for i in 0..n {
+            let [a, b, c] = [points[(i + n - 1) % n], points[i], points[(i + 1) % n]];
+            let (u, w) = ([b[0] - a[0], b[1] - a[1]], [c[0] - b[0], c[1] - b[1]]);
+            length += w[0].hypot(w[1]);
+            let turn = (u[0] * w[1] - u[1] * w[0]).atan2(u[0] * w[0] + u[1] * w[1]).abs();
+            if turn > 30f64.to_radians() {
+                corners += 1;
+            }
+        }
+    }
+    (corners, length)
+}
+
+#[test]
+fn automatic_seams_are_cut_along_smooth_curves() {
+    // An icosphere's automatic seams run along its edges in steps (its edges run in no
+    // band's direction); slid onto smooth curves they print with far fewer corners and
+    // a shorter cut, the pieces as exact and as close (measured on trimesh's icosphere at
+    // 200 mm: 440 → 64 corners, cut 11.5 → 10.6 m, Hausdorff 0.75 → 0.76 %).
+    let dir = tempfile::tempdir().unwrap();
+    let path = write_obj(dir.path(), "sphere", &sheetform::mesh::primitives::icosphere(50.0, 3));
+    let run = |name: &str, sweeps: &str| {
+        let out = dir.path().join(name);
+        let o = sheetform(&[
+            "develop",
+            path.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--tabs",
+            "none",
+            "--seam-smoothing",
+            sweeps,
+            "-q",
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let model = read_obj(&out.join("model.obj"));
+        assert!(max_interior_defect(&model).0 <= 1e-8);
+        assert!(obj_isometry_error(&model) <= 1e-9);
+        let svg = std::fs::read_to_string(out.join("pattern.svg")).unwrap();
+        let report = crate::common::report(&out);
+        let hausdorff = report["develop"]["hausdorff_relative"].as_f64().unwrap();
+        let moved = report["develop"]["seam_smoothed_vertex_count"].as_u64().unwrap();
+        (cut_corners(&svg), hausdorff, farthest_from_sphere(&model, 50.0), moved)
+    };
+    let ((stepped, stepped_length), stepped_distance, _, none) = run("stepped", "0");
+    let ((smooth, smooth_length), smooth_distance, off, moved) = run("smooth", "6");
+    assert_eq!(none, 0);
+    assert!(moved > 50, "{moved} seam vertices smoothed");
+    assert!(smooth * 3 < stepped, "{stepped} → {smooth} corners");
+    assert!(
+        smooth_length < 0.97 * stepped_length,
+        "cut {stepped_length} → {smooth_length} mm"
+    );
+    assert!(
+        smooth_distance <= 1.1 * stepped_distance,
+        "{stepped_distance} → {smooth_distance}"
+    );
+    assert!(
+        off <= 50.0 * (1.0 - 15f64.to_radians().cos()),
+        "{off} mm off the sphere"
+    );
+}

@@ -236,6 +236,7 @@ def develop(
     max_distance: Optional[Union[float, str]] = None,
     work_faces: Optional[int] = None,
     mirror: Optional[str] = None,
+    seam_smoothing: int = 6,
     smoothness: float = 0.1,
     tolerance: float = 1e-10,
     max_iterations: int = 100,

@@ -9,9 +9,10 @@ use super::flatten::{run_flatten, ChartMode, FlattenOptions, FlattenRun};
 use super::outputs::output_names;
 use crate::report::{Command, DevelopReport, Status};
 use sheetform_develop::{
-    develop_pieces, seam_pieces, segment_developable, slit_unflattened_vertices, DevelopError, MirrorBoundary,
+    develop_pieces, seam_pieces, segment_developable, slit_unflattened_vertices, smooth_seams, DevelopError,
+    MirrorBoundary,
 };
-pub use sheetform_develop::{DevelopOptions, Developed, SegmentationOptions};
+pub use sheetform_develop::{DevelopOptions, Developed, SeamSmoothingOptions, SegmentationOptions};
 use sheetform_flatten::ChartOptions;
 use sheetform_io::{colour_ramp, glb_vertex_colours, ply_vertex_colours, UpAxis};
 use sheetform_mesh::{
@@ -155,6 +156,11 @@ pub struct DevelopRunOptions {
     pub max_distance: Option<DistanceBound>,
     /// How automatic seams are found (the piece budget, the fit).
     pub segmentation: SegmentationOptions,
+    /// How automatic seams are slid over the developed surface onto smooth curves before
+    /// the pieces are developed again ([`sheetform_develop::smooth_seams`];
+    /// `iterations: 0`: along the mesh's edges as found). Drawn seams, fixed vertices and
+    /// a mirror plane's vertices never move.
+    pub seam_smoothing: SeamSmoothingOptions,
     /// How the pieces are made developable.
     pub develop: DevelopOptions,
     /// Regions kept where they are: the faces of these mesh groups (OBJ `g` names) do
@@ -222,6 +228,8 @@ struct Attempt {
     distance: sheetform_mesh::SurfaceDistance,
     /// Slits cut after a solve left cone points unflattened.
     late_slit_count: usize,
+    /// Seam vertices smoothing moved in the result kept.
+    smoothed_count: usize,
 }
 
 /// A finished `develop`.
@@ -244,7 +252,11 @@ pub struct DevelopRun {
 /// overlap itself in the plane is cut again, and the printed pieces are what the report
 /// counts). With automatic seams, a solve that leaves a defect above the tolerance is
 /// run again after slits from the vertices it could not flatten
-/// ([`sheetform_develop::slit_unflattened_vertices`], at most [`SLIT_ROUNDS`] times).
+/// ([`sheetform_develop::slit_unflattened_vertices`], at most [`SLIT_ROUNDS`] times);
+/// then its seams, which run along mesh edges in steps, are slid over the developed
+/// surface onto smooth curves ([`sheetform_develop::smooth_seams`],
+/// [`DevelopRunOptions::seam_smoothing`]) and the pieces developed again from there, the
+/// smoother result kept when it is developable.
 /// With a mirror plane ([`DevelopRunOptions::mirror`]) the half of the target cut by
 /// [`sheetform_mesh::mirror_half`] is developed, in two layouts (pieces across the plane,
 /// flat on it in the whole; or a centre seam; searched at once on two threads, the
@@ -269,6 +281,7 @@ pub fn run_develop(
     let started = std::time::Instant::now();
     options.develop.validate()?;
     options.segmentation.validate()?;
+    options.seam_smoothing.validate()?;
     if let Some(bound) = &options.max_distance {
         bound.validate()?;
     }
@@ -397,6 +410,23 @@ pub fn run_develop(
         }
         .into());
     }
+    // What seam smoothing never moves: the drawn seams, the fixed vertices and the
+    // mirror plane's (a centre seam runs on the plane).
+    let mut seam_locked = vec![false; work.positions.len()];
+    for (e, &[a, b]) in work_table.edges.iter().enumerate() {
+        if hard[e] {
+            seam_locked[a as usize] = true;
+            seam_locked[b as usize] = true;
+        }
+    }
+    for (flag, &fixed) in seam_locked.iter_mut().zip(work_fixed) {
+        *flag |= fixed;
+    }
+    if let Some(m) = &mirror {
+        for (flag, &on) in seam_locked.iter_mut().zip(&m.half.on_plane) {
+            *flag |= on;
+        }
+    }
     // With a mirror plane, `centre_seam` cuts the whole along the plane (the half's cut
     // is a seam); without, pieces run across it where they can.
     // An attempt reports its progress through `report` and reads the cancel flag alone
@@ -486,29 +516,96 @@ pub fn run_develop(
             steps += developed.iterations;
         }
         developed.iterations = steps;
-        let mut result = work.clone();
-        result.positions.clone_from(&developed.positions);
-        result.seam_edges = seams;
-        let half_vertex = match &mirror {
-            Some(m) => {
-                let whole = mirror_whole(&result, &m.half.on_plane, &m.plane);
-                let problems = sheetform_mesh::mesh_topology(&whole.mesh).problems();
-                if !problems.is_empty() {
-                    return Err(DevelopError::Topology {
-                        problem: format!(
-                            "joined with its mirror image in {}, the developed half is not a clean manifold ({}): place the plane where the mesh crosses it cleanly",
-                            m.plane.describe(),
-                            problems.join("; ")
-                        ),
+        // The developed half joined with its mirror image (with a plane), and its
+        // distance to the target.
+        let built = |positions: &[nalgebra::Vector3<f64>]| -> Result<_, PipelineError> {
+            let mut result = work.clone();
+            result.positions = positions.to_vec();
+            result.seam_edges.clone_from(&seams);
+            let half_vertex = match &mirror {
+                Some(m) => {
+                    let whole = mirror_whole(&result, &m.half.on_plane, &m.plane);
+                    let problems = sheetform_mesh::mesh_topology(&whole.mesh).problems();
+                    if !problems.is_empty() {
+                        return Err(DevelopError::Topology {
+                            problem: format!(
+                                "joined with its mirror image in {}, the developed half is not a clean manifold ({}): place the plane where the mesh crosses it cleanly",
+                                m.plane.describe(),
+                                problems.join("; ")
+                            ),
+                        }
+                        .into());
                     }
-                    .into());
+                    result = whole.mesh;
+                    Some(whole.half_vertex)
                 }
-                result = whole.mesh;
-                Some(whole.half_vertex)
-            }
-            None => None,
+                None => None,
+            };
+            let distance = surface_distance(&result, reference, &SurfaceDistanceOptions::default());
+            Ok((result, half_vertex, distance))
         };
-        let distance = surface_distance(&result, reference, &SurfaceDistanceOptions::default());
+        let (mut result, mut half_vertex, mut distance) = built(&developed.positions)?;
+        let mut smoothed_count = 0;
+        // The seams found run along mesh edges, in steps: on the developed surface they
+        // are slid onto smooth curves and the pieces made developable again from there,
+        // kept when that converges within the distance bound or no farther from the
+        // target (smoothing the target's seams before the first solve was measured to
+        // leave the solve unconverged and cut many more slits: docs/benchmarks.md,
+        // session 32).
+        if options.seams == SeamSource::Automatic && developed.converged && options.seam_smoothing.iterations > 0 {
+            let surface = TriangleMesh {
+                positions: developed.positions.clone(),
+                ..work.clone()
+            };
+            let smoothed = smooth_seams(&surface, work_table, &seams, &seam_locked, &options.seam_smoothing);
+            if smoothed.moved_count > 0 {
+                let surface = TriangleMesh {
+                    positions: smoothed.positions,
+                    ..surface
+                };
+                let again = develop_pieces(
+                    &surface,
+                    work_table,
+                    &pieces,
+                    work_fixed,
+                    mirror_boundary.as_ref(),
+                    &options.develop,
+                    cancel,
+                )?;
+                check_cancelled()?;
+                let smooth = if again.converged {
+                    Some(built(&again.positions)?)
+                } else {
+                    None
+                };
+                let allowed = bound.map_or(f64::INFINITY, |b| b.max(distance.hausdorff));
+                let kept = smooth.filter(|(_, _, d)| d.hausdorff <= allowed);
+                tracing::debug!(
+                    converged = again.converged,
+                    iterations = again.iterations,
+                    moved = smoothed.moved_count,
+                    kept = kept.is_some(),
+                    "develop: seams smoothed, the pieces developed again"
+                );
+                if let Some(smooth) = kept {
+                    let moves: Vec<f64> = again
+                        .positions
+                        .iter()
+                        .zip(&work.positions)
+                        .map(|(p, q)| (p - q).norm())
+                        .collect();
+                    developed = Developed {
+                        iterations: developed.iterations + again.iterations,
+                        max_defect_before: developed.max_defect_before,
+                        displacement_max: moves.iter().copied().fold(0.0, f64::max),
+                        displacement_mean: moves.iter().sum::<f64>() / moves.len().max(1) as f64,
+                        ..again
+                    };
+                    (result, half_vertex, distance) = smooth;
+                    smoothed_count = smoothed.moved_count;
+                }
+            }
+        }
         let result_table = EdgeTable::new(&result.triangles, result.positions.len());
         let whole_pieces = seam_pieces(&result, &result_table, &result.seam_edges)?;
         Ok(Attempt {
@@ -521,6 +618,7 @@ pub fn run_develop(
             developed,
             distance,
             late_slit_count,
+            smoothed_count,
         })
     };
     // With a distance bound and automatic seams: from a few pieces (at most 4, fewer when
@@ -741,6 +839,7 @@ pub fn run_develop(
         developed,
         distance,
         late_slit_count,
+        smoothed_count,
     } = best;
     // Each printed vertex's vertex of the target as read: through its half vertex and
     // the cut (mirror), then the remeshing.
@@ -831,6 +930,7 @@ pub fn run_develop(
         seam_length_relative: seam_length / diagonal,
         normal_deviation_rms_deg: segmentation.as_ref().map(|s| s.normal_deviation_rms.to_degrees()),
         slit_count: segmentation.as_ref().map_or(0, |s| s.slit_count) + late_slit_count,
+        seam_smoothed_vertex_count: smoothed_count,
         constrained_vertex_count: pieces.interior.iter().filter(|&&i| i).count(),
         angle_defect_max_before_rad: developed.max_defect_before,
         angle_defect_max_rad: max_defect,
