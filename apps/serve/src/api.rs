@@ -2,19 +2,20 @@
 //! download. Each runs the library pipeline (the same `run_bend` as `sheetform bend`)
 //! on the blocking pool; nothing of a pipeline is repeated here.
 
+use crate::array_reply::{reply_with_arrays, ArrayData, TakenArrays};
 use crate::AppState;
 use axum::extract::{Path, Query, State};
-use axum::http::{header, HeaderValue, StatusCode};
+use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::routing::post;
 use axum::{Json, Router};
 use serde::Serialize;
-use sheetform::bend::BendScene;
 use sheetform::bend::EditInfo;
+use sheetform::bend::{BendModel, BendScene, BentSheet};
 use sheetform::mesh::SheetMesh;
 use sheetform::pipeline::{
-    edit_bend_scene_with, run_bend, BendEdit, BendEditOptions, BendRunOptions, ErrorKind, OutputSet, PipelineError,
-    RenderedFiles, RunContext,
+    edit_bend_scene_with, run_bend, run_bend_bent, BendEdit, BendEditOptions, BendRunOptions, ErrorKind, OutputSet,
+    PipelineError, RenderedFiles, RunContext,
 };
 use sheetform::report::Report;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -245,6 +246,18 @@ impl MeshArrays {
             face_pieces: mesh.face_pieces.clone(),
         }
     }
+
+    /// Takes the arrays out for a binary reply (the reply's field is `model`).
+    pub(crate) fn take_arrays(&mut self) -> TakenArrays {
+        use std::mem::take;
+        vec![
+            ("model.positions", ArrayData::F64(take(&mut self.positions))),
+            ("model.flat", ArrayData::F64(take(&mut self.flat))),
+            ("model.triangles", ArrayData::U32(take(&mut self.triangles))),
+            ("model.rulings", ArrayData::U32Lists(take(&mut self.rulings))),
+            ("model.face_pieces", ArrayData::U32(take(&mut self.face_pieces))),
+        ]
+    }
 }
 
 /// How far beyond a ruling's ends (in multiples of its length on the sheet) the editor
@@ -267,6 +280,18 @@ struct BendReply {
     region_frames: Vec<RegionFrame>,
     /// Server time for parsing, solving and rendering (ms).
     server_ms: f64,
+}
+
+impl BendReply {
+    /// Takes the model's arrays and the angle defects out for a binary reply.
+    fn take_arrays(&mut self) -> TakenArrays {
+        let mut arrays = self.model.take_arrays();
+        arrays.push((
+            "angle_defects_rad",
+            ArrayData::F64(std::mem::take(&mut self.angle_defects_rad)),
+        ));
+        arrays
+    }
 }
 
 /// A rigid motion `x ↦ R x + t`.
@@ -540,15 +565,18 @@ pub(crate) fn pattern_svg(files: &[(String, Vec<u8>)]) -> String {
         .unwrap_or_default()
 }
 
-/// Bends `scene` with the preview outputs: what the editor draws.
+/// Bends `scene` with the preview outputs: what the editor draws (`bent`: the scene
+/// already bent by an edit's check, exported without bending again).
 fn preview(
     scene: &BendScene,
+    bent: Option<Box<(BendModel, BentSheet)>>,
     assets: &SceneAssets,
     start: Instant,
     cancel: &AtomicBool,
 ) -> Result<BendReply, ApiError> {
     let context = assets.context().with_outputs(OutputSet::Preview).with_cancel(cancel);
-    let run = run_bend(scene, &BendRunOptions::default(), &context).map_err(|e| assets.confined(e.into()))?;
+    let run =
+        run_bend_bent(scene, bent, &BendRunOptions::default(), &context).map_err(|e| assets.confined(e.into()))?;
     Ok(BendReply {
         model: MeshArrays::new(&run.sheet.mesh),
         angle_defects_rad: run.angle_defects_rad,
@@ -577,15 +605,16 @@ fn preview(
 async fn bend(
     State(state): State<Arc<AppState>>,
     ApiQuery(query): ApiQuery<SceneQuery>,
+    headers: HeaderMap,
     ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
     let start = Instant::now();
     let assets = SceneAssets::new(&state.root, &query)?;
     let reply = solve(&state, move |cancel| {
-        preview(&bend_scene(&body)?, &assets, start, cancel)
+        preview(&bend_scene(&body)?, None, &assets, start, cancel)
     })
     .await?;
-    Ok(Json(reply).into_response())
+    Ok(reply_with_arrays(&headers, reply, BendReply::take_arrays))
 }
 
 /// `POST /api/bend/edit`: `{"scene": …, "edit": …}`.
@@ -617,6 +646,7 @@ struct EditReply {
 async fn bend_edit(
     State(state): State<Arc<AppState>>,
     ApiQuery(query): ApiQuery<SceneQuery>,
+    headers: HeaderMap,
     ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
     let start = Instant::now();
@@ -660,7 +690,7 @@ async fn bend_edit(
                     .unwrap_or_else(|| "the edit would make the shape inadmissible".into()),
             ));
         }
-        let preview = preview(&result.scene, &assets, start, cancel)?;
+        let preview = preview(&result.scene, result.bent, &assets, start, cancel)?;
         Ok(EditReply {
             scene: result.scene,
             edit: result.info,
@@ -670,7 +700,9 @@ async fn bend_edit(
         })
     })
     .await?;
-    Ok(Json(reply).into_response())
+    Ok(reply_with_arrays(&headers, reply, |reply: &mut EditReply| {
+        reply.preview.take_arrays()
+    }))
 }
 
 /// Content type of a file the CLI writes.

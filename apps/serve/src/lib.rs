@@ -37,6 +37,7 @@
 #![warn(missing_docs)]
 
 mod api;
+mod array_reply;
 mod assets;
 pub use assets::EDITOR_EMBEDDED;
 mod ffd;

@@ -8,12 +8,14 @@
 use crate::api::{
     attachment, output_file, pattern_svg, printable, solve_with_slots, ApiBody, ApiError, ApiQuery, MeshArrays,
 };
+use crate::array_reply::reply_with_arrays;
 use crate::AppState;
 use axum::body::Bytes;
 use axum::extract::{Path, State};
-use axum::response::{IntoResponse, Response};
+use axum::http::HeaderMap;
+use axum::response::Response;
 use axum::routing::post;
-use axum::{Json, Router};
+use axum::Router;
 use serde::{Deserialize, Serialize};
 use sheetform::mesh::{LengthUnit, TriangleMesh};
 use sheetform::pipeline::{
@@ -237,6 +239,7 @@ fn check_and_flatten(
 async fn mesh(
     State(state): State<Arc<AppState>>,
     ApiQuery(query): ApiQuery<MeshQuery>,
+    headers: HeaderMap,
     ApiBody(body): ApiBody<Bytes>,
 ) -> Result<Response, ApiError> {
     let root = state.root.clone();
@@ -245,7 +248,9 @@ async fn mesh(
         check_and_flatten(&query, &body, root, cancel)
     })
     .await?;
-    Ok(Json(reply).into_response())
+    Ok(reply_with_arrays(&headers, reply, |reply: &mut MeshReply| {
+        reply.model.take_arrays()
+    }))
 }
 
 /// `POST /api/mesh/file/{name}?name=…&charts=…`: one file `sheetform flatten` (or

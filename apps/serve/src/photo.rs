@@ -6,11 +6,13 @@
 use crate::api::{
     pattern_svg, scene_download, solve, ApiBody, ApiError, ApiQuery, MeshArrays, SceneAssets, SceneQuery,
 };
+use crate::array_reply::reply_with_arrays;
 use crate::AppState;
 use axum::extract::{Path, State};
-use axum::response::{IntoResponse, Response};
+use axum::http::HeaderMap;
+use axum::response::Response;
 use axum::routing::post;
-use axum::{Json, Router};
+use axum::Router;
 use serde::Serialize;
 use sheetform::pipeline::{run_photo, OutputSet, PhotoInput, PhotoRunOptions};
 use sheetform::report::Report;
@@ -37,6 +39,7 @@ struct PhotoReply {
 async fn photo(
     State(state): State<Arc<AppState>>,
     ApiQuery(query): ApiQuery<SceneQuery>,
+    headers: HeaderMap,
     ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
     let start = Instant::now();
@@ -53,7 +56,9 @@ async fn photo(
         })
     })
     .await?;
-    Ok(Json(reply).into_response())
+    Ok(reply_with_arrays(&headers, reply, |reply: &mut PhotoReply| {
+        reply.model.take_arrays()
+    }))
 }
 
 async fn photo_file(

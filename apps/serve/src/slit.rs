@@ -5,11 +5,13 @@
 use crate::api::{
     pattern_svg, scene_download, solve, ApiBody, ApiError, ApiQuery, MeshArrays, SceneAssets, SceneQuery,
 };
+use crate::array_reply::reply_with_arrays;
 use crate::AppState;
 use axum::extract::{Path, State};
-use axum::response::{IntoResponse, Response};
+use axum::http::HeaderMap;
+use axum::response::Response;
 use axum::routing::post;
-use axum::{Json, Router};
+use axum::Router;
 use serde::Serialize;
 use sheetform::pipeline::{run_slit, OutputSet, PipelineError, SlitRunOptions};
 use sheetform::report::Report;
@@ -45,6 +47,7 @@ struct SlitReply {
 async fn slit(
     State(state): State<Arc<AppState>>,
     ApiQuery(query): ApiQuery<SceneQuery>,
+    headers: HeaderMap,
     ApiBody(body): ApiBody<String>,
 ) -> Result<Response, ApiError> {
     let start = Instant::now();
@@ -62,7 +65,9 @@ async fn slit(
         })
     })
     .await?;
-    Ok(Json(reply).into_response())
+    Ok(reply_with_arrays(&headers, reply, |reply: &mut SlitReply| {
+        reply.model.take_arrays()
+    }))
 }
 
 async fn slit_file(

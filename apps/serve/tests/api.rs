@@ -1716,3 +1716,157 @@ async fn a_photograph_from_disk_is_kept_without_replacing_a_file() {
         "{photos}"
     );
 }
+
+/// `route` with `body`, asking for binary arrays: the reply's content type and body.
+async fn send_for_arrays(app: &axum::Router, route: &str, body: Vec<u8>) -> (StatusCode, Option<String>, Vec<u8>) {
+    let request = Request::builder()
+        .method("POST")
+        .uri(route)
+        .header("Accept", "application/vnd.sheetform.arrays, application/json")
+        .body(Body::from(body))
+        .unwrap();
+    let response = app.clone().oneshot(request).await.unwrap();
+    let status = response.status();
+    let kind = response
+        .headers()
+        .get("content-type")
+        .map(|v| v.to_str().unwrap().to_string());
+    let bytes = axum::body::to_bytes(response.into_body(), usize::MAX).await.unwrap();
+    (status, kind, bytes.to_vec())
+}
+
+/// Reads a binary-arrays reply as the editor does (the format in array_reply.rs): the
+/// header, then each array put back at its path as JSON numbers (rulings as lists).
+fn read_arrays_reply(body: &[u8]) -> Value {
+    assert_eq!(&body[..4], b"SFA1");
+    let length = u32::from_le_bytes(body[4..8].try_into().unwrap()) as usize;
+    let mut reply: Value = serde_json::from_slice(&body[8..8 + length]).unwrap();
+    let start = (8 + length).div_ceil(8) * 8;
+    let entries = reply["binary_arrays"].as_array().unwrap().clone();
+    for entry in &entries {
+        let at = start + entry["offset"].as_u64().unwrap() as usize;
+        assert_eq!(at % 8, 0);
+        let n = entry["length"].as_u64().unwrap() as usize;
+        let u32_at = |k: usize| u32::from_le_bytes(body[at + 4 * k..at + 4 * k + 4].try_into().unwrap());
+        let value: Value = match entry["type"].as_str().unwrap() {
+            "f64" => (0..n)
+                .map(|k| f64::from_le_bytes(body[at + 8 * k..at + 8 * k + 8].try_into().unwrap()))
+                .collect(),
+            "u32" => (0..n).map(u32_at).collect(),
+            "u32_lists" => (0..n)
+                .map(|k| {
+                    let (from, to) = (u32_at(k) as usize, u32_at(k + 1) as usize);
+                    (from..to).map(|i| u32_at(n + 1 + i)).collect::<Value>()
+                })
+                .collect(),
+            other => panic!("an array of type {other}"),
+        };
+        let path: Vec<&str> = entry["path"].as_str().unwrap().split('.').collect();
+        let (last, owners) = path.split_last().unwrap();
+        let owner = owners.iter().fold(&mut reply, |v, key| &mut v[*key]);
+        assert_eq!(
+            owner[*last],
+            serde_json::json!([]),
+            "{} left empty in the header",
+            entry["path"]
+        );
+        owner[*last] = value;
+    }
+    reply.as_object_mut().unwrap().remove("binary_arrays");
+    reply
+}
+
+/// Every solve the editor draws answers with binary arrays when asked: the same reply as
+/// the JSON one, every number to the last bit; without the Accept header, JSON.
+#[tokio::test]
+async fn solves_answer_with_binary_arrays_equal_to_the_json_reply() {
+    let (_dir, root) = served();
+    let app = router(&ServeOptions {
+        root,
+        ..Default::default()
+    })
+    .unwrap();
+    let scene: Value =
+        serde_json::from_slice(&std::fs::read(repository().join("examples/bent-rectangle.json")).unwrap()).unwrap();
+    let mut point = scene["regions"][0]["curve"]["control_points"][2].clone();
+    point[2] = serde_json::json!(point[2].as_f64().unwrap() + 2.0);
+    let edit = serde_json::json!({
+        "scene": scene,
+        "edit": {"kind": "move_control_point", "region": 0, "index": 2, "position": point},
+        "stop_at_boundary": true,
+    });
+    let gift = std::fs::read(repository().join("examples/meshes/gift-box.obj")).unwrap();
+    let cases: Vec<(&str, Vec<u8>, &[&str])> = vec![
+        (
+            "/api/bend",
+            scene.to_string().into_bytes(),
+            &["model.positions", "angle_defects_rad"],
+        ),
+        (
+            "/api/bend/edit",
+            edit.to_string().into_bytes(),
+            &["model.rulings", "angle_defects_rad"],
+        ),
+        (
+            "/api/slit",
+            std::fs::read(repository().join("examples/slit/chair.json")).unwrap(),
+            &["model.flat"],
+        ),
+        ("/api/mesh?name=gift-box.obj&charts=net", gift, &["model.face_pieces"]),
+    ];
+    for (route, body, taken) in cases {
+        let (status, kind, binary) = send_for_arrays(&app, route, body.clone()).await;
+        assert_eq!(status, StatusCode::OK, "{route}: {}", String::from_utf8_lossy(&binary));
+        assert_eq!(kind.as_deref(), Some("application/vnd.sheetform.arrays"), "{route}");
+        let mut from_binary = read_arrays_reply(&binary);
+        let (status, plain) = send(&app, "POST", route, body).await;
+        assert_eq!(status, StatusCode::OK);
+        let mut from_json = json(&plain);
+        // What differs from one solve to the next: the clocks.
+        fn without_clocks(value: &mut Value) {
+            match value {
+                Value::Object(map) => {
+                    for key in ["server_ms", "timings", "time_ms"] {
+                        map.remove(key);
+                    }
+                    map.values_mut().for_each(without_clocks);
+                }
+                Value::Array(items) => items.iter_mut().for_each(without_clocks),
+                _ => {}
+            }
+        }
+        without_clocks(&mut from_binary);
+        without_clocks(&mut from_json);
+        for path in taken {
+            let (owner, key) = path.split_once('.').map_or(("", *path), |(a, b)| (a, b));
+            let array = if owner.is_empty() {
+                &from_binary[key]
+            } else {
+                &from_binary[owner][key]
+            };
+            assert!(
+                array.as_array().is_some_and(|a| !a.is_empty()),
+                "{route}: {path} came back"
+            );
+        }
+        assert!(
+            from_binary == from_json,
+            "{route}: the binary reply differs from the JSON one"
+        );
+        // (A box of integer coordinates is shorter in JSON; a bent sheet's full-precision
+        // numbers are not.)
+        if route.starts_with("/api/bend") {
+            assert!(
+                binary.len() < plain.len(),
+                "{route}: {} bytes against {}",
+                binary.len(),
+                plain.len()
+            );
+        }
+    }
+    // An error stays JSON.
+    let (status, kind, body) = send_for_arrays(&app, "/api/bend", b"{".to_vec()).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert_eq!(kind.as_deref(), Some("application/json"));
+    assert!(json(&body)["error"]["message"].is_string());
+}

@@ -58,6 +58,22 @@ pub struct BendRun {
 /// [`PipelineError::Image`] for the texture (not a PNG or JPEG that decodes to its end); [`PipelineError::Option`] for too many
 /// animation frames; [`PipelineError::Cancelled`].
 pub fn run_bend(scene: &BendScene, options: &BendRunOptions, context: &RunContext) -> Result<BendRun, PipelineError> {
+    run_bend_bent(scene, None, options, context)
+}
+
+/// [`run_bend`] of a scene already bent: `bent` is its model and sheet as
+/// [`sheetform_bend::bend`] made them from `scene` (an edit's check,
+/// [`super::BendEditResult::bent`]), exported without bending again; `None` bends it.
+/// The report's solve time is then the export's start.
+///
+/// # Errors
+/// As [`run_bend`].
+pub fn run_bend_bent(
+    scene: &BendScene,
+    bent: Option<Box<(BendModel, BentSheet)>>,
+    options: &BendRunOptions,
+    context: &RunContext,
+) -> Result<BendRun, PipelineError> {
     let start = Instant::now();
     if options.animate_frames > MAX_ANIMATION_FRAMES {
         return Err(PipelineError::Option {
@@ -66,7 +82,13 @@ pub fn run_bend(scene: &BendScene, options: &BendRunOptions, context: &RunContex
         });
     }
     context.progress("reading scene", 0.0);
-    let model = BendModel::from_scene(scene)?;
+    let (model, sheet) = match bent {
+        Some(bent) => {
+            let (model, sheet) = *bent;
+            (model, Some(sheet))
+        }
+        None => (BendModel::from_scene(scene)?, None),
+    };
     // The texture is read and checked with the scene, before the solve: decoded to its
     // end when every output is made (a preview of the editor, rendered on every edit,
     // only recognises it).
@@ -94,15 +116,18 @@ pub fn run_bend(scene: &BendScene, options: &BendRunOptions, context: &RunContex
     let parsed = Instant::now();
     context.check_cancelled()?;
     context.progress("bending", 0.1);
-    let sheet = bend(&model).map_err(|error| {
-        match inadmissible_report(&error, model.unit.millimetres(), options.input.clone()) {
-            Some(report) => PipelineError::Inadmissible {
-                error,
-                report: Box::new(report),
-            },
-            None => PipelineError::Bend(error),
-        }
-    })?;
+    let sheet = match sheet {
+        Some(sheet) => sheet,
+        None => bend(&model).map_err(|error| {
+            match inadmissible_report(&error, model.unit.millimetres(), options.input.clone()) {
+                Some(report) => PipelineError::Inadmissible {
+                    error,
+                    report: Box::new(report),
+                },
+                None => PipelineError::Bend(error),
+            }
+        })?,
+    };
     let solved = Instant::now();
     context.check_cancelled()?;
     context.progress("exporting", 0.5);

@@ -9,7 +9,7 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use sheetform_bend::{
     bend, check_control_point_index, check_edit_coordinates, check_edit_number, BendEditor, BendError, BendModel,
-    BendScene, CurveSpec, EditInfo, EndHandle, EndHandleOptions, FlatCurveSpec, LengthPreservation,
+    BendScene, BentSheet, CurveSpec, EditInfo, EndHandle, EndHandleOptions, FlatCurveSpec, LengthPreservation,
 };
 use sheetform_geometry::{Vec2, Vec3};
 
@@ -181,6 +181,10 @@ pub struct BendEditResult {
     /// Why the edit stopped short of what was asked (the refusal of the whole move), when
     /// it did.
     pub stopped_because: Option<String>,
+    /// The edited scene's model and bent sheet, when checking the edit bent it as
+    /// [`super::run_bend`] does (the scene's own edits): [`super::run_bend_bent`] exports
+    /// them without bending again. `None` for a refused edit and the editor's drags.
+    pub bent: Option<Box<(BendModel, BentSheet)>>,
 }
 
 /// How an edit meets the boundary of the admissible shapes.
@@ -670,9 +674,9 @@ fn apply_edit(
         let edited = edited_scene(scene, edit)?;
         let length = |model: &BendModel| edit.region().map_or(0.0, |r| model.regions[r].curve.length());
         let before = length(&BendModel::from_scene(scene)?);
-        let attempt = BendModel::from_scene(&edited).and_then(|model| bend(&model).map(|_| model));
+        let attempt = BendModel::from_scene(&edited).and_then(|model| bend(&model).map(|sheet| (model, sheet)));
         return Ok(match attempt {
-            Ok(model) => BendEditResult {
+            Ok((model, sheet)) => BendEditResult {
                 scene: edited,
                 info: EditInfo {
                     applied: true,
@@ -683,6 +687,7 @@ fn apply_edit(
                 },
                 moved_fraction: 1.0,
                 stopped_because: None,
+                bent: Some(Box::new((model, sheet))),
             },
             Err(e) => BendEditResult {
                 scene: scene.clone(),
@@ -695,6 +700,7 @@ fn apply_edit(
                 },
                 moved_fraction: 0.0,
                 stopped_because: None,
+                bent: None,
             },
         });
     }
@@ -749,13 +755,14 @@ fn apply_edit(
         info,
         moved_fraction,
         stopped_because: None,
+        bent: None,
     })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pipeline::{run_bend, BendRunOptions, OutputSet, RunContext};
+    use crate::pipeline::{run_bend, run_bend_bent, BendRunOptions, OutputSet, RunContext};
 
     fn rectangle() -> BendScene {
         BendScene::from_json(include_str!("../../../../examples/bent-rectangle.json")).unwrap()
@@ -795,6 +802,56 @@ mod tests {
         assert!((length(&after.report) - length(&before.report)).abs() < 1e-6);
     }
 
+    /// A scene edit hands over the sheet its check bent, and exporting that sheet gives
+    /// what bending the edited scene again gives: the same mesh, files and report; a
+    /// refused edit and an editor drag hand over none.
+    #[test]
+    fn an_edit_s_bent_sheet_exports_as_the_edited_scene_bends() {
+        let scene = rectangle();
+        let context = RunContext::new(".").with_outputs(OutputSet::Preview);
+        let options = BendEditOptions {
+            stop_at_boundary: true,
+            ..Default::default()
+        };
+        for edit in [
+            BendEdit::MoveControlPoint {
+                region: 0,
+                index: 2,
+                position: [150.0, 20.0, 70.0],
+            },
+            // Far past what can bend: stopped at the boundary, the best attempt's sheet.
+            BendEdit::MoveControlPoint {
+                region: 0,
+                index: 3,
+                position: [400.0, 0.0, 0.0],
+            },
+        ] {
+            let result = edit_bend_scene_with(&scene, &edit, &options).unwrap();
+            assert!(result.info.applied);
+            let bent = result.bent.clone().expect("the check's sheet");
+            let again = run_bend(&result.scene, &BendRunOptions::default(), &context).unwrap();
+            let shared = run_bend_bent(&result.scene, Some(bent), &BendRunOptions::default(), &context).unwrap();
+            assert_eq!(shared.sheet.mesh.positions, again.sheet.mesh.positions);
+            assert_eq!(shared.sheet.mesh.flat, again.sheet.mesh.flat);
+            assert_eq!(shared.sheet.mesh.triangles, again.sheet.mesh.triangles);
+            assert_eq!(shared.files, again.files);
+            assert_eq!(shared.angle_defects_rad, again.angle_defects_rad);
+            let without_timings = |r: &crate::report::Report| {
+                let mut v = serde_json::to_value(r).unwrap();
+                v.as_object_mut().unwrap().remove("timings");
+                v
+            };
+            assert_eq!(without_timings(&shared.report), without_timings(&again.report));
+        }
+        let drag = BendEdit::DragPreservingLength {
+            region: 0,
+            index: 2,
+            position: [150.0, 20.0, 70.0],
+            method: LengthMethod::Trim,
+        };
+        assert!(edit_bend_scene(&scene, &drag).unwrap().bent.is_none());
+    }
+
     /// An edit that would make the shape inadmissible is refused, the scene unchanged.
     #[test]
     fn an_inadmissible_edit_is_refused_and_the_scene_kept() {
@@ -814,6 +871,7 @@ mod tests {
         )
         .unwrap();
         assert!(!torsion.info.applied);
+        assert!(torsion.bent.is_none(), "a refused edit hands over no sheet");
         assert!(torsion
             .info
             .rejected_because
