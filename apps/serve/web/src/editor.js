@@ -309,7 +309,7 @@ function drawRegression(curves) {
 function drawModel(model, angleDefects) {
   const geometry = new THREE.BufferGeometry();
   geometry.setAttribute('position', new THREE.Float32BufferAttribute(model.positions, 3));
-  geometry.setIndex(model.triangles);
+  geometry.setIndex(ArrayBuffer.isView(model.triangles) ? new THREE.BufferAttribute(model.triangles, 1) : model.triangles);
   geometry.computeVertexNormals();
   // Bend mode's developability colour map: the angle defect at each vertex.
   const coloured = state.mode === 'bend' && angleDefects && $('bend-view').value === 'defect';
@@ -323,16 +323,23 @@ function drawModel(model, angleDefects) {
   }
   sheet.geometry.dispose();
   sheet.geometry = geometry;
-  const segments = [];
+  // The rulings as line segments, written straight into the attribute's array.
+  const p = model.positions;
+  let count = 0;
+  for (const line of model.rulings) count += Math.max(0, line.length - 1);
+  const segments = new Float32Array(6 * count);
+  let at = 0;
   for (const line of model.rulings) {
     for (let k = 0; k + 1 < line.length; k++) {
       for (const v of [line[k], line[k + 1]]) {
-        segments.push(model.positions[3 * v], model.positions[3 * v + 1], model.positions[3 * v + 2]);
+        segments[at++] = p[3 * v];
+        segments[at++] = p[3 * v + 1];
+        segments[at++] = p[3 * v + 2];
       }
     }
   }
   const lines = new THREE.BufferGeometry();
-  lines.setAttribute('position', new THREE.Float32BufferAttribute(segments, 3));
+  lines.setAttribute('position', new THREE.BufferAttribute(segments, 3));
   rulings.geometry.dispose();
   rulings.geometry = lines;
   sheet.material = coloured ? colouredMaterial : sheetMaterial;
@@ -1328,9 +1335,52 @@ function dirQuery() {
   return `?dir=${encodeURIComponent(sceneDirectory())}`;
 }
 
+/** The media type of a reply whose large arrays come in binary (the server's array_reply.rs). */
+const ARRAYS_MEDIA_TYPE = 'application/vnd.sheetform.arrays';
+/** Typed arrays view the reply's bytes as they are, which needs a little-endian machine
+ * (every browser's); elsewhere the page asks for JSON. */
+const LITTLE_ENDIAN = new Uint8Array(new Uint16Array([1]).buffer)[0] === 1;
+/** What the page accepts in reply to a solve: binary arrays first. */
+const SOLVE_ACCEPT = LITTLE_ENDIAN ? `${ARRAYS_MEDIA_TYPE}, application/json` : 'application/json';
+
 async function post(url, body) {
-  const response = await fetch(url, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body });
+  const headers = { 'Content-Type': 'application/json', Accept: SOLVE_ACCEPT };
+  const response = await fetch(url, { method: 'POST', headers, body });
   return response;
+}
+
+/**
+ * A solve's reply: JSON, or a JSON header and binary arrays (`SFA1`, the header's length,
+ * the header, then each array at its offset, 8-aligned, from the 8-aligned end of the
+ * header), each put back at its path as a typed array over the reply's bytes (no number
+ * is formatted or parsed). Rulings come as offsets then indices: they become subarrays.
+ */
+async function readReply(response) {
+  if (response.headers.get('Content-Type') !== ARRAYS_MEDIA_TYPE) return response.json();
+  const buffer = await response.arrayBuffer();
+  const view = new DataView(buffer);
+  if (buffer.byteLength < 8 || view.getUint32(0, false) !== 0x53464131) throw new Error('a binary reply without its SFA1 mark');
+  const headerLength = view.getUint32(4, true);
+  const body = JSON.parse(new TextDecoder().decode(new Uint8Array(buffer, 8, headerLength)));
+  const start = Math.ceil((8 + headerLength) / 8) * 8;
+  for (const { path, type, offset, length } of body.binary_arrays) {
+    const at = start + offset;
+    let value;
+    if (type === 'f64') {
+      value = new Float64Array(buffer, at, length);
+    } else if (type === 'u32') {
+      value = new Uint32Array(buffer, at, length);
+    } else {
+      const offsets = new Uint32Array(buffer, at, length + 1);
+      const values = new Uint32Array(buffer, at + 4 * (length + 1), offsets[length]);
+      value = Array.from({ length }, (_, k) => values.subarray(offsets[k], offsets[k + 1]));
+    }
+    const keys = path.split('.');
+    const owner = keys.slice(0, -1).reduce((object, key) => object[key], body);
+    owner[keys[keys.length - 1]] = value;
+  }
+  delete body.binary_arrays;
+  return body;
 }
 
 /**
@@ -1372,12 +1422,14 @@ async function solveNow(scene, started, edit) {
   let body;
   const sent = performance.now();
   let received;
+  let decoded;
   try {
     response = edit
       ? await post(`/api/bend/edit${dirQuery()}`, JSON.stringify({ scene, edit, stop_at_boundary: true }))
       : await post(`/api/${mode}${dirQuery()}`, JSON.stringify(scene));
     received = performance.now();
-    body = await response.json();
+    body = await readReply(response);
+    decoded = performance.now();
     state.answers += 1;
     // The user switched modes or loaded another scene meanwhile: not drawn.
     if (state.mode !== mode || state.generation !== generation) return false;
@@ -1431,6 +1483,7 @@ async function solveNow(scene, started, edit) {
   drawRegression(body.regression_curves || []);
   drawHandles(scene);
   drawPattern(body.pattern_svg);
+  const scripted = performance.now();
   render();
   // The round trip ends when the redraw has been issued (WebGL commands and the new
   // SVG); the browser shows it at its next frame, up to one display frame later.
@@ -1440,6 +1493,9 @@ async function solveNow(scene, started, edit) {
   await new Promise((resolve) => requestAnimationFrame(resolve));
   state.stages.push({
     queued: sent - started, server: body.server_ms, response: received - sent, parse_and_draw: drawn - received,
+    // Of which: reading the reply's body, the page's own scripting (meshes, handles,
+    // pattern), and the WebGL draw calls.
+    decode: decoded - received, script: scripted - decoded, render: drawn - scripted,
     to_next_frame: performance.now() - drawn,
   });
   showReport(body, roundTrip);
@@ -2098,8 +2154,8 @@ async function solveMesh(options) {
   state.inFlight = true;
   showStatus('busy', `${options.charts === 'develop' ? 'developing' : 'flattening'} ${state.mesh.name}…`);
   try {
-    const response = await fetch(`/api/mesh?${meshQuery(options)}`, { method: 'POST', body: state.mesh.bytes });
-    const body = await response.json();
+    const response = await fetch(`/api/mesh?${meshQuery(options)}`, { method: 'POST', headers: { Accept: SOLVE_ACCEPT }, body: state.mesh.bytes });
+    const body = await readReply(response);
     if (state.generation !== generation || state.mode !== 'mesh' || request !== state.meshRequest) return false;
     if (!response.ok) {
       state.refusals += 1;

@@ -70,7 +70,8 @@ try {
 
   const idle = () => page.waitForFunction(() => window.sheetformEditor.idle() && window.sheetformEditor.state.reply !== null);
   const sceneText = () => page.evaluate(() => JSON.stringify(window.sheetformEditor.state.scene));
-  const positions = () => page.evaluate(() => window.sheetformEditor.state.reply.model.positions);
+  // (The page reads the server's arrays as typed arrays: compared as plain arrays.)
+  const positions = () => page.evaluate(() => Array.from(window.sheetformEditor.state.reply.model.positions));
   /** Runs `action` and waits for the server's next answer (solved or refused) to be drawn. */
   const answers = () => page.evaluate(() => window.sheetformEditor.state.answers);
   async function answered(action) {
@@ -132,6 +133,11 @@ try {
   assert.equal(reply.report.status, 'ok');
   assert.ok(reply.report.isometry_error_max_relative < 1e-9, 'isometric in the server report');
   assert.deepEqual(reply.model.positions, after, 'the page shows what the server computes for its scene');
+  // The page asked for the arrays in binary (no number formatted or parsed), and they are
+  // the JSON reply's to the last bit (above); the rulings are the same polylines.
+  assert.ok(await page.evaluate(() => window.sheetformEditor.state.reply.model.positions instanceof Float64Array), 'binary arrays');
+  assert.deepEqual(await page.evaluate(() => window.sheetformEditor.state.reply.model.rulings.map((r) => Array.from(r))), reply.model.rulings);
+  assert.deepEqual(Array.from(await page.evaluate(() => window.sheetformEditor.state.reply.model.triangles)), reply.model.triangles);
   await page.screenshot({ path: join(outputDir, 'bend.png') });
   // The developability colour map: an angle defect per vertex, zero to rounding on the
   // bent sheet, so every vertex is drawn in the map's "developable" grey.
@@ -241,6 +247,23 @@ try {
     return times;
   }, JSON.stringify(fine));
   figures.bend_1000_rulings_post_only_ms = { median: median(postOnly), count: postOnly.length };
+  // An edit as the page sends it (binary arrays asked for), with nothing drawn: the
+  // server's one bend and the transfer.
+  const editOnly = await page.evaluate(async (scene) => {
+    const times = [];
+    const point = scene.regions[0].curve.control_points[2];
+    for (let k = 0; k < 15; k++) {
+      const position = [point[0], point[1], point[2] + (k % 2 ? 0.5 : -0.5)];
+      const body = JSON.stringify({ scene, edit: { kind: 'move_control_point', region: 0, index: 2, position }, stop_at_boundary: true });
+      const t = performance.now();
+      const response = await fetch('/api/bend/edit', { method: 'POST', headers: { Accept: 'application/vnd.sheetform.arrays' }, body });
+      if (response.headers.get('Content-Type') !== 'application/vnd.sheetform.arrays') throw new Error('not a binary reply');
+      await response.arrayBuffer();
+      times.push(performance.now() - t);
+    }
+    return times;
+  }, fine);
+  figures.bend_1000_rulings_edit_post_only_ms = { median: median(editOnly), count: editOnly.length };
 
   // 7. Slit mode: the chair opens from the list; a seat curve point dragged with the
   // mouse (in the symmetry plane) re-solves the strips, which stay isometric to the
