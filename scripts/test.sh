@@ -30,7 +30,8 @@ for name in two-panels duct skirt trousers; do
 done
 # The Python package (bindings/python, issue 21): built and installed by pip through
 # maturin, as a user installs it, then its tests (pytest): results against the CLI built
-# above, trimesh round trips, errors, the editor, the stubs (mypy's stubtest), the example.
-python3 -m pip install --quiet --disable-pip-version-check pytest trimesh matplotlib mypy
+# above, trimesh round trips, errors, the editor, the stubs (mypy's stubtest), the example,
+# batch jobs on a Dask LocalCluster.
+python3 -m pip install --quiet --disable-pip-version-check pytest trimesh matplotlib mypy "dask[distributed]"
 python3 -m pip install --quiet --disable-pip-version-check ./bindings/python
 SHEETFORM_CLI="$PWD/target/debug/sheetform" python3 -m pytest -q bindings/python/tests

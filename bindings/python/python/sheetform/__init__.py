@@ -10,7 +10,8 @@ mesh that carries its exact flat pattern, over the same library pipeline as the
 - ``photo(annotation)``: a developable model and pattern from a photograph (Fondevilla et al.);
 - ``check(V, F)``, ``flatten(V, F)``, ``develop(V, F)``, ``pattern(V, F, UV)``: any mesh
   as numpy arrays;
-- ``BendEditor``: the web editor's curve edits, for notebooks.
+- ``BendEditor``: the web editor's curve edits, for notebooks;
+- ``sheetform.batch``: many jobs on a Dask cluster, each job's result or error in order.
 
 Every function returns a ``Run``: ``vertices`` (n, 3), ``faces`` (m, 3), ``uv`` (n, 2) the
 flat pattern at 1:1, ``face_pieces``, ``pieces``, ``report`` (the CLI's ``report.json`` as a
