@@ -210,9 +210,9 @@ pub(crate) enum Command {
         /// plane unless one is needed); pieces come in mirrored pairs.
         #[arg(long, value_name = "PLANE", value_parser = str::parse::<sheetform::pipeline::Mirror>)]
         mirror: Option<sheetform::pipeline::Mirror>,
-        /// Automatic seams: sweeps that slide the seams found over the target onto
-        /// smooth curves, removing the staircase of mesh edges (0: seams along the
-        /// mesh's edges as found).
+        /// Automatic seams: sweeps that slide the seams found over the developed
+        /// surface onto smooth curves, removing the staircase of mesh edges, before the
+        /// pieces are made exact again (0: seams along the mesh's edges as found).
         #[arg(long, value_name = "SWEEPS", default_value_t = sheetform::pipeline::SeamSmoothingOptions::default().iterations)]
         seam_smoothing: usize,
         /// Smoothness against closeness: 0 moves each vertex as little as possible,

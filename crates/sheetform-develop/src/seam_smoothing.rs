@@ -118,7 +118,10 @@ pub struct SmoothedSeams {
 /// [`SeamSmoothingOptions::max_deviation`] edge lengths or
 /// [`SeamSmoothingOptions::max_deviation_per_move`] times the move (a crease cut across,
 /// a corner cut off), is halved (three times
-/// at most) and otherwise not taken. A sweep with `λ = ½` removes the zigzag of
+/// at most) and otherwise not taken. The bounds are checked for each move: a face's
+/// area and side are checked again by every later move of one of its corners, the
+/// deviation from a vertex's place only when that vertex moves (a neighbour moving after
+/// it may bend its faces a little more). A sweep with `λ = ½` removes the zigzag of
 /// period two edges and halves that of period four; a seam's course (lower frequencies)
 /// moves by `λ κ h²/2` per sweep at most, `κ` its curvature and `h` the edge length.
 ///

@@ -288,7 +288,7 @@ impl SurfaceIndex {
 /// Departures from the book: the face case projects along the normal,
 /// `p − n (n·(p−a))/|n|²`, rather than forming `a + ab·v_b/Σ + ac·v_c/Σ` (the same point;
 /// the distance is then the better conditioned `|n·(p−a)|/|n|`); and a degenerate triangle
-/// (see [`DEGENERATE`]: collinear corners, a repeated corner, a single point) is measured as
+/// (`|ab × ac|² ≤ ε |ab|² |ac|²`: collinear corners, a repeated corner, a single point) is measured as
 /// its three sides, so it never gives NaN.
 pub fn closest_point_on_triangle(p: Vec3, [a, b, c]: [Vec3; 3]) -> Vec3 {
     let ab = b - a;
