@@ -10,12 +10,12 @@ use axum::response::{IntoResponse, Response};
 use axum::routing::post;
 use axum::{Json, Router};
 use serde::Serialize;
+use sheetform::bend::BendScene;
 use sheetform::bend::EditInfo;
-use sheetform::bend::{BendModel, BendScene, BentSheet};
 use sheetform::mesh::SheetMesh;
 use sheetform::pipeline::{
-    edit_bend_scene_with, run_bend, run_bend_bent, BendEdit, BendEditOptions, BendRunOptions, ErrorKind, OutputSet,
-    PipelineError, RenderedFiles, RunContext,
+    edit_bend_scene_with, run_bend, run_bend_bent, BendEdit, BendEditOptions, BendRunOptions, BentScene, ErrorKind,
+    OutputSet, PipelineError, RenderedFiles, RunContext,
 };
 use sheetform::report::Report;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -569,7 +569,7 @@ pub(crate) fn pattern_svg(files: &[(String, Vec<u8>)]) -> String {
 /// already bent by an edit's check, exported without bending again).
 fn preview(
     scene: &BendScene,
-    bent: Option<Box<(BendModel, BentSheet)>>,
+    bent: Option<Box<BentScene>>,
     assets: &SceneAssets,
     start: Instant,
     cancel: &AtomicBool,

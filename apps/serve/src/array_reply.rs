@@ -45,7 +45,18 @@ pub(crate) fn wants_arrays(headers: &HeaderMap) -> bool {
         .iter()
         .filter_map(|value| value.to_str().ok())
         .flat_map(|value| value.split(','))
-        .any(|media| media.split(';').next().is_some_and(|m| m.trim() == ARRAYS_MEDIA_TYPE))
+        .any(|media| {
+            let mut parts = media.split(';');
+            let named = parts.next().is_some_and(|m| m.trim() == ARRAYS_MEDIA_TYPE);
+            // `q=0`: not acceptable (RFC 9110, §12.4.2).
+            let refused = parts.any(|p| {
+                p.trim()
+                    .strip_prefix("q=")
+                    .and_then(|q| q.trim().parse::<f64>().ok())
+                    .is_some_and(|q| q <= 0.0)
+            });
+            named && !refused
+        })
 }
 
 #[derive(Serialize)]
@@ -200,11 +211,18 @@ pub(crate) mod tests {
             HeaderValue::from_static("application/vnd.sheetform.arrays; q=1, application/json"),
         );
         assert!(wants_arrays(&headers));
+        headers.insert(
+            header::ACCEPT,
+            HeaderValue::from_static("application/json, application/vnd.sheetform.arrays;q=0"),
+        );
+        assert!(!wants_arrays(&headers));
         let mut taken = reply;
         let arrays: TakenArrays = vec![
             ("ids", ArrayData::U32(std::mem::take(&mut taken.ids))),
             ("values", ArrayData::F64(std::mem::take(&mut taken.values))),
             ("lists", ArrayData::U32Lists(std::mem::take(&mut taken.lists))),
+            // An empty array last: a view of length 0 at the body's end.
+            ("none", ArrayData::F64(Vec::new())),
         ];
         let body = array_body(&taken, &arrays);
         let (header, read) = read_body(&body);
@@ -213,6 +231,14 @@ pub(crate) mod tests {
         assert_eq!(read[0], ("ids".to_string(), vec![5.0, 4.0, 3.0]));
         assert_eq!(read[1].1, vec![0.1, -2.5e-300, f64::MAX, 1.0 / 3.0]);
         assert_eq!(read[2].1, vec![0.0, 3.0, 3.0, 4.0, 1.0, 2.0, 3.0, 7.0]);
+        assert!(read[3].1.is_empty());
+        let header_length = u32::from_le_bytes(body[4..8].try_into().unwrap()) as usize;
+        let last = header["binary_arrays"][3]["offset"].as_u64().unwrap() as usize;
+        assert_eq!(
+            align8(8 + header_length) + last,
+            body.len(),
+            "the empty array starts at the body's end"
+        );
         assert_eq!(body.len() % 8, 0);
     }
 }

@@ -61,16 +61,26 @@ pub fn run_bend(scene: &BendScene, options: &BendRunOptions, context: &RunContex
     run_bend_bent(scene, None, options, context)
 }
 
+/// A scene's model and its sheet as [`sheetform_bend::bend`] bent it.
+#[derive(Debug, Clone)]
+pub struct BentScene {
+    /// The validated model of the scene.
+    pub model: BendModel,
+    /// The bent sheet.
+    pub sheet: BentSheet,
+}
+
 /// [`run_bend`] of a scene already bent: `bent` is its model and sheet as
 /// [`sheetform_bend::bend`] made them from `scene` (an edit's check,
 /// [`super::BendEditResult::bent`]), exported without bending again; `None` bends it.
-/// The report's solve time is then the export's start.
+/// With `bent`, the bend's time was spent by whoever bent it: the report's
+/// `timings.solve_ms` is then only the time from reading to exporting (near 0).
 ///
 /// # Errors
 /// As [`run_bend`].
 pub fn run_bend_bent(
     scene: &BendScene,
-    bent: Option<Box<(BendModel, BentSheet)>>,
+    bent: Option<Box<BentScene>>,
     options: &BendRunOptions,
     context: &RunContext,
 ) -> Result<BendRun, PipelineError> {
@@ -84,7 +94,7 @@ pub fn run_bend_bent(
     context.progress("reading scene", 0.0);
     let (model, sheet) = match bent {
         Some(bent) => {
-            let (model, sheet) = *bent;
+            let BentScene { model, sheet } = *bent;
             (model, Some(sheet))
         }
         None => (BendModel::from_scene(scene)?, None),

@@ -9,7 +9,7 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use sheetform_bend::{
     bend, check_control_point_index, check_edit_coordinates, check_edit_number, BendEditor, BendError, BendModel,
-    BendScene, BentSheet, CurveSpec, EditInfo, EndHandle, EndHandleOptions, FlatCurveSpec, LengthPreservation,
+    BendScene, CurveSpec, EditInfo, EndHandle, EndHandleOptions, FlatCurveSpec, LengthPreservation,
 };
 use sheetform_geometry::{Vec2, Vec3};
 
@@ -184,7 +184,7 @@ pub struct BendEditResult {
     /// The edited scene's model and bent sheet, when checking the edit bent it as
     /// [`super::run_bend`] does (the scene's own edits): [`super::run_bend_bent`] exports
     /// them without bending again. `None` for a refused edit and the editor's drags.
-    pub bent: Option<Box<(BendModel, BentSheet)>>,
+    pub bent: Option<Box<super::BentScene>>,
 }
 
 /// How an edit meets the boundary of the admissible shapes.
@@ -687,7 +687,7 @@ fn apply_edit(
                 },
                 moved_fraction: 1.0,
                 stopped_because: None,
-                bent: Some(Box::new((model, sheet))),
+                bent: Some(Box::new(super::BentScene { model, sheet })),
             },
             Err(e) => BendEditResult {
                 scene: scene.clone(),
