@@ -28,10 +28,14 @@ done
 for name in two-panels duct skirt trousers; do
   cargo run --quiet -p sheetform-ffd --example run_scene -- "examples/ffd/$name.json"
 done
-# The Python package (bindings/python, issue 21): built and installed by pip through
-# maturin, as a user installs it, then its tests (pytest): results against the CLI built
-# above, trimesh round trips, errors, the editor, the stubs (mypy's stubtest), the example,
-# batch jobs on a Dask LocalCluster.
-python3 -m pip install --quiet --disable-pip-version-check pytest trimesh matplotlib mypy "dask[distributed]"
-python3 -m pip install --quiet --disable-pip-version-check ./bindings/python
-SHEETFORM_CLI="$PWD/target/debug/sheetform" python3 -m pytest -q bindings/python/tests
+# The Python package (bindings/python, issues 21 and 39): built as the abi3 manylinux
+# wheel users install (scripts/build_wheel.sh, kept in target/wheels/), installed with its
+# test extra into a fresh virtual environment, and tested there, not from the source
+# tree (pytest): results against the CLI built above, trimesh round trips, errors, the
+# editor, the stubs (mypy's stubtest), the example, batch jobs on a Dask LocalCluster.
+wheel=$(bash scripts/build_wheel.sh)
+rm -rf target/python-venv
+python3 -m venv target/python-venv
+target/python-venv/bin/python -m pip install --quiet --disable-pip-version-check "${wheel}[test]" mypy
+root=$PWD
+(cd bindings/python/tests && SHEETFORM_CLI="$root/target/debug/sheetform" "$root/target/python-venv/bin/python" -m pytest -q -p no:cacheprovider .)

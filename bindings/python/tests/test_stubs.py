@@ -4,6 +4,7 @@ compares every name, signature and default with the runtime's."""
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 from conftest import REPO
 
@@ -37,3 +38,12 @@ def test_the_example_type_checks_against_the_stubs():
         check=False,
     )
     assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_the_package_under_test_is_an_installed_one_not_the_source_tree():
+    """CI installs the wheel into a fresh environment and tests that (issue 39): the
+    package imported here must not be bindings/python/python of this checkout."""
+    import sheetform
+
+    source = (REPO / "bindings/python/python").resolve()
+    assert source not in Path(sheetform.__file__).resolve().parents
