@@ -5,6 +5,7 @@
 use crate::convert::json_to_python;
 use pyo3::exceptions::{PyException, PyRuntimeError};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use sheetform::pipeline::{ErrorKind, PipelineError};
 
 pyo3::create_exception!(
@@ -49,7 +50,7 @@ pyo3::create_exception!(
 pub(crate) fn python_error(py: Python<'_>, error: PipelineError) -> PyErr {
     let message = match &error {
         // The library names its options as the CLI spells them (`--weld`); here they are
-        // keyword arguments (`weld`, `tab_width_mm`).
+        // keyword arguments (`weld`, `tab_width`).
         PipelineError::Option { option, message } => format!("{}: {message}", keyword_of(option)),
         PipelineError::Pattern(sheetform::pattern::PatternError::Option { option, message }) => format!(
             "pattern option {}: {}",
@@ -79,14 +80,44 @@ pub(crate) fn python_error(py: Python<'_>, error: PipelineError) -> PyErr {
 fn keyword_of(option: &str) -> String {
     match option {
         "animate" => "animate_frames".into(),
-        // The pattern library's names for what `PatternOptions` calls otherwise.
-        "tab width" => "tab_width_mm".into(),
-        "tab angle" => "tab_angle_degrees".into(),
-        "sheet_gap" => "sheet_gap_mm".into(),
-        "smooth_bend_degrees" => "smooth_folds_degrees".into(),
-        "inner_radius_mm" => "bend_radius_mm".into(),
+        // The pattern library's names for what `PatternOptions` calls as the CLI.
+        "tab width" => "tab_width".into(),
+        "tab angle" => "tab_angle".into(),
+        "sheet_gap" => "sheet_gap".into(),
+        "smooth_bend_degrees" => "smooth_folds".into(),
+        "inner_radius_mm" => "bend_radius".into(),
+        "seam_allowance_mm" => "seam_allowance".into(),
+        "kerf_mm" => "kerf".into(),
+        "thickness_mm" => "thickness".into(),
+        "min_fold_angle_degrees" => "min_fold_angle".into(),
         other => other.trim_start_matches("--").replace('-', "_"),
     }
+}
+
+/// Refuses the keywords a function was given beyond its own (`given`, its `**renamed`):
+/// a keyword it took before under another name (`renamed`: old name, new name) names the
+/// new one, as the CLI spells it; any other is Python's unexpected-keyword `TypeError`.
+pub(crate) fn refuse_renamed_keywords(
+    function: &str,
+    given: Option<&Bound<'_, PyDict>>,
+    renamed: &[(&str, &str)],
+) -> PyResult<()> {
+    let Some((name, _)) = given.and_then(|given| given.iter().next()) else {
+        return Ok(());
+    };
+    let name = name.to_string();
+    Err(match renamed.iter().find(|(old, _)| *old == name) {
+        Some((old, new)) => invalid_argument(
+            old,
+            format!(
+                "is now `{new}`, the name of the CLI's --{} (the unit is in the help, not the name)",
+                new.replace('_', "-")
+            ),
+        ),
+        None => {
+            pyo3::exceptions::PyTypeError::new_err(format!("{function} got an unexpected keyword argument '{name}'"))
+        }
+    })
 }
 
 /// An invalid argument of a binding function (not a scene field), named.

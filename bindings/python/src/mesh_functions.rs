@@ -3,10 +3,11 @@
 //! made of exactly developable pieces) and `pattern`.
 
 use crate::convert::{float_rows, index_list, index_rows};
-use crate::errors::{invalid_argument, python_error};
+use crate::errors::{invalid_argument, python_error, refuse_renamed_keywords};
 use crate::pattern_options::pattern_argument;
 use crate::run::{output_set, run_interruptibly, Run, RunParts};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use sheetform::flatten::ChartOptions;
 use sheetform::mesh::LengthUnit;
 use sheetform::pipeline::{
@@ -37,14 +38,17 @@ fn mesh_with_seams(
         .map_err(|e| python_error(py, e))
 }
 
-fn length_unit(unit: &str) -> PyResult<LengthUnit> {
-    match unit {
+/// The keywords the mesh functions took before they took the CLI's names (issue 39).
+const RENAMED_KEYWORDS: [(&str, &str); 1] = [("unit", "units")];
+
+fn length_unit(units: &str) -> PyResult<LengthUnit> {
+    match units {
         "mm" => Ok(LengthUnit::Mm),
         "cm" => Ok(LengthUnit::Cm),
         "m" => Ok(LengthUnit::M),
         "in" => Ok(LengthUnit::In),
         other => Err(invalid_argument(
-            "unit",
+            "units",
             format!("`{other}`: one of \"mm\", \"cm\", \"m\", \"in\""),
         )),
     }
@@ -56,13 +60,13 @@ fn length_unit(unit: &str) -> PyResult<LengthUnit> {
 ///
 /// `vertices`: `(n, 3)` numbers; `faces`: `(m, 3)` integer indices (any integer dtype).
 /// `weld`: merge vertices closer than this first (model units). `tolerance`: defects up
-/// to this (radians, default 1e-4) count as developable. `unit`: the mesh's length unit.
+/// to this (radians, default 1e-4) count as developable. `units`: the mesh's length unit (the CLI's `--units`).
 ///
 /// Returns a `Run` with `uv = None`, `angle_defects_rad` per vertex and
 /// `source_vertices` (the input vertex each vertex is; after `weld`, the first of those
 /// merged); the report's `status` is `"developable"` or `"not developable"`.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, *, weld=None, tolerance=None, unit="mm", name="mesh", outputs="all", progress=None))]
+#[pyo3(signature = (vertices, faces, *, weld=None, tolerance=None, units="mm", name="mesh", outputs="all", progress=None, **renamed))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn check(
     py: Python<'_>,
@@ -70,18 +74,20 @@ pub(crate) fn check(
     faces: &Bound<'_, PyAny>,
     weld: Option<f64>,
     tolerance: Option<f64>,
-    unit: &str,
+    units: &str,
     name: &str,
     outputs: &str,
     progress: Option<Py<PyAny>>,
+    renamed: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Run> {
+    refuse_renamed_keywords("check()", renamed, &RENAMED_KEYWORDS)?;
     let v = float_rows("vertices", vertices, 3)?;
     let f = index_rows("faces", faces, 3)?;
     let outputs = output_set(outputs)?;
     let options = CheckOptions {
         weld,
         tolerance: tolerance.unwrap_or(DEFAULT_ANGLE_TOLERANCE),
-        unit: length_unit(unit)?,
+        unit: length_unit(units)?,
         input: None,
         name: Some(name.to_string()),
     };
@@ -130,7 +136,7 @@ pub(crate) fn check(
 /// one copy per chart; after `weld`, the first of the input vertices merged into it). `outcome` is `"overlapping"` when the pattern overlaps itself and
 /// `"out_of_tolerance"` when an edge stretches more than `max_distortion`.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, *, seams=None, method="exact", charts="auto", crease_angle=None, max_distortion=None, weld=None, unit="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None))]
+#[pyo3(signature = (vertices, faces, *, seams=None, method="exact", charts="auto", crease_angle=None, max_distortion=None, weld=None, units="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None, **renamed))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn flatten(
     py: Python<'_>,
@@ -142,13 +148,15 @@ pub(crate) fn flatten(
     crease_angle: Option<f64>,
     max_distortion: Option<f64>,
     weld: Option<f64>,
-    unit: &str,
+    units: &str,
     size: Option<f64>,
     name: &str,
     outputs: &str,
     progress: Option<Py<PyAny>>,
     pattern: Option<&Bound<'_, PyAny>>,
+    renamed: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Run> {
+    refuse_renamed_keywords("flatten()", renamed, &RENAMED_KEYWORDS)?;
     let v = float_rows("vertices", vertices, 3)?;
     let f = index_rows("faces", faces, 3)?;
     let outputs = output_set(outputs)?;
@@ -187,7 +195,7 @@ pub(crate) fn flatten(
         net_tabs: pattern.net_tabs,
         pattern: pattern.options,
         weld,
-        unit: length_unit(unit)?,
+        unit: length_unit(units)?,
         input: None,
         name: Some(name.to_string()),
         size_mm: size,
@@ -209,7 +217,7 @@ pub(crate) fn flatten(
 /// within `normal_tolerance` degrees (RMS) of a cone, cylinder or plane, with a slit from
 /// every vertex inside a piece whose angle defect exceeds `cone_angle` degrees; otherwise
 /// it cuts along the drawn seams only. `max_distance`: the farthest the result may be from
-/// the target, a length in `unit`s (`2.0`) or a percentage of the bounding-box diagonal
+/// the target, a length in `units` (`2.0`) or a percentage of the bounding-box diagonal
 /// (`"0.5%"`); pieces are added until it holds. `work_faces` (default 10 000): a target of more
 /// faces (a scan) is remeshed first into about this many even triangles, its boundary, seams
 /// and fixed vertices kept. `mirror`: a mirror plane the result keeps, `"x"`, `"y"` or
@@ -226,7 +234,7 @@ pub(crate) fn flatten(
 /// keeps a defect above `tolerance` or the distance bound is not met (the closest
 /// result is returned).
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, *, seams=None, automatic_seams=true, max_pieces=12, normal_tolerance=2.0, cone_angle=60.0, fixed=None, max_distance=None, work_faces=None, mirror=None, seam_smoothing=6, smoothness=0.1, tolerance=1e-10, max_iterations=100, unit="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None))]
+#[pyo3(signature = (vertices, faces, *, seams=None, automatic_seams=true, max_pieces=12, normal_tolerance=2.0, cone_angle=60.0, fixed=None, max_distance=None, work_faces=None, mirror=None, seam_smoothing=6, smoothness=0.1, tolerance=1e-10, max_iterations=100, units="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None, **renamed))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn develop(
     py: Python<'_>,
@@ -245,13 +253,15 @@ pub(crate) fn develop(
     smoothness: f64,
     tolerance: f64,
     max_iterations: usize,
-    unit: &str,
+    units: &str,
     size: Option<f64>,
     name: &str,
     outputs: &str,
     progress: Option<Py<PyAny>>,
     pattern: Option<&Bound<'_, PyAny>>,
+    renamed: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Run> {
+    refuse_renamed_keywords("develop()", renamed, &RENAMED_KEYWORDS)?;
     let v = float_rows("vertices", vertices, 3)?;
     let f = index_rows("faces", faces, 3)?;
     let outputs = output_set(outputs)?;
@@ -298,7 +308,7 @@ pub(crate) fn develop(
         flatten: FlattenOptions {
             pattern: pattern.options,
             net_tabs: pattern.net_tabs,
-            unit: length_unit(unit)?,
+            unit: length_unit(units)?,
             input: None,
             name: Some(name.to_string()),
             size_mm: size,
@@ -330,14 +340,14 @@ fn distance_bound(value: &Bound<'_, PyAny>) -> PyResult<DistanceBound> {
 }
 
 /// The printable pattern of a mesh that already has its flat layout (`uv`, `(n, 2)` at
-/// 1:1 in `unit`): `pattern.svg` (cut, mountain, valley and guide layers), and with
+/// 1:1 in `units`): `pattern.svg` (cut, mountain, valley and guide layers), and with
 /// `outputs="all"` `pattern.dxf` and the tiled true-scale `pattern.pdf`, as every command
 /// renders them. `face_pieces` (`(m,)`, from 0) and `piece_names` split it into pieces.
 ///
 /// Returns a `Run` whose `files` are the pattern files and whose report has the
 /// pattern's figures.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, uv, *, face_pieces=None, piece_names=None, unit="mm", name="pattern", outputs="all", progress=None, pattern=None))]
+#[pyo3(signature = (vertices, faces, uv, *, face_pieces=None, piece_names=None, units="mm", name="pattern", outputs="all", progress=None, pattern=None, **renamed))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn pattern(
     py: Python<'_>,
@@ -346,18 +356,20 @@ pub(crate) fn pattern(
     uv: &Bound<'_, PyAny>,
     face_pieces: Option<&Bound<'_, PyAny>>,
     piece_names: Option<Vec<String>>,
-    unit: &str,
+    units: &str,
     name: &str,
     outputs: &str,
     progress: Option<Py<PyAny>>,
     pattern: Option<&Bound<'_, PyAny>>,
+    renamed: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Run> {
+    refuse_renamed_keywords("pattern()", renamed, &RENAMED_KEYWORDS)?;
     let v = float_rows("vertices", vertices, 3)?;
     let f = index_rows("faces", faces, 3)?;
     let flat = float_rows("uv", uv, 2)?;
     let labels = face_pieces.map(|l| index_list("face_pieces", l)).transpose()?;
     let outputs = output_set(outputs)?;
-    let unit = length_unit(unit)?;
+    let unit = length_unit(units)?;
     let options = pattern_argument(py, pattern)?.options;
     let (v, f, flat) = (v.as_slice()?, f.as_slice()?, flat.as_slice()?);
     // (Read with the interpreter's lock held, as in `check`.)

@@ -1,9 +1,9 @@
 //! The printable pattern's options as a Python class, [`PatternOptions`]: every option
 //! the CLI's pattern flags set (`--scale`, `--tabs`, `--sheet`, `--seam-allowance`,
-//! `--kerf`, `--thickness`, …), under the same names in words, with the same defaults;
-//! the library checks their values.
+//! `--kerf`, `--thickness`, …), under the CLI's names (`-` as `_`), with the same
+//! defaults and units; the library checks their values.
 
-use crate::errors::invalid_argument;
+use crate::errors::{invalid_argument, refuse_renamed_keywords};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sheetform::pattern::{
@@ -13,21 +13,24 @@ use sheetform::pattern::{
 use sheetform::pipeline::PatternOutputOptions;
 
 /// How the printable pattern (`pattern.svg`, `.dxf`, `.pdf`) is made, as the CLI's
-/// pattern flags: pass one (or a dict of the same keywords) as `pattern=` to any function.
+/// pattern flags, under their names: pass one (or a dict of the same keywords) as
+/// `pattern=` to any function.
 ///
 /// `scale` (1 = true size); `page` (`"a4"`, `"letter"`: the tiled PDF's paper);
-/// `units` (`"mm"`, `"cm"`, `"in"`: the DXF's); `min_fold_angle_degrees` (smaller folds
-/// are not drawn); `seam_labels` (matching IDs on both sides of every seam); `tabs`
-/// (`"auto"`: on one side of every seam of a net made by `flatten`, none otherwise;
-/// `"none"`; `"one"`: on one side of every seam; `"alternate"`),
-/// `tab_width_mm`, `tab_angle_degrees`; `sheet` (pack the pieces onto sheets: `"a4"`,
-/// `"a3"`, `"letter"`, `"600x400"` or `(width_mm, height_mm)`), `sheet_gap_mm`;
-/// `max_pages` (a PDF that needs more is refused; default 100); `seam_allowance_mm` (fabric, leather:
-/// the outline becomes a stitch line) with `notches`; `kerf_mm` (laser cutting);
-/// `grain_lines`; `thickness_mm` (sheet metal, greyboard, plywood: folds become bend zones,
-/// K-factor rule) with `bend_radius_mm` (default: the thickness), `k_factor` (default
-/// 0.44), `material_side` (`"behind"`, the default, `"centred"`, `"in-front"`); `smooth_folds_degrees` (folds
-/// under it are drawn as bending guides; default: the function's choice).
+/// `pattern_units` (`"mm"`, `"cm"`, `"in"`: the DXF's); `min_fold_angle` (degrees:
+/// smaller folds are not drawn); `seam_labels` (matching IDs on both sides of every seam;
+/// the CLI's `--no-seam-labels`); `tabs` (`"auto"`: on one side of every seam of a net
+/// made by `flatten`, none otherwise; `"none"`; `"one"`: on one side of every seam;
+/// `"alternate"`), `tab_width` (mm), `tab_angle` (degrees); `sheet` (pack the pieces onto
+/// sheets: `"a4"`, `"a3"`, `"letter"`, `"600x400"` or `(width_mm, height_mm)`),
+/// `sheet_gap` (mm); `max_pages` (a PDF that needs more is refused; default 100);
+/// `seam_allowance` (mm; fabric, leather: the outline becomes a stitch line) with
+/// `notches`; `kerf` (mm; laser cutting); `grain_lines`; `thickness` (mm; sheet metal,
+/// greyboard, plywood: folds become bend zones, K-factor rule) with `bend_radius` (mm;
+/// default: the thickness), `k_factor` (default 0.44), `material_side` (`"behind"`, the
+/// default, `"centred"`, `"in-front"`); `smooth_folds` (degrees: folds under it are
+/// drawn as bending guides; default: the function's choice). The names these keywords
+/// had before (`kerf_mm`, `tab_width_mm`, `units`, ...) are refused with the new one.
 #[pyclass(module = "sheetform", frozen)]
 #[derive(Clone)]
 pub struct PatternOptions {
@@ -39,30 +42,32 @@ pub struct PatternOptions {
 #[pymethods]
 impl PatternOptions {
     #[new]
-    #[pyo3(signature = (*, scale=1.0, page="a4", units="mm", min_fold_angle_degrees=1.0, seam_labels=true, tabs="auto", tab_width_mm=5.0, tab_angle_degrees=45.0, sheet=None, sheet_gap_mm=5.0, max_pages=None, seam_allowance_mm=0.0, notches=true, kerf_mm=0.0, grain_lines=false, thickness_mm=None, bend_radius_mm=None, k_factor=None, material_side=None, smooth_folds_degrees=None))]
+    #[pyo3(signature = (*, scale=1.0, page="a4", pattern_units="mm", min_fold_angle=1.0, seam_labels=true, tabs="auto", tab_width=5.0, tab_angle=45.0, sheet=None, sheet_gap=5.0, max_pages=None, seam_allowance=0.0, notches=true, kerf=0.0, grain_lines=false, thickness=None, bend_radius=None, k_factor=None, material_side=None, smooth_folds=None, **renamed))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         scale: f64,
         page: &str,
-        units: &str,
-        min_fold_angle_degrees: f64,
+        pattern_units: &str,
+        min_fold_angle: f64,
         seam_labels: bool,
         tabs: &str,
-        tab_width_mm: f64,
-        tab_angle_degrees: f64,
+        tab_width: f64,
+        tab_angle: f64,
         sheet: Option<&Bound<'_, PyAny>>,
-        sheet_gap_mm: f64,
+        sheet_gap: f64,
         max_pages: Option<i64>,
-        seam_allowance_mm: f64,
+        seam_allowance: f64,
         notches: bool,
-        kerf_mm: f64,
+        kerf: f64,
         grain_lines: bool,
-        thickness_mm: Option<f64>,
-        bend_radius_mm: Option<f64>,
+        thickness: Option<f64>,
+        bend_radius: Option<f64>,
         k_factor: Option<f64>,
         material_side: Option<&str>,
-        smooth_folds_degrees: Option<f64>,
+        smooth_folds: Option<f64>,
+        renamed: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
+        refuse_renamed_keywords("PatternOptions()", renamed, &RENAMED_KEYWORDS)?;
         let one_of = |argument: &str, value: &str, choices: &str| {
             invalid_argument(argument, format!("`{value}`: one of {choices}"))
         };
@@ -71,15 +76,15 @@ impl PatternOptions {
             "letter" => PageSize::Letter,
             other => return Err(one_of("page", other, "\"a4\", \"letter\"")),
         };
-        let dxf_unit = match units {
+        let dxf_unit = match pattern_units {
             "mm" => DxfUnit::Mm,
             "cm" => DxfUnit::Cm,
             "in" => DxfUnit::In,
-            other => return Err(one_of("units", other, "\"mm\", \"cm\", \"in\"")),
+            other => return Err(one_of("pattern_units", other, "\"mm\", \"cm\", \"in\"")),
         };
         let tab = |sides| TabOptions {
-            width_mm: tab_width_mm,
-            angle_degrees: tab_angle_degrees,
+            width_mm: tab_width,
+            angle_degrees: tab_angle,
             sides,
             ..Default::default()
         };
@@ -91,16 +96,16 @@ impl PatternOptions {
             other => return Err(one_of("tabs", other, "\"auto\", \"none\", \"one\", \"alternate\"")),
         };
         // (As the CLI's flags, which require `--thickness`.)
-        if thickness_mm.is_none() {
+        if thickness.is_none() {
             for (given, name) in [
-                (bend_radius_mm.is_some(), "bend_radius_mm"),
+                (bend_radius.is_some(), "bend_radius"),
                 (k_factor.is_some(), "k_factor"),
                 (material_side.is_some(), "material_side"),
             ] {
                 if given {
                     return Err(invalid_argument(
                         name,
-                        "goes with thickness_mm (a sheet's thickness), not given",
+                        "goes with thickness (a sheet's thickness), not given",
                     ));
                 }
             }
@@ -136,7 +141,7 @@ impl PatternOptions {
                 Some(SheetOptions {
                     width_mm,
                     height_mm,
-                    gap_mm: sheet_gap_mm,
+                    gap_mm: sheet_gap,
                 })
             }
         };
@@ -145,24 +150,24 @@ impl PatternOptions {
                 scale,
                 page,
                 dxf_unit,
-                min_fold_angle_degrees,
+                min_fold_angle_degrees: min_fold_angle,
                 seam_labels,
                 tabs,
                 sheet,
                 max_pdf_pages,
                 allowance: MaterialAllowance {
-                    seam_allowance_mm,
+                    seam_allowance_mm: seam_allowance,
                     notches,
-                    kerf_mm,
+                    kerf_mm: kerf,
                     grain_lines,
-                    bend: thickness_mm.map(|thickness_mm| BendAllowance {
-                        thickness_mm,
-                        inner_radius_mm: bend_radius_mm.unwrap_or(thickness_mm),
+                    bend: thickness.map(|thickness| BendAllowance {
+                        thickness_mm: thickness,
+                        inner_radius_mm: bend_radius.unwrap_or(thickness),
                         k_factor: k_factor.unwrap_or(BendAllowance::default().k_factor),
                         material_side,
                     }),
                 },
-                smooth_bend_degrees: smooth_folds_degrees,
+                smooth_bend_degrees: smooth_folds,
             },
             net_tabs,
         })
@@ -172,6 +177,21 @@ impl PatternOptions {
         format!("<sheetform.PatternOptions {:?}>", self.options)
     }
 }
+
+/// The keywords `PatternOptions` had before they took the CLI's names (issue 39), and
+/// the names they have now.
+const RENAMED_KEYWORDS: [(&str, &str); 10] = [
+    ("units", "pattern_units"),
+    ("min_fold_angle_degrees", "min_fold_angle"),
+    ("tab_width_mm", "tab_width"),
+    ("tab_angle_degrees", "tab_angle"),
+    ("sheet_gap_mm", "sheet_gap"),
+    ("seam_allowance_mm", "seam_allowance"),
+    ("kerf_mm", "kerf"),
+    ("thickness_mm", "thickness"),
+    ("bend_radius_mm", "bend_radius"),
+    ("smooth_folds_degrees", "smooth_folds"),
+];
 
 /// The `pattern=` argument: `None` (the defaults), a [`PatternOptions`] or a dict of its
 /// keywords.

@@ -140,7 +140,7 @@ def test_bad_options_raise_invalid_input_naming_the_option():
     cases = [
         (lambda: sheetform.flatten(v, f, method="magic"), "method"),
         (lambda: sheetform.flatten(v, f, charts="some"), "charts"),
-        (lambda: sheetform.flatten(v, f, unit="furlong"), "unit"),
+        (lambda: sheetform.flatten(v, f, units="furlong"), "units"),
         (lambda: sheetform.flatten(v, f, outputs="everything"), "outputs"),
         (lambda: sheetform.flatten(v, f, crease_angle=400.0), "crease_angle: must be an angle"),
         (lambda: sheetform.flatten(v, f, max_distortion=float("nan")), "max_distortion: must be"),
@@ -150,20 +150,20 @@ def test_bad_options_raise_invalid_input_naming_the_option():
         (lambda: sheetform.PatternOptions(sheet=(100, float("nan"))), "sheet"),
         (lambda: sheetform.flatten(v, f, pattern={"colour": "red"}), "colour"),
         (lambda: sheetform.flatten(v, f, pattern=3), "pattern"),
-        (lambda: sheetform.flatten(v, f, pattern={"thickness_mm": 1.0, "k_factor": 3.0}), "k_factor"),
-        (lambda: sheetform.flatten(v, f, pattern={"kerf_mm": -0.2}), "kerf_mm"),
-        (lambda: sheetform.flatten(v, f, pattern={"tabs": "one", "tab_width_mm": -1.0}), "tab_width_mm"),
-        (lambda: sheetform.flatten(v, f, pattern={"tabs": "one", "tab_angle_degrees": 200.0}), "tab_angle_degrees"),
-        (lambda: sheetform.flatten(v, f, pattern={"sheet": "a4", "sheet_gap_mm": 1e308}), "sheet_gap_mm"),
-        (lambda: sheetform.flatten(v, f, pattern={"smooth_folds_degrees": -5.0}), "smooth_folds_degrees"),
-        (lambda: sheetform.flatten(v, f, pattern={"thickness_mm": 1.0, "bend_radius_mm": -1.0}), "bend_radius_mm"),
-        (lambda: sheetform.PatternOptions(k_factor=0.3), "k_factor: goes with thickness_mm"),
+        (lambda: sheetform.flatten(v, f, pattern={"thickness": 1.0, "k_factor": 3.0}), "k_factor"),
+        (lambda: sheetform.flatten(v, f, pattern={"kerf": -0.2}), "kerf"),
+        (lambda: sheetform.flatten(v, f, pattern={"tabs": "one", "tab_width": -1.0}), "tab_width"),
+        (lambda: sheetform.flatten(v, f, pattern={"tabs": "one", "tab_angle": 200.0}), "tab_angle"),
+        (lambda: sheetform.flatten(v, f, pattern={"sheet": "a4", "sheet_gap": 1e308}), "sheet_gap"),
+        (lambda: sheetform.flatten(v, f, pattern={"smooth_folds": -5.0}), "smooth_folds"),
+        (lambda: sheetform.flatten(v, f, pattern={"thickness": 1.0, "bend_radius": -1.0}), "bend_radius"),
+        (lambda: sheetform.PatternOptions(k_factor=0.3), "k_factor: goes with thickness"),
         (lambda: sheetform.PatternOptions(max_pages=-1), "max_pages"),
         (lambda: sheetform.PatternOptions(tabs="many"), "tabs"),
         (lambda: sheetform.bend({"outline": {1, 2}}), "a set is not a JSON value"),
         (lambda: sheetform.check(v, f, weld=-1.0), "weld: must be a non-negative distance"),
         (lambda: sheetform.check(v, f, tolerance=float("inf")), "tolerance: must be"),
-        (lambda: sheetform.flatten(v, f, pattern=sheetform.PatternOptions(seam_allowance_mm=-1.0)), "seam_allowance_mm"),
+        (lambda: sheetform.flatten(v, f, pattern=sheetform.PatternOptions(seam_allowance=-1.0)), "seam_allowance"),
         (lambda: sheetform.flatten(v, f, pattern={"scale": 0.0}), "scale"),
         (lambda: sheetform.flatten(v, f, seams=[[0, 1, 2]]), "seams"),
         (lambda: sheetform.flatten(v, f, seams=[[0, -1]]), "seams: row 0 names vertex -1"),
@@ -282,3 +282,23 @@ def test_the_ffd_photo_and_slit_bad_inputs_of_the_cli_tests(tmp_path):
     joint["solver"] = {"mode": "joint"}
     with pytest.raises(sheetform.InvalidInputError, match="joint mode"):
         sheetform.slit(joint)
+
+
+def test_keywords_named_before_the_cli_vocabulary_are_refused_with_their_new_name():
+    """One vocabulary (issue 39): the keywords are the CLI's flags (`--kerf` is `kerf`,
+    `--units` is `units`); the old names are refused naming the new one, not ignored."""
+    v = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+    f = [[0, 1, 2]]
+    for call, old, new in [
+        (lambda: sheetform.PatternOptions(kerf_mm=0.2), "kerf_mm", "kerf"),
+        (lambda: sheetform.PatternOptions(units="in"), "units", "pattern_units"),
+        (lambda: sheetform.flatten(v, f, pattern={"tab_width_mm": 7.0}), "tab_width_mm", "tab_width"),
+        (lambda: sheetform.flatten(v, f, unit="cm"), "unit", "units"),
+        (lambda: sheetform.develop(v, f, unit="cm"), "unit", "units"),
+        (lambda: sheetform.check(v, f, unit="cm"), "unit", "units"),
+    ]:
+        with pytest.raises(sheetform.InvalidInputError, match=f"^{old}: is now `{new}`, the name of the CLI's --{new.replace('_', '-')}"):
+            call()
+    # A keyword that never existed is Python's own error.
+    with pytest.raises(TypeError, match="unexpected keyword argument 'colour'"):
+        sheetform.flatten(v, f, colour="red")

@@ -124,17 +124,21 @@ def test_a_warm_started_ffd_run_restores_only_the_new_deformation_with_the_same_
 @pytest.mark.parametrize(
     "command,source,flags,options",
     [
-        ("bend", "examples/desk.json", ["--scale", "0.5", "--page", "letter", "--pattern-units", "in"], {"scale": 0.5, "page": "letter", "units": "in"}),
+        ("bend", "examples/desk.json", ["--scale", "0.5", "--page", "letter", "--pattern-units", "in"], {"scale": 0.5, "page": "letter", "pattern_units": "in"}),
         # tube.json has a seam (tabs, seam allowance) and folds (thickness).
-        ("bend", "examples/tube.json", ["--tabs", "alternate", "--tab-width", "7", "--tab-angle", "60", "--sheet", "900x1200", "--kerf", "0.2"], {"tabs": "alternate", "tab_width_mm": 7.0, "tab_angle_degrees": 60.0, "sheet": (900, 1200), "kerf_mm": 0.2}),
-        ("bend", "examples/tube.json", ["--seam-allowance", "10", "--no-notches", "--grain-lines"], {"seam_allowance_mm": 10.0, "notches": False, "grain_lines": True}),
-        ("flatten", "examples/meshes/gift-box.obj", ["--thickness", "1.5", "--k-factor", "0.33", "--bend-radius", "2", "--tabs", "none"], {"thickness_mm": 1.5, "k_factor": 0.33, "bend_radius_mm": 2.0, "tabs": "none"}),
-        ("flatten", "examples/meshes/gift-box.obj", ["--tab-width", "8", "--tab-angle", "80"], {"tab_width_mm": 8.0, "tab_angle_degrees": 80.0}),
+        ("bend", "examples/tube.json", ["--tabs", "alternate", "--tab-width", "7", "--tab-angle", "60", "--sheet", "900x1200", "--kerf", "0.2"], {"tabs": "alternate", "tab_width": 7.0, "tab_angle": 60.0, "sheet": (900, 1200), "kerf": 0.2}),
+        ("bend", "examples/tube.json", ["--seam-allowance", "10", "--no-notches", "--grain-lines"], {"seam_allowance": 10.0, "notches": False, "grain_lines": True}),
+        ("flatten", "examples/meshes/gift-box.obj", ["--thickness", "1.5", "--k-factor", "0.33", "--bend-radius", "2", "--tabs", "none"], {"thickness": 1.5, "k_factor": 0.33, "bend_radius": 2.0, "tabs": "none"}),
+        ("flatten", "examples/meshes/gift-box.obj", ["--tab-width", "8", "--tab-angle", "80"], {"tab_width": 8.0, "tab_angle": 80.0}),
         ("flatten", "examples/meshes/gift-box.obj", ["--tabs", "none"], {"tabs": "none"}),
     ],
     ids=["scale-page-units", "tabs-sheet-kerf", "allowance-grain", "thickness", "net-tab-size", "net-without-tabs"],
 )
 def test_pattern_options_give_the_cli_flags_files(command, source, flags, options, cli, tmp_path, monkeypatch):
+    # One vocabulary (issue 39): each keyword is its flag's name (`--no-notches` is
+    # `notches=False`).
+    named = {f[2:].removeprefix("no-").replace("-", "_") for f in flags if f.startswith("--")}
+    assert named == set(options), (named, set(options))
     monkeypatch.chdir(REPO)
     out = tmp_path / "out"
     done = cli(command, source, "-o", out, *flags)
