@@ -1,7 +1,7 @@
 //! Annotations drawn in an SVG editor (Inkscape) over the photo, read into a
 //! [`PhotoAnnotation`]: no special tool is needed to trace a photograph.
 //!
-//! **Convention** (documented for users in the README):
+//! **Convention** (documented for users in docs/guide/photo.md):
 //!
 //! - One `<image>` element holds the photograph (`href` or `xlink:href`: a path relative to
 //!   the SVG file). Its placement (`x`, `y`, `width`, `height`, and the transforms of its

@@ -294,7 +294,7 @@ fn a_model_in_metres_is_warned_about_and_sized_by_its_height() {
 /// Every system's pattern goes through the same tabs and IDs: a bent tube with
 /// `--tabs one` (its seam's tab once stood refused: its corner met the short edges of the
 /// outline running on beside it), and the wing nut's smooth charts with alternating tabs
-/// packed on 600 × 400 mm sheets (the README's example), read back from the files.
+/// packed on 600 × 400 mm sheets (the guide's example, docs/guide/flatten.md), read back from the files.
 #[test]
 fn a_bent_tube_and_packed_charts_carry_one_tab_per_glued_pair() {
     let dir = tempfile::tempdir().unwrap();

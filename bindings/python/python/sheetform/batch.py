@@ -23,7 +23,7 @@ result on its own: a job that fails (a malformed mesh, an inadmissible scene) gi
             result.run.write(f"out/{path.stem}")
 
 The same code runs on a cluster: give ``Client`` the scheduler's address, or a
-``dask_jobqueue.SLURMCluster`` / ``dask_kubernetes`` cluster (docs: the README's batch
+``dask_jobqueue.SLURMCluster`` / ``dask_kubernetes`` cluster (docs/guide/python.md, the batch
 section). Each job runs on one worker thread; sheetform's solvers may use a second core
 themselves, so ``threads_per_worker=1`` and one worker per core pair is a good start.
 
