@@ -2,7 +2,7 @@
 """Total length of the chart borders of a flattened mesh: `model.obj` of `sheetform flatten`
 holds each chart with its own vertices, so a border is a 3D edge that two boundary edges
 share (vertices matched at 1e-6). Usage: python3 tools/chart_border_length.py OUT/model.obj
-(docs/benchmarks.md, "Straight chart borders")."""
+(docs/benchmarks-history.md, "Straight chart borders")."""
 import sys, math
 from collections import Counter
 V=[];F=[]

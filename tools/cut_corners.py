@@ -10,7 +10,7 @@ the cut turns by more than DEG degrees (default 30): the turns a knife or scisso
 make. Prints one JSON object: the cut length (mm as printed), corners, corners per 100 mm
 of cut, and the same for the cut edges that are seams (their 3D edge has a face on each
 side in the model; the model's own boundary left out). Used for the `develop` seam
-smoothing figures in docs/benchmarks.md (session 32)."""
+smoothing figures in docs/benchmarks-history.md (session 32)."""
 import json, math, sys
 from collections import defaultdict
 

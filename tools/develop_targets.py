@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the targets of the `develop` figures in docs/benchmarks.md (sessions 24, 25) into a
+"""Writes the targets of the `develop` figures in docs/benchmarks-history.md (sessions 24, 25) into a
 folder (`pip install trimesh manifold3d`):
 
     python3 tools/develop_targets.py OUT_DIR

@@ -2,7 +2,7 @@
 """Largest dihedral angle (degrees) of an FFD result, inside the panels and across the seams
 between them, for the plain FFD (`deformed.obj`) and the restored mesh (`model.obj`) in
 an output folder of `sheetform ffd` (vertices welded at 1e-5; needs numpy). Usage:
-python3 tools/ffd_dihedral_angles.py OUT (docs/benchmarks.md, "Seams kept smooth")."""
+python3 tools/ffd_dihedral_angles.py OUT (docs/benchmarks-history.md, "Seams kept smooth")."""
 import numpy as np, math, sys
 from collections import defaultdict
 def load(p):

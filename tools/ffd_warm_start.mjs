@@ -1,4 +1,4 @@
-// Server time of an FFD drag in the web editor, cold against warm (docs/benchmarks.md,
+// Server time of an FFD drag in the web editor, cold against warm (docs/benchmarks-history.md,
 // session 20):
 //
 //   node tools/ffd_warm_start.mjs target/release/sheetform . skirt

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes the trimesh shapes issue 23 was tried on as OBJ files into a folder, for
-`sheetform flatten` and the figures in docs/benchmarks.md and
+`sheetform flatten` and the figures in docs/benchmarks-history.md and
 docs/papercraft-comparison.md (`pip install trimesh`):
 
     python3 tools/make_primitive_objs.py out/primitives

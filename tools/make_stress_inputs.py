@@ -1,4 +1,4 @@
-"""Inputs of the work-budget audit (issue 19, docs/benchmarks.md "Robustness, second
+"""Inputs of the work-budget audit (issue 19, docs/benchmarks-history.md "Robustness, second
 session"), written into the current directory:
 
   python3 tools/make_stress_inputs.py grid-obj 300        # grid300.obj: 300 x 300 vertices

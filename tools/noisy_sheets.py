@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the noisy sheets of docs/benchmarks.md (session 23, flatten's work budget):
+"""Writes the noisy sheets of docs/benchmarks-history.md (session 23, flatten's work budget):
 200 x 200 mm grids with Gaussian height noise, as OBJ, into DIR (default /tmp).
     python3 tools/noisy_sheets.py [DIR]      # needs numpy
 noisy-100k.obj (224² vertices, sigma 0.5 mm, seed 1), noisy-250k.obj (354², sigma 0.5,

@@ -32,7 +32,7 @@ use std::process::ExitCode;
 
 // The pipeline allocates and frees arrays of a few hundred KB per run; glibc's malloc
 // returns them to the OS each time (page faults), mimalloc keeps them: ~1.5x faster
-// bends (docs/benchmarks.md).
+// bends (docs/benchmarks-history.md).
 #[global_allocator]
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 

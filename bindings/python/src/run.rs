@@ -40,7 +40,7 @@ impl<'a> Controls<'a> {
 /// Returns the job's value and the seconds it took.
 ///
 /// The job runs on the calling thread: a thread of its own cost 0.15–0.19 ms per call
-/// (measured, `docs/benchmarks.md`), more than the rest of the binding on a small mesh.
+/// (measured, `docs/benchmarks-history.md`), more than the rest of the binding on a small mesh.
 pub(crate) fn run_interruptibly<T: Send>(
     py: Python<'_>,
     progress: Option<Py<PyAny>>,

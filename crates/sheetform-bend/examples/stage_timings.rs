@@ -1,5 +1,5 @@
 //! Where the time of one bend goes, stage by stage, on `examples/bent-rectangle.json`
-//! with N rulings (the figures of the stage split in docs/benchmarks.md):
+//! with N rulings (the figures of the stage split in docs/benchmarks-history.md):
 //!
 //! ```sh
 //! cargo run --release -p sheetform-bend --example stage_timings -- 1000

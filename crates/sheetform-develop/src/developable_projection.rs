@@ -43,7 +43,7 @@ pub const STEP_TOLERANCE: f64 = 1e-6;
 
 /// A step moves no vertex farther than this many mean edge lengths (a trust region: the
 /// angle defects are linearised, and a longer move makes new ones). Measured on automatic
-/// pieces of a torus, the wing nut and a sphere (benchmarks.md, session 24): without it
+/// pieces of a torus, the wing nut and a sphere (benchmarks-history.md, session 24): without it
 /// the torus and the wing nut stayed out of tolerance after 100 steps; with 0.5 both
 /// converge and the distance to the target is unchanged (±5 %); 0.25 and 0.1 left the
 /// wing nut out again.
@@ -52,7 +52,7 @@ pub const STEP_REACH: f64 = 0.5;
 /// The Gauss–Newton steps end once the objective changes by less than this fraction of
 /// itself for [`STALL_STEPS`] steps in a row with every defect below [`STALL_DEFECT`]
 /// radians; the feasibility polish then brings the defects to the tolerance. Measured
-/// (benchmarks.md, session 24): the steps converge linearly (line-search steps of 1/8 on
+/// (benchmarks-history.md, session 24): the steps converge linearly (line-search steps of 1/8 on
 /// automatic sphere pieces), so the last 40–80 steps of 100 bought ≤ 4 % of distance;
 /// with the rule, the UV sphere takes 60 steps instead of 103, the icosphere 22 instead
 /// of 101, the torus 32 instead of 92, the capsule 20 instead of 102, distances within 5 %.
@@ -63,7 +63,7 @@ pub const STALL_STEPS: usize = 3;
 pub const STALL_DEFECT: f64 = 0.05;
 /// The steps also end after [`STALL_STEPS`] in a row that move no vertex coordinate by
 /// more than this fraction of the mean edge length (the line search cutting each step
-/// to a sliver; the feasibility polish then takes over). Measured (benchmarks.md,
+/// to a sliver; the feasibility polish then takes over). Measured (benchmarks-history.md,
 /// session 25): the koala's solve spent 20 of its 38 steps at `α` below 0.03 with its
 /// largest defect stuck at 1.64 rad, and the polish finished from there.
 pub const STALL_MOVE: f64 = 1e-3;
@@ -186,7 +186,7 @@ pub struct Developed {
 /// the unknowns then eliminate without fill and only the constraints' Schur complement
 /// `J D⁻¹ Jᵀ + δI` is factorised ([`DiagonalKktSystem`]; Nocedal & Wright 2006, Eq.
 /// 16.16). Its factor holds a tenth of the full system's values (koala: 0.14 M against
-/// 1.64 M), and whole runs take 1.1–4× less CPU time (docs/benchmarks.md, session
+/// 1.64 M), and whole runs take 1.1–4× less CPU time (docs/benchmarks-history.md, session
 /// 29). This is a departure from Newton's step in `H` only: the objective and its
 /// gradient `H(x − t)` are `H`'s, so the problem and its solutions are the same;
 /// `D⁻¹H = I − s D⁻¹A` (`A` the adjacency) has its eigenvalues in `[1 − ρ, 1 + ρ]`,
@@ -494,7 +494,7 @@ pub fn develop_pieces(
     // The first solve usually meets it far from the solution (measured on the koala:
     // constraint residuals of 1e-10 where the defects are about 1 rad; refined to
     // rounding, every step took two solves). The closeness steps above are solved to
-    // rounding: inexact, they changed the path (benchmarks.md, session 29).
+    // rounding: inexact, they changed the path (benchmarks-history.md, session 29).
     let forcing = |defects: &[f64]| SolveAccuracy::ConstraintResidual((1e-3 * max_abs(defects)).max(0.1 * tolerance));
     let mut stalled = 0;
     while iterations < options.max_iterations {

@@ -38,7 +38,7 @@ pub struct SegmentationOptions {
     /// point (a box's corner, a coarse mesh's tip) no small move makes flat: a slit, the
     /// shortest edge path from it to its piece's border, is cut to free it. Default π/3
     /// (60°: a box's corner, 90°, is cut; the bumps of a coarse organic mesh are
-    /// flattened by moving them). Measured (docs/benchmarks.md, session 25): at 0.1 the
+    /// flattened by moving them). Measured (docs/benchmarks-history.md, session 25): at 0.1 the
     /// slits open wedges that make the developed pieces overlap themselves in the plane,
     /// so the unfolding cuts them again: 34 printed pieces from the wing nut's 11, 70 from
     /// the 1 654-face Spot's 12, 145 from the 7 116-face koala's 12; at 1 rad, 11, 17 and 25,

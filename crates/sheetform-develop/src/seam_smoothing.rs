@@ -29,7 +29,7 @@ pub struct SeamSmoothingOptions {
     /// about 35° (`2 asin 0.3`; a developed surface bends along its rulings) and keeps it
     /// off sharper creases and corners at any mesh size (a box's corner stays, where
     /// [`Self::max_deviation`] alone would let it move by a twentieth of the box's edge).
-    /// Measured (docs/benchmarks.md, session 32): 0.1 kept most of the staircase of a
+    /// Measured (docs/benchmarks-history.md, session 32): 0.1 kept most of the staircase of a
     /// developed sphere (369 of 440 corners), 0.3 and 0.5 removed most (64, 54).
     pub max_deviation_per_move: f64,
 }

@@ -2,7 +2,7 @@
 //! one along the deformation's path, and with steps along the normals) on the examples
 //! at the paper's sizes, and a warm-started drag. The 100k-vertex duct
 //! (`examples/ffd/duct-100k.json`) is not benchmarked here: 9–10 s a run with its normal
-//! steps, 56 s with every parameter (docs/benchmarks.md gives its timed runs).
+//! steps, 56 s with every parameter (docs/benchmarks-history.md gives its timed runs).
 //!
 //! `cargo bench -p sheetform-ffd --bench ffd`
 

@@ -41,7 +41,7 @@ type Vec3 = Vector3<f64>;
 /// displacement), independent of `h`; without the factor `A/l̄²` the term would fade
 /// like `h²` as a mesh is refined. The term is part of the metric only, not of the
 /// objective the solver reports; it changes which developable shape the projection
-/// reaches: fair, with larger edge-length changes (docs/benchmarks.md has the figures).
+/// reaches: fair, with larger edge-length changes (docs/benchmarks-history.md has the figures).
 /// Not in the paper (§3 has no step metric).
 ///
 /// Until the tenth session the term was an umbrella Laplacian of the normal
@@ -59,7 +59,7 @@ type Vec3 = Vector3<f64>;
 /// largest dihedral angle across a seam: duct 8.1° → 24.9°, skirt 5.1° → 11.1°, two
 /// panels 8.5° → 12.8°). With the seams' hinges it stays near the deformed shape's
 /// (9.3°, 5.3°, 9.3°) in as many steps, the largest edge-length change within 8 % of
-/// what it was (docs/benchmarks.md). The term penalises a step's change of the dihedral
+/// what it was (docs/benchmarks-history.md). The term penalises a step's change of the dihedral
 /// angle, not the angle, so a seam folded in the design keeps its fold.
 #[derive(Debug, Clone)]
 pub(crate) struct BendingMetric {

@@ -45,7 +45,7 @@ pub struct ConstrainedOptions {
     /// when its largest defect is below the largest of the last `M` iterates' (1: below
     /// the current one, a monotone search). 12 (default): skirt 27 iterations instead
     /// of 38 and trousers 25 instead of 32, with the same edge-length change and
-    /// deviation within 4 %; docs/benchmarks.md has the figures.
+    /// deviation within 4 %; docs/benchmarks-history.md has the figures.
     pub line_search_memory: usize,
     /// Most refinement iterations after the defects are within tolerance (0: restore
     /// only).
@@ -67,7 +67,7 @@ pub struct ConstrainedOptions {
     /// keeps the ratio of bending to springs fixed when a mesh is refined (the springs'
     /// sum over edges grows like `1/h²` for the same strain, the bending sum does not):
     /// ducts of 2.5k to 40k vertices take 5 to 9 steps. Larger `γ`: fewer steps, lower
-    /// deviation, larger edge-length changes (docs/benchmarks.md has the sweep).
+    /// deviation, larger edge-length changes (docs/benchmarks-history.md has the sweep).
     pub bending_weight: f64,
     /// The bending weight switched on when the restoration stalls with `bending_weight`
     /// 0: after five steps in a row cut to `α ≤ 1/64` (0: never; default 3e-3). On fine
@@ -352,7 +352,7 @@ pub(crate) fn degenerate(problem: &DevelopabilityProblem<'_>, e: &Evaluation) ->
 ///    half as long as the step before it and at least halves the largest defect, at
 ///    most `chord_steps` in a row. A chord step costs one triangular solve and an
 ///    evaluation of the defects, about a tenth of a factorisation on the 100k-vertex
-///    duct; there they replace 2 of 7 factorisations (docs/benchmarks.md, session 19).
+///    duct; there they replace 2 of 7 factorisations (docs/benchmarks-history.md, session 19).
 ///    The length test keeps them inside the region where the old Jacobian still holds
 ///    (without it, a duct deformed five times over and restored along its path
 ///    wandered off and stopped unconverged).

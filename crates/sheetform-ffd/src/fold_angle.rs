@@ -20,7 +20,7 @@ type Vec3 = Vector3<f64>;
 /// reaches zero angle defect by folding the mesh into node-scale zig-zags (crinkles)
 /// instead shows fold angles several times larger, whatever the resolution: the springs
 /// alone (`bending_weight` 0) restore the skirt example with a largest fold angle of
-/// 0.56 rad from the deformed mesh's 0.09 (docs/benchmarks.md). Not in the paper; a
+/// 0.56 rad from the deformed mesh's 0.09 (docs/benchmarks-history.md). Not in the paper; a
 /// measure of the result's fairness next to the deviation and the edge-length change,
 /// neither of which sees crinkles.
 pub fn fold_angle_max(triangles: &[[u32; 3]], edges: &EdgeTable, position: impl Fn(u32) -> Vec3) -> f64 {

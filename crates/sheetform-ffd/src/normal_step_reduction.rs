@@ -21,7 +21,7 @@
 //! edge lengths. Without it, a normal offset `t` of a surface of curvature `κ` stretches
 //! its edges by about `κ t`: on the small examples the largest edge-length change grows
 //! (duct 14.9 % → 20 %, trousers 22 % → 29 %), at 100k vertices it stays within 10 % of
-//! the full system's (15.4 % against 14.3 %; docs/benchmarks.md). A departure from the
+//! the full system's (15.4 % against 14.3 %; docs/benchmarks-history.md). A departure from the
 //! paper, whose unknowns are the three parameters of every node; off by default.
 
 use crate::{DevelopabilityProblem, Evaluation, FfdError};

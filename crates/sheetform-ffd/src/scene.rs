@@ -199,7 +199,7 @@ pub struct SolverSpec {
     /// The constrained solver's step unknowns: `parameters` (default: each node's three
     /// lattice parameters) or `normal` (one per node, along the surface normal: about a
     /// third of the time on large meshes, larger edge-length changes on small ones; see
-    /// docs/benchmarks.md).
+    /// docs/benchmarks-history.md).
     #[serde(default)]
     pub step_unknowns: crate::StepUnknowns,
     /// Most chord steps of the constrained solver after each full step: projections that

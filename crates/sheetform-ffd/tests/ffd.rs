@@ -153,7 +153,7 @@ fn continuation_reaches_the_direct_defect_bound_on_every_example() {
 /// bound on the examples without nearly flat vertex stars, keep linked vertices together
 /// and the panels fair, at the price of larger edge-length changes than the full
 /// parameter steps (measured 0.7× to 1.8×: the skirt's are smaller, the two panels'
-/// largest; docs/benchmarks.md). Not on the trousers: near the crotch their inner legs
+/// largest; docs/benchmarks-history.md). Not on the trousers: near the crotch their inner legs
 /// turn by only 3-4° from one quad to the next, a normal move changes such a nearly flat
 /// star's angle sum only to second order, and the second deformation stalls there at
 /// 1.1e-3 rad (the first converges in 7 steps against the full system's 2). The full

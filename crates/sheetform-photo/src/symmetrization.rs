@@ -38,7 +38,7 @@
 //! revolution: its mirror image is partly hidden) and every segment joined to one —
 //! symmetrising one side of such a strip alone fights its own rulings, which do not
 //! mirror (measured: the noisy cone's scale error went from 3.7 % to 11 %, see
-//! `docs/benchmarks.md`). Unmatched curves in the negative half are kept (the paper
+//! `docs/benchmarks-history.md`). Unmatched curves in the negative half are kept (the paper
 //! removes them; they have no mirror image to take their place). The caller
 //! ([`crate::reconstruct`]) keeps the unsymmetrised model when nothing mirrors, or when the
 //! symmetric model cannot be made developable and the plain one can.

@@ -108,7 +108,7 @@ fn ruling_angle_error_deg(r: &PhotoReconstruction, truth: &Value, linear: bool) 
 /// nearest in the image. (A curve without mirror pairs would keep a free depth: the
 /// planar-quad term of Eq. 4 is blind to sliding a whole circle along the view. With
 /// only the top rim marked self-symmetric the cylinder's bottom was 6 px off and the
-/// cones leaned; every circle is marked now, see docs/benchmarks.md.)
+/// cones leaned; every circle is marked now, see docs/benchmarks-history.md.)
 fn curve_error_px(r: &PhotoReconstruction, x: &[f64], truth: &Value, only: &[String]) -> f64 {
     let mut pairs: Vec<(Vec3, Vec3)> = Vec::new();
     for curve in &r.network.curves {
@@ -257,7 +257,7 @@ fn noisy_and_perspective_drawings_stay_under_the_papers_error() {
         );
         // The refinement slides ruling ends to make the noisy curves developable: on the
         // noisy composite (28 px of depth error from the linear solve) some end slides
-        // far and its ruling turns by 24° (recorded in docs/benchmarks.md); elsewhere
+        // far and its ruling turns by 24° (recorded in docs/benchmarks-history.md); elsewhere
         // within a few degrees of the analysis.
         let refined_bound = if name == "composite-noisy" { 30.0 } else { bound };
         assert!(
@@ -272,7 +272,7 @@ fn noisy_and_perspective_drawings_stay_under_the_papers_error() {
         // Noise: a pixel on a mirror pair a few tens of pixels apart tilts its depth by
         // several pixels over the object's ~300-pixel depth range.
         // The noisy composite's linear solve is 28 px off (its neck's mirror pairs are
-        // short); recorded in docs/benchmarks.md.
+        // short); recorded in docs/benchmarks-history.md.
         let bound = match name {
             _ if name.ends_with("perspective") => 15.0,
             "composite-noisy" => 30.0,
@@ -390,7 +390,7 @@ fn shape_and_size_errors_of((_, truth, r): (PhotoAnnotation, Value, PhotoReconst
 /// Issue 37: through the camera the photo was taken with, a perspective view is
 /// reconstructed to 0.8-1.5 % of the object's height (19-27 % when it was taken for an
 /// orthographic view) and to its size within 0.5 %; the exact orthographic views stay
-/// within 0.5 % and 0.1 %. Figures in docs/benchmarks.md.
+/// within 0.5 % and 0.1 %. Figures in docs/benchmarks-history.md.
 #[test]
 fn perspective_views_are_reconstructed_through_their_camera() {
     for (name, shape_bound, size_bound) in [
@@ -604,11 +604,11 @@ fn random_views_of_exact_developables_are_reconstructed() {
 
 /// The same random views with the examples' annotation noise (`add_noise`, σ = 1 and
 /// 2 px, and 1 px on the curves only, the symmetry marks exact): figures for
-/// docs/benchmarks.md, not a test (the issue's noise item is open):
+/// docs/benchmarks-history.md, not a test (the issue's noise item is open):
 /// `cargo test --release -p sheetform-photo --test synthetic_truth noisy_random_views --
 /// --ignored --nocapture`.
 #[test]
-#[ignore = "figures of the open noise item, printed for docs/benchmarks.md"]
+#[ignore = "figures of the open noise item, printed for docs/benchmarks-history.md"]
 fn noisy_random_views_figures() {
     for (label, extra) in [
         ("σ = 1 px", &["--noise", "1"][..]),

@@ -19,7 +19,7 @@
 //! Gauss–Newton part, so the steps were about four times too long, the damping settled
 //! near `μ ≈ 4` and the solver crept (45–316 iterations per strip on the chair, 30–45 ms
 //! for the chair). With the exact Hessian: 14–35 iterations, about 6 ms
-//! (`docs/benchmarks.md`).
+//! (`docs/benchmarks-history.md`).
 //!
 //! **Penalty** (`gap: penalty`): the paper's method, plain Levenberg–Marquardt on `F`
 //! with the fixed weight `w1`; some gap remains (the paper reports `E ≤ 1.5e-3`).

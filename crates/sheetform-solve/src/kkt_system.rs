@@ -222,7 +222,7 @@ impl KktSystem {
     /// against 380k, 16k duct 28.3M against 24.2M), yet whole designs run faster: in one
     /// criterion run with this session's other changes, duct 13.5 ms against 22, skirt
     /// 50 against 62.5, trousers 104 against 112, the springs alone on the trousers
-    /// 303 against 461 (docs/benchmarks.md, eleventh session).
+    /// 303 against 461 (docs/benchmarks-history.md, eleventh session).
     ///
     /// **Ordering**: below [`KktSystem::BOTH_ORDERINGS_BELOW`] unknowns, AMD alone when
     /// `amd_when_small` (the caller knows AMD fills less: with the hinge bending term it
@@ -498,7 +498,7 @@ impl KktSystem {
     /// `tolerance / 10` keeps the last step from stopping short of the bound. The first
     /// solve usually meets it: on the 100k-vertex duct its constraint residual is
     /// `10⁻⁵`–`10⁻⁸` of `max|g|`, where refining to rounding took 2–5 triangular solves
-    /// per step (docs/benchmarks.md, session 19).
+    /// per step (docs/benchmarks-history.md, session 19).
     pub fn projection(&mut self, defects: &[f64], tolerance: f64) -> Vec<f64> {
         let largest = defects.iter().fold(0.0f64, |m, g| m.max(g.abs()));
         let bound = (1e-3 * largest).min(0.1 * tolerance);

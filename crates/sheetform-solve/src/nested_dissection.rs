@@ -23,7 +23,7 @@ const LEAF_SIZE: usize = 32;
 /// Why by hand: faer 0.24 offers AMD or a custom permutation, and no kept crate computes
 /// nested dissection (the METIS bindings need a C toolchain). On the FFD's meshes the
 /// sheet is a surface, so a plane cut by coordinates gives short separators. Measured
-/// (docs/benchmarks.md, eighth session): on the 100k-vertex duct the factor `L` has
+/// (docs/benchmarks-history.md, eighth session): on the 100k-vertex duct the factor `L` has
 /// 95.6 M values instead of AMD's 201 M and the numeric factorisation takes 2.0–2.6 s
 /// instead of 10–12 s; on a 2 501-vertex duct 1.36 M instead of 2.0 M; on the skirt
 /// (1 080 nodes) AMD is 7 % smaller, which is why the KKT system keeps whichever is

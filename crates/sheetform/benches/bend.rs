@@ -1,6 +1,6 @@
 //! Benchmarks of system A (issue 2): a bent sheet with 100, 1 000 and 10 000 rulings
 //! (sampling + boundary + mesh), and the sampling stage alone. Run with
-//! `cargo bench -p sheetform --bench bend`; figures in docs/benchmarks.md.
+//! `cargo bench -p sheetform --bench bend`; figures in docs/benchmarks-history.md.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use sheetform::bend::{bend, region_geometries, BendModel, BendScene};

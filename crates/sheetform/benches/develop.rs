@@ -2,7 +2,7 @@
 //! of 81 920 faces remeshed to the working size (10 000 faces), and the whole develop of
 //! it (remeshing, automatic seams, the developability solve, the unfolding, the preview
 //! outputs). Run with `cargo bench -p sheetform --bench develop`. Figures in
-//! docs/benchmarks.md.
+//! docs/benchmarks-history.md.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use sheetform::mesh::{primitives, remesh_isotropic, RemeshOptions};

@@ -1,7 +1,7 @@
 //! Benchmarks of flattening (issue 3): exact unfolding, LSCM and ARAP on developable cylinder
 //! grids of 1k, 10k and 100k faces (1M with `SHEETFORM_BENCH_LARGE=1`). Run with
 //! `cargo bench -p sheetform --bench flatten`; `tools/compare_libigl.py` times libigl's
-//! LSCM on the same meshes. Figures in docs/benchmarks.md.
+//! LSCM on the same meshes. Figures in docs/benchmarks-history.md.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use sheetform::flatten::{arap, exact_unfold, lscm, ArapOptions, UnfoldOptions};

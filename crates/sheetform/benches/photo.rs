@@ -3,7 +3,7 @@
 //! (`run_photo`: the image read, every patch unfolded, OBJ/GLB/STL, SVG/DXF/PDF pattern,
 //! overlay, report) on the dense lamp (118 control points, 149 rulings; the issue's
 //! "100 control points and ~150 rulings") and the hand-traced espresso cup. Run with
-//! `cargo bench -p sheetform --bench photo`; figures in docs/benchmarks.md.
+//! `cargo bench -p sheetform --bench photo`; figures in docs/benchmarks-history.md.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use sheetform::photo::{reconstruct, PhotoAnnotation};

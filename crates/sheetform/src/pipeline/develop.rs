@@ -186,7 +186,7 @@ pub struct DevelopRunOptions {
 }
 
 /// Most faces develop works on unless told otherwise (`--work-faces`). Measured
-/// (docs/benchmarks.md, session 26) on a 100k-face koala scan: worked on at 3.6k, 9.2k
+/// (docs/benchmarks-history.md, session 26) on a 100k-face koala scan: worked on at 3.6k, 9.2k
 /// and 18k faces it develops in 2.9, 4.4 and 27 s into 12, 15 and 50 pieces, 2.6 %,
 /// 2.9 % and 1.9 % of the diagonal from the scan: the solve's time grows much faster than
 /// the faces, and a finer working mesh is closer only with many more pieces.
@@ -200,7 +200,7 @@ const FIRST_PIECE_COUNT: usize = 4;
 
 /// Without a distance bound, the result with its seams smoothed is kept when its
 /// Hausdorff distance to the target is at most this fraction above the unsmoothed one's
-/// (measured, docs/benchmarks.md session 32: smoothing moved it by −1 % to +7 % on the
+/// (measured, docs/benchmarks-history.md session 32: smoothing moved it by −1 % to +7 % on the
 /// develop targets).
 pub const SMOOTHED_DISTANCE_SLACK: f64 = 0.1;
 
@@ -560,7 +560,7 @@ pub fn run_develop(
         // SMOOTHED_DISTANCE_SLACK of the unsmoothed distance. A second solve that fails
         // leaves the first result (smoothing the target's seams before the first solve
         // was measured to leave the solve unconverged and cut many more slits:
-        // docs/benchmarks.md, session 32).
+        // docs/benchmarks-history.md, session 32).
         if options.seams == SeamSource::Automatic && developed.converged && options.seam_smoothing.iterations > 0 {
             let surface = TriangleMesh {
                 positions: developed.positions.clone(),
@@ -741,7 +741,7 @@ pub fn run_develop(
         Ok(best)
     };
     // With a mirror plane, pieces across the plane must be flat on it, a
-    // strong condition on organic shapes (measured, benchmarks.md: Spot needed 79 late
+    // strong condition on organic shapes (measured, benchmarks-history.md: Spot needed 79 late
     // slits, printed in 63 pieces, and the koala stayed out of tolerance); the whole cut
     // along the plane is tried too, and the better kept: developed, then within the
     // distance bound, then fewer late slits
