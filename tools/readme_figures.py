@@ -9,7 +9,8 @@ model in 3D beside its flat pattern at the same scale, the pieces in the same co
 (matplotlib, no window): desk.png (bend, examples/desk.json), chair.png (slit,
 examples/slit/chair.json), trousers.png (FFD, examples/ffd/trousers.json),
 coffee-cup.png (photo: the annotated photograph, the model, the pattern;
-examples/photo/coffee-cup.json) and koala.png (develop, examples/meshes/koala.obj).
+examples/photo/coffee-cup.json), gift-box.png (flatten: the box unfolded into one net,
+examples/meshes/gift-box.obj) and koala.png (develop, examples/meshes/koala.obj).
 Needs the sheetform package, numpy, matplotlib and trimesh (to read the koala).
 """
 import sys
@@ -106,6 +107,9 @@ def main():
         photo=REPO / "examples/photo/coffee.png",
         out=out,
     )
+    box = trimesh.load(REPO / "examples/meshes/gift-box.obj", process=False)
+    net = sheetform.flatten(box.vertices, box.faces, name="gift-box", charts="net", outputs="preview")
+    figure("gift-box", net, "flatten: a box unfolded into a net", up="z", view=(25, -60), out=out)
     koala = trimesh.load(REPO / "examples/meshes/koala.obj", process=False)
     developed = sheetform.develop(koala.vertices, koala.faces, name="koala", size=200.0, outputs="preview")
     figure("koala", developed, "develop: a scan in exact pieces", up="y", view=(15, -60), out=out)
