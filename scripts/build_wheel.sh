@@ -5,7 +5,7 @@
 # then installs in seconds without Rust.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-python3 -m pip install --quiet --disable-pip-version-check "maturin>=1.9.4,<2"
+python3 -m pip install --quiet --disable-pip-version-check "maturin>=1.9.4,<2" >&2
 rm -rf target/wheels
-maturin build --quiet --release -m bindings/python/Cargo.toml --out target/wheels >&2
+python3 -m maturin build --quiet --release -m bindings/python/Cargo.toml --out target/wheels >&2
 ls target/wheels/sheetform-*-abi3-manylinux*.whl

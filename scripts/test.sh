@@ -36,6 +36,6 @@ done
 wheel=$(bash scripts/build_wheel.sh)
 rm -rf target/python-venv
 python3 -m venv target/python-venv
-target/python-venv/bin/python -m pip install --quiet --disable-pip-version-check "${wheel}[test]" mypy
+target/python-venv/bin/python -m pip install --quiet --disable-pip-version-check "${wheel}[test]"
 root=$PWD
 (cd bindings/python/tests && SHEETFORM_CLI="$root/target/debug/sheetform" "$root/target/python-venv/bin/python" -m pytest -q -p no:cacheprovider .)

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes a photo annotation (sheetform's JSON) as an SVG drawing over the photo, in the
-layer convention `sheetform photo` reads (README, "Tracing in Inkscape"): open it in
+layer convention `sheetform photo` reads (docs/guide/photo.md, "Tracing in Inkscape"): open it in
 Inkscape, edit the curves, and run `sheetform photo drawing.svg -o OUT`.
 
     python3 tools/annotation_to_svg.py examples/photo/coffee-cup.json > examples/photo/coffee-cup.svg

@@ -83,7 +83,6 @@ fn keyword_of(option: &str) -> String {
         // The pattern library's names for what `PatternOptions` calls as the CLI.
         "tab width" => "tab_width".into(),
         "tab angle" => "tab_angle".into(),
-        "sheet_gap" => "sheet_gap".into(),
         "smooth_bend_degrees" => "smooth_folds".into(),
         "inner_radius_mm" => "bend_radius".into(),
         "seam_allowance_mm" => "seam_allowance".into(),
@@ -109,10 +108,7 @@ pub(crate) fn refuse_renamed_keywords(
     Err(match renamed.iter().find(|(old, _)| *old == name) {
         Some((old, new)) => invalid_argument(
             old,
-            format!(
-                "is now `{new}`, the name of the CLI's --{} (the unit is in the help, not the name)",
-                new.replace('_', "-")
-            ),
+            format!("is now `{new}`, the name of the CLI's --{}", new.replace('_', "-")),
         ),
         None => {
             pyo3::exceptions::PyTypeError::new_err(format!("{function} got an unexpected keyword argument '{name}'"))

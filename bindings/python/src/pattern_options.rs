@@ -5,7 +5,7 @@
 
 use crate::errors::{invalid_argument, refuse_renamed_keywords};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyTuple};
 use sheetform::pattern::{
     sheet_size_from_text, BendAllowance, DxfUnit, MaterialAllowance, MaterialSide, PageSize, SheetOptions, TabOptions,
     TabSides, DEFAULT_MAX_PAGES,
@@ -37,6 +37,9 @@ pub struct PatternOptions {
     pub(crate) options: PatternOutputOptions,
     /// The glue tabs a net gets when `tabs="auto"` (`flatten`; as the CLI's `--tabs auto`).
     pub(crate) net_tabs: Option<TabOptions>,
+    /// The keywords it was made with (a sheet size as its text, `"600x400"`): what it
+    /// pickles as and how it prints.
+    keywords: serde_json::Map<String, serde_json::Value>,
 }
 
 #[pymethods]
@@ -68,6 +71,34 @@ impl PatternOptions {
         renamed: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         refuse_renamed_keywords("PatternOptions()", renamed, &RENAMED_KEYWORDS)?;
+        let mut keywords = serde_json::Map::new();
+        {
+            use serde_json::json;
+            let mut keep = |name: &str, value: serde_json::Value| {
+                if !value.is_null() {
+                    keywords.insert(name.to_string(), value);
+                }
+            };
+            keep("scale", json!(scale));
+            keep("page", json!(page));
+            keep("pattern_units", json!(pattern_units));
+            keep("min_fold_angle", json!(min_fold_angle));
+            keep("seam_labels", json!(seam_labels));
+            keep("tabs", json!(tabs));
+            keep("tab_width", json!(tab_width));
+            keep("tab_angle", json!(tab_angle));
+            keep("sheet_gap", json!(sheet_gap));
+            keep("max_pages", json!(max_pages));
+            keep("seam_allowance", json!(seam_allowance));
+            keep("notches", json!(notches));
+            keep("kerf", json!(kerf));
+            keep("grain_lines", json!(grain_lines));
+            keep("thickness", json!(thickness));
+            keep("bend_radius", json!(bend_radius));
+            keep("k_factor", json!(k_factor));
+            keep("material_side", json!(material_side));
+            keep("smooth_folds", json!(smooth_folds));
+        }
         let one_of = |argument: &str, value: &str, choices: &str| {
             invalid_argument(argument, format!("`{value}`: one of {choices}"))
         };
@@ -138,6 +169,7 @@ impl PatternOptions {
                             )
                         })?,
                 };
+                keywords.insert("sheet".into(), format!("{width_mm}x{height_mm}").into());
                 Some(SheetOptions {
                     width_mm,
                     height_mm,
@@ -170,11 +202,27 @@ impl PatternOptions {
                 smooth_bend_degrees: smooth_folds,
             },
             net_tabs,
+            keywords,
         })
     }
 
+    /// Pickles as the keywords it was made with (`pickle`, `copy`, Dask's workers).
+    fn __getnewargs_ex__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyTuple>, Bound<'py, PyAny>)> {
+        let keywords = crate::convert::json_to_python(py, &serde_json::Value::Object(self.keywords.clone()))?;
+        Ok((PyTuple::empty(py), keywords))
+    }
+
     fn __repr__(&self) -> String {
-        format!("<sheetform.PatternOptions {:?}>", self.options)
+        let keywords: Vec<String> = self
+            .keywords
+            .iter()
+            .map(|(name, value)| match value {
+                serde_json::Value::String(text) => format!("{name}={text:?}"),
+                serde_json::Value::Bool(flag) => format!("{name}={}", if *flag { "True" } else { "False" }),
+                other => format!("{name}={other}"),
+            })
+            .collect();
+        format!("sheetform.PatternOptions({})", keywords.join(", "))
     }
 }
 

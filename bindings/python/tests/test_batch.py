@@ -28,7 +28,9 @@ def test_jobs_run_on_two_worker_processes_and_each_failure_is_its_own():
     ) as cluster, distributed.Client(cluster) as client:
         workers = set(client.scheduler_info()["workers"])
         assert len(workers) == 2
-        results = sheetform.batch.run_all(client, sheetform.flatten, jobs, outputs="preview", name="box")
+        # (A PatternOptions travels to the workers too.)
+        pattern = sheetform.PatternOptions(tabs="one", kerf=0.1)
+        results = sheetform.batch.run_all(client, sheetform.flatten, jobs, outputs="preview", name="box", pattern=pattern)
     assert [r.index for r in results] == list(range(len(jobs)))
     failed = results[3]
     assert not failed.ok and failed.run is None
@@ -37,7 +39,12 @@ def test_jobs_run_on_two_worker_processes_and_each_failure_is_its_own():
         assert result.ok and result.error is None, result.error
         assert result.worker in workers and result.seconds > 0
         # The same run as here, arrays to the bit.
-        local = sheetform.flatten(**job, outputs="preview") if isinstance(job, dict) else sheetform.flatten(*job, outputs="preview", name="box")
+        local = (
+            sheetform.flatten(**job, outputs="preview", pattern=pattern)
+            if isinstance(job, dict)
+            else sheetform.flatten(*job, outputs="preview", name="box", pattern=pattern)
+        )
+        assert result.run.files["pattern.svg"] == local.files["pattern.svg"]
         np.testing.assert_array_equal(result.run.uv, local.uv)
         np.testing.assert_array_equal(result.run.vertices, local.vertices)
         assert result.run.report["status"] == "ok"

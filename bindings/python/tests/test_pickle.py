@@ -59,3 +59,18 @@ def test_runs_come_back_from_worker_processes():
         np.testing.assert_array_equal(run.vertices, local.vertices)
         np.testing.assert_array_equal(run.uv, local.uv)
         assert run.files == local.files
+
+
+def test_pattern_options_pickle_as_the_keywords_they_were_made_with():
+    """A PatternOptions goes to worker processes (Dask's run_all(..., pattern=...)): it
+    pickles as its keywords, sheet sizes given as numbers included, and gives the same
+    pattern."""
+    options = sheetform.PatternOptions(tabs="one", sheet=(600, 400.5), kerf=0.2, seam_labels=False, smooth_folds=12.0)
+    again = pickle.loads(pickle.dumps(options))
+    assert repr(again) == repr(options)
+    assert "kerf=0.2" in repr(options) and 'sheet="600x400.5"' in repr(options)
+    box = trimesh.creation.box((60.0, 40.0, 30.0))
+    first = sheetform.flatten(box.vertices, box.faces, pattern=options, outputs="preview")
+    second = sheetform.flatten(box.vertices, box.faces, pattern=again, outputs="preview")
+    assert first.files["pattern.svg"] == second.files["pattern.svg"]
+    assert first.report["pattern"] == second.report["pattern"]

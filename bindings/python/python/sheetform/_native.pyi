@@ -88,6 +88,8 @@ class PatternOptions:
         material_side: Optional[Literal["behind", "centred", "in-front"]] = None,
         smooth_folds: Optional[float] = None,
     ) -> PatternOptions: ...
+    def __getnewargs_ex__(self) -> tuple[tuple[()], dict[str, Any]]:
+        """Pickles as the keywords it was made with."""
 
 @final
 class Mesh:
