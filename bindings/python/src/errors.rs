@@ -79,7 +79,6 @@ pub(crate) fn python_error(py: Python<'_>, error: PipelineError) -> PyErr {
 /// The keyword argument of a library option named as the CLI spells it.
 fn keyword_of(option: &str) -> String {
     match option {
-        "animate" => "animate_frames".into(),
         // The pattern library's names for what `PatternOptions` calls as the CLI.
         "tab width" => "tab_width".into(),
         "tab angle" => "tab_angle".into(),
@@ -94,22 +93,24 @@ fn keyword_of(option: &str) -> String {
 }
 
 /// Refuses the keywords a function was given beyond its own (`given`, its `**renamed`):
-/// a keyword it took before under another name (`renamed`: old name, new name) names the
-/// new one, as the CLI spells it; any other is Python's unexpected-keyword `TypeError`.
+/// a keyword it took before under another name (`renamed`: old name, new name, and what
+/// the new one is when it is not simply the CLI's flag of that name) names the new one;
+/// any other is Python's unexpected-keyword `TypeError`.
 pub(crate) fn refuse_renamed_keywords(
     function: &str,
     given: Option<&Bound<'_, PyDict>>,
-    renamed: &[(&str, &str)],
+    renamed: &[(&str, &str, &str)],
 ) -> PyResult<()> {
     let Some((name, _)) = given.and_then(|given| given.iter().next()) else {
         return Ok(());
     };
     let name = name.to_string();
-    Err(match renamed.iter().find(|(old, _)| *old == name) {
-        Some((old, new)) => invalid_argument(
+    Err(match renamed.iter().find(|(old, _, _)| *old == name) {
+        Some((old, new, "")) => invalid_argument(
             old,
             format!("is now `{new}`, the name of the CLI's --{}", new.replace('_', "-")),
         ),
+        Some((old, new, meaning)) => invalid_argument(old, format!("is now `{new}`, {meaning}")),
         None => {
             pyo3::exceptions::PyTypeError::new_err(format!("{function} got an unexpected keyword argument '{name}'"))
         }

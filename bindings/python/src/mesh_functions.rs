@@ -22,11 +22,11 @@ fn mesh_with_seams(
     py: Python<'_>,
     vertices: &numpy::PyReadonlyArray2<'_, f64>,
     faces: &numpy::PyReadonlyArray2<'_, i64>,
-    seams: Option<&Bound<'_, PyAny>>,
+    drawn_seams: Option<&Bound<'_, PyAny>>,
     name: &str,
 ) -> PyResult<sheetform::mesh::TriangleMesh> {
     let (v, f) = (vertices.as_slice()?, faces.as_slice()?);
-    let seams = seams.map(|s| index_rows("seams", s, 2)).transpose()?;
+    let seams = drawn_seams.map(|s| index_rows("drawn_seams", s, 2)).transpose()?;
     let seams = seams.as_ref().map(|s| s.as_slice()).transpose()?;
     mesh_from_arrays(v, f, name)
         .and_then(|mut mesh| {
@@ -39,7 +39,24 @@ fn mesh_with_seams(
 }
 
 /// The keywords the mesh functions took before they took the CLI's names (issue 39).
-const RENAMED_KEYWORDS: [(&str, &str); 1] = [("unit", "units")];
+const RENAMED_KEYWORDS: [(&str, &str, &str); 1] = [("unit", "units", "")];
+
+/// `flatten`'s, which also took the drawn seam edges as `seams`.
+const FLATTEN_RENAMED_KEYWORDS: [(&str, &str, &str); 2] = [
+    ("unit", "units", ""),
+    ("seams", "drawn_seams", "the seam edges an OBJ draws as `l` lines"),
+];
+
+/// `develop`'s, which took its `--seams` choice as a flag `automatic_seams` and the drawn
+/// seam edges as `seams`.
+const DEVELOP_RENAMED_KEYWORDS: [(&str, &str, &str); 2] = [
+    ("unit", "units", ""),
+    (
+        "automatic_seams",
+        "seams",
+        "`\"automatic\"` or `\"drawn\"` as the CLI's --seams",
+    ),
+];
 
 fn length_unit(units: &str) -> PyResult<LengthUnit> {
     match units {
@@ -122,8 +139,8 @@ pub(crate) fn check(
 /// Lays a mesh out flat, as `sheetform flatten`: the exact unfolding of a developable
 /// mesh, or cut into charts (or a net) when it cannot be flattened whole.
 ///
-/// `seams`: `(k, 2)` vertex pairs, edges the mesh is cut open along first (as an OBJ's
-/// `l` lines; chart borders when it is cut into charts).
+/// `drawn_seams`: `(k, 2)` vertex pairs, edges the mesh is cut open along first (as an
+/// OBJ's `l` lines; chart borders when it is cut into charts).
 /// `method`: `"exact"` (from the edge lengths), `"lscm"` or `"arap"` for a mesh flattened
 /// whole. `charts`: `"auto"` (what a maker would expect: a developable disk whole, a
 /// faceted model as a net, a curved surface in smooth charts), `"smooth"`, `"net"` or
@@ -136,13 +153,13 @@ pub(crate) fn check(
 /// one copy per chart; after `weld`, the first of the input vertices merged into it). `outcome` is `"overlapping"` when the pattern overlaps itself and
 /// `"out_of_tolerance"` when an edge stretches more than `max_distortion`.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, *, seams=None, method="exact", charts="auto", crease_angle=None, max_distortion=None, weld=None, units="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None, **renamed))]
+#[pyo3(signature = (vertices, faces, *, drawn_seams=None, method="exact", charts="auto", crease_angle=None, max_distortion=None, weld=None, units="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None, **renamed))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn flatten(
     py: Python<'_>,
     vertices: &Bound<'_, PyAny>,
     faces: &Bound<'_, PyAny>,
-    seams: Option<&Bound<'_, PyAny>>,
+    drawn_seams: Option<&Bound<'_, PyAny>>,
     method: &str,
     charts: &str,
     crease_angle: Option<f64>,
@@ -156,7 +173,7 @@ pub(crate) fn flatten(
     pattern: Option<&Bound<'_, PyAny>>,
     renamed: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Run> {
-    refuse_renamed_keywords("flatten()", renamed, &RENAMED_KEYWORDS)?;
+    refuse_renamed_keywords("flatten()", renamed, &FLATTEN_RENAMED_KEYWORDS)?;
     let v = float_rows("vertices", vertices, 3)?;
     let f = index_rows("faces", faces, 3)?;
     let outputs = output_set(outputs)?;
@@ -200,7 +217,7 @@ pub(crate) fn flatten(
         name: Some(name.to_string()),
         size_mm: size,
     };
-    let mesh = mesh_with_seams(py, &v, &f, seams, name)?;
+    let mesh = mesh_with_seams(py, &v, &f, drawn_seams, name)?;
     let (run, seconds) = run_interruptibly(py, progress, |controls| {
         run_flatten(mesh, &options, &controls.context(".", outputs))
     })?;
@@ -212,11 +229,13 @@ pub(crate) fn flatten(
 /// Develops a target shape, as `sheetform develop`: the nearest surface made of exactly
 /// developable pieces, unfolded exactly, with the patterns.
 ///
-/// `seams`: `(k, 2)` vertex pairs drawn as seams (an OBJ's `l` lines); with
-/// `automatic_seams` (the default) develop adds its own, up to `max_pieces` pieces each
-/// within `normal_tolerance` degrees (RMS) of a cone, cylinder or plane, with a slit from
-/// every vertex inside a piece whose angle defect exceeds `cone_angle` degrees; otherwise
-/// it cuts along the drawn seams only. `max_distance`: the farthest the result may be from
+/// `drawn_seams`: `(k, 2)` vertex pairs drawn as seams (an OBJ's `l` lines). `seams`, as
+/// the CLI's `--seams`: `"automatic"` (the default, also `None`) adds seams of its own to the drawn
+/// ones, up to `max_pieces` pieces each within `normal_tolerance` degrees (RMS) of a cone,
+/// cylinder or plane, with a slit from every vertex inside a piece whose angle defect
+/// exceeds `cone_angle` degrees; `"drawn"` cuts along the drawn seams only. `fixed`:
+/// indices of vertices that keep their place (the CLI's `--fixed` names the OBJ groups
+/// holding them). `max_distance`: the farthest the result may be from
 /// the target, a length in `units` (`2.0`) or a percentage of the bounding-box diagonal
 /// (`"0.5%"`); pieces are added until it holds. `work_faces` (default 10 000): a target of more
 /// faces (a scan) is remeshed first into about this many even triangles, its boundary, seams
@@ -234,14 +253,14 @@ pub(crate) fn flatten(
 /// keeps a defect above `tolerance` or the distance bound is not met (the closest
 /// result is returned).
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, *, seams=None, automatic_seams=true, max_pieces=12, normal_tolerance=2.0, cone_angle=60.0, fixed=None, max_distance=None, work_faces=None, mirror=None, seam_smoothing=6, smoothness=0.1, tolerance=1e-10, max_iterations=100, units="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None, **renamed))]
+#[pyo3(signature = (vertices, faces, *, drawn_seams=None, seams=None, max_pieces=12, normal_tolerance=2.0, cone_angle=60.0, fixed=None, max_distance=None, work_faces=None, mirror=None, seam_smoothing=6, smoothness=0.1, tolerance=1e-10, max_iterations=100, units="mm", size=None, name="mesh", outputs="all", progress=None, pattern=None, **renamed))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn develop(
     py: Python<'_>,
     vertices: &Bound<'_, PyAny>,
     faces: &Bound<'_, PyAny>,
+    drawn_seams: Option<&Bound<'_, PyAny>>,
     seams: Option<&Bound<'_, PyAny>>,
-    automatic_seams: bool,
     max_pieces: usize,
     normal_tolerance: f64,
     cone_angle: f64,
@@ -261,7 +280,7 @@ pub(crate) fn develop(
     pattern: Option<&Bound<'_, PyAny>>,
     renamed: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Run> {
-    refuse_renamed_keywords("develop()", renamed, &RENAMED_KEYWORDS)?;
+    refuse_renamed_keywords("develop()", renamed, &DEVELOP_RENAMED_KEYWORDS)?;
     let v = float_rows("vertices", vertices, 3)?;
     let f = index_rows("faces", faces, 3)?;
     let outputs = output_set(outputs)?;
@@ -282,11 +301,7 @@ pub(crate) fn develop(
     };
     let options = DevelopRunOptions {
         fixed_vertices,
-        seams: if automatic_seams {
-            SeamSource::Automatic
-        } else {
-            SeamSource::Drawn
-        },
+        seams: seam_source(seams)?,
         max_distance,
         work_faces,
         mirror,
@@ -316,7 +331,7 @@ pub(crate) fn develop(
         },
         ..Default::default()
     };
-    let mesh = mesh_with_seams(py, &v, &f, seams, name)?;
+    let mesh = mesh_with_seams(py, &v, &f, drawn_seams, name)?;
     let (developed, seconds) = run_interruptibly(py, progress, |controls| {
         run_develop(mesh, &options, &controls.context(".", outputs))
     })?;
@@ -379,4 +394,23 @@ pub(crate) fn pattern(
         run_pattern(&sheet, name, &options, &controls.context(".", outputs))
     })?;
     Run::new(py, RunParts::of_sheet(&sheet, files, report, outcome, seconds))
+}
+
+/// `seams`: where develop cuts, as the CLI's `--seams`: `"automatic"` (or `None`, the
+/// default) or `"drawn"`.
+fn seam_source(value: Option<&Bound<'_, PyAny>>) -> PyResult<SeamSource> {
+    let Some(value) = value else {
+        return Ok(SeamSource::Automatic);
+    };
+    const CHOICES: &str = "\"automatic\" (seams found, the drawn ones among them) or \"drawn\" (the drawn seams only)";
+    match value.extract::<String>().as_deref() {
+        Ok("automatic") => Ok(SeamSource::Automatic),
+        Ok("drawn") => Ok(SeamSource::Drawn),
+        Ok(other) => Err(invalid_argument("seams", format!("`{other}`: {CHOICES}"))),
+        // The keyword took the drawn seam edges before it took the CLI's choice.
+        Err(_) => Err(invalid_argument(
+            "seams",
+            format!("{CHOICES}; the drawn seam edges themselves are `drawn_seams`"),
+        )),
+    }
 }

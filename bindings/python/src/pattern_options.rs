@@ -228,17 +228,17 @@ impl PatternOptions {
 
 /// The keywords `PatternOptions` had before they took the CLI's names (issue 39), and
 /// the names they have now.
-const RENAMED_KEYWORDS: [(&str, &str); 10] = [
-    ("units", "pattern_units"),
-    ("min_fold_angle_degrees", "min_fold_angle"),
-    ("tab_width_mm", "tab_width"),
-    ("tab_angle_degrees", "tab_angle"),
-    ("sheet_gap_mm", "sheet_gap"),
-    ("seam_allowance_mm", "seam_allowance"),
-    ("kerf_mm", "kerf"),
-    ("thickness_mm", "thickness"),
-    ("bend_radius_mm", "bend_radius"),
-    ("smooth_folds_degrees", "smooth_folds"),
+const RENAMED_KEYWORDS: [(&str, &str, &str); 10] = [
+    ("units", "pattern_units", ""),
+    ("min_fold_angle_degrees", "min_fold_angle", ""),
+    ("tab_width_mm", "tab_width", ""),
+    ("tab_angle_degrees", "tab_angle", ""),
+    ("sheet_gap_mm", "sheet_gap", ""),
+    ("seam_allowance_mm", "seam_allowance", ""),
+    ("kerf_mm", "kerf", ""),
+    ("thickness_mm", "thickness", ""),
+    ("bend_radius_mm", "bend_radius", ""),
+    ("smooth_folds_degrees", "smooth_folds", ""),
 ];
 
 /// The `pattern=` argument: `None` (the defaults), a [`PatternOptions`] or a dict of its

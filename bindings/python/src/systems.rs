@@ -2,10 +2,11 @@
 //! [`Run`]: the same library pipelines the CLI runs, with the same scene parsing.
 
 use crate::convert::{scene_argument, SceneArgument};
-use crate::errors::{invalid_argument, python_error};
+use crate::errors::{invalid_argument, python_error, refuse_renamed_keywords};
 use crate::pattern_options::pattern_argument;
 use crate::run::{output_set, run_interruptibly, Run, RunParts};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use sheetform::bend::BendScene;
 use sheetform::ffd::{FfdScene, SolverMethod};
 use sheetform::photo::BackSide;
@@ -25,13 +26,16 @@ fn parsed<T>(py: Python<'_>, parse: Result<T, impl Into<sheetform::pipeline::Pip
 /// its file. Files the scene names (a texture) are read relative to `root`: by default the
 /// scene file's directory, or the current directory for a dict.
 ///
+/// `animate`: also write this many frames of the isometric deformation from flat to bent
+/// (`frames/frame-0000.obj` …), as the CLI's `--animate`.
+///
 /// Returns a `Run` whose `uv` is the flat sheet at 1:1 and `angle_defects_rad` the
 /// developability colour map (zero to rounding).
 ///
 /// Raises `InvalidInputError` for an invalid scene (the message names the field),
 /// `InadmissibleError` for a shape that cannot be made (its `.report` says where).
 #[pyfunction]
-#[pyo3(signature = (scene, *, root=None, outputs="all", progress=None, animate_frames=0, pattern=None))]
+#[pyo3(signature = (scene, *, root=None, outputs="all", progress=None, animate=0, pattern=None, **renamed))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn bend(
     py: Python<'_>,
@@ -39,14 +43,16 @@ pub(crate) fn bend(
     root: Option<PathBuf>,
     outputs: &str,
     progress: Option<Py<PyAny>>,
-    animate_frames: usize,
+    animate: usize,
     pattern: Option<&Bound<'_, PyAny>>,
+    renamed: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Run> {
+    refuse_renamed_keywords("bend()", renamed, &[("animate_frames", "animate", "")])?;
     let SceneArgument { text, root, input } = scene_argument(py, scene, root)?;
     let outputs = output_set(outputs)?;
     let options = BendRunOptions {
         pattern: pattern_argument(py, pattern)?.options,
-        animate_frames,
+        animate_frames: animate,
         input,
     };
     let scene = parsed(py, BendScene::from_json(&text))?;

@@ -165,8 +165,8 @@ def test_bad_options_raise_invalid_input_naming_the_option():
         (lambda: sheetform.check(v, f, tolerance=float("inf")), "tolerance: must be"),
         (lambda: sheetform.flatten(v, f, pattern=sheetform.PatternOptions(seam_allowance=-1.0)), "seam_allowance"),
         (lambda: sheetform.flatten(v, f, pattern={"scale": 0.0}), "scale"),
-        (lambda: sheetform.flatten(v, f, seams=[[0, 1, 2]]), "seams"),
-        (lambda: sheetform.flatten(v, f, seams=[[0, -1]]), "seams: row 0 names vertex -1"),
+        (lambda: sheetform.flatten(v, f, drawn_seams=[[0, 1, 2]]), "drawn_seams"),
+        (lambda: sheetform.flatten(v, f, drawn_seams=[[0, -1]]), "drawn_seams: row 0 names vertex -1"),
         (lambda: sheetform.pattern(v, f, [[0, 0], [1, 0], [0, 1]], face_pieces=[4_000_000_000]), "face_pieces: row 0 is 4000000000"),
         (lambda: sheetform.pattern(v, f, [[0, 0], [1, 0], [0, 1]], face_pieces=[0], piece_names=["a", "b"]), "piece_names: 2 names"),
         (lambda: sheetform.pattern(v, f, [[0, 0], [1, 0], [0, 1]], face_pieces=np.array([2**64 - 1], dtype=np.uint64)), "face_pieces: an index over"),
@@ -299,6 +299,11 @@ def test_keywords_named_before_the_cli_vocabulary_are_refused_with_their_new_nam
     ]:
         with pytest.raises(sheetform.InvalidInputError, match=f"^{old}: is now `{new}`, the name of the CLI's --{new.replace('_', '-')}"):
             call()
+    # Renamed to a keyword that is not a flag of the same name: what it is now.
+    with pytest.raises(sheetform.InvalidInputError, match=r"^seams: is now `drawn_seams`, the seam edges an OBJ draws"):
+        sheetform.flatten(v, f, seams=[[0, 1]])
+    with pytest.raises(sheetform.InvalidInputError, match=r'^automatic_seams: is now `seams`, `"automatic"` or `"drawn"`'):
+        sheetform.develop(v, f, automatic_seams=False)
     # A keyword that never existed is Python's own error.
     with pytest.raises(TypeError, match="unexpected keyword argument 'colour'"):
         sheetform.flatten(v, f, colour="red")

@@ -177,7 +177,7 @@ def test_seams_given_as_arrays_open_the_mesh_before_it_is_flattened():
     faces = np.array([[i, (i + 1) % n, n + (i + 1) % n] for i in range(n)] + [[i, n + (i + 1) % n, n + i] for i in range(n)])
     with pytest.raises(sheetform.InvalidInputError):
         sheetform.flatten(vertices, faces, charts="never")
-    run = sheetform.flatten(vertices, faces, seams=[[0, n]], charts="never", outputs="preview")
+    run = sheetform.flatten(vertices, faces, drawn_seams=[[0, n]], charts="never", outputs="preview")
     assert run.report["layout"] == "whole" and run.outcome == "ok"
     assert len(run.vertices) == len(vertices) + 2, "the seam's two vertices are doubled"
     np.testing.assert_array_equal(run.vertices, vertices[run.source_vertices])
@@ -185,7 +185,31 @@ def test_seams_given_as_arrays_open_the_mesh_before_it_is_flattened():
     width = np.ptp(run.uv @ np.linalg.svd(run.uv - run.uv.mean(0))[2].T, axis=0)
     np.testing.assert_allclose(sorted(width), sorted([height, n * chord]), rtol=1e-9)
     with pytest.raises(sheetform.InvalidInputError, match=r"seams.*row 0 \(0, 5\) is not an edge"):
-        sheetform.flatten(vertices, faces, seams=[[0, 5]])
+        sheetform.flatten(vertices, faces, drawn_seams=[[0, 5]])
+
+
+def test_develop_cuts_along_the_drawn_seams_only_when_told_to():
+    """`seams="drawn"` is `--seams drawn`: a closed band (a developable cylinder) opened by
+    one seam drawn along a ruling is one exact piece, the rectangle of its height and
+    girth; `seams="automatic"` (the default) may add seams of its own. An array given as
+    `seams` (its old meaning) is refused naming `drawn_seams`."""
+    n, height, radius = 24, 50.0, 20.0
+    angles = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+    ring = lambda z: np.column_stack([radius * np.cos(angles), radius * np.sin(angles), np.full(n, z)])
+    vertices = np.vstack([ring(0.0), ring(height)])
+    faces = np.array([[i, (i + 1) % n, n + (i + 1) % n] for i in range(n)] + [[i, n + (i + 1) % n, n + i] for i in range(n)])
+    run = sheetform.develop(vertices, faces, drawn_seams=[[0, n]], seams="drawn", outputs="preview")
+    assert run.outcome == "ok"
+    assert run.report["develop"]["seams"] == "drawn"
+    assert len(run.pieces) == 1 and len(run.vertices) == len(vertices) + 2
+    np.testing.assert_allclose(run.vertices, vertices[run.source_vertices], rtol=0, atol=1e-9)
+    chord = 2.0 * radius * np.sin(np.pi / n)
+    width = np.ptp(run.uv @ np.linalg.svd(run.uv - run.uv.mean(0))[2].T, axis=0)
+    np.testing.assert_allclose(sorted(width), sorted([height, n * chord]), rtol=1e-9)
+    with pytest.raises(sheetform.InvalidInputError, match="^seams: .*`drawn_seams`"):
+        sheetform.develop(vertices, faces, seams=[[0, n]])
+    with pytest.raises(sheetform.InvalidInputError, match="^seams: `manual`"):
+        sheetform.develop(vertices, faces, seams="manual")
 
 
 def test_source_vertices_name_input_rows_after_welding():

@@ -78,6 +78,29 @@ def test_the_flat_pattern_is_an_isometry_of_the_bent_sheet():
     assert sorted(run.files) == ["model.glb", "pattern.svg"]
 
 
+def test_animate_writes_the_cli_frames_from_flat_to_bent(cli, tmp_path, monkeypatch):
+    """`animate=N` is `--animate N`: the same N frame files, the first flat (its points on
+    one plane, the sheet before bending), the last the bent model; `animate_frames`, its
+    old name, is refused naming the new one."""
+    monkeypatch.chdir(REPO)
+    scene = "examples/bent-rectangle.json"
+    run = sheetform.bend(scene, animate=3)
+    frames = sorted(name for name in run.files if name.startswith("frames/"))
+    assert frames == ["frames/frame-0000.obj", "frames/frame-0001.obj", "frames/frame-0002.obj"]
+    done = cli("bend", scene, "-o", tmp_path, "--animate", "3")
+    assert done.returncode == 0, done.stderr
+    for name in frames:
+        assert run.files[name] == (tmp_path / name).read_bytes(), name
+    first, _, _ = read_obj(tmp_path / frames[0])
+    last, _, _ = read_obj(tmp_path / frames[-1])
+    bent, _, _ = read_obj(tmp_path / "model.obj")
+    # The first frame is the sheet flat: its points on one plane (however it is placed).
+    assert np.linalg.svd(first - first.mean(0), compute_uv=False)[2] < 1e-9 * np.ptp(first), "the first frame is flat"
+    np.testing.assert_allclose(last, bent, rtol=0, atol=1e-9 * np.abs(bent).max())
+    with pytest.raises(sheetform.InvalidInputError, match="^animate_frames: is now `animate`, the name of the CLI's --animate"):
+        sheetform.bend(scene, animate_frames=3)
+
+
 def test_write_puts_the_cli_files_into_a_directory(tmp_path):
     run = sheetform.slit(REPO / "examples/slit/chair.json", outputs="preview")
     run.write(tmp_path / "chair")

@@ -154,7 +154,7 @@ def bend(
     root: Optional[Union[str, PathLike[str]]] = None,
     outputs: _Outputs = "all",
     progress: Optional[Callable[[str, float], Any]] = None,
-    animate_frames: int = 0,
+    animate: int = 0,
     pattern: Optional[Union[PatternOptions, dict[str, Any]]] = None,
 ) -> Run:
     """Bends a sheet along 3D control curves (system A, Bo & Wang 2007)."""
@@ -209,7 +209,7 @@ def flatten(
     vertices: npt.ArrayLike,
     faces: npt.ArrayLike,
     *,
-    seams: Optional[npt.ArrayLike] = None,
+    drawn_seams: Optional[npt.ArrayLike] = None,
     method: Literal["exact", "lscm", "arap"] = "exact",
     charts: Literal["auto", "smooth", "net", "never"] = "auto",
     crease_angle: Optional[float] = None,
@@ -229,8 +229,8 @@ def develop(
     vertices: npt.ArrayLike,
     faces: npt.ArrayLike,
     *,
-    seams: Optional[npt.ArrayLike] = None,
-    automatic_seams: bool = True,
+    drawn_seams: Optional[npt.ArrayLike] = None,
+    seams: Optional[Literal["automatic", "drawn"]] = None,
     max_pieces: int = 12,
     normal_tolerance: float = 2.0,
     cone_angle: float = 60.0,
@@ -250,7 +250,8 @@ def develop(
     pattern: Optional[Union[PatternOptions, dict[str, Any]]] = None,
 ) -> Run:
     """Develops a target shape, as ``sheetform develop``: the nearest surface made of
-    exactly developable pieces, unfolded exactly (``max_distance``: a length in ``unit``
+    exactly developable pieces, unfolded exactly (``seams``: ``"automatic"`` (the default,
+    also ``None``) or ``"drawn"`` as ``--seams``, ``drawn_seams`` the edges drawn; ``max_distance``: a length in ``units``
     or a percentage of the size, ``"0.5%"``; ``work_faces``, default 10 000: a finer
     target is remeshed to about this many faces first, and ``source_vertices`` is -1
     for the vertices the remeshing made and the mirror images; ``mirror``: a mirror

@@ -122,24 +122,24 @@ pub fn mesh_from_arrays<I: Copy + TryInto<i64> + std::fmt::Display>(
     })
 }
 
-/// The seams a user marked on a mesh (`seams`: `k × 2` vertex indices, row-major, each
+/// The seams a user drew on a mesh (`drawn_seams`: `k × 2` vertex indices, row-major, each
 /// row an edge of `mesh`), to be cut open when it is flattened (as an OBJ's `l` lines).
 ///
 /// # Errors
-/// [`PipelineError::InvalidArray`] naming `seams` and the row: a length that is not a multiple
+/// [`PipelineError::InvalidArray`] naming `drawn_seams` and the row: a length that is not a multiple
 /// of 2, an index out of range, a pair of vertices that is not an edge of the mesh.
 pub fn seam_edges_from_array<I: Copy + TryInto<i64> + std::fmt::Display>(
     mesh: &TriangleMesh,
-    seams: &[I],
+    drawn_seams: &[I],
 ) -> Result<Vec<[u32; 2]>, PipelineError> {
     let table = sheetform_mesh::EdgeTable::new(&mesh.triangles, mesh.positions.len());
-    vertex_index_rows::<I, 2>("seams", seams, mesh.positions.len(), "one edge per row")?
+    vertex_index_rows::<I, 2>("drawn_seams", drawn_seams, mesh.positions.len(), "one edge per row")?
         .into_iter()
         .enumerate()
         .map(|(row, edge)| match table.find(edge[0], edge[1]) {
             Some(_) => Ok(edge),
             None => Err(invalid(
-                "seams",
+                "drawn_seams",
                 format!("row {row} ({}, {}) is not an edge of the mesh", edge[0], edge[1]),
             )),
         })
@@ -289,7 +289,7 @@ mod tests {
         let mesh = mesh_from_arrays(&v, &[0, 1, 2], "m").unwrap();
         assert_eq!(seam_edges_from_array(&mesh, &[2, 1]).unwrap(), vec![[2, 1]]);
         let e = message(seam_edges_from_array(&mesh, &[0, 1, 1, 3]).unwrap_err());
-        assert!(e.contains("seams") && e.contains("row 1 names vertex 3"), "{e}");
+        assert!(e.contains("drawn_seams") && e.contains("row 1 names vertex 3"), "{e}");
         let e = message(seam_edges_from_array(&mesh, &[0, 0]).unwrap_err());
         assert!(e.contains("row 0 (0, 0) is not an edge"), "{e}");
     }
