@@ -248,6 +248,13 @@ pub fn cut_into_charts_until(
             continue;
         }
         split_count += 1;
+        tracing::debug!(
+            faces = faces.len(),
+            flipped = attempt.as_ref().map(|(_, d)| d.flipped_faces.len()),
+            crossings = attempt.as_ref().map(|(_, d)| d.boundary_crossings),
+            edge = attempt.as_ref().map(|(_, d)| d.edge_length_max_relative),
+            "charts: a chart split in two (no counts: it is not a disk)"
+        );
         for (i, &f) in faces.iter().enumerate() {
             in_chart[f as usize] = i as u32;
         }
@@ -504,7 +511,14 @@ fn open_to_disk(sub: &TriangleMesh) -> Option<(TriangleMesh, Vec<u32>, crate::Un
     Some((opened.mesh, opened.origin, unfolding, d, cut.len()))
 }
 
-/// The faces as a mesh of their own (vertices renumbered), with the mesh vertex of each.
+/// The faces as a mesh of their own (vertices renumbered), with the mesh vertex of each,
+/// cut open along the user's seams that run inside them (`mesh.seam_edges` with faces
+/// of the set on both sides: a slit from the border, which does not split the set but
+/// must open for it to unfold; develop's slits are such seams). Left closed, the slit's
+/// vertices are ordinary vertices of the chart whose angle sums the seam left free: the
+/// chart does not unfold exactly, or is opened along a shortest path instead of the
+/// drawn one (session 33: every developed koala piece with a slit was split for that,
+/// 18 % edge error, rather than printed opened along its slit).
 pub(crate) fn submesh(mesh: &TriangleMesh, faces: &[u32]) -> (TriangleMesh, Vec<u32>) {
     let mut local: HashMap<u32, u32> = HashMap::with_capacity(faces.len());
     let mut vertices = Vec::new();
@@ -527,7 +541,18 @@ pub(crate) fn submesh(mesh: &TriangleMesh, faces: &[u32]) -> (TriangleMesh, Vec<
         corner_uvs: None,
         seam_edges: Vec::new(),
     };
-    (sub, vertices)
+    // (Pairs that are not edges of the set, or that border it, cut nothing.)
+    let inside: Vec<[u32; 2]> = mesh
+        .seam_edges
+        .iter()
+        .filter_map(|&[a, b]| Some([*local.get(&a)?, *local.get(&b)?]))
+        .collect();
+    if inside.is_empty() {
+        return (sub, vertices);
+    }
+    let opened = sheetform_mesh::cut_along_edges(&sub, &inside);
+    let vertices = opened.origin.iter().map(|&v| vertices[v as usize]).collect();
+    (opened.mesh, vertices)
 }
 
 /// Exact unfolding of a chart and its distortion; `None` when it is not a disk.
@@ -752,6 +777,62 @@ mod tests {
         let set = cut_into_charts(&mesh, &options).unwrap();
         assert_eq!(set.initial_chart_count, 2);
         assert!(set.seam_edge_count >= 8);
+    }
+
+    #[test]
+    fn a_user_seam_inside_a_chart_is_opened_where_it_is_drawn() {
+        // An open cone (apex 0; rings 1..=R of n vertices, ring k at k/R of the slant)
+        // with a seam drawn from the apex to the rim along a spiral of quad diagonals:
+        // a slit that does not split the cone. Its chart opens along the spiral, not
+        // along a shortest path of its own, and unfolds exactly into one piece.
+        let (n, rings) = (12usize, 4usize);
+        let mut mesh = TriangleMesh::default();
+        mesh.positions.push(nalgebra::Vector3::new(0.0, 0.0, 1.0));
+        for k in 1..=rings {
+            let t = k as f64 / rings as f64;
+            for j in 0..n {
+                let a = std::f64::consts::TAU * j as f64 / n as f64;
+                mesh.positions
+                    .push(nalgebra::Vector3::new(t * a.cos(), t * a.sin(), 1.0 - t));
+            }
+        }
+        let at = |k: usize, j: usize| (1 + (k - 1) * n + j % n) as u32;
+        for j in 0..n {
+            mesh.triangles.push([0, at(1, j), at(1, j + 1)]);
+        }
+        for k in 1..rings {
+            for j in 0..n {
+                let (a, b, c, d) = (at(k, j), at(k, j + 1), at(k + 1, j), at(k + 1, j + 1));
+                mesh.triangles.push([a, d, b]);
+                mesh.triangles.push([a, c, d]);
+            }
+        }
+        mesh.face_groups = vec![0; mesh.triangles.len()];
+        mesh.groups = vec!["cone".into()];
+        let spiral: Vec<u32> = std::iter::once(0).chain((1..=rings).map(|k| at(k, k - 1))).collect();
+        mesh.seam_edges = spiral.windows(2).map(|w| [w[0], w[1]]).collect();
+        let options = ChartOptions {
+            crease_angle_degrees: 180.0,
+            max_edge_distortion: 1e-9,
+            ..Default::default()
+        };
+        let set = cut_into_charts(&mesh, &options).unwrap();
+        assert_eq!(set.charts.len(), 1);
+        assert_eq!(
+            (set.split_count, set.opened_count),
+            (0, 0),
+            "opened by the drawn seam itself"
+        );
+        let chart = &set.charts[0];
+        assert!(chart.distortion.is_overlap_free());
+        assert!(chart.distortion.edge_length_max_relative < 1e-12);
+        // The copied vertices are the spiral's, apex (the slit's end) excepted.
+        let mut seen = std::collections::HashSet::new();
+        let mut doubled: Vec<u32> = chart.vertices.iter().copied().filter(|&v| !seen.insert(v)).collect();
+        doubled.sort_unstable();
+        let mut expected = spiral[1..].to_vec();
+        expected.sort_unstable();
+        assert_eq!(doubled, expected);
     }
 
     #[test]
