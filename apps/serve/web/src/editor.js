@@ -130,6 +130,43 @@ function endNormal(points, atEnd) {
   return d.clone().cross(second).cross(d).normalize();
 }
 
+/** A helix's handles (bend mode), in its curve's coordinates (Bo & Wang Fig. 14: the
+ * helix `center + (r cos θ, r sin θ, c θ)`): `radius` at its end, `θ = end_angle`, moved
+ * along the radial line there; `pitch` on its axis at the height of the end farther
+ * from `θ = 0` (none when both ends are at 0), moved along the axis: `c` is that
+ * height over the angle. Each with its line (`origin`, `direction`). */
+function helixHandles(curve) {
+  const [cx, cy, cz] = curve.center || [0, 0, 0];
+  const r = curve.radius;
+  const c = curve.rise_per_radian || 0;
+  const start = curve.start_angle || 0;
+  const end = curve.end_angle;
+  const handles = [{
+    what: 'radius',
+    position: new THREE.Vector3(cx + r * Math.cos(end), cy + r * Math.sin(end), cz + c * end),
+    origin: new THREE.Vector3(cx, cy, cz + c * end),
+    direction: new THREE.Vector3(Math.cos(end), Math.sin(end), 0),
+  }];
+  const angle = Math.abs(end) >= Math.abs(start) ? end : start;
+  if (angle !== 0) {
+    handles.push({
+      what: 'pitch', angle,
+      position: new THREE.Vector3(cx, cy, cz + c * angle),
+      origin: new THREE.Vector3(cx, cy, cz),
+      direction: new THREE.Vector3(0, 0, 1),
+    });
+  }
+  return handles;
+}
+
+/** The set_helix edit a helix handle dragged to `onCurve` (curve coordinates) asks for. */
+function helixEdit(region, handle, onCurve) {
+  const curve = state.scene.regions[region].curve;
+  const [cx, cy, cz] = curve.center || [0, 0, 0];
+  if (handle.what === 'radius') return { kind: 'set_helix', region, radius: Math.hypot(onCurve.x - cx, onCurve.y - cy) };
+  return { kind: 'set_helix', region, rise_per_radian: (onCurve.z - cz) / handle.angle };
+}
+
 function dragMode() {
   return $('drag-mode').value;
 }
@@ -219,6 +256,24 @@ function drawHandles(scene) {
     handleLines.add(new THREE.Line(polygon, new THREE.LineDashedMaterial({ color: 0xe8731a, dashSize: 4, gapSize: 3, depthTest: false })));
     handleLines.children.at(-1).computeLineDistances();
   }
+  // A helix's radius (orange, on the spoke from its axis to its end) and pitch (green,
+  // on its axis): dragged along their lines, each an edit of that parameter alone.
+  if (dragMode() !== 'move') return;
+  (scene.regions || []).forEach((region, index) => {
+    if (!region.curve || region.curve.type !== 'helix') return;
+    const frame = regionMatrix(index);
+    for (const handle of helixHandles(region.curve)) {
+      const ball = new THREE.Mesh(handleGeometry, handle.what === 'radius' ? handleMaterial : normalMaterial);
+      ball.position.copy(handle.position.clone().applyMatrix4(frame));
+      ball.scale.setScalar(handleRadius);
+      ball.userData = { region: index, helix: handle.what };
+      ball.renderOrder = 2;
+      handles.add(ball);
+      const spoke = [handle.origin, handle.position].map((q) => q.clone().applyMatrix4(frame));
+      handleLines.add(new THREE.Line(new THREE.BufferGeometry().setFromPoints(spoke), new THREE.LineDashedMaterial({ color: handle.what === 'radius' ? 0xe8731a : 0x2e8b57, dashSize: 4, gapSize: 3, depthTest: false })));
+      handleLines.children.at(-1).computeLineDistances();
+    }
+  });
 }
 
 /** A slit scene's draggable points: the leg curve at the sheet's front edge (`[x, y]`
@@ -1734,6 +1789,11 @@ function pointerRay(event) {
  * curve's point (or end normal) in its curve's plane when the curve is planar, and
  * anything else moves in the plane facing the camera. */
 function dragConstraint(data, origin) {
+  if (data.helix) {
+    // A helix handle moves along its line (locks do not apply: it is one number).
+    const handle = helixHandles(state.scene.regions[data.region].curve).find((h) => h.what === data.helix);
+    return { line: { origin, direction: handle.direction.clone().transformDirection(regionMatrix(data.region)) } };
+  }
   const slitCurvePoint = state.mode === 'slit' && data.anchor === undefined;
   const lock = LOCKS[$('drag-lock').value];
   if (lock && !slitCurvePoint) {
@@ -1842,7 +1902,10 @@ canvas.addEventListener('pointermove', (event) => {
   const mode = dragMode();
   // Every bend drag is an edit of the last admissible scene that stops at the boundary
   // of the admissible shapes instead of being refused.
-  if (mode === 'move') {
+  if (drag.helix) {
+    const handle = helixHandles(state.scene.regions[drag.region].curve).find((h) => h.what === drag.helix);
+    requestSolve(state.scene, started, helixEdit(drag.region, handle, onCurve));
+  } else if (mode === 'move') {
     requestSolve(state.scene, started, { kind: 'move_control_point', region: drag.region, index: drag.index, position });
   } else if (mode === 'length') {
     requestSolve(state.scene, started, { kind: 'drag_preserving_length', region: drag.region, index: drag.index, position });
@@ -2017,7 +2080,7 @@ function setMode(mode) {
     ffd: '3D model: drag a purple lattice control point and release it: the panels follow and their developability is restored (Cancel stops it); orbit, pan and zoom elsewhere.',
     mesh: '3D model: each piece of the pattern in its own colour (or the angle defect at each vertex); orbit, pan and zoom; drop a mesh file here.',
     slit: '3D model: drag an orange point of the leg curve or a blue point of the seat curve (each in its own plane); click a grey ridge-line end to anchor it, drag the yellow anchor to pull the strip (shift-click removes it); orbit, pan and zoom elsewhere.',
-    bend: '3D model: drag an orange control point (in end-handle mode: an end, or a green normal tip; X, Y, Z lock an axis, Shift the plane across); orbit, pan and zoom elsewhere. Red: the curve of regression where it comes near the sheet. Pattern: drag the sheet\'s orange corners (double-click an edge to add one, Shift+click to delete) and the blue flat segment\'s ends.',
+    bend: '3D model: drag an orange control point (in end-handle mode: an end, or a green normal tip; X, Y, Z lock an axis, Shift the plane across), or a helix\'s orange radius or green pitch handle; orbit, pan and zoom elsewhere. Red: the curve of regression where it comes near the sheet. Pattern: drag the sheet\'s orange corners (double-click an edge to add one, Shift+click to delete) and the blue flat segment\'s ends.',
   }[mode];
   fillSelect($('download'), ['Download…', ...DOWNLOADS[mode]]);
   $('download').options[0].value = '';
@@ -2378,6 +2441,11 @@ window.sheetformEditor = {
   handleScreenPosition(region, index) {
     const p = new THREE.Vector3(...state.scene.regions[region].curve.control_points[index]).applyMatrix4(regionMatrix(region));
     return pageCoordinates(content.localToWorld(p));
+  },
+  /** The page coordinates of a helix's `radius` or `pitch` handle (bend mode). */
+  helixHandleScreenPosition(region, what) {
+    const handle = helixHandles(state.scene.regions[region].curve).find((h) => h.what === what);
+    return pageCoordinates(content.localToWorld(handle.position.clone().applyMatrix4(regionMatrix(region))));
   },
   /** A bend control point's place in the model's frame (its region's frame applied). */
   handleModelPosition(region, index) {

@@ -6,7 +6,7 @@
 // Checks, in bend mode: an example loads; a control point dragged with the mouse changes
 // the model, which stays isometric to its pattern (in the page and in the server's
 // report) and developable on its colour map; undo restores the exact previous scene; an inadmissible drag is refused and
-// the last admissible scene kept. In slit mode: an anchor added, dragged and removed;
+// the last admissible scene kept; a helix's radius and pitch dragged by their 3D handles. In slit mode: an anchor added, dragged and removed;
 // the chair's seat curve dragged with the
 // mouse re-solves the strips (isometric, a gap per strip shown), a typed sheet length is
 // undone exactly, an impossible strip count is refused. In FFD mode: a lattice control
@@ -1079,6 +1079,45 @@ try {
     assert.equal(Number(await page.inputValue(field('radius'))), 40, 'the field shows the radius kept');
     await answered(() => page.fill(field('radius'), '35').then(() => page.press(field('radius'), 'Enter')));
     assert.equal(await page.evaluate(() => window.sheetformEditor.state.scene.regions[0].curve.radius), 35);
+
+    // Parameters as handles in the 3D view: the arc band's helix radius (orange, at its
+    // end, dragged along its spoke) and pitch (green, on its axis, dragged along it),
+    // each an edit of that number alone, the band isometric to its pattern throughout,
+    // and undone exactly.
+    await answered(() => page.evaluate((t) => window.sheetformEditor.load(t, 'examples/arc-band.json'), arcBand));
+    const helix = () => page.evaluate(() => window.sheetformEditor.state.scene.regions[0].curve);
+    const original = await helix();
+    async function dragHelix(what, dx, dy) {
+      const start = await page.evaluate((w) => window.sheetformEditor.helixHandleScreenPosition(0, w), what);
+      await page.mouse.move(start.x, start.y);
+      await page.mouse.down();
+      for (let k = 1; k <= 6; k++) {
+        await page.mouse.move(start.x + (dx * k) / 6, start.y + (dy * k) / 6);
+        await idle();
+      }
+      await page.mouse.up();
+      await idle();
+    }
+    // Outwards: away from the axis on the screen.
+    const axis = await page.evaluate(() => window.sheetformEditor.helixHandleScreenPosition(0, 'pitch'));
+    const end = await page.evaluate(() => window.sheetformEditor.helixHandleScreenPosition(0, 'radius'));
+    const out = Math.hypot(end.x - axis.x, end.y - axis.y);
+    await dragHelix('radius', (40 * (end.x - axis.x)) / out, (40 * (end.y - axis.y)) / out);
+    const wider = await helix();
+    assert.ok(wider.radius > original.radius + 1, `the radius grew: ${wider.radius}`);
+    assert.equal(wider.rise_per_radian, original.rise_per_radian, 'the pitch is kept');
+    assert.ok((await page.evaluate(() => window.sheetformEditor.isometryError())) < 1e-9);
+    assert.notEqual(await page.getAttribute('#status', 'data-state'), 'error', await page.textContent('#status'));
+    assert.equal(Number(await page.inputValue(field('radius'))), Number(wider.radius.toPrecision(6)), 'the field follows the handle');
+    await page.screenshot({ path: join(outputDir, 'bend-helix-handles.png') });
+    await dragHelix('pitch', 0, -40);
+    const steeper = await helix();
+    assert.notEqual(steeper.rise_per_radian, original.rise_per_radian, 'the pitch changed');
+    assert.equal(steeper.radius, wider.radius, 'the radius is kept');
+    assert.ok((await page.evaluate(() => window.sheetformEditor.isometryError())) < 1e-9);
+    await answered(() => page.click('#undo'));
+    await answered(() => page.click('#undo'));
+    assert.deepEqual(await helix(), original, 'undo restores the helix exactly');
   }
 
   // 10f. New designs: a new bend sheet (a rectangle bent by one curl), a bend added by
