@@ -16,7 +16,7 @@ use sheetform::pipeline::{
     SeamSmoothingOptions, SeamSource, SegmentationOptions, DEFAULT_ANGLE_TOLERANCE,
 };
 
-/// The mesh of `vertices` and `faces` with its drawn `seams` (`(k, 2)` vertex pairs), read
+/// The mesh of `vertices` and `faces` with its `drawn_seams` (`(k, 2)` vertex pairs), read
 /// with the interpreter's lock held, as in `check` (the arrays are the caller's).
 fn mesh_with_seams(
     py: Python<'_>,

@@ -16,8 +16,8 @@ use std::collections::HashSet;
 
 /// Replaces chart borders by shortest edge paths (see the module documentation); returns
 /// how many borders moved. `fixed[e]` marks the edges that must stay borders or stay
-/// inside their chart (creases and user seams); charts whose `vertices` repeat a mesh
-/// vertex (opened along a cut) keep their faces.
+/// inside their chart (creases and user seams); charts opened along a cut of their own
+/// (more vertices than their faces cut along the user's seams have) keep their faces.
 pub(crate) fn straighten_chart_borders(
     mesh: &TriangleMesh,
     table: &EdgeTable,
@@ -27,9 +27,11 @@ pub(crate) fn straighten_chart_borders(
 ) -> usize {
     let nf = mesh.triangles.len();
     let nv = mesh.positions.len();
+    // (A chart cut open along a seam inside it, a slit, has as many vertices as its mesh
+    // cut along its seams: it is not "opened" in this sense and may be straightened.)
     let opened: Vec<bool> = charts
         .iter()
-        .map(|c| c.vertices.iter().collect::<HashSet<_>>().len() != c.vertices.len())
+        .map(|c| submesh(mesh, &c.faces).1.len() != c.vertices.len())
         .collect();
     let mut face_chart = vec![u32::MAX; nf];
     for (c, chart) in charts.iter().enumerate() {
@@ -358,5 +360,28 @@ mod tests {
             0
         );
         assert!((border_length(&kept) - 14.0).abs() < 1e-12);
+        // A slit drawn inside the first chart (a user seam from its outer edge up to
+        // (5, 3), cut open in it): that chart is still straightened, its slit kept.
+        let mut slit = mesh.clone();
+        slit.seam_edges = (0..3).map(|j| [id(5, j), id(5, j + 1)]).collect();
+        let mut fixed = vec![false; table.len()];
+        for &[a, b] in &slit.seam_edges {
+            fixed[table.find(a, b).unwrap()] = true;
+        }
+        let mut charts = vec![
+            accepted_chart(&slit, faces(true), &options).unwrap(),
+            accepted_chart(&slit, faces(false), &options).unwrap(),
+        ];
+        assert_eq!(
+            charts[0].vertices.len(),
+            6 * 11 + 6 + 3,
+            "the slit's three vertices are doubled"
+        );
+        assert_eq!(
+            straighten_chart_borders(&slit, &table, &fixed, &mut charts, &options),
+            1
+        );
+        assert!((border_length(&charts) - 10.0).abs() < 1e-12);
+        assert_eq!(charts[0].vertices.len(), 6 * 11 + 3, "still cut open along the slit");
     }
 }

@@ -50,7 +50,8 @@ pub const MAX_PIECES: usize = 5_000;
 pub struct Chart {
     /// Faces of the mesh in this chart.
     pub faces: Vec<u32>,
-    /// Mesh vertex of each chart vertex (seam vertices appear in several charts).
+    /// Mesh vertex of each chart vertex (seam vertices appear in several charts, and
+    /// twice in one chart when a seam inside it, a slit, is cut open).
     pub vertices: Vec<u32>,
     /// The chart's triangles in chart vertex indices (same order as `faces`).
     pub triangles: Vec<[u32; 3]>,
@@ -89,7 +90,8 @@ pub struct ChartSet {
 /// 1. **Seams**: user-given seam edges (`mesh.seam_edges`, OBJ `l` lines) and sharp
 ///    creases (the angle between the two face normals above
 ///    `options.crease_angle_degrees`) separate the initial charts, the connected sets of
-///    faces between them.
+///    faces between them. A user seam with one chart on both sides (a slit from its
+///    border) is cut open inside that chart.
 /// 2. **Open along straight seams**: a chart is accepted when it is a topological disk
 ///    (one component, one boundary loop, Euler characteristic 1) and its exact unfolding
 ///    ([`exact_unfold`], the least-squares layout of its edge lengths) has no flipped face,
@@ -290,9 +292,13 @@ pub fn cut_into_charts_until(
             face_chart[f as usize] = c as u32;
         }
     }
-    // Edges between charts, and those cut open inside a chart.
+    // Edges between charts, those cut open inside a chart, and the user's seams inside
+    // a chart (slits, cut open by `submesh`).
     let seam_edge_count = (0..table.len())
-        .filter(|&e| matches!(table.sides(e), [f, g] if face_chart[f.face as usize] != face_chart[g.face as usize]))
+        .filter(|&e| match table.sides(e) {
+            [f, g] => face_chart[f.face as usize] != face_chart[g.face as usize] || seams.contains(&table.edges[e]),
+            _ => false,
+        })
         .count()
         + opened_cut_edges;
     Ok(ChartSet {
@@ -365,7 +371,7 @@ fn merge_small_charts(
                     }
                 }
             }
-            // Charts that share a user seam stay apart (their union would close it).
+            // Charts that share a user seam stay apart (the user cut there).
             let mut across_seam: std::collections::HashSet<u32> = std::collections::HashSet::new();
             for &f in &charts[c].faces {
                 let t = mesh.triangles[f as usize];
@@ -541,11 +547,21 @@ pub(crate) fn submesh(mesh: &TriangleMesh, faces: &[u32]) -> (TriangleMesh, Vec<
         corner_uvs: None,
         seam_edges: Vec::new(),
     };
-    // (Pairs that are not edges of the set, or that border it, cut nothing.)
-    let inside: Vec<[u32; 2]> = mesh
+    // The seams with faces of the set on both sides (not those along its border, which
+    // cut nothing: the set is then not cut at all, and its vertices stay one per mesh
+    // vertex).
+    let candidates: Vec<[u32; 2]> = mesh
         .seam_edges
         .iter()
         .filter_map(|&[a, b]| Some([*local.get(&a)?, *local.get(&b)?]))
+        .collect();
+    if candidates.is_empty() {
+        return (sub, vertices);
+    }
+    let table = sheetform_mesh::EdgeTable::new(&sub.triangles, sub.positions.len());
+    let inside: Vec<[u32; 2]> = candidates
+        .into_iter()
+        .filter(|&[a, b]| table.find(a, b).is_some_and(|e| table.sides(e).len() == 2))
         .collect();
     if inside.is_empty() {
         return (sub, vertices);
