@@ -106,9 +106,11 @@ pub struct ChartSet {
 ///    This is tried when there are at most [`MAX_CONE_POINTS`] cone points (|angle
 ///    defect| above [`crate::CONE_POINT_DEFECT`]) and [`MAX_SEAM_LOOPS`] boundary loops and genus 0; the
 ///    opened chart must pass the same test.
-/// 3. **Split until flat**: otherwise the chart is split in two: the two faces farthest
-///    apart (double breadth-first search over the face adjacency) seed two regions that
-///    grow breadth-first at the same pace, so both halves are connected. A single triangle
+/// 3. **Split until flat**: otherwise the chart is split in two: two seed faces grow
+///    breadth-first at the same pace, so both halves are connected. The seeds are the
+///    faces on the first two border edges that cross when the chart's flattening
+///    overlaps itself (so one split separates the parts that overlap), else the two
+///    faces farthest apart (double breadth-first search over the face adjacency). A single triangle
 ///    always flattens exactly, so the splitting ends.
 /// 4. **No slivers**: a chart of at most [`SMALL_CHART_FACES`] faces (and 2 % of the
 ///    mesh's) is joined to the
@@ -220,9 +222,13 @@ pub fn cut_into_charts_until(
             Some((_, d)) => options.accepts(d),
             None => false,
         };
+        // Where an opened chart that overlaps itself is split (see below).
+        let mut opened_seeds = None;
         if !accept && !out_of_budget {
             if let Some((opened, origin, unfolding, d, cut_edges)) = open_to_disk(&sub) {
-                if options.accepts(&d) {
+                if !options.accepts(&d) {
+                    opened_seeds = d.first_crossing.and_then(|pair| crossing_faces(&opened, pair));
+                } else {
                     opened_count += 1;
                     opened_cut_edges += cut_edges;
                     charts.push(Chart {
@@ -260,7 +266,17 @@ pub fn cut_into_charts_until(
         for (i, &f) in faces.iter().enumerate() {
             in_chart[f as usize] = i as u32;
         }
-        let (a, b) = split_in_two(&faces, &neighbours, &in_chart);
+        // An exact chart that overlaps itself is split between the two parts that
+        // overlap (the faces on the first pair of crossing border edges seed the halves):
+        // the farthest faces would split it anywhere, and the half still holding the
+        // overlap again and again (a developed piece whose slit's lips overlap near its
+        // end: split 5 times, session 33).
+        let seeds = attempt
+            .as_ref()
+            .and_then(|(_, d)| d.first_crossing)
+            .and_then(|pair| crossing_faces(&sub, pair))
+            .or(opened_seeds);
+        let (a, b) = split_in_two(&faces, &neighbours, &in_chart, seeds);
         for &f in &faces {
             in_chart[f as usize] = u32::MAX;
         }
@@ -578,9 +594,27 @@ pub(crate) fn flatten_chart(sub: &TriangleMesh) -> Option<(crate::Unfolding, Dis
     Some((unfolding, d))
 }
 
-/// Splits a connected face set in two connected halves grown from its two faces farthest
+/// The faces of `sub` (indices into its triangles, the chart's `faces` order) on the two
+/// border edges of `pair` (vertex pairs of `sub`), when they are two faces.
+fn crossing_faces(sub: &TriangleMesh, pair: [[u32; 2]; 2]) -> Option<(usize, usize)> {
+    let table = sheetform_mesh::EdgeTable::new(&sub.triangles, sub.positions.len());
+    let face = |[a, b]: [u32; 2]| match table.sides(table.find(a, b)?) {
+        [side] => Some(side.face as usize),
+        _ => None,
+    };
+    let (f, g) = (face(pair[0])?, face(pair[1])?);
+    (f != g).then_some((f, g))
+}
+
+/// Splits a connected face set in two connected halves grown at the same pace from two
+/// seed faces (indices into `faces`): `seeds`, or by default its two faces farthest
 /// apart. `position[f]` is `f`'s index in `faces` (`u32::MAX` outside).
-fn split_in_two(faces: &[u32], neighbours: &[Vec<u32>], position: &[u32]) -> (Vec<u32>, Vec<u32>) {
+fn split_in_two(
+    faces: &[u32],
+    neighbours: &[Vec<u32>],
+    position: &[u32],
+    seeds: Option<(usize, usize)>,
+) -> (Vec<u32>, Vec<u32>) {
     let n = faces.len();
     let bfs_last = |start: usize| {
         let mut dist = vec![usize::MAX; n];
@@ -599,9 +633,11 @@ fn split_in_two(faces: &[u32], neighbours: &[Vec<u32>], position: &[u32]) -> (Ve
         }
         last
     };
-    let s1 = bfs_last(0);
-    let s2 = bfs_last(s1);
-    let s2 = if s2 == s1 { (s1 + 1) % n } else { s2 };
+    let (s1, s2) = seeds.unwrap_or_else(|| {
+        let s1 = bfs_last(0);
+        let s2 = bfs_last(s1);
+        (s1, if s2 == s1 { (s1 + 1) % n } else { s2 })
+    });
     // Grow both at the same pace (one queue, labels carried along).
     let mut label = vec![u8::MAX; n];
     label[s1] = 0;
@@ -849,6 +885,45 @@ mod tests {
         let mut expected = spiral[1..].to_vec();
         expected.sort_unstable();
         assert_eq!(doubled, expected);
+    }
+
+    #[test]
+    fn a_chart_that_overlaps_itself_is_split_between_the_parts_that_overlap() {
+        // A long strip of 24 × 4 unit squares with a saddle near one end: the six
+        // neighbours of vertex (1, 2) raised and lowered in turn, so its angle sum passes
+        // 2π, and a slit drawn from the strip's end (0, 2) to it. Opened, the slit's lips
+        // overlap. One split between them ends it; halves grown from the strip's two
+        // ends would leave the overlap in the near half, split again and again.
+        let (nx, ny) = (24u32, 4u32);
+        let id = |i: u32, j: u32| j * (nx + 1) + i;
+        let mut mesh = TriangleMesh::default();
+        for j in 0..=ny {
+            for i in 0..=nx {
+                mesh.positions.push(nalgebra::Vector3::new(i as f64, j as f64, 0.0));
+            }
+        }
+        for j in 0..ny {
+            for i in 0..nx {
+                mesh.triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                mesh.triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        // The neighbours of (1, 2) in turn round it.
+        for (k, (i, j)) in [(2, 2), (2, 3), (1, 3), (0, 2), (0, 1), (1, 1)].into_iter().enumerate() {
+            mesh.positions[id(i, j) as usize].z = if k % 2 == 0 { 0.6 } else { -0.6 };
+        }
+        mesh.face_groups = vec![0; mesh.triangles.len()];
+        mesh.groups = vec!["strip".into()];
+        mesh.seam_edges = vec![[id(0, 2), id(1, 2)]];
+        let options = ChartOptions {
+            crease_angle_degrees: 180.0,
+            max_edge_distortion: 0.5,
+            ..Default::default()
+        };
+        let set = cut_into_charts(&mesh, &options).unwrap();
+        assert_eq!(set.split_count, 1, "split once");
+        assert_eq!(set.charts.len(), 2);
+        assert!(set.charts.iter().all(|c| c.distortion.is_overlap_free()));
     }
 
     #[test]

@@ -17,6 +17,9 @@ pub struct Distortion {
     pub flipped_faces: Vec<u32>,
     /// Pairs of boundary edges that cross on the pattern (the pattern overlaps itself).
     pub boundary_crossings: usize,
+    /// The first such pair, as vertex pairs (where a chart that overlaps is split).
+    #[serde(skip)]
+    pub first_crossing: Option<[[u32; 2]; 2]>,
 }
 
 impl Distortion {
@@ -61,16 +64,15 @@ pub fn distortion(mesh: &TriangleMesh, flat: &[Vec2]) -> Distortion {
         d.area_mean_relative = area_sum / mesh.triangles.len() as f64;
     }
     // Boundary edges crossing each other (sort by x to skip far pairs).
-    let mut edges: Vec<[Vec2; 2]> = sheetform_mesh::EdgeTable::new(&mesh.triangles, mesh.positions.len())
+    let mut edges: Vec<([Vec2; 2], [u32; 2])> = sheetform_mesh::EdgeTable::new(&mesh.triangles, mesh.positions.len())
         .boundary_edges()
-        .map(|[a, b]| [flat[a as usize], flat[b as usize]])
+        .map(|[a, b]| ([flat[a as usize], flat[b as usize]], [a, b]))
         .collect();
-    edges.sort_by(|a, b| a[0].x.min(a[1].x).total_cmp(&b[0].x.min(b[1].x)));
+    edges.sort_by(|(a, _), (b, _)| a[0].x.min(a[1].x).total_cmp(&b[0].x.min(b[1].x)));
     for i in 0..edges.len() {
-        let [a, b] = edges[i];
+        let ([a, b], first) = edges[i];
         let max_x = a.x.max(b.x);
-        for e in &edges[i + 1..] {
-            let [c, dd] = *e;
+        for &([c, dd], second) in &edges[i + 1..] {
             if c.x.min(dd.x) > max_x {
                 break;
             }
@@ -83,6 +85,7 @@ pub fn distortion(mesh: &TriangleMesh, flat: &[Vec2]) -> Distortion {
             }
             if crosses_beyond_rounding(a, b, c, dd) {
                 d.boundary_crossings += 1;
+                d.first_crossing.get_or_insert([first, second]);
             }
         }
     }
