@@ -173,7 +173,9 @@ pub(crate) enum Command {
         /// cuts along the OBJ `l` polylines only.
         #[arg(long, value_enum, default_value_t = Seams::Automatic)]
         seams: Seams,
-        /// Most pieces for automatic seams (pieces the drawn seams make count too).
+        /// Most pieces the automatic seams cut (pieces the drawn seams make count too). A
+        /// developed piece that would overlap itself flat is printed cut in two, so the
+        /// pattern may have more: the report counts them and warns.
         #[arg(long, value_name = "N", default_value_t = 12)]
         max_pieces: usize,
         /// Automatic seams: add pieces (up to --max-pieces) until every piece's normals
