@@ -20,8 +20,12 @@ use sheetform::pipeline::AssetResolver;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-/// Most scene files listed.
+/// Most files of each kind listed (scenes, meshes, photographs: a folder of photographs
+/// does not hide the scenes), the JSON files looked at counting as scenes.
 const MAX_LISTED_FILES: usize = 2_000;
+/// Most directory entries looked at in one listing (the walk's own bound: a tree of
+/// many small files is not walked whole).
+const MAX_WALKED_ENTRIES: usize = 100_000;
 /// Deepest directory level listed below the served directory.
 const MAX_LISTED_DEPTH: usize = 4;
 
@@ -112,8 +116,19 @@ fn scene_mode(text: &str) -> Option<&'static str> {
     }
 }
 
-/// What [`listed_files`] finds: scenes with their modes, meshes, photographs.
-type Listed = (Vec<(String, &'static str)>, Vec<String>, Vec<String>);
+/// What [`listed_files`] finds.
+#[derive(Default)]
+struct Listed {
+    /// Scenes with the editor mode each opens in.
+    scenes: Vec<(String, &'static str)>,
+    /// Meshes.
+    meshes: Vec<String>,
+    /// Photographs.
+    photos: Vec<String>,
+    /// Whether a bound ended the listing early ([`MAX_LISTED_FILES`] of a kind,
+    /// [`MAX_WALKED_ENTRIES`], `MAX_LISTING_BYTES`): files there may be left out.
+    truncated: bool,
+}
 
 /// The scenes (`*.json` files a mode of the editor opens, by content: `(path, mode)`),
 /// the meshes (`*.obj`, `*.ply`, `*.stl`, `*.off`) and the photographs (`*.png`, `*.jpg`,
@@ -121,15 +136,27 @@ type Listed = (Vec<(String, &'static str)>, Vec<String>, Vec<String>);
 /// directories, `target` and `node_modules` are skipped, and JSON files that are no
 /// scene (reports, schemas, package files) are not listed.
 fn listed_files(root: &std::path::Path) -> Listed {
-    let (mut scenes, mut meshes, mut photos) = (Vec::new(), Vec::new(), Vec::new());
-    // Every file looked at counts towards MAX_LISTED_FILES, listed or not.
-    let (mut examined, mut bytes_read) = (0usize, 0u64);
+    let mut listed = Listed::default();
+    let Listed {
+        scenes,
+        meshes,
+        photos,
+        truncated,
+    } = &mut listed;
+    // Every JSON file looked at counts towards MAX_LISTED_FILES, listed or not; every
+    // entry towards MAX_WALKED_ENTRIES.
+    let (mut examined, mut bytes_read, mut walked) = (0usize, 0u64, 0usize);
     let mut pending = vec![(PathBuf::new(), 0usize)];
     'walk: while let Some((relative, depth)) = pending.pop() {
         let Ok(entries) = std::fs::read_dir(root.join(&relative)) else {
             continue;
         };
         for entry in entries.flatten() {
+            walked += 1;
+            if walked > MAX_WALKED_ENTRIES {
+                *truncated = true;
+                break 'walk;
+            }
             let name = entry.file_name().to_string_lossy().into_owned();
             let Ok(kind) = entry.file_type() else { continue };
             let path = relative.join(&name);
@@ -148,11 +175,17 @@ fn listed_files(root: &std::path::Path) -> Listed {
                 .collect::<Vec<_>>()
                 .join("/");
             if name.ends_with(".json") {
+                if examined >= MAX_LISTED_FILES {
+                    *truncated = true;
+                    continue;
+                }
                 examined += 1;
                 let size = entry.metadata().map_or(u64::MAX, |m| m.len());
                 let readable = size <= MAX_LISTED_SCENE_BYTES && bytes_read + size <= MAX_LISTING_BYTES;
                 if readable {
                     bytes_read += size;
+                } else if size <= MAX_LISTED_SCENE_BYTES {
+                    *truncated = true;
                 }
                 let mode = readable
                     .then(|| std::fs::read_to_string(root.join(&path)).ok())
@@ -162,29 +195,33 @@ fn listed_files(root: &std::path::Path) -> Listed {
                     Some(mode) => scenes.push((relative_name, mode)),
                     None => continue,
                 }
-            } else if is_mesh(&name) {
-                meshes.push(relative_name);
-            } else if image_type(&name).is_some() {
-                photos.push(relative_name);
-            } else {
-                continue;
-            }
-            if examined + meshes.len() + photos.len() >= MAX_LISTED_FILES {
-                break 'walk;
+            } else if is_mesh(&name) || image_type(&name).is_some() {
+                let list = if is_mesh(&name) { &mut *meshes } else { &mut *photos };
+                if list.len() >= MAX_LISTED_FILES {
+                    *truncated = true;
+                } else {
+                    list.push(relative_name);
+                }
             }
         }
     }
     scenes.sort();
     meshes.sort();
     photos.sort();
-    (scenes, meshes, photos)
+    listed
 }
 
 /// `GET /api/files`: `files` (every scene), `scenes` (per editor mode), `meshes` and
-/// `photos` (PNG and JPEG images, to annotate).
+/// `photos` (PNG and JPEG images, to annotate), and `truncated` when a bound of the
+/// listing left files out.
 async fn list(State(state): State<Arc<AppState>>) -> Response {
     let root = state.root.clone();
-    let (scenes, meshes, photos) = tokio::task::spawn_blocking(move || listed_files(&root))
+    let Listed {
+        scenes,
+        meshes,
+        photos,
+        truncated,
+    } = tokio::task::spawn_blocking(move || listed_files(&root))
         .await
         .unwrap_or_default();
     let mut by_mode: serde_json::Map<String, serde_json::Value> = ["bend", "slit", "ffd", "photo"]
@@ -197,7 +234,10 @@ async fn list(State(state): State<Arc<AppState>>) -> Response {
         }
     }
     let files: Vec<&String> = scenes.iter().map(|(path, _)| path).collect();
-    Json(serde_json::json!({ "files": files, "scenes": by_mode, "meshes": meshes, "photos": photos })).into_response()
+    Json(serde_json::json!({
+        "files": files, "scenes": by_mode, "meshes": meshes, "photos": photos, "truncated": truncated,
+    }))
+    .into_response()
 }
 
 /// The directory inside the served one where photographs chosen from disk are kept.

@@ -16,7 +16,7 @@
 //! | `POST /api/photo/file/{name}?dir=…` | one of the files `sheetform photo` writes, for download |
 //! | `POST /api/mesh?name=…` | a mesh file's bytes in (OBJ, PLY, STL, OFF), its developability ([`sheetform::pipeline::run_check`]), the flattened model, its pattern and both reports out ([`sheetform::pipeline::run_flatten`], preview outputs) |
 //! | `POST /api/mesh/file/{name}?name=…` | one of the files `sheetform flatten` writes, for download |
-//! | `GET /api/files` | the scene files (`*.json`) and the meshes under the served directory |
+//! | `GET /api/files` | the scene files (`*.json`, by mode), the meshes and the photographs under the served directory (`truncated` when a bound of the listing left some out) |
 //! | `GET /api/files/{path}` / `PUT /api/files/{path}` | open / save a scene file, confined to the served directory |
 //! | `PUT /api/photos/{name}` | a PNG or JPEG chosen from disk, kept as `photos/NAME` (never replacing a file) |
 //! | `POST /api/relocate?from=…&to=…` | a scene in, the asset paths that name the same files once the scene is saved in `to` instead of `from` out ([`sheetform::pipeline::relocated_scene_assets`]; the editor's "save as") |

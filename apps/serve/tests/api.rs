@@ -156,6 +156,7 @@ async fn no_file_outside_the_served_directory_is_read_or_written() {
     let (status, body) = send(&app, "GET", "/api/files", Body::empty()).await;
     assert_eq!(status, StatusCode::OK);
     assert_eq!(json(&body)["files"], serde_json::json!(["scenes/bent-rectangle.json"]));
+    assert_eq!(json(&body)["truncated"], false);
     let (status, _) = send(&app, "GET", "/api/files/scenes/bent-rectangle.json", Body::empty()).await;
     assert_eq!(status, StatusCode::OK);
     // A symbolic link inside the root that points out of it.
@@ -1869,4 +1870,30 @@ async fn solves_answer_with_binary_arrays_equal_to_the_json_reply() {
     assert_eq!(status, StatusCode::BAD_REQUEST);
     assert_eq!(kind.as_deref(), Some("application/json"));
     assert!(json(&body)["error"]["message"].is_string());
+}
+
+#[tokio::test]
+async fn a_folder_of_photographs_does_not_hide_the_scenes() {
+    // 2 100 photographs beside the served scene: the list holds its first 2 000 and says
+    // it was cut short, and still lists the scene, wherever the walk meets it.
+    let (_dir, root) = served();
+    std::fs::create_dir_all(root.join("camera")).unwrap();
+    for k in 0..2_100 {
+        std::fs::write(root.join(format!("camera/IMG_{k:04}.png")), b"").unwrap();
+    }
+    let app = router(&ServeOptions {
+        root: root.clone(),
+        ..Default::default()
+    })
+    .unwrap();
+    let (status, body) = send(&app, "GET", "/api/files", Body::empty()).await;
+    assert_eq!(status, StatusCode::OK);
+    let listing = json(&body);
+    assert_eq!(listing["files"], serde_json::json!(["scenes/bent-rectangle.json"]));
+    assert_eq!(
+        listing["scenes"]["bend"],
+        serde_json::json!(["scenes/bent-rectangle.json"])
+    );
+    assert_eq!(listing["photos"].as_array().unwrap().len(), 2_000);
+    assert_eq!(listing["truncated"], true);
 }

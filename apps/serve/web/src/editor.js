@@ -707,8 +707,9 @@ function newAnnotation(path, width, height) {
  * `photos` or `meshes`) in its list `select`; its button `start` only when there is one. */
 async function openChooser(dialog, select, start, kind) {
   const response = await fetch('/api/files');
-  const names = (response.ok && (await response.json())[kind]) || [];
-  fillSelect($(select), names);
+  const files = (response.ok && (await response.json())) || {};
+  const names = files[kind] || [];
+  fillSelect($(select), names, Boolean(files.truncated));
   $(start).disabled = names.length === 0;
   // Esc closes it without changing returnValue: the last answer must not start again.
   $(dialog).returnValue = '';
@@ -2009,14 +2010,25 @@ function load(text, path = null) {
   else requestSolve(scene);
 }
 
-function fillSelect(select, names) {
+/** What the last `/api/files` said beyond the names. */
+const listing = { truncated: false };
+
+/** Fills a list with `names`; when the server's listing was cut short by its bounds
+ * (`truncated`), a last greyed entry says that more files are not listed. */
+function fillSelect(select, names, truncated = listing.truncated) {
   select.innerHTML = '';
   for (const name of names) {
     const option = document.createElement('option');
     option.textContent = name;
     select.append(option);
   }
+  if (truncated) {
+    const note = document.createElement('option');
+    Object.assign(note, { disabled: true, value: '', textContent: '… more files under the root are not listed' });
+    select.append(note);
+  }
 }
+
 
 /** The served scenes per mode (recognised by content by the server), for the list. */
 const scenesByMode = { bend: [], slit: [], ffd: [], photo: [] };
@@ -2032,7 +2044,8 @@ function fillSceneList() {
 
 async function listFiles() {
   const response = await fetch('/api/files');
-  const { scenes, meshes } = await response.json();
+  const { scenes, meshes, truncated } = await response.json();
+  listing.truncated = Boolean(truncated);
   for (const mode of Object.keys(scenesByMode)) scenesByMode[mode] = (scenes && scenes[mode]) || [];
   fillSceneList();
   fillSelect($('mesh-list'), meshes);
@@ -2082,7 +2095,7 @@ function setMode(mode) {
     slit: '3D model: drag an orange point of the leg curve or a blue point of the seat curve (each in its own plane); click a grey ridge-line end to anchor it, drag the yellow anchor to pull the strip (shift-click removes it); orbit, pan and zoom elsewhere.',
     bend: '3D model: drag an orange control point (in end-handle mode: an end, or a green normal tip; X, Y, Z lock an axis, Shift the plane across), or a helix\'s orange radius or green pitch handle; orbit, pan and zoom elsewhere. Red: the curve of regression where it comes near the sheet. Pattern: drag the sheet\'s orange corners (double-click an edge to add one, Shift+click to delete) and the blue flat segment\'s ends.',
   }[mode];
-  fillSelect($('download'), ['Download…', ...DOWNLOADS[mode]]);
+  fillSelect($('download'), ['Download…', ...DOWNLOADS[mode]], false);
   $('download').options[0].value = '';
   if (mode !== 'mesh') fillSceneList();
   state.undo = [];
