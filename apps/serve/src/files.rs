@@ -125,9 +125,9 @@ struct Listed {
     meshes: Vec<String>,
     /// Photographs.
     photos: Vec<String>,
-    /// Whether a bound ended the listing early ([`MAX_LISTED_FILES`] of a kind,
-    /// [`MAX_WALKED_ENTRIES`], `MAX_LISTING_BYTES`): files there may be left out.
-    truncated: bool,
+    /// Which lists a bound cut short (`[scenes, meshes, photos]`): [`MAX_LISTED_FILES`]
+    /// of that kind, `MAX_LISTING_BYTES` (scenes), [`MAX_WALKED_ENTRIES`] (all three).
+    truncated: [bool; 3],
 }
 
 /// The scenes (`*.json` files a mode of the editor opens, by content: `(path, mode)`),
@@ -154,7 +154,7 @@ fn listed_files(root: &std::path::Path) -> Listed {
         for entry in entries.flatten() {
             walked += 1;
             if walked > MAX_WALKED_ENTRIES {
-                *truncated = true;
+                *truncated = [true; 3];
                 break 'walk;
             }
             let name = entry.file_name().to_string_lossy().into_owned();
@@ -176,7 +176,7 @@ fn listed_files(root: &std::path::Path) -> Listed {
                 .join("/");
             if name.ends_with(".json") {
                 if examined >= MAX_LISTED_FILES {
-                    *truncated = true;
+                    truncated[0] = true;
                     continue;
                 }
                 examined += 1;
@@ -185,7 +185,7 @@ fn listed_files(root: &std::path::Path) -> Listed {
                 if readable {
                     bytes_read += size;
                 } else if size <= MAX_LISTED_SCENE_BYTES {
-                    *truncated = true;
+                    truncated[0] = true;
                 }
                 let mode = readable
                     .then(|| std::fs::read_to_string(root.join(&path)).ok())
@@ -196,9 +196,13 @@ fn listed_files(root: &std::path::Path) -> Listed {
                     None => continue,
                 }
             } else if is_mesh(&name) || image_type(&name).is_some() {
-                let list = if is_mesh(&name) { &mut *meshes } else { &mut *photos };
+                let (list, kind) = if is_mesh(&name) {
+                    (&mut *meshes, 1)
+                } else {
+                    (&mut *photos, 2)
+                };
                 if list.len() >= MAX_LISTED_FILES {
-                    *truncated = true;
+                    truncated[kind] = true;
                 } else {
                     list.push(relative_name);
                 }
@@ -212,8 +216,8 @@ fn listed_files(root: &std::path::Path) -> Listed {
 }
 
 /// `GET /api/files`: `files` (every scene), `scenes` (per editor mode), `meshes` and
-/// `photos` (PNG and JPEG images, to annotate), and `truncated` when a bound of the
-/// listing left files out.
+/// `photos` (PNG and JPEG images, to annotate), and `truncated`: for `scenes`, `meshes`
+/// and `photos`, whether a bound of the listing left files of that kind out.
 async fn list(State(state): State<Arc<AppState>>) -> Response {
     let root = state.root.clone();
     let Listed {
@@ -235,7 +239,8 @@ async fn list(State(state): State<Arc<AppState>>) -> Response {
     }
     let files: Vec<&String> = scenes.iter().map(|(path, _)| path).collect();
     Json(serde_json::json!({
-        "files": files, "scenes": by_mode, "meshes": meshes, "photos": photos, "truncated": truncated,
+        "files": files, "scenes": by_mode, "meshes": meshes, "photos": photos,
+        "truncated": { "scenes": truncated[0], "meshes": truncated[1], "photos": truncated[2] },
     }))
     .into_response()
 }

@@ -163,7 +163,9 @@ function helixHandles(curve) {
 function helixEdit(region, handle, onCurve) {
   const curve = state.scene.regions[region].curve;
   const [cx, cy, cz] = curve.center || [0, 0, 0];
-  if (handle.what === 'radius') return { kind: 'set_helix', region, radius: Math.hypot(onCurve.x - cx, onCurve.y - cy) };
+  // Signed along the spoke: dragged through the axis, the radius goes to 0 and below
+  // (refused at the boundary), not up again on the other side.
+  if (handle.what === 'radius') return { kind: 'set_helix', region, radius: (onCurve.x - cx) * handle.direction.x + (onCurve.y - cy) * handle.direction.y };
   return { kind: 'set_helix', region, rise_per_radian: (onCurve.z - cz) / handle.angle };
 }
 
@@ -709,7 +711,7 @@ async function openChooser(dialog, select, start, kind) {
   const response = await fetch('/api/files');
   const files = (response.ok && (await response.json())) || {};
   const names = files[kind] || [];
-  fillSelect($(select), names, Boolean(files.truncated));
+  fillSelect($(select), names, Boolean(files.truncated && files.truncated[kind]));
   $(start).disabled = names.length === 0;
   // Esc closes it without changing returnValue: the last answer must not start again.
   $(dialog).returnValue = '';
@@ -2010,12 +2012,9 @@ function load(text, path = null) {
   else requestSolve(scene);
 }
 
-/** What the last `/api/files` said beyond the names. */
-const listing = { truncated: false };
-
-/** Fills a list with `names`; when the server's listing was cut short by its bounds
- * (`truncated`), a last greyed entry says that more files are not listed. */
-function fillSelect(select, names, truncated = listing.truncated) {
+/** Fills a list with `names`; when the server's listing of them was cut short by its
+ * bounds (`truncated`), a last greyed entry says that more files are not listed. */
+function fillSelect(select, names, truncated = false) {
   select.innerHTML = '';
   for (const name of names) {
     const option = document.createElement('option');
@@ -2032,23 +2031,25 @@ function fillSelect(select, names, truncated = listing.truncated) {
 
 /** The served scenes per mode (recognised by content by the server), for the list. */
 const scenesByMode = { bend: [], slit: [], ffd: [], photo: [] };
+/** Which of the server's lists its bounds cut short (`/api/files`'s `truncated`). */
+const listing = { truncated: {} };
 
 /** The file list shows the current mode's scenes only (the mesh mode has its own list). */
 function fillSceneList() {
   if (state.mode === 'mesh') return;
   const list = $('file-list');
   const kept = list.value;
-  fillSelect(list, scenesByMode[state.mode] || []);
-  if ([...list.options].some((o) => o.value === kept)) list.value = kept;
+  fillSelect(list, scenesByMode[state.mode] || [], listing.truncated.scenes);
+  if ([...list.options].some((o) => !o.disabled && o.value === kept)) list.value = kept;
 }
 
 async function listFiles() {
   const response = await fetch('/api/files');
   const { scenes, meshes, truncated } = await response.json();
-  listing.truncated = Boolean(truncated);
+  listing.truncated = truncated || {};
   for (const mode of Object.keys(scenesByMode)) scenesByMode[mode] = (scenes && scenes[mode]) || [];
   fillSceneList();
-  fillSelect($('mesh-list'), meshes);
+  fillSelect($('mesh-list'), meshes, listing.truncated.meshes);
   return scenesByMode[state.mode] || [];
 }
 
@@ -2095,7 +2096,7 @@ function setMode(mode) {
     slit: '3D model: drag an orange point of the leg curve or a blue point of the seat curve (each in its own plane); click a grey ridge-line end to anchor it, drag the yellow anchor to pull the strip (shift-click removes it); orbit, pan and zoom elsewhere.',
     bend: '3D model: drag an orange control point (in end-handle mode: an end, or a green normal tip; X, Y, Z lock an axis, Shift the plane across), or a helix\'s orange radius or green pitch handle; orbit, pan and zoom elsewhere. Red: the curve of regression where it comes near the sheet. Pattern: drag the sheet\'s orange corners (double-click an edge to add one, Shift+click to delete) and the blue flat segment\'s ends.',
   }[mode];
-  fillSelect($('download'), ['Download…', ...DOWNLOADS[mode]], false);
+  fillSelect($('download'), ['Download…', ...DOWNLOADS[mode]]);
   $('download').options[0].value = '';
   if (mode !== 'mesh') fillSceneList();
   state.undo = [];
