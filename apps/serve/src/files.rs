@@ -195,11 +195,13 @@ fn listed_files(root: &std::path::Path) -> Listed {
                     Some(mode) => scenes.push((relative_name, mode)),
                     None => continue,
                 }
-            } else if is_mesh(&name) || image_type(&name).is_some() {
+            } else {
                 let (list, kind) = if is_mesh(&name) {
                     (&mut *meshes, 1)
-                } else {
+                } else if image_type(&name).is_some() {
                     (&mut *photos, 2)
+                } else {
+                    continue;
                 };
                 if list.len() >= MAX_LISTED_FILES {
                     truncated[kind] = true;
