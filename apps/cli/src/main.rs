@@ -142,6 +142,7 @@ fn main() -> ExitCode {
                     smoothness,
                     defect_tolerance: tolerance,
                     max_iterations,
+                    ..Default::default()
                 },
                 ..Default::default()
             },

@@ -319,6 +319,7 @@ pub(crate) fn develop(
             smoothness,
             defect_tolerance: tolerance,
             max_iterations,
+            ..Default::default()
         },
         flatten: FlattenOptions {
             pattern: pattern.options,

@@ -67,6 +67,10 @@ pub(crate) fn cut_slits(mesh: &TriangleMesh, table: &EdgeTable, seam: &mut [bool
 /// the half's) stays off 2π by more than the threshold is freed by a seam along one of
 /// its edges in the plane: the whole is cut there, between the half and its image.
 ///
+/// `only`: the vertices that may be cut free (the cone points a solve ended early
+/// found hopeless, [`crate::Developed::hopeless`]: the others' defects are those of a
+/// half-solved state), or `None` for every vertex.
+///
 /// Returns the seams (vertex pairs, for [`crate::seam_pieces`]) and the slits cut (0:
 /// no vertex was above the threshold or none could be reached).
 pub fn slit_unflattened_vertices(
@@ -76,11 +80,24 @@ pub fn slit_unflattened_vertices(
     pieces: &SeamPieces,
     mirror: Option<&MirrorBoundary>,
     threshold: f64,
+    only: Option<&[u32]>,
 ) -> (Vec<[u32; 2]>, usize) {
     let angle_sum = vertex_angle_sums(positions, &mesh.triangles);
     let defect = |v: u32| (TAU - angle_sum[v as usize]).abs();
+    let candidate = match only {
+        Some(list) => {
+            let mut flags = vec![false; mesh.positions.len()];
+            for &v in list {
+                if let Some(flag) = flags.get_mut(v as usize) {
+                    *flag = true;
+                }
+            }
+            flags
+        }
+        None => vec![true; mesh.positions.len()],
+    };
     let mut cones: Vec<u32> = (0..mesh.positions.len() as u32)
-        .filter(|&v| pieces.interior[v as usize] && defect(v) > threshold)
+        .filter(|&v| candidate[v as usize] && pieces.interior[v as usize] && defect(v) > threshold)
         .collect();
     cones.sort_by(|&a, &b| defect(b).total_cmp(&defect(a)));
     let mut seam = vec![false; table.len()];
@@ -99,7 +116,9 @@ pub fn slit_unflattened_vertices(
             }
         }
         for (e, &[a, b]) in table.edges.iter().enumerate() {
-            let cone = |v: u32| inside[v as usize] && (TAU - 2.0 * angle_sum[v as usize]).abs() > threshold;
+            let cone = |v: u32| {
+                candidate[v as usize] && inside[v as usize] && (TAU - 2.0 * angle_sum[v as usize]).abs() > threshold
+            };
             let along_plane = on_plane(a) && on_plane(b) && table.sides(e).len() == 1;
             // One edge along the plane frees the vertex (and its neighbour).
             if along_plane && [a, b].iter().any(|&v| cone(v) && !on_seam[v as usize]) {

@@ -24,6 +24,10 @@ pub struct DevelopOptions {
     pub max_iterations: usize,
     /// The largest angle defect accepted inside a piece (radians). Default 1e-10.
     pub defect_tolerance: f64,
+    /// End the solve early, without its feasibility polish, once some vertex is a
+    /// hopeless cone point ([`HOPELESS_DEFECT`]); [`Developed::hopeless`] lists them for
+    /// the caller to cut free and solve again. Default false.
+    pub end_at_hopeless_cone_points: bool,
 }
 
 impl Default for DevelopOptions {
@@ -32,6 +36,7 @@ impl Default for DevelopOptions {
             smoothness: 0.1,
             max_iterations: 100,
             defect_tolerance: 1e-10,
+            end_at_hopeless_cone_points: false,
         }
     }
 }
@@ -87,6 +92,24 @@ pub const MAX_CHORD_STEPS: usize = 4;
 /// Up to this [`DevelopOptions::smoothness`], the steps' metric is `H`'s diagonal
 /// `(M + s·deg) ⊗ I₃` instead of `H = (M + s L) ⊗ I₃` (see [`develop_pieces`]).
 pub const DIAGONAL_METRIC_SMOOTHNESS: f64 = 0.5;
+
+/// A vertex whose angle defect stays above this (radians) for [`HOPELESS_STEPS`] steps
+/// in a row is a cone point the solve cannot flatten (with
+/// [`DevelopOptions::end_at_hopeless_cone_points`] the solve ends there, and every vertex
+/// above it for the last [`HOPELESS_COMPANION_STEPS`] steps is reported with it).
+/// Measured (benchmarks-history.md, session 34): of the 8 targets of the develop table,
+/// only the koala's first solve has a vertex above 0.5 rad after 8 steps (1109, above it
+/// from the first step; the solve then took 70 steps with its largest defect at
+/// 1.2–3.4 rad, and the slit rounds cut 8 cone points from its end); ended at step 8,
+/// its two hopeless vertices are cut free and the next solve converges in 39 steps.
+pub const HOPELESS_DEFECT: f64 = 0.5;
+/// See [`HOPELESS_DEFECT`].
+pub const HOPELESS_STEPS: usize = 8;
+/// See [`HOPELESS_DEFECT`]: a vertex above it for this many steps in a row when the
+/// solve ends is reported hopeless too (the defects of the vertices round a stuck one
+/// come and go as the steps push between them; measured on the koala: 1156 above 0.5
+/// rad at steps 3–5 and 7–8, below at 6).
+pub const HOPELESS_COMPANION_STEPS: usize = 3;
 
 /// Largest [`DevelopOptions::smoothness`] accepted.
 pub const MAX_SMOOTHNESS: f64 = 1e6;
@@ -157,6 +180,10 @@ pub struct Developed {
     pub displacement_max: f64,
     /// Mean vertex displacement (model units).
     pub displacement_mean: f64,
+    /// Cone points found hopeless: vertices whose defect stayed above
+    /// [`HOPELESS_DEFECT`] for [`HOPELESS_STEPS`] steps in a row, which ended the solve
+    /// early (without its feasibility polish). Empty when the solve ran its course.
+    pub hopeless: Vec<u32>,
 }
 
 /// Moves the vertices of `target` as little as possible (in the metric below) so that
@@ -497,6 +524,9 @@ pub fn develop_pieces(
     // rounding: inexact, they changed the path (benchmarks-history.md, session 29).
     let forcing = |defects: &[f64]| SolveAccuracy::ConstraintResidual((1e-3 * max_abs(defects)).max(0.1 * tolerance));
     let mut stalled = 0;
+    // Steps in a row each constrained vertex's defect has stayed above HOPELESS_DEFECT.
+    let mut stuck = vec![0usize; nc];
+    let mut hopeless = Vec::new();
     while iterations < options.max_iterations {
         if stop.is_some_and(|flag| flag.load(Ordering::Relaxed)) {
             return Err(DevelopError::Cancelled);
@@ -555,6 +585,23 @@ pub fn develop_pieces(
             moved,
             "develop step"
         );
+        for (count, g) in stuck.iter_mut().zip(&defects) {
+            *count = if g.abs() > HOPELESS_DEFECT { *count + 1 } else { 0 };
+        }
+        if options.end_at_hopeless_cone_points && stuck.iter().any(|&c| c >= HOPELESS_STEPS) {
+            hopeless = constrained
+                .iter()
+                .zip(&stuck)
+                .filter(|(_, &c)| c >= HOPELESS_COMPANION_STEPS)
+                .map(|(&v, _)| v)
+                .collect();
+            tracing::debug!(
+                iterations,
+                count = hopeless.len(),
+                "develop: cone points found hopeless"
+            );
+            break;
+        }
         if max_abs(&defects) <= tolerance && moved <= STEP_TOLERANCE {
             settled = true;
             break;
@@ -582,7 +629,7 @@ pub fn develop_pieces(
     let mut factor_at_x = false;
     let mut reuse_factor = false;
     let mut chord_steps = 0;
-    while max_abs(&defects) > tolerance {
+    while hopeless.is_empty() && max_abs(&defects) > tolerance {
         if stop.is_some_and(|flag| flag.load(Ordering::Relaxed)) {
             return Err(DevelopError::Cancelled);
         }
@@ -662,6 +709,7 @@ pub fn develop_pieces(
         converged: max_defect <= tolerance,
         displacement_max: displacements.iter().copied().fold(0.0, f64::max),
         displacement_mean: displacements.iter().sum::<f64>() / nv.max(1) as f64,
+        hopeless,
     })
     .inspect(|developed| {
         tracing::info!(

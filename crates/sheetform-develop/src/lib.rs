@@ -27,8 +27,8 @@ mod seam_smoothing;
 pub use cone_slits::slit_unflattened_vertices;
 pub use developable_projection::{
     develop_pieces, DevelopOptions, Developed, MirrorBoundary, CHORD_CONTRACTION, DIAGONAL_METRIC_SMOOTHNESS,
-    MAX_CHORD_STEPS, MAX_ITERATIONS, MAX_SMOOTHNESS, POLISH_STEPS, STALL_DEFECT, STALL_STEPS, STALL_TOLERANCE,
-    STEP_REACH, STEP_TOLERANCE,
+    HOPELESS_COMPANION_STEPS, HOPELESS_DEFECT, HOPELESS_STEPS, MAX_CHORD_STEPS, MAX_ITERATIONS, MAX_SMOOTHNESS,
+    POLISH_STEPS, STALL_DEFECT, STALL_STEPS, STALL_TOLERANCE, STEP_REACH, STEP_TOLERANCE,
 };
 pub use developable_segmentation::{
     segment_developable, ConeProxy, Segmentation, SegmentationOptions, MAX_SEGMENTATION_PIECES,

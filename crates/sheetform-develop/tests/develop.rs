@@ -262,3 +262,85 @@ fn a_half_developed_against_its_mirror_plane_is_flat_when_joined() {
     let whole = sheetform_mesh::mirror_whole(&half, &on_plane, &sheetform_mesh::MirrorPlane { axis: 0, offset: 0.0 });
     assert!(max_interior_defect(&whole.mesh, &whole_pieces.interior) > 1e-3);
 }
+
+/// A flat 12 × 12 sheet (unit cells) with one vertex raised 10 cells into a spike (angle
+/// defect about 5.5 rad): steps that move no vertex more than half a cell cannot flatten
+/// it within `HOPELESS_STEPS`, and flattening it at all means pressing the spike down
+/// by most of its height. Asked to, the solve ends once the spike has stayed far from
+/// flat for `HOPELESS_STEPS` steps, naming it; cut free along a slit, the pieces solve
+/// exactly and the spike stays close to where it was. Without the flag the solve runs
+/// its course.
+#[test]
+fn a_spike_the_solve_cannot_flatten_is_found_hopeless_early_and_cut_free() {
+    use sheetform_develop::{slit_unflattened_vertices, HOPELESS_DEFECT, HOPELESS_STEPS};
+    let n = 12;
+    let apex = (n / 2) * (n + 1) + n / 2;
+    let mut mesh = grid(n, n, |u, v| Vector3::new(12.0 * u, 12.0 * v, 0.0));
+    mesh.positions[apex].z = 10.0;
+    let table = EdgeTable::new(&mesh.triangles, mesh.positions.len());
+    let pieces = seam_pieces(&mesh, &table, &[]).unwrap();
+    assert!(pieces.interior[apex]);
+    let before = max_interior_defect(&mesh, &pieces.interior);
+    assert!(before > 2.0 * HOPELESS_DEFECT, "{before}");
+    let early = DevelopOptions {
+        end_at_hopeless_cone_points: true,
+        ..Default::default()
+    };
+    let ended = develop_pieces(&mesh, &table, &pieces, &[], None, &early, None).unwrap();
+    assert!(!ended.converged, "{}", ended.max_defect);
+    assert!(ended.hopeless.contains(&(apex as u32)), "{:?}", ended.hopeless);
+    assert!(
+        ended.iterations == HOPELESS_STEPS,
+        "ended after {} steps",
+        ended.iterations
+    );
+    // Every vertex named is far from flat where the solve ended.
+    let mut ended_mesh = mesh.clone();
+    ended_mesh.positions = ended.positions.clone();
+    let topology = sheetform_mesh::mesh_topology(&ended_mesh);
+    let defects = vertex_developability(&ended_mesh, &topology).angle_defect;
+    for &v in &ended.hopeless {
+        assert!(
+            defects[v as usize].abs() > HOPELESS_DEFECT,
+            "{v}: {}",
+            defects[v as usize]
+        );
+    }
+    // Cut free (only the named vertices, one slit each at most), the pieces solve exactly.
+    let (seams, slits) = slit_unflattened_vertices(
+        &mesh,
+        &ended.positions,
+        &table,
+        &pieces,
+        None,
+        1e-10,
+        Some(&ended.hopeless),
+    );
+    assert!(slits >= 1 && slits <= ended.hopeless.len(), "{slits}");
+    let cut = seam_pieces(&mesh, &table, &seams).unwrap();
+    assert!(!cut.interior[apex]);
+    let solved = develop_pieces(&mesh, &table, &cut, &[], None, &DevelopOptions::default(), None).unwrap();
+    let mut result = mesh.clone();
+    result.positions = solved.positions.clone();
+    assert!(
+        solved.converged && max_interior_defect(&result, &cut.interior) <= 1e-9,
+        "{} {}",
+        solved.max_defect,
+        solved.iterations
+    );
+    assert!(solved.hopeless.is_empty());
+    let spike_moved = (solved.positions[apex] - mesh.positions[apex]).norm();
+    // Without the flag the same solve is not ended early.
+    let full = develop_pieces(&mesh, &table, &pieces, &[], None, &DevelopOptions::default(), None).unwrap();
+    assert!(
+        full.hopeless.is_empty() && full.iterations > HOPELESS_STEPS,
+        "{} steps, hopeless {:?}",
+        full.iterations,
+        full.hopeless
+    );
+    let pressed = (full.positions[apex] - mesh.positions[apex]).norm();
+    assert!(
+        spike_moved < 0.5 * pressed,
+        "cut free: moved {spike_moved}; whole: {pressed}"
+    );
+}

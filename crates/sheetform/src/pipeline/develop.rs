@@ -258,7 +258,9 @@ pub struct DevelopRun {
 /// overlap itself in the plane is cut again, and the printed pieces are what the report
 /// counts). With automatic seams, a solve that leaves a defect above the tolerance is
 /// run again after slits from the vertices it could not flatten
-/// ([`sheetform_develop::slit_unflattened_vertices`], at most [`SLIT_ROUNDS`] times);
+/// ([`sheetform_develop::slit_unflattened_vertices`], at most [`SLIT_ROUNDS`] times; a
+/// solve with a vertex stuck far from flat is ended early there,
+/// [`sheetform_develop::HOPELESS_DEFECT`], and its stuck vertices are cut free);
 /// then its seams, which run along mesh edges in steps, are slid over the developed
 /// surface onto smooth curves ([`sheetform_develop::smooth_seams`],
 /// [`DevelopRunOptions::seam_smoothing`]) and the pieces developed again from there, the
@@ -475,30 +477,41 @@ pub fn run_develop(
             }
         };
         report("making the pieces developable", progress + 0.02);
-        let solve = |pieces: &sheetform_develop::SeamPieces| {
+        let solve = |pieces: &sheetform_develop::SeamPieces, end_at_hopeless_cone_points: bool| {
             develop_pieces(
                 work,
                 work_table,
                 pieces,
                 work_fixed,
                 mirror_boundary.as_ref(),
-                &options.develop,
+                &DevelopOptions {
+                    end_at_hopeless_cone_points,
+                    ..options.develop
+                },
                 cancel,
             )
         };
+        let automatic = options.seams == SeamSource::Automatic;
         let mut pieces = seam_pieces(work, work_table, &seams)?;
-        let mut developed = solve(&pieces)?;
+        let mut developed = solve(&pieces, automatic && SLIT_ROUNDS > 0)?;
         check_cancelled()?;
         // Cone points the solve could not flatten (a saddle where a handle meets a body,
         // a tip below the cone angle) get slits, and the pieces are solved again.
         let mut seams = seams;
         let mut late_slit_count = 0;
         let mut steps = developed.iterations;
-        for _ in 0..SLIT_ROUNDS {
-            if developed.converged || options.seams != SeamSource::Automatic {
+        for round in 0..SLIT_ROUNDS {
+            if developed.converged || !automatic {
                 break;
             }
-            let threshold = (0.1 * developed.max_defect).max(options.develop.defect_tolerance);
+            // A solve ended early names its hopeless cone points (each above
+            // HOPELESS_DEFECT); one that ran its course, those within a tenth of its
+            // largest defect.
+            let threshold = if developed.hopeless.is_empty() {
+                (0.1 * developed.max_defect).max(options.develop.defect_tolerance)
+            } else {
+                options.develop.defect_tolerance
+            };
             let (more, slits) = slit_unflattened_vertices(
                 work,
                 &developed.positions,
@@ -506,6 +519,7 @@ pub fn run_develop(
                 &pieces,
                 mirror_boundary.as_ref(),
                 threshold,
+                (!developed.hopeless.is_empty()).then_some(developed.hopeless.as_slice()),
             );
             if slits == 0 {
                 break;
@@ -518,7 +532,13 @@ pub fn run_develop(
             late_slit_count += slits;
             seams = more;
             pieces = seam_pieces(work, work_table, &seams)?;
-            developed = solve(&pieces)?;
+            developed = solve(&pieces, round + 1 < SLIT_ROUNDS)?;
+            check_cancelled()?;
+            steps += developed.iterations;
+        }
+        if !developed.hopeless.is_empty() {
+            // Ended early at cone points no slit could reach: the solve runs its course.
+            developed = solve(&pieces, false)?;
             check_cancelled()?;
             steps += developed.iterations;
         }
