@@ -336,6 +336,41 @@ fn a_distance_bound_adds_pieces_until_it_holds() {
     assert!(out.join("model.obj").exists() && out.join("pattern.svg").exists());
 }
 
+/// Issue 36's anchor: GIT (Binninger et al. 2021) brings the coffee cup within 0.5 % of
+/// its diagonal in 25 pieces. Under the same bound with a budget of 25, develop's
+/// attempts draw their pieces to where the last one was far (the handle, the rim's
+/// fillets), and the cup comes out exact within the bound in fewer pieces (13 when
+/// written; 1.13 % in 18 printed pieces, out of tolerance, when pieces were placed by their
+/// cone fits alone). Read from the written files: the distance map's largest vertex
+/// distance, the printed pieces of the `vt` mesh, the model's angle defects.
+#[test]
+fn the_coffee_cup_comes_within_half_a_percent_in_fewer_pieces_than_git() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = example_mesh("coffee-cup.obj");
+    let out = dir.path().join("cup");
+    let o = sheetform(&[
+        "develop",
+        mesh.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+        "--max-distance",
+        "0.5%",
+        "--max-pieces",
+        "25",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r: serde_json::Value = crate::common::report(&out);
+    let d = &r["develop"];
+    let diagonal = d["bounding_box_diagonal_mm"].as_f64().unwrap();
+    let model = read_obj(&out.join("model.obj"));
+    let largest = largest_ply_distance(&out);
+    assert!(largest <= 0.005 * diagonal, "{largest} mm of a {diagonal} mm diagonal");
+    let pieces = pattern_piece_count(&model);
+    assert!(pieces < 25, "{pieces} printed pieces");
+    assert!(max_interior_defect(&model).0 <= 1e-8);
+}
+
 /// Pieces of the written pattern: connected parts of the `vt` mesh (faces sharing a
 /// texture vertex).
 fn pattern_piece_count(o: &Obj) -> usize {
