@@ -85,7 +85,13 @@ const handleLines = new THREE.Group();
 const content = new THREE.Group();
 // Bend mode: the curve of regression where it comes near the sheet (red).
 const regression = new THREE.Group();
-content.add(sheet, rulings, handles, handleLines, regression);
+// Bend mode: the piece under the pointer (a curved region or a planar part), lit over
+// the sheet on the model as on the pattern.
+const litPiece = new THREE.Mesh(new THREE.BufferGeometry(), new THREE.MeshBasicMaterial({
+  color: 0xff7a00, transparent: true, opacity: 0.45, side: THREE.DoubleSide, depthWrite: false,
+}));
+litPiece.renderOrder = 1;
+content.add(sheet, rulings, handles, handleLines, regression, litPiece);
 view.add(content);
 const handleGeometry = new THREE.SphereGeometry(1, 20, 14);
 // Handles and the control polygon are drawn over the sheet, never hidden behind it.
@@ -819,6 +825,10 @@ const CSS_PX_PER_MM = 96 / 25.4;
 function drawPattern(svg) {
   $('pattern').innerHTML = svg;
   state.highlight = null;
+  // A new drawing (and model): the bend piece lit, if any, is lit again on it.
+  const lit = state.litPiece ?? null;
+  state.litPiece = null;
+  queueMicrotask(() => { if (state.mode === 'bend' && lit !== null && state.litPiece === null) highlightBendPiece(lit); });
   // A pattern larger than the pane is fitted to it, unless the user chose the scale.
   const drawn = $('pattern').querySelector('svg');
   if (drawn && !state.fitChosen) {
@@ -979,6 +989,7 @@ function editOnce(edit) {
 
 $('pattern').addEventListener('pointerdown', (event) => {
   const target = event.target;
+  if (state.mode === 'bend') highlightBendPiece(null);
   if (addingBend || state.mode !== 'bend' || event.button !== 0 || !target.closest || !target.closest('#sheet-handles')) return;
   const hole = target.dataset.hole === undefined ? null : Number(target.dataset.hole);
   if (target.classList.contains('sheet-vertex')) {
@@ -1282,6 +1293,74 @@ $('pattern').addEventListener('pointerover', (event) => {
   }
 });
 $('pattern').addEventListener('pointerleave', () => highlightPieces(null));
+
+/** Bend mode: the face of the reply's model whose flat triangle holds flat point `p`
+ * (model units), or -1. */
+function flatFaceAt(p) {
+  const { flat: uv, triangles: f } = state.reply.model;
+  for (let t = 0; 3 * t + 2 < f.length; t++) {
+    const [a, b, c] = [f[3 * t], f[3 * t + 1], f[3 * t + 2]];
+    const [ax, ay, bx, by, cx, cy] = [uv[2 * a], uv[2 * a + 1], uv[2 * b], uv[2 * b + 1], uv[2 * c], uv[2 * c + 1]];
+    const area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
+    if (area === 0) continue;
+    const u = ((bx - p[0]) * (cy - p[1]) - (by - p[1]) * (cx - p[0])) / area;
+    const v = ((cx - p[0]) * (ay - p[1]) - (cy - p[1]) * (ax - p[0])) / area;
+    if (u >= 0 && v >= 0 && u + v <= 1) return t;
+  }
+  return -1;
+}
+
+/** Bend mode: lights piece `piece` of the reply's model (its `face_pieces` label, a
+ * curved region or a planar part; null: none) over the sheet in 3D and on the pattern
+ * (a path over the piece's flat triangles, `#lit-piece`), its name in the pattern's
+ * caption. */
+function highlightBendPiece(piece) {
+  if ((state.litPiece ?? null) === piece) return;
+  state.litPiece = piece;
+  const svg = $('pattern').querySelector('svg');
+  const old = svg && svg.querySelector('#lit-piece');
+  if (old) old.remove();
+  litPiece.geometry.dispose();
+  litPiece.geometry = new THREE.BufferGeometry();
+  const matrix = flatMatrix();
+  if (piece !== null && state.reply && state.reply.model) {
+    const { positions: p, flat: uv, triangles: f, face_pieces: pieces } = state.reply.model;
+    const corners = [];
+    let d = '';
+    for (let t = 0; t < pieces.length; t++) {
+      if (pieces[t] !== piece) continue;
+      const vertices = [f[3 * t], f[3 * t + 1], f[3 * t + 2]];
+      for (const v of vertices) corners.push(p[3 * v], p[3 * v + 1], p[3 * v + 2]);
+      if (svg && matrix) {
+        const [a, b, c] = vertices.map((v) => flatToDrawing(matrix, [uv[2 * v], uv[2 * v + 1]]).map((x) => x.toFixed(3)));
+        d += `M${a}L${b}L${c}Z`;
+      }
+    }
+    litPiece.geometry.setAttribute('position', new THREE.Float32BufferAttribute(corners, 3));
+    if (svg && d) {
+      const path = document.createElementNS(SVG_NS, 'path');
+      path.id = 'lit-piece';
+      path.dataset.meshPiece = piece;
+      path.setAttribute('d', d);
+      // Under the handles: the sheet's vertices and flat segments stay draggable.
+      svg.insertBefore(path, svg.querySelector('#sheet-handles'));
+    }
+  }
+  // Curved pieces are the regions, in order; the planar parts follow (named as the
+  // pattern labels them).
+  const regions = (state.reply && state.reply.report && state.reply.report.regions) || [];
+  $('pattern').title = piece === null ? '' : piece < regions.length ? regions[piece].name : `planar-${piece - regions.length}`;
+  render();
+}
+
+// Bend mode: the piece under the pointer on the pattern lights up on the model.
+$('pattern').addEventListener('pointermove', (event) => {
+  if (state.mode !== 'bend' || sheetDrag || event.buttons !== 0 || !state.reply || !state.reply.model) return;
+  const p = pointerOnSheet(event);
+  const t = p ? flatFaceAt(p) : -1;
+  highlightBendPiece(t >= 0 ? state.reply.model.face_pieces[t] : null);
+});
+$('pattern').addEventListener('pointerleave', () => { if (state.mode === 'bend') highlightBendPiece(null); });
 $('fit').addEventListener('change', (e) => {
   state.fitChosen = true;
   $('pattern').classList.toggle('fit', e.target.checked);
@@ -1834,6 +1913,8 @@ function constrainedPoint(event, constraint) {
 }
 
 canvas.addEventListener('pointerdown', (event) => {
+  // A drag or an orbit: the piece lit by hovering goes out (not relit at every edit).
+  if (state.mode === 'bend') highlightBendPiece(null);
   // Handles exist in the bend, slit and FFD modes only.
   if (!state.scene || event.button !== 0 || !['bend', 'slit', 'ffd'].includes(state.mode)) return;
   pointerRay(event);
@@ -1881,6 +1962,14 @@ canvas.addEventListener('pointermove', (event) => {
     const hit = raycaster.intersectObject(sheet, false)[0];
     const faces = state.reply.model.face_pieces;
     highlightPieces(hit && hit.faceIndex < faces.length ? new Set([faces[hit.faceIndex]]) : null);
+    return;
+  }
+  // Bend mode: the piece under the pointer lights up on the pattern.
+  if (!drag && state.mode === 'bend' && state.reply && state.reply.model && event.buttons === 0) {
+    pointerRay(event);
+    const hit = raycaster.intersectObject(sheet, false)[0];
+    const faces = state.reply.model.face_pieces;
+    highlightBendPiece(hit && hit.faceIndex < faces.length ? faces[hit.faceIndex] : null);
     return;
   }
   if (!drag) return;
@@ -2078,6 +2167,7 @@ const DOWNLOADS = {
 };
 
 function setMode(mode) {
+  highlightBendPiece(null);
   state.generation += 1;
   state.ffdPending = null;
   if (state.ffdController) state.ffdController.abort();
@@ -2094,7 +2184,7 @@ function setMode(mode) {
     ffd: '3D model: drag a purple lattice control point and release it: the panels follow and their developability is restored (Cancel stops it); orbit, pan and zoom elsewhere.',
     mesh: '3D model: each piece of the pattern in its own colour (or the angle defect at each vertex); orbit, pan and zoom; drop a mesh file here.',
     slit: '3D model: drag an orange point of the leg curve or a blue point of the seat curve (each in its own plane); click a grey ridge-line end to anchor it, drag the yellow anchor to pull the strip (shift-click removes it); orbit, pan and zoom elsewhere.',
-    bend: '3D model: drag an orange control point (in end-handle mode: an end, or a green normal tip; X, Y, Z lock an axis, Shift the plane across), or a helix\'s orange radius or green pitch handle; orbit, pan and zoom elsewhere. Red: the curve of regression where it comes near the sheet. Pattern: drag the sheet\'s orange corners (double-click an edge to add one, Shift+click to delete) and the blue flat segment\'s ends.',
+    bend: '3D model: drag an orange control point (in end-handle mode: an end, or a green normal tip; X, Y, Z lock an axis, Shift the plane across), or a helix\'s orange radius or green pitch handle; orbit, pan and zoom elsewhere. Red: the curve of regression where it comes near the sheet. Pattern: drag the sheet\'s orange corners (double-click an edge to add one, Shift+click to delete) and the blue flat segment\'s ends. Pointing at a piece on either view lights it on both.',
   }[mode];
   fillSelect($('download'), ['Download…', ...DOWNLOADS[mode]]);
   $('download').options[0].value = '';
@@ -2525,6 +2615,20 @@ window.sheetformEditor = {
   },
   idle: () => !state.inFlight && !state.pending,
   /** The page coordinates of the centroid of face `t` of the drawn model (mesh mode). */
+  /** Bend mode: the piece lit on the model and the pattern (null: none), the faces its
+   * 3D overlay holds, and the page coordinates of a flat point (model units) on the
+   * pattern. */
+  litBendPiece() {
+    const position = litPiece.geometry.getAttribute('position');
+    const path = $('pattern').querySelector('#lit-piece');
+    return { piece: state.litPiece ?? null, faces: position ? position.count / 3 : 0, pathPiece: path ? Number(path.dataset.meshPiece) : null };
+  },
+  flatScreenPosition(p) {
+    const svg = $('pattern').querySelector('svg');
+    const [x, y] = flatToDrawing(flatMatrix(), p);
+    const q = new DOMPoint(x, y).matrixTransform(svg.getScreenCTM());
+    return { x: q.x, y: q.y };
+  },
   faceScreenPosition(t) {
     const { positions: p, triangles: f } = state.reply.model;
     const centre = new THREE.Vector3();

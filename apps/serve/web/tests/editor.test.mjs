@@ -876,6 +876,43 @@ try {
   assert.ok(pane.labelCount > 0 && pane.smallestLabel >= 8, `labels readable: ${JSON.stringify(pane)}`);
   await page.screenshot({ path: join(outputDir, 'bend-desk-pattern.png') });
 
+  // 10c'. Pieces 2D ↔ 3D in bend mode (issue 38): the pointer over a face of the model
+  // lights its piece (a curved region or a flat part) on the pattern, and over the
+  // pattern lights it on the model; each piece's lit faces are exactly its faces.
+  {
+    const desk = await page.evaluate(() => {
+      const { model } = window.sheetformEditor.state.reply;
+      return { pieces: Array.from(model.face_pieces), flat: Array.from(model.flat), triangles: Array.from(model.triangles) };
+    });
+    const facesOf = (piece) => desk.pieces.filter((p) => p === piece).length;
+    const distinct = [...new Set(desk.pieces)];
+    assert.ok(distinct.length > 2, `the desk's pieces: ${distinct}`);
+    // On the model: a face of the second piece.
+    const face = desk.pieces.indexOf(distinct[1]);
+    const spot = await page.evaluate((t) => window.sheetformEditor.faceScreenPosition(t), face);
+    await page.mouse.move(spot.x, spot.y);
+    let lit = await page.evaluate(() => window.sheetformEditor.litBendPiece());
+    assert.ok(lit.piece !== null, 'a piece under the pointer on the model');
+    assert.equal(lit.pathPiece, lit.piece, 'the same piece lit on the pattern');
+    assert.equal(lit.faces, facesOf(lit.piece), 'all its faces, and only those, lit on the model');
+    await page.screenshot({ path: join(outputDir, 'bend-piece-lit-model.png') });
+    // On the pattern: the flat centroid of a face of another piece.
+    const other = desk.pieces.findIndex((p) => p !== lit.piece);
+    const corner = (k) => [desk.flat[2 * desk.triangles[3 * other + k]], desk.flat[2 * desk.triangles[3 * other + k] + 1]];
+    const centroid = [0, 1].map((i) => (corner(0)[i] + corner(1)[i] + corner(2)[i]) / 3);
+    const onPattern = await page.evaluate((p) => window.sheetformEditor.flatScreenPosition(p), centroid);
+    await page.mouse.move(onPattern.x, onPattern.y);
+    lit = await page.evaluate(() => window.sheetformEditor.litBendPiece());
+    assert.equal(lit.piece, desk.pieces[other], 'the piece under the pointer on the pattern');
+    assert.equal(lit.pathPiece, lit.piece);
+    assert.equal(lit.faces, facesOf(lit.piece));
+    assert.ok((await page.getAttribute('#pattern', 'title')).length > 0, 'the piece named');
+    await page.screenshot({ path: join(outputDir, 'bend-piece-lit-pattern.png') });
+    await page.mouse.move(1, 1);
+    await page.dispatchEvent('#pattern', 'pointerleave');
+    assert.equal((await page.evaluate(() => window.sheetformEditor.litBendPiece())).piece, null, 'nothing lit once the pointer leaves');
+  }
+
   // 10d. Every bundled bend example with a control curve is editable by dragging: each
   // control point of each region dragged in four directions on the screen (3 moves of
   // 10 px) from the example as bundled. A move lands when the point moved; a drag past
