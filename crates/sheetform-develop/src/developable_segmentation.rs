@@ -252,6 +252,9 @@ struct FaceGraph {
     /// Up to three neighbours per face (`u32::MAX` where there is none).
     neighbours: Vec<[u32; 3]>,
     total_area: f64,
+    /// The faces' total area without the emphasis' weights (the compactness term's
+    /// scale: the weights draw pieces, they do not make them rounder).
+    surface_area: f64,
     /// Angle defect `2π − Σ θ` of each vertex (radians); 0 where it is free (on the
     /// mesh's boundary or a drawn seam, or used by no face).
     defects: Vec<f64>,
@@ -317,6 +320,7 @@ impl FaceGraph {
             centroids,
             neighbours,
             total_area,
+            surface_area: total_area,
             defects,
         }
     }
@@ -358,8 +362,8 @@ impl FaceGraph {
 /// a piece), which removes the sawtooth a flooding leaves on a triangle mesh.
 ///
 /// `emphasis`: a positive weight per face multiplying its area in every fit, error and
-/// area above (a face weighing 4 counts as four of its size: the pieces are drawn to
-/// where the weights are large), or empty for none.
+/// area above except the compactness term's scale (a face weighing 4 counts as four of
+/// its size: the pieces are drawn to where the weights are large), or empty for none.
 ///
 /// # Errors
 /// [`DevelopError::Option`] out of range (and `emphasis` not one positive weight per
@@ -376,9 +380,19 @@ pub fn segment_developable(
     assert_eq!(hard.len(), table.len(), "one flag per edge of the table");
     let nf = mesh.triangles.len();
     if !emphasis.is_empty() && (emphasis.len() != nf || emphasis.iter().any(|w| !(w.is_finite() && *w > 0.0))) {
+        let problem = if emphasis.len() != nf {
+            format!("{} weights", emphasis.len())
+        } else {
+            let (f, w) = emphasis
+                .iter()
+                .enumerate()
+                .find(|(_, w)| !(w.is_finite() && **w > 0.0))
+                .expect("a weight is out of range");
+            format!("{w} at face {f}")
+        };
         return Err(DevelopError::Option {
             option: "emphasis",
-            message: format!("must be one positive weight per face ({nf}), got {}", emphasis.len()),
+            message: format!("must be one positive finite weight per face ({nf}), got {problem}"),
         });
     }
     let mut graph = FaceGraph::new(mesh, table, hard);
@@ -674,7 +688,7 @@ fn best_seeds(graph: &FaceGraph, face_piece: &[u32], proxies: &[ConeProxy], comp
         centre[p as usize] += graph.areas[f] * graph.centroids[f];
         area[p as usize] += graph.areas[f];
     }
-    let scale = graph.total_area / count as f64;
+    let scale = graph.surface_area / count as f64;
     let mut best: Vec<(f64, usize)> = vec![(f64::INFINITY, usize::MAX); count];
     for (f, &p) in face_piece.iter().enumerate() {
         let p = p as usize;
@@ -697,7 +711,7 @@ fn best_seeds(graph: &FaceGraph, face_piece: &[u32], proxies: &[ConeProxy], comp
 /// term. Without proxies (the first partition) every face costs its distance only.
 fn flood(graph: &FaceGraph, seeds: &[usize], proxies: Option<&[ConeProxy]>, compactness: f64) -> Vec<u32> {
     let nf = graph.areas.len();
-    let scale = (graph.total_area / seeds.len() as f64).max(f64::MIN_POSITIVE);
+    let scale = (graph.surface_area / seeds.len() as f64).max(f64::MIN_POSITIVE);
     let cost = |f: usize, p: usize| {
         let distance = (graph.centroids[f] - graph.centroids[seeds[p]]).norm_squared() / scale;
         match proxies {

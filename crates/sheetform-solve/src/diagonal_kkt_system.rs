@@ -20,7 +20,12 @@ use std::collections::HashMap;
 /// ed., §16.2, "Schur-complement method", Eq. 16.16), with iterative refinement against
 /// the system without its `−δ` block, as [`KktSystem::solve_to`] does. `S` is factorised
 /// by a [`KktSystem`] of `nc` unknowns and no constraints (AMD, LDLᵀ with dynamic
-/// regularisation: a constraint that depends on others gets the pivot `δ`).
+/// regularisation: a constraint that depends on others gets the pivot `δ`), always
+/// supernodal: faer's flop-ratio rule picked its simplicial factorisation for these
+/// 2-ring patterns, whose numeric step was the largest part of a develop run (24 % of the
+/// wing nut's under `perf`); forced supernodal, whole develop runs took 1.10–1.11 s
+/// instead of 1.19–1.40 (koala) and 1.25–1.31 instead of 1.66–1.67 (wing nut), the same
+/// results (docs/benchmarks-history.md, session 34).
 ///
 /// Units: those of the caller's `D` and `A`; `δ` is in the units of `S`.
 pub struct DiagonalKktSystem {
@@ -99,7 +104,7 @@ impl DiagonalKktSystem {
             })
             .collect();
         let blocks: Vec<usize> = (0..nc).collect();
-        let mut schur = KktSystem::new(nc, 0, pairs, &blocks, row_coordinates, true)?;
+        let mut schur = KktSystem::new_supernodal(nc, 0, pairs, &blocks, row_coordinates, true)?;
         schur.values.fill(0.0);
         Ok(Self {
             n,

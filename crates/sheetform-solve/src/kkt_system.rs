@@ -245,7 +245,27 @@ impl KktSystem {
             (true, true) => OrderingChoice::Amd,
             (true, false) => OrderingChoice::Smaller,
         };
-        Self::with_ordering_choice(n, nc, pairs, blocks, block_coordinates, choice)
+        Self::with_ordering_choice(n, nc, pairs, blocks, block_coordinates, choice, false)
+    }
+
+    /// As [`KktSystem::new`], the factorisation always supernodal (faer otherwise picks
+    /// simplicial below a flop-ratio threshold: for the develop Schur complements of a
+    /// few thousand rows, whose supernodal factorisation is faster; see
+    /// [`crate::DiagonalKktSystem`]).
+    pub(crate) fn new_supernodal(
+        n: usize,
+        nc: usize,
+        pairs: Vec<Pair<usize, usize>>,
+        blocks: &[usize],
+        block_coordinates: &[Vector3<f64>],
+        amd_when_small: bool,
+    ) -> Result<Self, KktError> {
+        let choice = match (n + nc < Self::BOTH_ORDERINGS_BELOW, amd_when_small) {
+            (false, _) => OrderingChoice::NestedDissection,
+            (true, true) => OrderingChoice::Amd,
+            (true, false) => OrderingChoice::Smaller,
+        };
+        Self::with_ordering_choice(n, nc, pairs, blocks, block_coordinates, choice, true)
     }
 
     /// As [`KktSystem::new`], with the ordering chosen by `choice`.
@@ -256,13 +276,17 @@ impl KktSystem {
         blocks: &[usize],
         block_coordinates: &[Vector3<f64>],
         choice: OrderingChoice,
+        supernodal: bool,
     ) -> Result<Self, KktError> {
         let size = n + nc;
         let (symbolic, argsort) =
             SymbolicSparseColMat::try_new_from_indices(size, size, &pairs).map_err(|_| too_large(size))?;
+        let mut params = faer::sparse::linalg::cholesky::CholeskySymbolicParams::default();
+        if supernodal {
+            params.supernodal_flop_ratio_threshold = faer::sparse::linalg::SupernodalThreshold::FORCE_SUPERNODAL;
+        }
         let analyse = |ordering: SymmetricOrdering<'_, usize>| {
-            factorize_symbolic_cholesky(symbolic.as_ref(), Side::Upper, ordering, Default::default())
-                .map_err(|_| too_large(size))
+            factorize_symbolic_cholesky(symbolic.as_ref(), Side::Upper, ordering, params).map_err(|_| too_large(size))
         };
         // Each block's unknowns, `members[start[b]..start[b + 1]]`, in increasing index.
         let block_count = block_coordinates.len();
@@ -711,6 +735,7 @@ mod tests {
             &blocks,
             &coordinates,
             OrderingChoice::NestedDissection,
+            false,
         )
         .unwrap()
         .factor_size();
@@ -719,7 +744,8 @@ mod tests {
             OrderingChoice::NestedDissection,
             OrderingChoice::Amd,
         ] {
-            let mut kkt = KktSystem::with_ordering_choice(n, nc, pairs.clone(), &blocks, &coordinates, choice).unwrap();
+            let mut kkt =
+                KktSystem::with_ordering_choice(n, nc, pairs.clone(), &blocks, &coordinates, choice, false).unwrap();
             match choice {
                 OrderingChoice::Smaller => {
                     let (amd, dissected) = kkt.compared_factor_sizes.expect("both analysed");
@@ -759,9 +785,16 @@ mod tests {
             .map(|i| coordinates[i / 3])
             .chain((0..nc).map(|c| coordinates[10 * c + 3]))
             .collect();
-        let mut kkt =
-            KktSystem::with_ordering_choice(n, nc, pairs, &unknown_blocks, &unknown_coordinates, OrderingChoice::Amd)
-                .unwrap();
+        let mut kkt = KktSystem::with_ordering_choice(
+            n,
+            nc,
+            pairs,
+            &unknown_blocks,
+            &unknown_coordinates,
+            OrderingChoice::Amd,
+            false,
+        )
+        .unwrap();
         kkt.values = values;
         kkt.factorise(1e-12).unwrap();
         let mut rhs: Vec<f64> = (0..n + nc).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();

@@ -828,7 +828,10 @@ function drawPattern(svg) {
   // A new drawing (and model): the bend piece lit, if any, is lit again on it.
   const lit = state.litPiece ?? null;
   state.litPiece = null;
-  queueMicrotask(() => { if (state.mode === 'bend' && lit !== null && state.litPiece === null) highlightBendPiece(lit); });
+  queueMicrotask(() => {
+    const pieces = state.reply && state.reply.model && state.reply.model.face_pieces;
+    if (state.mode === 'bend' && lit !== null && state.litPiece === null && pieces && Array.prototype.includes.call(pieces, lit)) highlightBendPiece(lit);
+  });
   // A pattern larger than the pane is fitted to it, unless the user chose the scale.
   const drawn = $('pattern').querySelector('svg');
   if (drawn && !state.fitChosen) {
@@ -1323,12 +1326,14 @@ function highlightBendPiece(piece) {
   litPiece.geometry.dispose();
   litPiece.geometry = new THREE.BufferGeometry();
   const matrix = flatMatrix();
+  let faceCount = 0;
   if (piece !== null && state.reply && state.reply.model) {
     const { positions: p, flat: uv, triangles: f, face_pieces: pieces } = state.reply.model;
     const corners = [];
     let d = '';
     for (let t = 0; t < pieces.length; t++) {
       if (pieces[t] !== piece) continue;
+      faceCount += 1;
       const vertices = [f[3 * t], f[3 * t + 1], f[3 * t + 2]];
       for (const v of vertices) corners.push(p[3 * v], p[3 * v + 1], p[3 * v + 2]);
       if (svg && matrix) {
@@ -1349,7 +1354,7 @@ function highlightBendPiece(piece) {
   // Curved pieces are the regions, in order; the planar parts follow (named as the
   // pattern labels them).
   const regions = (state.reply && state.reply.report && state.reply.report.regions) || [];
-  $('pattern').title = piece === null ? '' : piece < regions.length ? regions[piece].name : `planar-${piece - regions.length}`;
+  $('pattern').title = faceCount === 0 ? '' : piece < regions.length ? regions[piece].name : `planar-${piece - regions.length}`;
   render();
 }
 
@@ -1911,6 +1916,8 @@ function constrainedPoint(event, constraint) {
   const hit = ray.intersectPlane(facing, new THREE.Vector3());
   return hit && plane.projectPoint(hit, new THREE.Vector3());
 }
+
+canvas.addEventListener('pointerleave', () => { if (state.mode === 'bend' && !drag) highlightBendPiece(null); });
 
 canvas.addEventListener('pointerdown', (event) => {
   // A drag or an orbit: the piece lit by hovering goes out (not relit at every edit).
@@ -2614,21 +2621,21 @@ window.sheetformEditor = {
     return worst;
   },
   idle: () => !state.inFlight && !state.pending,
-  /** The page coordinates of the centroid of face `t` of the drawn model (mesh mode). */
   /** Bend mode: the piece lit on the model and the pattern (null: none), the faces its
-   * 3D overlay holds, and the page coordinates of a flat point (model units) on the
-   * pattern. */
+   * 3D overlay holds and the piece of the pattern's lit path. */
   litBendPiece() {
     const position = litPiece.geometry.getAttribute('position');
     const path = $('pattern').querySelector('#lit-piece');
     return { piece: state.litPiece ?? null, faces: position ? position.count / 3 : 0, pathPiece: path ? Number(path.dataset.meshPiece) : null };
   },
+  /** Bend mode: the page coordinates of a flat point (model units) on the pattern. */
   flatScreenPosition(p) {
     const svg = $('pattern').querySelector('svg');
     const [x, y] = flatToDrawing(flatMatrix(), p);
     const q = new DOMPoint(x, y).matrixTransform(svg.getScreenCTM());
     return { x: q.x, y: q.y };
   },
+  /** The page coordinates of the centroid of face `t` of the drawn model. */
   faceScreenPosition(t) {
     const { positions: p, triangles: f } = state.reply.model;
     const centre = new THREE.Vector3();

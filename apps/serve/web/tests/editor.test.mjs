@@ -892,7 +892,7 @@ try {
     const spot = await page.evaluate((t) => window.sheetformEditor.faceScreenPosition(t), face);
     await page.mouse.move(spot.x, spot.y);
     let lit = await page.evaluate(() => window.sheetformEditor.litBendPiece());
-    assert.ok(lit.piece !== null, 'a piece under the pointer on the model');
+    assert.equal(lit.piece, distinct[1], 'the piece of the face under the pointer on the model');
     assert.equal(lit.pathPiece, lit.piece, 'the same piece lit on the pattern');
     assert.equal(lit.faces, facesOf(lit.piece), 'all its faces, and only those, lit on the model');
     await page.screenshot({ path: join(outputDir, 'bend-piece-lit-model.png') });
@@ -907,6 +907,16 @@ try {
     assert.equal(lit.pathPiece, lit.piece);
     assert.equal(lit.faces, facesOf(lit.piece));
     assert.ok((await page.getAttribute('#pattern', 'title')).length > 0, 'the piece named');
+    // The lit path covers the piece's flat faces: its box on the page is the box of the
+    // piece's flat corners placed on the page.
+    const box = await page.evaluate(() => document.querySelector('#pattern #lit-piece').getBoundingClientRect().toJSON());
+    const corners = [];
+    desk.pieces.forEach((p, t) => { if (p === lit.piece) for (let k = 0; k < 3; k++) corners.push([desk.flat[2 * desk.triangles[3 * t + k]], desk.flat[2 * desk.triangles[3 * t + k] + 1]]); });
+    const onPage = await page.evaluate((points) => points.map((p) => window.sheetformEditor.flatScreenPosition(p)), corners);
+    const [xs, ys] = [onPage.map((q) => q.x), onPage.map((q) => q.y)];
+    for (const [a, b] of [[box.left, Math.min(...xs)], [box.right, Math.max(...xs)], [box.top, Math.min(...ys)], [box.bottom, Math.max(...ys)]]) {
+      assert.ok(Math.abs(a - b) < 1.5, `the lit path's box ${JSON.stringify(box)} against the piece's corners`);
+    }
     await page.screenshot({ path: join(outputDir, 'bend-piece-lit-pattern.png') });
     await page.mouse.move(1, 1);
     await page.dispatchEvent('#pattern', 'pointerleave');
