@@ -1351,6 +1351,8 @@ function highlightBendPiece(piece) {
       svg.insertBefore(path, svg.querySelector('#sheet-handles'));
     }
   }
+  // A piece with no face in this model is not lit.
+  if (faceCount === 0) state.litPiece = null;
   // Curved pieces are the regions, in order; the planar parts follow (named as the
   // pattern labels them).
   const regions = (state.reply && state.reply.report && state.reply.report.regions) || [];

@@ -546,8 +546,8 @@ pub fn run_develop(
             steps += developed.iterations;
         }
         if !developed.hopeless.is_empty() {
-            // Ended early in the last round (cone points no slit could reach): the solve
-            // runs its course.
+            // Defensive: the last round's solve and the one after a round that cut no
+            // slit run their course, so no solve ended early reaches the result.
             developed = solve(&pieces, false)?;
             check_cancelled()?;
             steps += developed.iterations;
@@ -730,17 +730,16 @@ pub fn run_develop(
                                 plain = next.distance.hausdorff,
                                 "develop: the same count with the pieces drawn to where it was far"
                             );
-                            // A developed attempt beats one out of tolerance; between two of
-                            // the same kind, the closer.
-                            let closer = (emphasised.developed.converged && !next.developed.converged)
-                                || (emphasised.developed.converged == next.developed.converged
-                                    && emphasised.distance.hausdorff < next.distance.hausdorff);
-                            if closer && emphasised.whole_pieces.piece_count <= whole_limit {
+                            if emphasised.whole_pieces.piece_count <= whole_limit {
                                 tried_pieces = tried_pieces.max(emphasised.pieces.piece_count);
-                                next = emphasised;
+                                if better_attempt(&emphasised, &next) {
+                                    next = emphasised;
+                                }
                             }
                         }
-                        Err(PipelineError::Cancelled) => return Err(PipelineError::Cancelled),
+                        Err(error) if error.kind() == crate::pipeline::ErrorKind::Cancelled => {
+                            return Err(PipelineError::Cancelled)
+                        }
                         // An extra try that fails (a singular step, a mirror join that is
                         // not clean) leaves the plain one.
                         Err(error) => tracing::debug!(%error, "develop: the try drawn to where it was far failed"),
@@ -757,9 +756,7 @@ pub fn run_develop(
                     break;
                 }
                 let grew = tried_pieces > best.pieces.piece_count;
-                let closer = next.developed.converged >= best.developed.converged
-                    && (next.distance.hausdorff < best.distance.hausdorff || !best.developed.converged);
-                if closer {
+                if better_attempt(&next, &best) {
                     best = next;
                 }
                 if !grew {
@@ -1251,6 +1248,13 @@ fn fixed_vertices(mesh: &TriangleMesh, groups: &[String], vertices: &[u32]) -> R
         *flag = true;
     }
     Ok(fixed)
+}
+
+/// Whether attempt `a` is better than `b` in the distance search: developed (every
+/// defect within the tolerance) before not, then the closer to the target.
+fn better_attempt(a: &Attempt, b: &Attempt) -> bool {
+    (a.developed.converged && !b.developed.converged)
+        || (a.developed.converged == b.developed.converged && a.distance.hausdorff < b.distance.hausdorff)
 }
 
 /// Per-face weights for a segmentation that draws its pieces to where an attempt was
