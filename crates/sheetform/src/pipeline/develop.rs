@@ -716,7 +716,8 @@ pub fn run_develop(
                 let mut tried_pieces = next.pieces.piece_count;
                 if next.distance.hausdorff > bound {
                     // The same count again, the pieces drawn to where this attempt was
-                    // farthest from the target (see `distance_emphasis`); the closer kept.
+                    // farthest from the target (see `distance_emphasis`); the better
+                    // kept (`better_attempt`).
                     let emphasis = distance_emphasis(work, &next.developed.positions, reference, bound);
                     let tried = attempt_with(&segmentation, &emphasis, progress_now(), centre_seam, report);
                     count_attempt();
@@ -732,7 +733,8 @@ pub fn run_develop(
                             );
                             if emphasised.whole_pieces.piece_count <= whole_limit {
                                 tried_pieces = tried_pieces.max(emphasised.pieces.piece_count);
-                                if better_attempt(&emphasised, &next) {
+                                // Within the budget it beats a plain try that is not.
+                                if next.whole_pieces.piece_count > whole_limit || better_attempt(&emphasised, &next) {
                                     next = emphasised;
                                 }
                             }
