@@ -240,12 +240,17 @@ impl KktSystem {
         block_coordinates: &[Vector3<f64>],
         amd_when_small: bool,
     ) -> Result<Self, KktError> {
-        let choice = match (n + nc < Self::BOTH_ORDERINGS_BELOW, amd_when_small) {
+        let choice = Self::ordering_choice(n + nc, amd_when_small);
+        Self::with_ordering_choice(n, nc, pairs, blocks, block_coordinates, choice, false)
+    }
+
+    /// The ordering [`KktSystem::new`] documents for a system of `size` rows.
+    fn ordering_choice(size: usize, amd_when_small: bool) -> OrderingChoice {
+        match (size < Self::BOTH_ORDERINGS_BELOW, amd_when_small) {
             (false, _) => OrderingChoice::NestedDissection,
             (true, true) => OrderingChoice::Amd,
             (true, false) => OrderingChoice::Smaller,
-        };
-        Self::with_ordering_choice(n, nc, pairs, blocks, block_coordinates, choice, false)
+        }
     }
 
     /// As [`KktSystem::new`], the factorisation always supernodal (faer otherwise picks
@@ -260,11 +265,7 @@ impl KktSystem {
         block_coordinates: &[Vector3<f64>],
         amd_when_small: bool,
     ) -> Result<Self, KktError> {
-        let choice = match (n + nc < Self::BOTH_ORDERINGS_BELOW, amd_when_small) {
-            (false, _) => OrderingChoice::NestedDissection,
-            (true, true) => OrderingChoice::Amd,
-            (true, false) => OrderingChoice::Smaller,
-        };
+        let choice = Self::ordering_choice(n + nc, amd_when_small);
         Self::with_ordering_choice(n, nc, pairs, blocks, block_coordinates, choice, true)
     }
 
