@@ -628,19 +628,40 @@ fn noisy_random_views_figures() {
 /// C¹ joins kept) are all reconstructed: before the curves leaving a node were ordered
 /// along longer chords, small loops cut out of a face's outline and grazing tails of up
 /// to four times the graze distance trimmed, 4 of these 24 were refused ("closes no
-/// cycle": a noisy silhouette crossing its rim a pixel or two from their node). How close
-/// they come is the open noise item (`noisy_random_views_figures`).
+/// cycle": a noisy silhouette crossing its rim a pixel or two from their node). Each is
+/// refined to exact developability (the refinement's bound): before its steps became
+/// projections once Gauss–Newton stopped halving the violation, and ends that hop back
+/// to the half-edge they left stayed at the join, 4 of them ended at 1e-4 to 0.07 rad
+/// (`not developable`, exit 5), and 6 of the 22 reconstructed at 2 px. How close they come
+/// is the open noise item (`noisy_random_views_figures`).
 #[test]
-fn noisy_random_views_are_all_reconstructed() {
-    let dir = drawn_random_views(2029, 24, &["--noise", "1"]);
-    let refused: Vec<String> = (0..24)
-        .filter_map(|k| {
+fn noisy_random_views_are_all_reconstructed_and_refined() {
+    for (sigma, count) in [("1", 24), ("2", 24)] {
+        let dir = drawn_random_views(2029, count, &["--noise", sigma]);
+        let mut refused = Vec::new();
+        let mut not_exact = Vec::new();
+        for k in 0..count {
             let path = dir.path().join(format!("view-{k:02}.json"));
             let annotation = PhotoAnnotation::from_json(&std::fs::read_to_string(path).unwrap()).unwrap();
-            reconstruct(&annotation).err().map(|e| format!("view-{k:02}: {e}"))
-        })
-        .collect();
-    assert!(refused.is_empty(), "{}", refused.join("\n"));
+            match reconstruct(&annotation) {
+                Ok(r) => {
+                    let refinement = r.refinement.expect("refined");
+                    if !refinement.converged {
+                        not_exact.push(format!("view-{k:02}: {refinement:?}"));
+                    }
+                }
+                Err(e) => refused.push(format!("view-{k:02}: {e}")),
+            }
+        }
+        // At 2 px two views are still refused (the open noise item); at 1 px none.
+        let refusals_allowed = if sigma == "1" { 0 } else { 2 };
+        assert!(
+            refused.len() <= refusals_allowed,
+            "σ = {sigma} px: {}",
+            refused.join("\n")
+        );
+        assert!(not_exact.is_empty(), "σ = {sigma} px: {}", not_exact.join("\n"));
+    }
 }
 
 /// `count` random views drawn by `tools/photo_random_views.py` (seed `seed`; `extra`:
