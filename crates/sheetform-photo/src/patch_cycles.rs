@@ -17,6 +17,11 @@
 //! chord is followed past no node where other curves meet, so the chords keep the
 //! segments' order. A face's outline that crosses itself in a small loop
 //! (a noisy silhouette crossing its rim a hair from their node) has the loop cut out.
+//! Two segments between the same two nodes, both shorter than the chord (a noisy rim
+//! bulging past its silhouette and crossing it again), are ordered along the chords to
+//! their midpoints; the sliver between them (a face of at most three segments whose mean
+//! width `2 area / perimeter` is at most [`SLIVER_WIDTH_SNAPS`] snap distances) is no
+//! patch, and its segments need bound no other.
 
 use crate::annotation::{image_to_model, PhotoAnnotation};
 use crate::cubic;
@@ -26,6 +31,11 @@ use nalgebra::Vector2;
 use sheetform_geometry::{signed_area, Polygon};
 
 type Vec2 = Vector2<f64>;
+
+/// Widest mean width (`2 area / perimeter`), in snap distances, of a face of two or three
+/// segments that is a sliver of tracing noise rather than a surface (2.3 snap distances
+/// on a drawing with 2 px of noise).
+const SLIVER_WIDTH_SNAPS: f64 = 3.0;
 
 /// Most segments of a curve followed to order the curves leaving a node.
 const MAX_ORDER_SEGMENTS: usize = 8;
@@ -185,7 +195,25 @@ pub fn find_patches(network: &CurveNetwork, annotation: &PhotoAnnotation) -> Res
         );
         outgoing[start as usize].push((d.y.atan2(d.x), id));
     }
+    // Two segments between the same two nodes, each shorter than the chord (a noisy rim
+    // bulging a pixel or two past its silhouette and crossing it again), end their
+    // chords at the same node: the same angle, and an order left to chance. Those are
+    // told apart along the chord to each one's midpoint, which bulge apart.
     for list in &mut outgoing {
+        let n = list.len();
+        let tied: Vec<usize> = (0..n)
+            .filter(|&k| {
+                (0..n).any(|j| {
+                    let gap = (list[k].0 - list[j].0).abs();
+                    j != k && gap.min(std::f64::consts::TAU - gap) < 1e-9
+                })
+            })
+            .collect();
+        for k in tied {
+            let b = HalfEdge::from_id(list[k].1).control_points(network);
+            let d = cubic::point(&b, 0.5) - b[0];
+            list[k].0 = d.y.atan2(d.x);
+        }
         list.sort_by(|a, b| a.0.total_cmp(&b.0));
     }
     // Position of each half-edge in its start node's list.
@@ -221,6 +249,7 @@ pub fn find_patches(network: &CurveNetwork, annotation: &PhotoAnnotation) -> Res
     }
     let mut patches = Vec::new();
     let mut face_patch = vec![usize::MAX; faces.len()];
+    let mut sliver = vec![false; faces.len()];
     for (f, face) in faces.iter().enumerate() {
         let ring: Vec<Vec2> = face
             .iter()
@@ -234,6 +263,18 @@ pub fn find_patches(network: &CurveNetwork, annotation: &PhotoAnnotation) -> Res
         let dangling = face.iter().any(|&id| face_of[HalfEdge::from_id(id).twin().id()] == f);
         if area <= 0.0 || dangling {
             continue;
+        }
+        // A sliver of two or three segments (a noisy rim bulging past the silhouette
+        // it leaves tangentially, and crossing it again) is no surface: mean width
+        // `2 area / perimeter` of at most `SLIVER_WIDTH_SNAPS` snap distances.
+        if face.len() <= 3 {
+            let perimeter: f64 = (0..ring.len())
+                .map(|i| (ring[(i + 1) % ring.len()] - ring[i]).norm())
+                .sum();
+            if 2.0 * area <= SLIVER_WIDTH_SNAPS * lengths.snap * perimeter {
+                sliver[f] = true;
+                continue;
+            }
         }
         // A pixel of tracing noise where a silhouette leaves its rim tangentially can make
         // the two cross a hair from their node: that small loop is cut out of the ring.
@@ -262,7 +303,7 @@ pub fn find_patches(network: &CurveNetwork, annotation: &PhotoAnnotation) -> Res
             continue;
         }
         let sides = [face_of[2 * s], face_of[2 * s + 1]];
-        if sides.iter().all(|&f| face_patch[f] == usize::MAX) {
+        if sides.iter().all(|&f| face_patch[f] == usize::MAX) && !sides.iter().any(|&f| sliver[f]) {
             let curve = &network.curves[seg.curve as usize];
             // The curve's ends that meet nothing: where a curve is missing (a silhouette
             // left out) or an end stops short.
