@@ -71,9 +71,7 @@ impl Camera {
         match spec.projection {
             Projection::Orthographic => Ok(Self::orthographic()),
             Projection::Perspective => {
-                let centre = spec
-                    .principal_point
-                    .unwrap_or([0.5 * f64::from(width), 0.5 * f64::from(height)]);
+                let centre = spec.principal_point_or_centre(width, height);
                 let f = spec.focal_length(width, height).ok_or_else(|| {
                     PhotoError::field(
                         "camera",

@@ -35,6 +35,7 @@ mod curve_network;
 mod curve_samples;
 mod developability_refinement;
 mod error;
+mod focal_length_estimate;
 mod overlay;
 mod patch_cycles;
 mod patch_mesh;
@@ -63,6 +64,9 @@ pub use developability_refinement::{
     MAX_REFINEMENT_WORK, REFINEMENT_BOUND,
 };
 pub use error::PhotoError;
+pub use focal_length_estimate::{
+    estimate_focal_length, FocalLengthEstimate, REFINEMENT_COUNT, SCAN_COUNT, SCAN_FIRST_DIAGONALS, SCAN_RATIO,
+};
 pub use overlay::{overlay_png, overlay_svg};
 pub use patch_cycles::{find_patches, HalfEdge, Patch};
 pub use patch_mesh::{mesh_patches, PatchMesh, PatchSurface, MAX_FILL_VERTICES, MAX_FILL_VERTICES_PER_PATCH};

@@ -7,6 +7,7 @@ use crate::curve_lifting::{assemble_energy, image_prior, solve_energy, Energy};
 use crate::curve_network::{build_curve_network, CurveNetwork};
 use crate::curve_samples::{sample_curves, CurvePoint, CurveSamples};
 use crate::developability_refinement::{refine_developability, ruling_errors, RefinementInfo};
+use crate::focal_length_estimate::{estimate_focal_length, FocalLengthEstimate};
 use crate::patch_cycles::{find_patches, Patch};
 use crate::patch_mesh::{mesh_patches, PatchMesh};
 use crate::revolved_bands::{revolve_bands, Revolution};
@@ -138,6 +139,10 @@ pub struct PhotoReconstruction {
     /// The bands closed around their axis (`back_side: revolve`): `mesh` is then the
     /// whole object, each band cut open along the seam these list.
     pub revolution: Option<Revolution>,
+    /// The focal length estimated from the drawing, when the camera is perspective and
+    /// neither the annotation nor the photo's EXIF gave one (the camera of `plane` is
+    /// then the estimate's).
+    pub focal_length_estimate: Option<FocalLengthEstimate>,
     /// Time per stage.
     pub times: StageTimes,
 }
@@ -364,22 +369,28 @@ fn finish_model(
     })
 }
 
-/// Runs the method on a validated annotation.
-///
-/// # Errors
-/// Curves that cross themselves, have zero length or close no cycle; a degenerate
-/// symmetry annotation; true-size points far from every curve; solver failures; a
-/// drawing whose analysis, symmetrisation, refinement or meshing would pass one of the
-/// work bounds (each error names the field to change and the bound).
-pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, PhotoError> {
-    annotation.validate()?;
-    let lengths = annotation.lengths();
-    let mut times = StageTimes::default();
-    let start = Instant::now();
-    let camera = Camera::from_spec(&annotation.camera, annotation.image.width, annotation.image.height)?;
+/// The drawing analysed and lifted by the linear solve of §6, for one camera.
+struct LinearStage {
+    plane: SymmetryPlane,
+    network: CurveNetwork,
+    analysis: Analysis,
+    energy: Energy,
+    /// The solution for the image prior at depth 0.
+    linear: Vec<f64>,
+    /// The solution for the prior moved by a tenth of the diagonal along the rays.
+    probe: Vec<f64>,
+}
+
+/// The analysis (§5) and the linear solve (§6) of `annotation` through `camera`.
+fn linear_stage(
+    annotation: &PhotoAnnotation,
+    camera: Camera,
+    times: &mut StageTimes,
+    start: Instant,
+) -> Result<LinearStage, PhotoError> {
     let plane = SymmetryPlane::from_annotation(&annotation.symmetry, &camera)?;
     let network = build_curve_network(annotation)?;
-    let mut analysis = analyse(annotation, &network, &plane, &mut times, start)?;
+    let mut analysis = analyse(annotation, &network, &plane, times, start)?;
     let start = Instant::now();
     let prior = image_prior(&network, &camera, 0.0);
     // Which depths the drawing fixes: solve again with the prior's depth moved by
@@ -423,6 +434,60 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
         }
         last = Some(linear);
     };
+    times.linear_solve_ms = milliseconds(start);
+    Ok(LinearStage {
+        plane,
+        network,
+        analysis,
+        energy,
+        linear,
+        probe,
+    })
+}
+
+/// Runs the method on a validated annotation.
+///
+/// # Errors
+/// Curves that cross themselves, have zero length or close no cycle; a degenerate
+/// symmetry annotation; true-size points far from every curve; solver failures; a
+/// drawing whose analysis, symmetrisation, refinement or meshing would pass one of the
+/// work bounds (each error names the field to change and the bound).
+pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, PhotoError> {
+    annotation.validate()?;
+    let lengths = annotation.lengths();
+    let mut times = StageTimes::default();
+    let start = Instant::now();
+    let (width, height) = (annotation.image.width, annotation.image.height);
+    let centre = annotation.camera.principal_point_or_centre(width, height);
+    // Neither the annotation nor the photo's EXIF gives a focal length: the one whose
+    // linear solve leaves the rulings most nearly developable.
+    let focal_length_estimate = if annotation.camera.focal_length_missing() {
+        Some(estimate_focal_length(annotation.diagonal(), |f| {
+            let stage = linear_stage(
+                annotation,
+                Camera::perspective(f, centre),
+                &mut StageTimes::default(),
+                Instant::now(),
+            )?;
+            let errors = ruling_errors(&stage.network, &stage.linear, &stage.analysis.strips);
+            Ok(errors.iter().sum::<f64>() / errors.len().max(1) as f64)
+        })?)
+    } else {
+        None
+    };
+    let camera = match &focal_length_estimate {
+        Some(estimate) => Camera::perspective(estimate.focal_length_px, centre),
+        None => Camera::from_spec(&annotation.camera, width, height)?,
+    };
+    let shift = 0.1 * annotation.diagonal();
+    let LinearStage {
+        plane,
+        network,
+        analysis,
+        energy,
+        linear,
+        probe,
+    } = linear_stage(annotation, camera, &mut times, start)?;
     let depth_sensitivity: Vec<f64> = network
         .curves
         .iter()
@@ -443,7 +508,6 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
                 .fold(0.0, f64::max)
         })
         .collect();
-    times.linear_solve_ms = milliseconds(start);
     let ruling_errors_linear = ruling_errors(&network, &linear, &analysis.strips);
     let rulings_linear: Vec<(usize, [Vec2; 2])> = analysis
         .strips
@@ -585,6 +649,7 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
         mesh,
         unit_per_pixel,
         revolution,
+        focal_length_estimate,
         times,
     })
 }

@@ -211,7 +211,6 @@ fn a_warping_table_over_its_bound_is_refused() {
 #[test]
 fn a_camera_without_a_usable_focal_length_is_refused() {
     for (camera, field, words) in [
-        (json!({"projection": "perspective"}), "camera", "needs its focal length"),
         (
             json!({"projection": "perspective", "focal_length_px": 500, "focal_length_35mm": 26}),
             "camera",

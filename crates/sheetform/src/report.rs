@@ -814,6 +814,11 @@ pub struct PhotoReport {
     /// (`FocalLengthIn35mmFilm`) rather than given in the annotation.
     #[serde(default)]
     pub camera_focal_length_from_exif: bool,
+    /// Whether that focal length was estimated from the drawing (neither the annotation
+    /// nor the photo's EXIF gives one): the one whose linear solve leaves the rulings most
+    /// nearly developable (`sheetform_photo::estimate_focal_length`).
+    #[serde(default)]
+    pub camera_focal_length_estimated: bool,
     /// Unit normal of the symmetry plane (model frame: x right, y up, z towards the camera).
     pub symmetry_plane_normal: [f64; 3],
     /// Angle between the surface normals at the two ends of each ruling after the

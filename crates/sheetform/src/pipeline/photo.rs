@@ -193,6 +193,8 @@ pub fn run_photo(
         );
         annotation.validate()?;
     }
+    // Without one there either, the reconstruction estimates it from the drawing.
+    let focal_length_from_exif = focal_length_from_exif && annotation.camera.focal_length_35mm.is_some();
     let parsed = Instant::now();
     context.check_cancelled()?;
     context.progress("reconstructing", 0.1);
@@ -445,6 +447,7 @@ pub fn run_photo(
         .into(),
         camera_focal_length_px: r.plane.camera.focal_length_px,
         camera_focal_length_from_exif: focal_length_from_exif,
+        camera_focal_length_estimated: r.focal_length_estimate.is_some(),
         symmetry_plane_normal: [r.plane.normal.x, r.plane.normal.y, r.plane.normal.z],
         developability_error_linear: linear,
         developability_error_refined: annotation.analysis.refine.then_some(refined),
@@ -465,6 +468,21 @@ pub fn run_photo(
         millimetres_per_pixel: r.unit_per_pixel * mm,
         stage_times: r.times,
     });
+    if let Some(estimate) = &r.focal_length_estimate {
+        let diagonal = f64::from(annotation.image.width).hypot(f64::from(annotation.image.height));
+        report.warnings.push(format!(
+            "the photo's focal length is given neither in the annotation nor in its EXIF: estimated from the \
+             drawing as {:.0} px ({:.0} mm in 35 mm terms; within 3-16 % on the synthetic views){}; give \
+             `camera.focal_length_35mm` (a phone's main camera: about 26 mm) for a closer model",
+            estimate.focal_length_px,
+            estimate.focal_length_px / diagonal * sheetform_photo::FILM_35MM_DIAGONAL_MM,
+            if estimate.at_range_end {
+                ", at the end of the range searched (the drawing hardly tells it)"
+            } else {
+                ""
+            }
+        ));
+    }
     for band in r.revolution.iter().flat_map(|v| &v.bands) {
         if band.silhouette_angle_degrees > sheetform_photo::REVOLUTION_SILHOUETTE_WARNING_DEGREES {
             report.warnings.push(format!(
