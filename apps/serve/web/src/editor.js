@@ -1487,9 +1487,39 @@ const LITTLE_ENDIAN = new Uint8Array(new Uint16Array([1]).buffer)[0] === 1;
 /** What the page accepts in reply to a solve: binary arrays first. */
 const SOLVE_ACCEPT = LITTLE_ENDIAN ? `${ARRAYS_MEDIA_TYPE}, application/json` : 'application/json';
 
+/**
+ * Arrays of recent replies, by path and hash (issue 38: only what changed is sent). The
+ * request names the newest array it holds at each path (`X-Sheetform-Held-Arrays`) and
+ * the server leaves out those whose hash is unchanged (a bend drag keeps the rulings'
+ * lists and the pieces; a new layout of a mesh keeps the model). A path keeps its `HELD_PER_PATH` newest arrays, so
+ * that the reply to a request sent before the last reply came still finds what it held.
+ */
+const heldArrays = new Map();
+const HELD_PER_PATH = 4;
+
+function holdArray(path, hash, value) {
+  let byHash = heldArrays.get(path);
+  if (!byHash) {
+    byHash = new Map();
+    heldArrays.set(path, byHash);
+  }
+  byHash.delete(hash);
+  byHash.set(hash, value);
+  while (byHash.size > HELD_PER_PATH) byHash.delete(byHash.keys().next().value);
+}
+
+/** The headers of a solve request: binary arrays accepted, and the arrays held. */
+function solveHeaders(contentType) {
+  const headers = { Accept: SOLVE_ACCEPT };
+  if (contentType) headers['Content-Type'] = contentType;
+  if (LITTLE_ENDIAN && heldArrays.size) {
+    headers['X-Sheetform-Held-Arrays'] = [...heldArrays].map(([path, byHash]) => `${path}=${[...byHash.keys()].pop()}`).join(',');
+  }
+  return headers;
+}
+
 async function post(url, body) {
-  const headers = { 'Content-Type': 'application/json', Accept: SOLVE_ACCEPT };
-  const response = await fetch(url, { method: 'POST', headers, body });
+  const response = await fetch(url, { method: 'POST', headers: solveHeaders('application/json'), body });
   return response;
 }
 
@@ -1507,10 +1537,15 @@ async function readReply(response) {
   const headerLength = view.getUint32(4, true);
   const body = JSON.parse(new TextDecoder().decode(new Uint8Array(buffer, 8, headerLength)));
   const start = Math.ceil((8 + headerLength) / 8) * 8;
-  for (const { path, type, offset, length } of body.binary_arrays) {
+  state.arraysReceived = state.arraysReceived || { sent: 0, held: 0 };
+  for (const { path, type, offset, length, hash, held } of body.binary_arrays) {
     const at = start + offset;
     let value;
-    if (type === 'f64') {
+    if (held) {
+      value = heldArrays.get(path) && heldArrays.get(path).get(hash);
+      if (!value) throw new Error(`the reply left out ${path}, which the page no longer holds`);
+      state.arraysReceived.held += 1;
+    } else if (type === 'f64') {
       value = new Float64Array(buffer, at, length);
     } else if (type === 'u32') {
       value = new Uint32Array(buffer, at, length);
@@ -1518,6 +1553,10 @@ async function readReply(response) {
       const offsets = new Uint32Array(buffer, at, length + 1);
       const values = new Uint32Array(buffer, at + 4 * (length + 1), offsets[length]);
       value = Array.from({ length }, (_, k) => values.subarray(offsets[k], offsets[k + 1]));
+    }
+    if (!held) {
+      state.arraysReceived.sent += 1;
+      if (hash) holdArray(path, hash, value);
     }
     const keys = path.split('.');
     const owner = keys.slice(0, -1).reduce((object, key) => object[key], body);
@@ -2330,7 +2369,7 @@ async function solveMesh(options) {
   state.inFlight = true;
   showStatus('busy', `${options.charts === 'develop' ? 'developing' : 'flattening'} ${state.mesh.name}…`);
   try {
-    const response = await fetch(`/api/mesh?${meshQuery(options)}`, { method: 'POST', headers: { Accept: SOLVE_ACCEPT }, body: state.mesh.bytes });
+    const response = await fetch(`/api/mesh?${meshQuery(options)}`, { method: 'POST', headers: solveHeaders(), body: state.mesh.bytes });
     const body = await readReply(response);
     if (state.generation !== generation || state.mode !== 'mesh' || request !== state.meshRequest) return false;
     if (!response.ok) {

@@ -235,6 +235,20 @@ try {
   const stages = await page.evaluate((n) => window.sheetformEditor.state.stages.slice(-n), trips.length);
   const stageMedians = Object.fromEntries(Object.keys(stages[0]).map((k) => [k, median(stages.map((s) => s[k]))]));
   figures.bend_1000_rulings_round_trip_ms = { median: median(trips), count: trips.length, max: Math.max(...trips), stage_medians: stageMedians };
+  // Only what changed is sent: the drag's replies left out the arrays the page held (the
+  // rulings' lists and the pieces of a sheet whose ruling count stays), and
+  // what the page shows is still the server's reply for its scene, array by array.
+  const received = await page.evaluate(() => window.sheetformEditor.state.arraysReceived);
+  assert.ok(received.held >= 2 * trips.length, `arrays held: ${JSON.stringify(received)}`);
+  figures.bend_1000_rulings_arrays = received;
+  {
+    const shown = await page.evaluate(() => {
+      const m = window.sheetformEditor.state.reply.model;
+      return { positions: Array.from(m.positions), flat: Array.from(m.flat), triangles: Array.from(m.triangles), face_pieces: Array.from(m.face_pieces), rulings: m.rulings.map((r) => Array.from(r)) };
+    });
+    const truth = (await (await fetch(`${url}api/bend`, { method: 'POST', body: await sceneText() })).json()).model;
+    for (const key of Object.keys(shown)) assert.deepEqual(shown[key], truth[key], `the page's ${key} after a drag of held arrays`);
+  }
   // The same request from the page with nothing drawn: what the network and the server
   // take without the page's rendering.
   const postOnly = await page.evaluate(async (body) => {
@@ -264,6 +278,31 @@ try {
     return times;
   }, fine);
   figures.bend_1000_rulings_edit_post_only_ms = { median: median(editOnly), count: editOnly.length };
+  // The same with the arrays that do not change held (the page's way): fewer bytes.
+  const editHeld = await page.evaluate(async (scene) => {
+    const times = [];
+    const sizes = [];
+    const point = scene.regions[0].curve.control_points[2];
+    let held = '';
+    for (let k = 0; k < 16; k++) {
+      const position = [point[0], point[1], point[2] + (k % 2 ? 0.5 : -0.5)];
+      const body = JSON.stringify({ scene, edit: { kind: 'move_control_point', region: 0, index: 2, position }, stop_at_boundary: true });
+      const headers = { Accept: 'application/vnd.sheetform.arrays' };
+      if (held) headers['X-Sheetform-Held-Arrays'] = held;
+      const t = performance.now();
+      const bytes = await (await fetch('/api/bend/edit', { method: 'POST', headers, body })).arrayBuffer();
+      if (k > 0) times.push(performance.now() - t);
+      sizes.push(bytes.byteLength);
+      const length = new DataView(bytes).getUint32(4, true);
+      const header = JSON.parse(new TextDecoder().decode(new Uint8Array(bytes, 8, length)));
+      held = header.binary_arrays.map((a) => `${a.path}=${a.hash}`).join(',');
+    }
+    return { times, first: sizes[0], held: sizes[sizes.length - 1] };
+  }, fine);
+  // The rulings' lists and the pieces stay (28 KB of 234 KB); the positions, the flat
+  // layout and the triangles (their diagonals follow the bend) change.
+  assert.ok(editHeld.held < 0.9 * editHeld.first, `held arrays left out: ${editHeld.held} of ${editHeld.first} bytes`);
+  figures.bend_1000_rulings_edit_held_post_only_ms = { median: median(editHeld.times), count: editHeld.times.length, bytes: editHeld.held, bytes_whole: editHeld.first };
 
   // 7. Slit mode: the chair opens from the list; a seat curve point dragged with the
   // mouse (in the symmetry plane) re-solves the strips, which stay isometric to the
