@@ -346,7 +346,10 @@ pub(crate) mod tests {
             HeaderValue::from_str(&format!("b={:016x}, a=zz, c={:x}", hash_of(1), hash_of(2) ^ 1)).unwrap(),
         );
         let held = held_arrays(&headers);
-        assert_eq!(held, vec![("b".to_string(), hash_of(1)), ("c".to_string(), hash_of(2) ^ 1)]);
+        assert_eq!(
+            held,
+            vec![("b".to_string(), hash_of(1)), ("c".to_string(), hash_of(2) ^ 1)]
+        );
         let lighter = array_body(&Empty {}, &arrays(), &held);
         let (lighter_header, lighter_read) = read_body(&lighter);
         assert_eq!(lighter_header["binary_arrays"][1]["held"], true);

@@ -30,7 +30,7 @@
 //! (the end moves along `T_b`, which leaves `det` unchanged). The objective is quadratic with
 //! a constant sparse Hessian `H = AᵀA + μI`, factorised once (faer); each iteration is a
 //! Gauss–Newton SQP step `[H Cᵀ; C 0][δ; λ] = [−∇f; −g]` solved through the Schur
-//! complement `C H⁻¹ Cᵀ + diag(c_t²/w)` (dense, one row per ruling), with a backtracking
+//! complement `C H⁻¹ Cᵀ + diag(c_t²/w)` (dense, one row per ruling and companion), with a backtracking
 //! search on `max |g|` and the parameters clamped to their segment. Gauss–Newton leaves
 //! out the constraints' curvature (`Σ λ_r ∇²g_r`), so near a curved `g` it crawls (a noisy
 //! drawing: `max |g|` falling by a quarter per step, 1e-4 after 50 steps); once `max |g|`
@@ -44,8 +44,9 @@
 //! plane. It stops at `max |g| ≤ 1e-12`, when no step reduces `max |g|`, after 50
 //! iterations, or before an iteration would pass [`MAX_REFINEMENT_WORK`] (an iteration is
 //! cubic in the rulings), and reports convergence when `max |g| ≤` [`REFINEMENT_BOUND`]
-//! and every ruling's error angle is within ten times it. Rulings whose tangent is
-//! parallel to the ruling (a cone's apex) carry no constraint. The moved ends become
+//! and the sine of every enforced ruling's error angle is within it too (so that what
+//! the report then measures on the rulings holds; a companion's tangent counts). Rulings
+//! whose tangent is parallel to the ruling (a cone's apex) carry no constraint. The moved ends become
 //! curve samples ([`crate::move_ruling_ends`]), so the mesh's rulings are the refined
 //! ones.
 //!
@@ -76,7 +77,7 @@ type Vec3 = Vector3<f64>;
 pub const REFINEMENT_BOUND: f64 = 1e-7;
 
 /// Most values of the refinement's dense matrices (`n m + m²` for `n` unknowns and `m`
-/// rulings).
+/// constraints: rulings and their companions).
 pub const MAX_DENSE_VALUES: usize = 50_000_000;
 
 /// The violation `max |g|` (≈ radians) below which a step that does not halve it turns
@@ -151,7 +152,8 @@ pub struct RefinementInfo {
     pub constraint_count: usize,
     /// `max |g|` at the end (≈ sine of the largest error angle).
     pub constraint_violation: f64,
-    /// Whether `max |g| ≤ REFINEMENT_BOUND` was reached.
+    /// Whether `max |g| ≤ REFINEMENT_BOUND` was reached, and the sine of every enforced
+    /// ruling's error angle is within it too.
     pub converged: bool,
     /// Largest change of a control point (pixels).
     pub displacement_max: f64,
@@ -550,6 +552,9 @@ pub fn refine_developability(
             }
             alpha *= 0.5;
         }
+        // What the step made of the violation (before hops re-evaluate `g` on other
+        // half-edges): a step that does not halve it starts the projections.
+        let after_step = max_abs(&g);
         // Ends stopped at a join that the step would carry further move on to the next
         // half-edge.
         let (mut hopped, mut pinned) = (false, false);
@@ -578,6 +583,11 @@ pub fn refine_developability(
                 let grown = m + companions.len() + 1;
                 if n * grown + grown * grown <= MAX_DENSE_VALUES {
                     companions.push((r, if direction > 0 { h + 1 } else { h - 1 }));
+                } else {
+                    tracing::debug!(
+                        ruling = r,
+                        "refinement: an end held at a join without its companion (dense bound)"
+                    );
                 }
                 pinned = true;
                 continue;
@@ -609,7 +619,8 @@ pub fn refine_developability(
         }
         // A step that did not halve the violation: Gauss–Newton on the objective crawls
         // (it leaves out the constraints' curvature); project from here on.
-        project = project || (max_abs(&g) > 0.5 * violation && max_abs(&g) < PROJECTION_START);
+        let switched = !project && after_step > 0.5 * violation && after_step < PROJECTION_START;
+        project |= switched;
         tracing::trace!(
             iteration,
             violation = max_abs(&g),
@@ -618,7 +629,7 @@ pub fn refine_developability(
             project,
             "refinement step"
         );
-        if !accepted && !hopped && !pinned {
+        if !accepted && !hopped && !pinned && !switched {
             break;
         }
         info.iterations = iteration + 1;
@@ -643,7 +654,7 @@ pub fn refine_developability(
             }
         })
         .fold(0.0, f64::max);
-    info.converged = info.constraint_violation <= REFINEMENT_BOUND && angle_max <= 10.0 * REFINEMENT_BOUND;
+    info.converged = info.constraint_violation <= REFINEMENT_BOUND && angle_max.sin() <= REFINEMENT_BOUND;
     info.displacement_max = (0..n / 3)
         .map(|i| {
             Vec3::new(

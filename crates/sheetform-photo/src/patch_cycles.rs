@@ -19,9 +19,9 @@
 //! (a noisy silhouette crossing its rim a hair from their node) has the loop cut out.
 //! Two segments between the same two nodes, both shorter than the chord (a noisy rim
 //! bulging past its silhouette and crossing it again), are ordered along the chords to
-//! their midpoints; the sliver between them (a face of at most three segments whose mean
-//! width `2 area / perimeter` is at most [`SLIVER_WIDTH_SNAPS`] snap distances) is no
-//! patch, and its segments need bound no other.
+//! their midpoints; the sliver between them (a face of two or three segments whose mean
+//! width `2 area / perimeter` is at most [`SLIVER_WIDTH_SNAPS`] snap distances and
+//! [`SLIVER_WIDTH_MAX_PX`]) is no patch, and its segments need bound no other.
 
 use crate::annotation::{image_to_model, PhotoAnnotation};
 use crate::cubic;
@@ -33,9 +33,13 @@ use sheetform_geometry::{signed_area, Polygon};
 type Vec2 = Vector2<f64>;
 
 /// Widest mean width (`2 area / perimeter`), in snap distances, of a face of two or three
-/// segments that is a sliver of tracing noise rather than a surface (2.3 snap distances
-/// on a drawing with 2 px of noise).
+/// segments, one of them leaving a node along the same chord as another, that is a sliver
+/// of tracing noise rather than a surface (2.3 snap distances on a drawing with 2 px of
+/// noise).
 const SLIVER_WIDTH_SNAPS: f64 = 3.0;
+
+/// The same width's bound in pixels, whatever the snap distance.
+const SLIVER_WIDTH_MAX_PX: f64 = 5.0;
 
 /// Most segments of a curve followed to order the curves leaving a node.
 const MAX_ORDER_SEGMENTS: usize = 8;
@@ -199,20 +203,21 @@ pub fn find_patches(network: &CurveNetwork, annotation: &PhotoAnnotation) -> Res
     // bulging a pixel or two past its silhouette and crossing it again), end their
     // chords at the same node: the same angle, and an order left to chance. Those are
     // told apart along the chord to each one's midpoint, which bulge apart.
+    // The tie is broken by a nudge far below any other gap (the midpoint's side of the
+    // shared chord), so the tied pair keeps its place among the other half-edges.
+    let mut tied_half_edges = vec![false; half_count];
     for list in &mut outgoing {
         let n = list.len();
         let tied: Vec<usize> = (0..n)
-            .filter(|&k| {
-                (0..n).any(|j| {
-                    let gap = (list[k].0 - list[j].0).abs();
-                    j != k && gap.min(std::f64::consts::TAU - gap) < 1e-9
-                })
-            })
+            .filter(|&k| (0..n).any(|j| j != k && list[k].0 == list[j].0))
             .collect();
         for k in tied {
             let b = HalfEdge::from_id(list[k].1).control_points(network);
             let d = cubic::point(&b, 0.5) - b[0];
-            list[k].0 = d.y.atan2(d.x);
+            let turn = (d.y.atan2(d.x) - list[k].0 + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                - std::f64::consts::PI;
+            list[k].0 += 1e-12 * turn;
+            tied_half_edges[list[k].1] = true;
         }
         list.sort_by(|a, b| a.0.total_cmp(&b.0));
     }
@@ -264,14 +269,22 @@ pub fn find_patches(network: &CurveNetwork, annotation: &PhotoAnnotation) -> Res
         if area <= 0.0 || dangling {
             continue;
         }
-        // A sliver of two or three segments (a noisy rim bulging past the silhouette
-        // it leaves tangentially, and crossing it again) is no surface: mean width
-        // `2 area / perimeter` of at most `SLIVER_WIDTH_SNAPS` snap distances.
-        if face.len() <= 3 {
+        // A sliver between two tied half-edges (a noisy rim bulging past the silhouette
+        // it leaves tangentially, and crossing it again) is no surface: two or three
+        // segments, one of them tied, a mean width `2 area / perimeter` of at most
+        // `SLIVER_WIDTH_SNAPS` snap distances and `SLIVER_WIDTH_MAX_PX`.
+        if (2..=3).contains(&face.len()) && face.iter().any(|&id| tied_half_edges[id]) {
             let perimeter: f64 = (0..ring.len())
                 .map(|i| (ring[(i + 1) % ring.len()] - ring[i]).norm())
                 .sum();
-            if 2.0 * area <= SLIVER_WIDTH_SNAPS * lengths.snap * perimeter {
+            let width = 2.0 * area / perimeter;
+            if width <= (SLIVER_WIDTH_SNAPS * lengths.snap).min(SLIVER_WIDTH_MAX_PX) {
+                tracing::debug!(
+                    width,
+                    area,
+                    at = ?ring[0],
+                    "photo: a sliver between a curve and one it leaves tangentially is no patch"
+                );
                 sliver[f] = true;
                 continue;
             }
