@@ -111,7 +111,7 @@ pub const MAX_FOCAL_LENGTH_DIAGONALS: f64 = 100.0;
 /// or as the 35 mm equivalent a phone writes in the photo's EXIF
 /// (`FocalLengthIn35mmFilm`, e.g. 26 mm for a phone's main camera); without either, the
 /// pipeline reads it from the photo's EXIF, and without it there the reconstruction
-/// estimates it from the drawing (3-16 % off on the synthetic views; a warning says so).
+/// estimates it from the drawing (0.2-16 % off on the synthetic views; a warning says so).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CameraSpec {

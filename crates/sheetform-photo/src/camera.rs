@@ -66,7 +66,8 @@ impl Camera {
     ///
     /// # Errors
     /// [`PhotoError::Field`] on `camera` for a perspective camera without a focal length
-    /// (none given, and none found in the photo's EXIF by the caller).
+    /// (none given, and none found in the photo's EXIF by the caller; [`crate::reconstruct`]
+    /// estimates one from the drawing instead of calling this).
     pub fn from_spec(spec: &CameraSpec, width: u32, height: u32) -> Result<Self, PhotoError> {
         match spec.projection {
             Projection::Orthographic => Ok(Self::orthographic()),

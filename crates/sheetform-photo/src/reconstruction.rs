@@ -54,6 +54,10 @@ pub struct StageTimes {
     pub symmetrization_ms: f64,
     /// Meshing (§7).
     pub meshing_ms: f64,
+    /// The focal length estimated from the drawing (its 25 linear solves; 0 when the
+    /// camera gave one).
+    #[serde(default)]
+    pub focal_length_estimate_ms: f64,
 }
 
 /// Summary of a set of angles (degrees, as the paper's Table 1).
@@ -456,11 +460,11 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
     annotation.validate()?;
     let lengths = annotation.lengths();
     let mut times = StageTimes::default();
-    let start = Instant::now();
     let (width, height) = (annotation.image.width, annotation.image.height);
     let centre = annotation.camera.principal_point_or_centre(width, height);
     // Neither the annotation nor the photo's EXIF gives a focal length: the one whose
     // linear solve leaves the rulings most nearly developable.
+    let estimating = Instant::now();
     let focal_length_estimate = if annotation.camera.focal_length_missing() {
         Some(estimate_focal_length(annotation.diagonal(), |f| {
             let stage = linear_stage(
@@ -470,16 +474,26 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
                 Instant::now(),
             )?;
             let errors = ruling_errors(&stage.network, &stage.linear, &stage.analysis.strips);
-            Ok(errors.iter().sum::<f64>() / errors.len().max(1) as f64)
+            if errors.is_empty() {
+                return Err(PhotoError::field(
+                    "camera",
+                    "a perspective camera needs its focal length, and neither the annotation nor the photo's \
+                     EXIF gives one; a drawing without ruled patches cannot tell it: give focal_length_35mm \
+                     (about 26 mm for a phone's main camera) or focal_length_px",
+                ));
+            }
+            Ok(errors.iter().sum::<f64>() / errors.len() as f64)
         })?)
     } else {
         None
     };
+    times.focal_length_estimate_ms = milliseconds(estimating);
     let camera = match &focal_length_estimate {
         Some(estimate) => Camera::perspective(estimate.focal_length_px, centre),
         None => Camera::from_spec(&annotation.camera, width, height)?,
     };
     let shift = 0.1 * annotation.diagonal();
+    let start = Instant::now();
     let LinearStage {
         plane,
         network,

@@ -243,6 +243,15 @@ fn a_camera_without_a_usable_focal_length_is_refused() {
         let e = error_of(&v);
         assert!(e.contains(field) && e.contains(words), "{camera}: {e}");
     }
+    // No focal length anywhere is estimated from the rulings; a drawing without any (every
+    // curve a boundary: patches filled, not ruled) is refused naming the camera.
+    let mut v = base();
+    v["camera"] = json!({"projection": "perspective"});
+    for curve in v["curves"].as_array_mut().unwrap() {
+        curve["kind"] = json!("boundary");
+    }
+    let e = error_of(&v);
+    assert!(e.contains("camera") && e.contains("ruled patches"), "{e}");
 }
 
 /// The 35 mm equivalent and the focal length in pixels it stands for give the same

@@ -760,10 +760,11 @@ fn a_perspective_views_focal_length_is_estimated_from_the_drawing() {
     for name in ["cylinder-perspective", "cone-perspective", "composite-perspective"] {
         let (annotation, truth, r) = load_as(name, |a| a.camera.focal_length_px = None);
         let f = r.focal_length_estimate.expect("estimated").focal_length_px;
+        let ms = r.times.focal_length_estimate_ms;
         let true_f = truth["camera"]["focal_px"].as_f64().unwrap();
         let (shape, size) = shape_and_size_errors_of((annotation, truth, r));
         println!(
-            "{name}: f {f:.1} px (true {true_f:.1}), shape {:.2} %, size {:.2} %",
+            "{name}: f {f:.1} px (true {true_f:.1}), shape {:.2} %, size {:.2} %, estimated in {ms:.0} ms",
             100.0 * shape,
             100.0 * size
         );
@@ -783,7 +784,13 @@ fn a_perspective_views_focal_length_is_estimated_from_the_drawing() {
         let f = r.focal_length_estimate.expect("estimated").focal_length_px;
         let true_f = truth["camera"]["focal_px"].as_f64().unwrap();
         assert!(r.refinement.is_none_or(|i| i.converged), "view-{k:02}");
+        let ms = r.times.focal_length_estimate_ms;
         let (shape, _) = shape_and_size_errors_of((annotation, truth, r));
+        println!(
+            "view-{k:02}: f / truth {:.3}, shape {:.2} %, estimated in {ms:.0} ms",
+            f / true_f,
+            100.0 * shape
+        );
         assert!(
             (f / true_f - 1.0).abs() < 0.2 && shape < 0.05,
             "view-{k:02}: f {f} against {true_f}, shape {shape}"

@@ -472,7 +472,7 @@ pub fn run_photo(
         let diagonal = f64::from(annotation.image.width).hypot(f64::from(annotation.image.height));
         report.warnings.push(format!(
             "the photo's focal length is given neither in the annotation nor in its EXIF: estimated from the \
-             drawing as {:.0} px ({:.0} mm in 35 mm terms; within 3-16 % on the synthetic views){}; give \
+             drawing as {:.0} px ({:.0} mm in 35 mm terms; within 0.2-16 % of the truth on the synthetic views){}; give \
              `camera.focal_length_35mm` (a phone's main camera: about 26 mm) for a closer model",
             estimate.focal_length_px,
             estimate.focal_length_px / diagonal * sheetform_photo::FILM_35MM_DIAGONAL_MM,
