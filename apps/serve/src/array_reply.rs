@@ -22,9 +22,9 @@
 //! last replies names them in the request header `X-Sheetform-Held-Arrays:
 //! path=hash,…`; an array whose hash it holds is not sent again, its entry marked
 //! `"held": true` (its offset is where it would have started, its length its own). A
-//! bend drag changes the positions, the flat layout and the triangles (their diagonals
-//! follow the bend) but keeps the rulings' index lists and the pieces: 14 % of a
-//! 1 000-ruling reply's bytes.
+//! bend drag changes the positions, the flat layout, the triangles (their diagonals
+//! follow the bend) and the angle defects, but keeps the rulings' index lists and the
+//! pieces: 14 % of a 1 000-ruling reply's bytes.
 
 use axum::http::{header, HeaderMap, HeaderValue};
 use axum::response::{IntoResponse, Response};

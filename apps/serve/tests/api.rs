@@ -1739,6 +1739,81 @@ async fn send_for_arrays(app: &axum::Router, route: &str, body: Vec<u8>) -> (Sta
     (status, kind, bytes.to_vec())
 }
 
+/// Only what changed (issue 38): the same solve asked again naming every array of the
+/// first reply (path and hash) gets them all held, no array bytes at all; a stale hash
+/// gets its array sent again.
+#[tokio::test]
+async fn arrays_the_client_holds_are_not_sent_again() {
+    let (_dir, root) = served();
+    let app = router(&ServeOptions {
+        root,
+        ..Default::default()
+    })
+    .unwrap();
+    let gift = std::fs::read(repository().join("examples/meshes/gift-box.obj")).unwrap();
+    let route = "/api/mesh?name=gift-box.obj&charts=net";
+    let header_of = |body: &[u8]| -> (Value, usize) {
+        let length = u32::from_le_bytes(body[4..8].try_into().unwrap()) as usize;
+        (
+            serde_json::from_slice(&body[8..8 + length]).unwrap(),
+            (8 + length).div_ceil(8) * 8,
+        )
+    };
+    let (status, _, first) = send_for_arrays(&app, route, gift.clone()).await;
+    assert_eq!(status, StatusCode::OK);
+    let (header, _) = header_of(&first);
+    let entries = header["binary_arrays"].as_array().unwrap().clone();
+    assert!(entries.len() >= 3, "{entries:?}");
+    let pair = |e: &Value| format!("{}={}", e["path"].as_str().unwrap(), e["hash"].as_str().unwrap());
+    let ask = |held: String| {
+        let app = app.clone();
+        let gift = gift.clone();
+        async move {
+            let request = Request::builder()
+                .method("POST")
+                .uri(route)
+                .header("Accept", "application/vnd.sheetform.arrays, application/json")
+                .header("X-Sheetform-Held-Arrays", held)
+                .body(Body::from(gift))
+                .unwrap();
+            let response = app.oneshot(request).await.unwrap();
+            assert_eq!(response.status(), StatusCode::OK);
+            axum::body::to_bytes(response.into_body(), usize::MAX)
+                .await
+                .unwrap()
+                .to_vec()
+        }
+    };
+    let all: Vec<String> = entries.iter().map(pair).collect();
+    let second = ask(all.join(",")).await;
+    let (second_header, data_start) = header_of(&second);
+    assert_eq!(second.len(), data_start, "no array bytes");
+    for (a, b) in entries.iter().zip(second_header["binary_arrays"].as_array().unwrap()) {
+        assert_eq!(b["held"], true, "{b}");
+        assert_eq!((&a["path"], &a["hash"]), (&b["path"], &b["hash"]));
+    }
+    // The first array's hash stale: it alone is sent, its bytes those of the first reply.
+    let mut stale = all.clone();
+    stale[0] = format!("{}=0123456789abcdef", entries[0]["path"].as_str().unwrap());
+    let third = ask(stale.join(",")).await;
+    let (third_header, third_start) = header_of(&third);
+    let sent: Vec<&Value> = third_header["binary_arrays"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| e["held"] != true)
+        .collect();
+    assert_eq!(sent.len(), 1);
+    assert_eq!(sent[0]["path"], entries[0]["path"]);
+    let (_, first_start) = header_of(&first);
+    let bytes = third.len() - third_start;
+    assert_eq!(
+        &third[third_start..],
+        &first[first_start..first_start + bytes],
+        "the first array's bytes"
+    );
+}
+
 /// Reads a binary-arrays reply as the editor does (the format in array_reply.rs): the
 /// header, then each array put back at its path as JSON numbers (rulings as lists).
 fn read_arrays_reply(body: &[u8]) -> Value {

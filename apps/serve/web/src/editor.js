@@ -21,6 +21,16 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 const $ = (id) => document.getElementById(id);
 
 /** Editor state: the last admissible scene and what the server said of it. */
+/**
+ * Arrays of recent replies, by path and hash (issue 38: only what changed is sent). The
+ * request names the newest array it holds at each path (`X-Sheetform-Held-Arrays`) and
+ * the server leaves out those whose hash is unchanged (a bend drag keeps the rulings'
+ * lists and the pieces; a new layout of a mesh keeps the model). A path keeps its `HELD_PER_PATH` newest arrays, so
+ * that the reply to a request sent before the last reply came still finds what it held.
+ */
+const heldArrays = new Map();
+const HELD_PER_PATH = 4;
+
 const state = {
   mode: 'bend', // 'bend', 'slit', 'ffd', 'photo' or 'mesh'
   fitChosen: false, // the pattern's scale was chosen with the checkbox (no automatic fit since)
@@ -762,6 +772,7 @@ async function startAnnotation(path) {
   }
   if (state.mode !== 'photo') setMode('photo');
   state.generation += 1;
+  heldArrays.clear();
   state.pending = null;
   state.requested = null;
   state.path = null;
@@ -1487,15 +1498,6 @@ const LITTLE_ENDIAN = new Uint8Array(new Uint16Array([1]).buffer)[0] === 1;
 /** What the page accepts in reply to a solve: binary arrays first. */
 const SOLVE_ACCEPT = LITTLE_ENDIAN ? `${ARRAYS_MEDIA_TYPE}, application/json` : 'application/json';
 
-/**
- * Arrays of recent replies, by path and hash (issue 38: only what changed is sent). The
- * request names the newest array it holds at each path (`X-Sheetform-Held-Arrays`) and
- * the server leaves out those whose hash is unchanged (a bend drag keeps the rulings'
- * lists and the pieces; a new layout of a mesh keeps the model). A path keeps its `HELD_PER_PATH` newest arrays, so
- * that the reply to a request sent before the last reply came still finds what it held.
- */
-const heldArrays = new Map();
-const HELD_PER_PATH = 4;
 
 function holdArray(path, hash, value) {
   let byHash = heldArrays.get(path);
@@ -1508,19 +1510,38 @@ function holdArray(path, hash, value) {
   while (byHash.size > HELD_PER_PATH) byHash.delete(byHash.keys().next().value);
 }
 
-/** The headers of a solve request: binary arrays accepted, and the arrays held. */
-function solveHeaders(contentType) {
+/** A reply left out an array the page no longer holds (evicted, or cleared by a load). */
+class HeldArrayMissing extends Error {}
+
+/** The headers of a solve request: binary arrays accepted, and (`held`) the arrays held. */
+function solveHeaders(contentType, held = true) {
   const headers = { Accept: SOLVE_ACCEPT };
   if (contentType) headers['Content-Type'] = contentType;
-  if (LITTLE_ENDIAN && heldArrays.size) {
+  if (held && LITTLE_ENDIAN && heldArrays.size) {
     headers['X-Sheetform-Held-Arrays'] = [...heldArrays].map(([path, byHash]) => `${path}=${[...byHash.keys()].pop()}`).join(',');
   }
   return headers;
 }
 
 async function post(url, body) {
-  const response = await fetch(url, { method: 'POST', headers: solveHeaders('application/json'), body });
+  const response = await fetch(url, { method: 'POST', headers: solveHeaders('application/json', false), body });
   return response;
+}
+
+/**
+ * A solve request and its reply read (`readReply`), naming the arrays the page holds; a
+ * reply that left out one the page no longer holds is asked for again without them.
+ */
+async function fetchReply(url, body, contentType) {
+  for (const held of [true, false]) {
+    const response = await fetch(url, { method: 'POST', headers: solveHeaders(contentType, held), body });
+    try {
+      return { response, body: await readReply(response) };
+    } catch (error) {
+      if (!held || !(error instanceof HeldArrayMissing)) throw error;
+    }
+  }
+  throw new Error('unreachable');
 }
 
 /**
@@ -1543,8 +1564,9 @@ async function readReply(response) {
     let value;
     if (held) {
       value = heldArrays.get(path) && heldArrays.get(path).get(hash);
-      if (!value) throw new Error(`the reply left out ${path}, which the page no longer holds`);
+      if (!value || value.length !== length) throw new HeldArrayMissing(`the reply left out ${path}, which the page no longer holds`);
       state.arraysReceived.held += 1;
+      holdArray(path, hash, value);
     } else if (type === 'f64') {
       value = new Float64Array(buffer, at, length);
     } else if (type === 'u32') {
@@ -1607,11 +1629,10 @@ async function solveNow(scene, started, edit) {
   let received;
   let decoded;
   try {
-    response = edit
-      ? await post(`/api/bend/edit${dirQuery()}`, JSON.stringify({ scene, edit, stop_at_boundary: true }))
-      : await post(`/api/${mode}${dirQuery()}`, JSON.stringify(scene));
+    ({ response, body } = edit
+      ? await fetchReply(`/api/bend/edit${dirQuery()}`, JSON.stringify({ scene, edit, stop_at_boundary: true }), 'application/json')
+      : await fetchReply(`/api/${mode}${dirQuery()}`, JSON.stringify(scene), 'application/json'));
     received = performance.now();
-    body = await readReply(response);
     decoded = performance.now();
     state.answers += 1;
     // The user switched modes or loaded another scene meanwhile: not drawn.
@@ -2131,6 +2152,7 @@ function load(text, path = null) {
   }
   if (state.mode !== mode) setMode(mode);
   state.generation += 1;
+  heldArrays.clear();
   // A queued edit of the last scene must not land on this one.
   state.pending = null;
   state.requested = null;
@@ -2217,6 +2239,7 @@ const DOWNLOADS = {
 function setMode(mode) {
   highlightBendPiece(null);
   state.generation += 1;
+  heldArrays.clear();
   state.ffdPending = null;
   if (state.ffdController) state.ffdController.abort();
   photo.adding = null;
@@ -2369,8 +2392,7 @@ async function solveMesh(options) {
   state.inFlight = true;
   showStatus('busy', `${options.charts === 'develop' ? 'developing' : 'flattening'} ${state.mesh.name}…`);
   try {
-    const response = await fetch(`/api/mesh?${meshQuery(options)}`, { method: 'POST', headers: solveHeaders(), body: state.mesh.bytes });
-    const body = await readReply(response);
+    const { response, body } = await fetchReply(`/api/mesh?${meshQuery(options)}`, state.mesh.bytes);
     if (state.generation !== generation || state.mode !== 'mesh' || request !== state.meshRequest) return false;
     if (!response.ok) {
       state.refusals += 1;
@@ -2536,6 +2558,7 @@ $('save').addEventListener('click', async () => {
       return;
     }
     state.generation += 1;
+    heldArrays.clear();
     state.pending = null;
     state.requested = null;
     state.path = path;
