@@ -244,7 +244,16 @@ pub fn cut_into_charts_until(
             }
         }
         if accept || faces.len() == 1 || (out_of_budget && attempt.is_some()) {
-            let (unfolding, d) = attempt.expect("a single triangle or an accepted chart unfolds");
+            // Only a single triangle can come here without an unfolding: one too thin for
+            // the solver (a fuzzed 60 × 3e7 needle panicked here). Refused, with the
+            // solver's words for it.
+            let Some((unfolding, d)) = attempt else {
+                return Err(exact_unfold(&sub, &UnfoldOptions::default()).err().unwrap_or_else(|| {
+                    FlattenError::Solver {
+                        message: "a face of the mesh does not lay flat (a needle-thin triangle?)".into(),
+                    }
+                }));
+            };
             charts.push(Chart {
                 faces,
                 vertices,
@@ -939,5 +948,32 @@ mod tests {
         mesh.seam_edges = vec![[corner([0.0, 0.0, 0.0]), corner([1.0, 1.0, 1.0])]];
         let e = cut_into_charts(&mesh, &ChartOptions::default()).unwrap_err();
         assert!(e.to_string().contains("seam edge 0"), "{e}");
+    }
+
+    /// A triangle too thin to lay flat, alone in its chart (found by the serve fuzz
+    /// target: a gift box with one corner moved to 3e7), is refused naming it; it
+    /// panicked ("a single triangle or an accepted chart unfolds").
+    #[test]
+    fn a_needle_triangle_alone_is_refused_not_a_panic() {
+        let p = |x: f64, y: f64, z: f64| nalgebra::Vector3::new(x, y, z);
+        let mesh = TriangleMesh {
+            positions: vec![
+                p(0.0, 0.0, 0.0),
+                p(0.0, 40.0, 30.0),
+                p(0.0, 40.0, 0.0),
+                p(60.0, 0.0, 0.0),
+                p(60.0, 40.0, 0.0),
+                p(60.0, 40.0, 3e7),
+                p(60.0, 0.0, 30.0),
+            ],
+            // The third: 30 wide at one end, 3e7 long, 4e-5 across its longest edge.
+            triangles: vec![[0, 1, 2], [3, 4, 5], [3, 5, 6]],
+            face_groups: vec![0, 0, 0],
+            groups: vec!["box".into()],
+            corner_uvs: None,
+            seam_edges: Vec::new(),
+        };
+        let e = cut_into_charts(&mesh, &ChartOptions::default()).unwrap_err();
+        assert!(e.to_string().contains("needle-thin"), "{e}");
     }
 }
