@@ -245,14 +245,12 @@ pub fn cut_into_charts_until(
         }
         if accept || faces.len() == 1 || (out_of_budget && attempt.is_some()) {
             // Only a single triangle can come here without an unfolding: one too thin for
-            // the solver (a fuzzed 60 × 3e7 needle panicked here). Refused, with the
-            // solver's words for it.
+            // the solver (a fuzzed 60 × 3e7 needle panicked here). Refused, naming it by
+            // its face of the mesh.
             let Some((unfolding, d)) = attempt else {
-                return Err(exact_unfold(&sub, &UnfoldOptions::default()).err().unwrap_or_else(|| {
-                    FlattenError::Solver {
-                        message: "a face of the mesh does not lay flat (a needle-thin triangle?)".into(),
-                    }
-                }));
+                return Err(FlattenError::Solver {
+                    message: crate::exact_unfolding::layout_not_fixed_numbered(&sub, |f| faces[f] as usize),
+                });
             };
             charts.push(Chart {
                 faces,
@@ -974,6 +972,9 @@ mod tests {
             seam_edges: Vec::new(),
         };
         let e = cut_into_charts(&mesh, &ChartOptions::default()).unwrap_err();
-        assert!(e.to_string().contains("needle-thin"), "{e}");
+        assert!(
+            e.to_string().contains("needle-thin") && e.to_string().contains("face 2 near"),
+            "{e}"
+        );
     }
 }

@@ -255,6 +255,12 @@ const NEEDLE_WIDTH: f64 = 1e-6;
 /// equations are singular), in the mesh's terms and with what to do: its thinnest
 /// triangle when that one is needle-thin, its corners almost in a line.
 fn layout_not_fixed(mesh: &TriangleMesh) -> String {
+    layout_not_fixed_numbered(mesh, |f| f)
+}
+
+/// [`layout_not_fixed`] of a part of a mesh, its faces named by `number` (the part's
+/// face → the whole mesh's).
+pub(crate) fn layout_not_fixed_numbered(mesh: &TriangleMesh, number: impl Fn(usize) -> usize) -> String {
     let short = sheetform_geometry::short_number;
     let thinnest = (0..mesh.triangles.len())
         .filter_map(|f| {
@@ -265,17 +271,20 @@ fn layout_not_fixed(mesh: &TriangleMesh) -> String {
         })
         .min_by(|x, y| (x.1 / x.2).total_cmp(&(y.1 / y.2)));
     match thinnest {
-        Some((face, width, longest, centre)) if width < NEEDLE_WIDTH * longest => format!(
-            "the mesh cannot be laid flat as it is: it has needle-thin triangles, their three corners almost \
+        Some((face, width, longest, centre)) if width < NEEDLE_WIDTH * longest => {
+            let face = number(face);
+            format!(
+                "the mesh cannot be laid flat as it is: it has needle-thin triangles, their three corners almost \
              in a line, whose edge lengths do not hold the pattern in shape (the thinnest, face {face} near \
              ({}, {}, {}), is {} wide across its longest edge of {}); remove such triangles (collapse their \
              shortest edge, as a mesh editor's clean-up of degenerate faces does, or remesh) and try again",
-            short(centre.x),
-            short(centre.y),
-            short(centre.z),
-            short(width),
-            short(longest)
-        ),
+                short(centre.x),
+                short(centre.y),
+                short(centre.z),
+                short(width),
+                short(longest)
+            )
+        }
         _ => "the mesh cannot be laid flat as it is: its edge lengths do not hold the pattern in shape (laid \
               flat, some of its triangles are squashed into lines, as happens to a surface far from \
               developable); repair or remesh it, or cut it into pieces that are each nearly developable, and \

@@ -20,17 +20,18 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 const $ = (id) => document.getElementById(id);
 
-/** Editor state: the last admissible scene and what the server said of it. */
 /**
  * Arrays of recent replies, by path and hash (issue 38: only what changed is sent). The
  * request names the newest array it holds at each path (`X-Sheetform-Held-Arrays`) and
  * the server leaves out those whose hash is unchanged (a bend drag keeps the rulings'
- * lists and the pieces; a new layout of a mesh keeps the model). A path keeps its `HELD_PER_PATH` newest arrays, so
- * that the reply to a request sent before the last reply came still finds what it held.
+ * lists and the pieces; a new layout of a mesh keeps the model). A path keeps its
+ * `HELD_PER_PATH` newest arrays, so that the reply to a request sent before the last
+ * reply came still finds what it held.
  */
 const heldArrays = new Map();
 const HELD_PER_PATH = 4;
 
+/** Editor state: the last admissible scene and what the server said of it. */
 const state = {
   mode: 'bend', // 'bend', 'slit', 'ffd', 'photo' or 'mesh'
   fitChosen: false, // the pattern's scale was chosen with the checkbox (no automatic fit since)
@@ -1533,12 +1534,16 @@ async function post(url, body) {
  * reply that left out one the page no longer holds is asked for again without them.
  */
 async function fetchReply(url, body, contentType) {
+  const generation = state.generation;
   for (const held of [true, false]) {
     const response = await fetch(url, { method: 'POST', headers: solveHeaders(contentType, held), body });
+    // When the headers came (the body's download and decoding follow).
+    const received = performance.now();
     try {
-      return { response, body: await readReply(response) };
+      return { response, received, body: await readReply(response) };
     } catch (error) {
-      if (!held || !(error instanceof HeldArrayMissing)) throw error;
+      // Asked again only for the scene still shown (a reply to an older one is dropped).
+      if (!held || !(error instanceof HeldArrayMissing) || state.generation !== generation) throw error;
     }
   }
   throw new Error('unreachable');
@@ -1629,10 +1634,9 @@ async function solveNow(scene, started, edit) {
   let received;
   let decoded;
   try {
-    ({ response, body } = edit
+    ({ response, body, received } = edit
       ? await fetchReply(`/api/bend/edit${dirQuery()}`, JSON.stringify({ scene, edit, stop_at_boundary: true }), 'application/json')
       : await fetchReply(`/api/${mode}${dirQuery()}`, JSON.stringify(scene), 'application/json'));
-    received = performance.now();
     decoded = performance.now();
     state.answers += 1;
     // The user switched modes or loaded another scene meanwhile: not drawn.
