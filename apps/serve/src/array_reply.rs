@@ -85,22 +85,28 @@ impl Fnv1a {
     }
 }
 
+/// Hands an array's bytes, as [`array_body`] sends them, to `out` in order: the values
+/// little-endian; lists as `length + 1` offsets, then the values.
+fn array_bytes(data: &ArrayData, mut out: impl FnMut(&[u8])) {
+    match data {
+        ArrayData::F64(values) => values.iter().for_each(|v| out(&v.to_le_bytes())),
+        ArrayData::U32(values) => values.iter().for_each(|v| out(&v.to_le_bytes())),
+        ArrayData::U32Lists(lists) => {
+            let mut at = 0u32;
+            out(&at.to_le_bytes());
+            for list in lists {
+                at += list.len() as u32;
+                out(&at.to_le_bytes());
+            }
+            lists.iter().flatten().for_each(|v| out(&v.to_le_bytes()));
+        }
+    }
+}
+
 /// The hash of an array's bytes as [`array_body`] sends them.
 fn array_hash(data: &ArrayData) -> u64 {
     let mut hash = Fnv1a::new();
-    match data {
-        ArrayData::F64(values) => values.iter().for_each(|v| hash.bytes(&v.to_le_bytes())),
-        ArrayData::U32(values) => values.iter().for_each(|v| hash.bytes(&v.to_le_bytes())),
-        ArrayData::U32Lists(lists) => {
-            let mut at = 0u32;
-            hash.bytes(&at.to_le_bytes());
-            for list in lists {
-                at += list.len() as u32;
-                hash.bytes(&at.to_le_bytes());
-            }
-            lists.iter().flatten().for_each(|v| hash.bytes(&v.to_le_bytes()));
-        }
-    }
+    array_bytes(data, |bytes| hash.bytes(bytes));
     hash.0
 }
 
@@ -190,21 +196,7 @@ pub(crate) fn array_body<T: Serialize>(reply: &T, arrays: &TakenArrays, held: &[
     body.extend_from_slice(&header);
     body.resize(start, 0);
     for ((_, data), _) in arrays.iter().zip(&sent).filter(|(_, &sent)| sent) {
-        match data {
-            ArrayData::F64(values) => values.iter().for_each(|v| body.extend_from_slice(&v.to_le_bytes())),
-            ArrayData::U32(values) => values.iter().for_each(|v| body.extend_from_slice(&v.to_le_bytes())),
-            ArrayData::U32Lists(lists) => {
-                let mut at = 0u32;
-                body.extend_from_slice(&at.to_le_bytes());
-                for list in lists {
-                    at += list.len() as u32;
-                    body.extend_from_slice(&at.to_le_bytes());
-                }
-                for value in lists.iter().flatten() {
-                    body.extend_from_slice(&value.to_le_bytes());
-                }
-            }
-        }
+        array_bytes(data, |bytes| body.extend_from_slice(bytes));
         body.resize(align8(body.len()), 0);
     }
     body

@@ -381,8 +381,10 @@ struct LinearStage {
     energy: Energy,
     /// The solution for the image prior at depth 0.
     linear: Vec<f64>,
-    /// The solution for the prior moved by a tenth of the diagonal along the rays.
+    /// The solution for the prior moved by `shift` along the rays.
     probe: Vec<f64>,
+    /// How far the probe's prior was moved: a tenth of the diagonal.
+    shift: f64,
 }
 
 /// The analysis (§5) and the linear solve (§6) of `annotation` through `camera`.
@@ -446,6 +448,7 @@ fn linear_stage(
         energy,
         linear,
         probe,
+        shift,
     })
 }
 
@@ -492,7 +495,6 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
         Some(estimate) => Camera::perspective(estimate.focal_length_px, centre),
         None => Camera::from_spec(&annotation.camera, width, height)?,
     };
-    let shift = 0.1 * annotation.diagonal();
     let start = Instant::now();
     let LinearStage {
         plane,
@@ -501,6 +503,7 @@ pub fn reconstruct(annotation: &PhotoAnnotation) -> Result<PhotoReconstruction, 
         energy,
         linear,
         probe,
+        shift,
     } = linear_stage(annotation, camera, &mut times, start)?;
     let depth_sensitivity: Vec<f64> = network
         .curves
